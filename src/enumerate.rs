@@ -1,0 +1,114 @@
+//! Candidate terms under explicit bounds on their orders.
+//!
+//! The seed's Table 1 holds every pure power `(∂tᵃ∂sᵇφ)ⁿ` with δ ≤ 4, ε ≤ 4 and τ+σ ≤ 4
+//! (27 terms). `--order N` gives each density its [`Bounds`] from the model's [`BoundShape`];
+//! the candidates come out in canonical [`Term`] order, each once.
+
+use std::fmt;
+
+use itertools::iproduct;
+
+use crate::model::BoundShape;
+use crate::term::{Orders, Term};
+
+/// The largest `--order` the tool accepts. Far beyond any physical use (the long-wavelength
+/// survivors settle at order 4), it keeps every coefficient of the exact expansions within i64.
+pub const MAX_ORDER: u32 = 32;
+
+/// Upper bounds on the orders of a candidate term; `None` means unbounded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Bounds {
+    /// δ ≤ this.
+    pub delta: u32,
+    /// ε ≤ this.
+    pub epsilon: u32,
+    /// τ ≤ this.
+    pub tau: Option<u32>,
+    /// σ ≤ this.
+    pub sigma: Option<u32>,
+    /// τ + σ ≤ this.
+    pub tau_plus_sigma: Option<u32>,
+}
+
+impl Bounds {
+    /// The bounds that `--order order` means for a density of this shape.
+    pub fn for_order(shape: BoundShape, order: u32) -> Bounds {
+        let base = Bounds {
+            delta: order,
+            epsilon: order,
+            tau: None,
+            sigma: None,
+            tau_plus_sigma: None,
+        };
+        match shape {
+            BoundShape::TauPlusSigma => Bounds {
+                tau_plus_sigma: Some(order),
+                ..base
+            },
+            BoundShape::TauAndSigma => Bounds {
+                tau: Some(order),
+                sigma: Some(order),
+                ..base
+            },
+        }
+    }
+
+    /// True if a term of these orders is within the bounds.
+    pub fn admits(&self, o: &Orders) -> bool {
+        let within = |bound: Option<u32>, v: u32| bound.is_none_or(|b| v <= b);
+        o.delta <= self.delta
+            && o.epsilon <= self.epsilon
+            && within(self.tau, o.tau)
+            && within(self.sigma, o.sigma)
+            && within(self.tau_plus_sigma, o.tau + o.sigma)
+    }
+}
+
+impl fmt::Display for Bounds {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "δ ≤ {}, ε ≤ {}", self.delta, self.epsilon)?;
+        for (name, bound) in [
+            ("τ", self.tau),
+            ("σ", self.sigma),
+            ("τ+σ", self.tau_plus_sigma),
+        ] {
+            if let Some(b) = bound {
+                write!(f, ", {name} ≤ {b}")?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Every pure power `(∂tᵃ∂sᵇφ)ⁿ`, n ≥ 1, within `bounds`, in canonical order.
+pub fn pure_powers(bounds: &Bounds) -> Vec<Term> {
+    let d = bounds.delta;
+    let mut terms: Vec<Term> = iproduct!(1..=bounds.epsilon, 0..=d, 0..=d)
+        .filter(|&(_, a, b)| a + b <= d)
+        .map(|(n, a, b)| Term::power(a, b, n))
+        .filter(|t| bounds.admits(&t.orders()))
+        .collect();
+    terms.sort();
+    terms
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn table_one_has_27_rows() {
+        let b = Bounds::for_order(BoundShape::TauPlusSigma, 4);
+        assert_eq!(b.to_string(), "δ ≤ 4, ε ≤ 4, τ+σ ≤ 4");
+        assert_eq!(pure_powers(&b).len(), 27);
+    }
+
+    #[test]
+    fn rayleigh_bound_holds_eq_64() {
+        let b = Bounds::for_order(BoundShape::TauAndSigma, 4);
+        let terms = pure_powers(&b);
+        for t in ["(∂ts φ)²", "(∂ts φ)⁴", "(∂tss φ)²"] {
+            assert!(terms.contains(&t.parse().unwrap()), "{t}");
+        }
+    }
+}

@@ -1,0 +1,17 @@
+//! theory-search derives the effective physics of a soft, slender body from symmetry alone, as
+//! Loveless et al. do by hand for the Drosophila larva: enumerate the candidate terms of the
+//! Lagrangian and Rayleigh densities, strike out those that break a requirement, and keep each
+//! field's lowest-order survivors.
+//!
+//! Data flows one way through the modules, in pipeline order:
+//! [`model`] → [`term`] → [`enumerate`] → [`rules`] → [`reduce`] → [`table`] / [`codegen`] → [`cli`].
+#![warn(missing_docs)]
+
+pub mod cli;
+pub mod codegen;
+pub mod enumerate;
+pub mod model;
+pub mod reduce;
+pub mod rules;
+pub mod table;
+pub mod term;

@@ -1,0 +1,286 @@
+//! The physical model: which fields live on the midline, their boundary conditions, and which
+//! requirements each field imposes on each density. All of it is data (TOML), so another animal
+//! or another set of symmetries is another file, not other code.
+//!
+//! The embedded default is the Drosophila larva of the seed ([`Model::larva`]), read from
+//! `src/model/larva.toml`.
+
+use std::collections::BTreeMap;
+use std::fmt;
+
+use serde::{Deserialize, Serialize};
+
+use crate::rules::{self, Rule};
+
+/// Boundary condition of a field at the two ends of the body.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Boundary {
+    /// Head and tail tied together (the larva's visceral piston for the axial field).
+    Periodic,
+    /// No force or moment at the ends (Neumann).
+    Free,
+    /// Field and slope held at the ends.
+    Clamped,
+}
+
+/// One scalar field on the midline.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Field {
+    /// ASCII identifier, used in JSON and on the command line (`theta`).
+    pub id: String,
+    /// Symbol used in formulas and table headers (`θ`).
+    pub symbol: String,
+    /// What the field measures.
+    pub meaning: String,
+    /// Boundary condition at head and tail.
+    pub boundary: Boundary,
+}
+
+/// The two densities of a dissipative Lagrangian field theory.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Density {
+    /// The Lagrangian density L (conservative physics).
+    Lagrangian,
+    /// The Rayleigh dissipation density R.
+    Rayleigh,
+}
+
+impl Density {
+    /// Both densities, Lagrangian first.
+    pub const ALL: [Density; 2] = [Density::Lagrangian, Density::Rayleigh];
+
+    /// Lower-case name, as in JSON keys.
+    pub fn key(self) -> &'static str {
+        match self {
+            Density::Lagrangian => "lagrangian",
+            Density::Rayleigh => "rayleigh",
+        }
+    }
+
+    /// The letter of the density in formulas: L or R.
+    pub fn letter(self) -> &'static str {
+        match self {
+            Density::Lagrangian => "L",
+            Density::Rayleigh => "R",
+        }
+    }
+}
+
+impl fmt::Display for Density {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Density::Lagrangian => "Lagrangian",
+            Density::Rayleigh => "Rayleigh",
+        })
+    }
+}
+
+/// How `--order N` bounds the candidate terms of a density.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum BoundShape {
+    /// δ ≤ N, ε ≤ N, τ+σ ≤ N (the seed's Table 1).
+    TauPlusSigma,
+    /// δ ≤ N, ε ≤ N, τ ≤ N, σ ≤ N.
+    TauAndSigma,
+}
+
+/// What a model says about one density.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DensitySpec {
+    /// How the order bounds the candidates.
+    pub bound: BoundShape,
+    /// Rule codes shown as table columns, in order.
+    pub columns: Vec<String>,
+    /// For each field id, the rule codes its terms must satisfy.
+    pub requirements: BTreeMap<String, Vec<String>>,
+}
+
+/// A model: fields and, per density, their requirements.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Model {
+    /// Short name.
+    pub name: String,
+    /// One line about the model.
+    pub description: String,
+    /// The fields, in table order.
+    pub fields: Vec<Field>,
+    /// Requirements on the Lagrangian density.
+    pub lagrangian: DensitySpec,
+    /// Requirements on the Rayleigh density.
+    pub rayleigh: DensitySpec,
+}
+
+/// Why a model file cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum ModelError {
+    /// The TOML does not parse or does not have the model's shape.
+    #[error("model file: {0}")]
+    Syntax(String),
+    /// It parses but says something inconsistent.
+    #[error("model {model:?}: {why}")]
+    Invalid {
+        /// The model's name.
+        model: String,
+        /// What is inconsistent.
+        why: String,
+    },
+}
+
+const LARVA: &str = include_str!("model/larva.toml");
+
+impl Model {
+    /// The embedded Drosophila larva model.
+    pub fn larva() -> Model {
+        Model::from_toml(LARVA).expect("the embedded larva model is valid (tested)")
+    }
+
+    /// The TOML text of the embedded larva model.
+    pub fn larva_toml() -> &'static str {
+        LARVA
+    }
+
+    /// Read and check a model from TOML text.
+    pub fn from_toml(text: &str) -> Result<Model, ModelError> {
+        let model: Model = toml::from_str(text).map_err(|e| ModelError::Syntax(e.to_string()))?;
+        model.validate()?;
+        Ok(model)
+    }
+
+    /// What the model says about `density`.
+    pub fn density(&self, density: Density) -> &DensitySpec {
+        match density {
+            Density::Lagrangian => &self.lagrangian,
+            Density::Rayleigh => &self.rayleigh,
+        }
+    }
+
+    /// The field with this id.
+    pub fn field(&self, id: &str) -> Option<&Field> {
+        self.fields.iter().find(|f| f.id == id)
+    }
+
+    /// The rules `field` must satisfy in `density`.
+    pub fn requirements(&self, density: Density, field: &str) -> Vec<&'static Rule> {
+        self.density(density)
+            .requirements
+            .get(field)
+            .into_iter()
+            .flatten()
+            .filter_map(|code| rules::rule(code))
+            .collect()
+    }
+
+    /// The table columns of `density`, as rules.
+    pub fn columns(&self, density: Density) -> Vec<&'static Rule> {
+        self.density(density)
+            .columns
+            .iter()
+            .filter_map(|code| rules::rule(code))
+            .collect()
+    }
+
+    fn validate(&self) -> Result<(), ModelError> {
+        let invalid = |why: String| ModelError::Invalid {
+            model: self.name.clone(),
+            why,
+        };
+        if self.fields.is_empty() {
+            return Err(invalid("declares no fields".into()));
+        }
+        for (i, f) in self.fields.iter().enumerate() {
+            let id_ok =
+                !f.id.is_empty() && f.id.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+            if !id_ok {
+                return Err(invalid(format!(
+                    "field id {:?} must be non-empty ASCII letters, digits or '_'",
+                    f.id
+                )));
+            }
+            if f.symbol.trim().is_empty() {
+                return Err(invalid(format!("field {:?} has an empty symbol", f.id)));
+            }
+            if self.fields[..i].iter().any(|g| g.id == f.id) {
+                return Err(invalid(format!("field id {:?} is declared twice", f.id)));
+            }
+        }
+        for density in Density::ALL {
+            let spec = self.density(density);
+            let known = rules::REGISTRY.iter().map(|r| r.code).collect::<Vec<_>>();
+            for code in &spec.columns {
+                if rules::rule(code).is_none() {
+                    return Err(invalid(format!(
+                        "{density} column {code:?} is not a rule (known: {})",
+                        known.join(", ")
+                    )));
+                }
+            }
+            for field in &self.fields {
+                if !spec.requirements.contains_key(&field.id) {
+                    return Err(invalid(format!(
+                        "{density} requirements do not mention field {:?}",
+                        field.id
+                    )));
+                }
+            }
+            for (id, codes) in &spec.requirements {
+                if self.field(id).is_none() {
+                    return Err(invalid(format!(
+                        "{density} requirements name unknown field {id:?}"
+                    )));
+                }
+                for code in codes {
+                    if !spec.columns.contains(code) {
+                        return Err(invalid(format!(
+                            "{density} requirement {code:?} of field {id:?} is not among the columns {:?}",
+                            spec.columns
+                        )));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn larva_is_valid_and_ordered() {
+        let m = Model::larva();
+        let ids: Vec<_> = m.fields.iter().map(|f| f.id.as_str()).collect();
+        assert_eq!(ids, ["x", "theta", "y", "z"]);
+        assert_eq!(m.field("x").unwrap().boundary, Boundary::Periodic);
+        let codes = |d, f| {
+            m.requirements(d, f)
+                .iter()
+                .map(|r| r.code)
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(
+            codes(Density::Lagrangian, "y"),
+            ["OST", "TRAN", "REF", "KIN", "ROT"]
+        );
+        assert_eq!(codes(Density::Rayleigh, "x"), ["DIS", "TRAN", "GAL", "REF"]);
+    }
+
+    #[test]
+    fn bad_models_name_the_problem() {
+        let bad_rule = LARVA.replace(
+            "\"KIN\", \"ROT\"]\n\n[lagrangian.req",
+            "\"KIN\", \"ROTX\"]\n\n[lagrangian.req",
+        );
+        let err = Model::from_toml(&bad_rule).unwrap_err().to_string();
+        assert!(err.contains("\"ROTX\" is not a rule"), "{err}");
+
+        let err = Model::from_toml("name = 3").unwrap_err().to_string();
+        assert!(err.contains("line 1"), "{err}");
+    }
+}

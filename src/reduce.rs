@@ -1,0 +1,363 @@
+//! Decide every candidate against every rule, and keep each field's lowest-order admitted terms.
+//!
+//! A field *admits* a term that passes all the rules the model requires of that field. Of the
+//! admitted terms it keeps those on the Pareto front in (τ, σ): no other admitted term has
+//! τ′ ≤ τ and σ′ ≤ σ with one of them strict. These survivors dominate at long length and time
+//! scales. The survivors become a density with free coefficients, written the seed's way:
+//! `L_x = ½(∂t x)² − ½ c_x (∂s x)²`, `R_x = c'_x (∂ts x)²`.
+
+use std::fmt;
+
+use num_rational::Rational64;
+use num_traits::{One, Signed};
+
+use crate::enumerate::{pure_powers, Bounds, MAX_ORDER};
+use crate::model::{Density, Field, Model};
+use crate::rules::{Rule, Verdict};
+use crate::term::{Orders, Term};
+
+/// An order outside `1..=MAX_ORDER`.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("order {0} is out of range: use an order from 1 to {MAX_ORDER}")]
+pub struct OrderError(pub u32);
+
+/// One candidate term with its verdicts.
+#[derive(Debug, Clone)]
+pub struct Row {
+    /// The candidate.
+    pub term: Term,
+    /// Its orders.
+    pub orders: Orders,
+    /// One verdict per column of the density, in column order.
+    pub verdicts: Vec<Verdict>,
+    /// Per field (model order): does the field admit the term?
+    pub admitted: Vec<bool>,
+    /// Per field (model order): is the term one of the field's survivors?
+    pub included: Vec<bool>,
+}
+
+/// A term of a surviving density with its coefficient `sign · prefactor · parameter`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct DensityTerm {
+    /// The term.
+    pub term: Term,
+    /// +1 or −1.
+    pub sign: i64,
+    /// Exact positive rational prefactor (½ for Lagrangian terms).
+    pub prefactor: Rational64,
+    /// Name of the free positive coefficient, or `None` for the fixed kinetic term.
+    pub parameter: Option<String>,
+}
+
+/// What one field keeps.
+#[derive(Debug, Clone)]
+pub struct FieldResult {
+    /// The field.
+    pub field: Field,
+    /// Admitted terms, canonical order.
+    pub admitted: Vec<Term>,
+    /// Survivors (the Pareto front in (τ, σ)), canonical order.
+    pub survivors: Vec<Term>,
+    /// The surviving density with its coefficients.
+    pub density: Vec<DensityTerm>,
+    /// What is missing at this order, said plainly (empty if nothing is).
+    pub missing: Vec<String>,
+}
+
+/// The full analysis of one density at one order.
+#[derive(Debug, Clone)]
+pub struct Analysis {
+    /// Which density.
+    pub density: Density,
+    /// The requested order.
+    pub order: u32,
+    /// The candidate bounds that order means here.
+    pub bounds: Bounds,
+    /// The rules shown as columns.
+    pub columns: Vec<&'static Rule>,
+    /// Every candidate, canonical order.
+    pub rows: Vec<Row>,
+    /// One result per field, model order.
+    pub fields: Vec<FieldResult>,
+}
+
+/// True if `u` is of lower order than `t`: τ′ ≤ τ, σ′ ≤ σ, one strictly.
+pub fn dominates(u: &Orders, t: &Orders) -> bool {
+    u.tau <= t.tau && u.sigma <= t.sigma && (u.tau < t.tau || u.sigma < t.sigma)
+}
+
+/// The terms of `terms` that no other term dominates, in the given order.
+pub fn lowest_order(terms: &[Term]) -> Vec<Term> {
+    let orders: Vec<Orders> = terms.iter().map(Term::orders).collect();
+    terms
+        .iter()
+        .zip(&orders)
+        .filter(|(_, o)| !orders.iter().any(|u| dominates(u, o)))
+        .map(|(t, _)| t.clone())
+        .collect()
+}
+
+/// Candidates, verdicts and admission per field, without reduction.
+fn decide(model: &Model, density: Density, bounds: &Bounds) -> (Vec<&'static Rule>, Vec<Row>) {
+    let columns = model.columns(density);
+    let requirements: Vec<Vec<&'static Rule>> = model
+        .fields
+        .iter()
+        .map(|f| model.requirements(density, &f.id))
+        .collect();
+    let rows = pure_powers(bounds)
+        .into_iter()
+        .map(|term| {
+            let verdicts: Vec<Verdict> = columns.iter().map(|r| r.verdict(&term)).collect();
+            let passes = |rule: &Rule| {
+                columns
+                    .iter()
+                    .zip(&verdicts)
+                    .any(|(c, v)| c.code == rule.code && v.passed())
+            };
+            let admitted = requirements
+                .iter()
+                .map(|req| req.iter().all(|r| passes(r)))
+                .collect();
+            Row {
+                orders: term.orders(),
+                term,
+                verdicts,
+                admitted,
+                included: Vec::new(),
+            }
+        })
+        .collect();
+    (columns, rows)
+}
+
+/// Enumerate, decide and reduce `density` of `model` at `order`.
+pub fn analyse(model: &Model, density: Density, order: u32) -> Result<Analysis, OrderError> {
+    if order == 0 || order > MAX_ORDER {
+        return Err(OrderError(order));
+    }
+    let bounds = Bounds::for_order(model.density(density).bound, order);
+    let (columns, mut rows) = decide(model, density, &bounds);
+    let mut fields = Vec::new();
+    for (i, field) in model.fields.iter().enumerate() {
+        let admitted: Vec<Term> = rows
+            .iter()
+            .filter(|r| r.admitted[i])
+            .map(|r| r.term.clone())
+            .collect();
+        let survivors = lowest_order(&admitted);
+        let missing = missing_parts(model, density, order, i, &survivors);
+        fields.push(FieldResult {
+            field: field.clone(),
+            density: coefficients(density, field, &survivors),
+            admitted,
+            survivors,
+            missing,
+        });
+    }
+    for row in &mut rows {
+        row.included = fields
+            .iter()
+            .map(|f| f.survivors.contains(&row.term))
+            .collect();
+    }
+    Ok(Analysis {
+        density,
+        order,
+        bounds,
+        columns,
+        rows,
+        fields,
+    })
+}
+
+/// The parts a density needs: a Lagrangian a kinetic and a potential term, a Rayleigh density
+/// any term. Each is (name, test on a term).
+fn parts(density: Density) -> Vec<(&'static str, fn(&Term) -> bool)> {
+    match density {
+        Density::Lagrangian => vec![
+            ("kinetic", |t: &Term| t.has_time_derivative()),
+            ("potential", |t: &Term| !t.has_time_derivative()),
+        ],
+        Density::Rayleigh => vec![("dissipative", |_: &Term| true)],
+    }
+}
+
+fn missing_parts(
+    model: &Model,
+    density: Density,
+    order: u32,
+    field: usize,
+    survivors: &[Term],
+) -> Vec<String> {
+    let symbol = &model.fields[field].symbol;
+    let mut notes = Vec::new();
+    for (part, is_part) in parts(density) {
+        if survivors.iter().any(is_part) {
+            continue;
+        }
+        // Look for the first order at which the field admits such a term at all.
+        let first = (order + 1..=MAX_ORDER).find_map(|k| {
+            let bounds = Bounds::for_order(model.density(density).bound, k);
+            let (_, rows) = decide(model, density, &bounds);
+            rows.into_iter()
+                .find(|r| r.admitted[field] && is_part(&r.term))
+                .map(|r| (k, r.term))
+        });
+        let letter = density.letter();
+        notes.push(match first {
+            Some((k, term)) => format!(
+                "{letter}_{symbol}: no {part} term survives at order {order}; the first admitted one, {}, needs --order {k}",
+                term.render(&|_| symbol.clone())
+            ),
+            None => format!(
+                "{letter}_{symbol}: no {part} term is admitted at any order up to {MAX_ORDER}"
+            ),
+        });
+    }
+    notes
+}
+
+fn coefficients(density: Density, field: &Field, survivors: &[Term]) -> Vec<DensityTerm> {
+    let half = Rational64::new(1, 2);
+    let standard_kinetic = Term::power(1, 0, 2);
+    let sym = &field.symbol;
+    // (sign, prefactor, parameter letter) for each survivor; the kinetic term is fixed.
+    let shaped: Vec<(i64, Rational64, Option<&str>)> = survivors
+        .iter()
+        .map(|t| match density {
+            Density::Lagrangian if *t == standard_kinetic => (1, half, None),
+            Density::Lagrangian if !t.has_time_derivative() => (-1, half, Some("c")),
+            Density::Lagrangian => (1, half, Some("k")),
+            Density::Rayleigh => (1, Rational64::one(), Some("c'")),
+        })
+        .collect();
+    let count = |letter: &str| shaped.iter().filter(|s| s.2 == Some(letter)).count();
+    let mut seen: Vec<&str> = Vec::new();
+    survivors
+        .iter()
+        .zip(&shaped)
+        .map(|(term, &(sign, prefactor, letter))| {
+            let parameter = letter.map(|l| {
+                seen.push(l);
+                let index = seen.iter().filter(|&&s| s == l).count();
+                if count(l) > 1 {
+                    format!("{l}{index}_{sym}")
+                } else {
+                    format!("{l}_{sym}")
+                }
+            });
+            DensityTerm {
+                term: term.clone(),
+                sign,
+                prefactor,
+                parameter,
+            }
+        })
+        .collect()
+}
+
+/// `½`, `1`, `3/2`: an exact prefactor as people write it.
+pub fn prefactor_text(r: Rational64) -> String {
+    if r == Rational64::new(1, 2) {
+        "½".to_string()
+    } else if r.is_one() {
+        String::new()
+    } else {
+        r.abs().to_string()
+    }
+}
+
+impl FieldResult {
+    /// The surviving density as a formula, e.g. `L_x = ½(∂t x)² − ½ c_x (∂s x)²`.
+    pub fn formula(&self, density: Density) -> String {
+        let sym = &self.field.symbol;
+        let mut out = format!("{}_{sym} =", density.letter());
+        if self.density.is_empty() {
+            return out + " 0";
+        }
+        for (i, dt) in self.density.iter().enumerate() {
+            let sign = match (i, dt.sign < 0) {
+                (0, false) => " ",
+                (0, true) => " −",
+                (_, false) => " + ",
+                (_, true) => " − ",
+            };
+            let mut coef = prefactor_text(dt.prefactor);
+            if let Some(p) = &dt.parameter {
+                if !coef.is_empty() {
+                    coef.push(' ');
+                }
+                coef += p;
+                coef.push(' ');
+            }
+            let term = dt.term.render(&|_| sym.clone());
+            out += &format!("{sign}{coef}{term}");
+        }
+        out
+    }
+}
+
+impl fmt::Display for Analysis {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for field in &self.fields {
+            writeln!(f, "{}", field.formula(self.density))?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pareto_front_keeps_incomparable_terms() {
+        let terms: Vec<Term> = ["(∂t φ)²", "(∂ss φ)²", "(∂ts φ)²", "(∂ss φ)⁴"]
+            .iter()
+            .map(|t| t.parse().unwrap())
+            .collect();
+        let kept: Vec<String> = lowest_order(&terms).iter().map(|t| t.to_string()).collect();
+        assert_eq!(kept, ["(∂t φ)²", "(∂ss φ)²"]);
+    }
+
+    #[test]
+    fn formulas_read_like_the_seed() {
+        let m = Model::larva();
+        let l = analyse(&m, Density::Lagrangian, 4).unwrap();
+        assert_eq!(
+            l.fields[0].formula(Density::Lagrangian),
+            "L_x = ½(∂t x)² − ½ c_x (∂s x)²"
+        );
+        assert_eq!(
+            l.fields[2].formula(Density::Lagrangian),
+            "L_y = ½(∂t y)² − ½ c_y (∂ss y)²"
+        );
+        let r = analyse(&m, Density::Rayleigh, 4).unwrap();
+        assert_eq!(
+            r.fields[1].formula(Density::Rayleigh),
+            "R_θ = c'_θ (∂ts θ)²"
+        );
+        assert_eq!(
+            r.fields[3].formula(Density::Rayleigh),
+            "R_z = c'_z (∂tss z)²"
+        );
+    }
+
+    #[test]
+    fn missing_potential_is_said_plainly() {
+        let l = analyse(&Model::larva(), Density::Lagrangian, 3).unwrap();
+        assert_eq!(
+            l.fields[2].missing,
+            ["L_y: no potential term survives at order 3; the first admitted one, (∂ss y)², needs --order 4"]
+        );
+        assert!(l.fields[0].missing.is_empty());
+    }
+
+    #[test]
+    fn orders_out_of_range_are_errors() {
+        let m = Model::larva();
+        assert!(analyse(&m, Density::Lagrangian, 0).is_err());
+        assert!(analyse(&m, Density::Lagrangian, MAX_ORDER + 1).is_err());
+    }
+}

@@ -1,0 +1,615 @@
+//! The requirements a term must meet, as values in one registry.
+//!
+//! A [`Rule`] has a stable code (the table column, e.g. `TRAN`), a kebab-case name, a one-line
+//! meaning and a [`Check`]. Symmetry rules are decided by *applying* their [`Transformation`] to the
+//! term and comparing the result with the original, exactly, as polynomials in the jet variables
+//! `∂tᵃ∂sᵇφ`, the coordinates `s, t` and the transformation's parameter. Structural rules
+//! (Ostrogradsky, standard kinetic term, dissipative) are predicates on the term's shape. A failed
+//! rule says why: for a symmetry, the change the transformation makes to the term.
+//!
+//! Which rules a field must satisfy is data (see [`crate::model`]); this module only decides them.
+
+use std::collections::BTreeMap;
+use std::fmt;
+
+use num_rational::Rational64;
+use num_traits::{One, Signed, Zero};
+
+use crate::term::{placeholder, superscript, Deriv, Factor, Term};
+
+/// The verdict of one rule on one term.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Verdict {
+    /// The term satisfies the rule.
+    Pass,
+    /// The term fails the rule.
+    Reject {
+        /// Code of the rule that failed.
+        rule: &'static str,
+        /// Why, in one line.
+        why: String,
+    },
+}
+
+impl Verdict {
+    /// True for [`Verdict::Pass`].
+    pub fn passed(&self) -> bool {
+        matches!(self, Verdict::Pass)
+    }
+}
+
+/// How a rule is decided.
+#[derive(Debug, Clone, Copy)]
+pub enum Check {
+    /// A predicate on the term's structure; `Err` says why it fails.
+    Structural(fn(&Term) -> Result<(), String>),
+    /// Invariance of the term under a transformation of the field.
+    Symmetry(Transformation),
+}
+
+/// A requirement, as one value of the registry.
+#[derive(Debug, Clone, Copy)]
+pub struct Rule {
+    /// Stable code, also the table column label.
+    pub code: &'static str,
+    /// Kebab-case name.
+    pub name: &'static str,
+    /// One-line meaning.
+    pub meaning: &'static str,
+    /// How the verdict is reached.
+    pub check: Check,
+}
+
+impl Rule {
+    /// Decide the rule on `term`.
+    pub fn verdict(&self, term: &Term) -> Verdict {
+        let outcome = match &self.check {
+            Check::Structural(pred) => pred(term),
+            Check::Symmetry(tr) => tr.check_invariant(term),
+        };
+        match outcome {
+            Ok(()) => Verdict::Pass,
+            Err(why) => Verdict::Reject {
+                rule: self.code,
+                why,
+            },
+        }
+    }
+
+    /// How the rule is decided, in words (for the generated rule docs).
+    pub fn decided_by(&self) -> String {
+        match &self.check {
+            Check::Structural(_) => "predicate on the term's structure".to_string(),
+            Check::Symmetry(tr) => format!("apply {tr} and compare"),
+        }
+    }
+}
+
+/// A transformation of one field, `φ(s, t) → scale·φ(s_sign·s, t_sign·t) + p·sᵐtⁿ`, with `p`
+/// the symbolic parameter of an optional shift. An infinitesimal transformation is compared to
+/// first order in `p` only.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Transformation {
+    /// Factor multiplying the field: 1, or −1 for a reflection of the field.
+    pub scale: i64,
+    /// Sign of arc length under the map (−1: anterior–posterior reflection).
+    pub s_sign: i64,
+    /// Sign of time under the map (−1: time reversal).
+    pub t_sign: i64,
+    /// The polynomial added to the field, if any.
+    pub shift: Option<Shift>,
+    /// Compare only to first order in the shift parameter.
+    pub infinitesimal: bool,
+}
+
+/// The shift `p·sᵐtⁿ` of a [`Transformation`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shift {
+    /// Name of the parameter (Δ, v, Ω).
+    pub param: &'static str,
+    /// Power m of arc length.
+    pub s: u32,
+    /// Power n of time.
+    pub t: u32,
+}
+
+impl Transformation {
+    const IDENTITY: Transformation = Transformation {
+        scale: 1,
+        s_sign: 1,
+        t_sign: 1,
+        shift: None,
+        infinitesimal: false,
+    };
+
+    /// `φ → φ + p·sᵐtⁿ`.
+    pub const fn shift(param: &'static str, s: u32, t: u32, infinitesimal: bool) -> Self {
+        Transformation {
+            shift: Some(Shift { param, s, t }),
+            infinitesimal,
+            ..Self::IDENTITY
+        }
+    }
+
+    /// `φ → −φ`.
+    pub const fn reflect_field() -> Self {
+        Transformation {
+            scale: -1,
+            ..Self::IDENTITY
+        }
+    }
+
+    /// `s → −s` (or `t → −t` with `time = true`).
+    pub const fn reflect_coordinate(time: bool) -> Self {
+        Transformation {
+            s_sign: if time { 1 } else { -1 },
+            t_sign: if time { -1 } else { 1 },
+            ..Self::IDENTITY
+        }
+    }
+
+    /// The image of `term` when placeholder field `field` is transformed (the others are not).
+    pub fn apply(&self, term: &Term, field: u8) -> Poly {
+        let mut out = Poly::one();
+        for f in term.factors() {
+            let jet = Poly::jet(f.field, f.deriv);
+            let image = if f.field == field {
+                let sign =
+                    self.scale * self.s_sign.pow(f.deriv.s % 2) * self.t_sign.pow(f.deriv.t % 2);
+                let mut image = jet.scaled(Rational64::from_integer(sign));
+                if let Some(shift) = &self.shift {
+                    image = image.add(&shift.derivative(f.deriv));
+                }
+                image
+            } else {
+                jet
+            };
+            out = out.mul(&image.pow(f.power));
+            if self.infinitesimal {
+                out = out.truncated(1);
+            }
+        }
+        out
+    }
+
+    /// `Ok` if `term` is invariant under the transformation of each field it involves; otherwise
+    /// the change the transformation makes.
+    pub fn check_invariant(&self, term: &Term) -> Result<(), String> {
+        let original = Poly::of_term(term);
+        for field in term.fields() {
+            let change = self
+                .apply(term, field)
+                .add(&original.scaled(-Rational64::one()));
+            if !change.is_zero() {
+                let order = if self.infinitesimal {
+                    ", to first order,"
+                } else {
+                    ""
+                };
+                return Err(format!(
+                    "{} changes {term}{order} by {change}",
+                    self.describe(field)
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn describe(&self, field: u8) -> String {
+        let phi = placeholder(field);
+        let coord = |sign: i64, c: &str| {
+            if sign < 0 {
+                format!("−{c}")
+            } else {
+                c.to_string()
+            }
+        };
+        let mut image = if (self.s_sign, self.t_sign) == (1, 1) {
+            phi.clone()
+        } else {
+            format!(
+                "{phi}({}, {})",
+                coord(self.s_sign, "s"),
+                coord(self.t_sign, "t")
+            )
+        };
+        if self.scale < 0 {
+            image = format!("−{image}");
+        }
+        if let Some(shift) = &self.shift {
+            image = format!("{image} + {}", shift.monomial());
+        }
+        format!("{phi} → {image}")
+    }
+}
+
+impl fmt::Display for Transformation {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.describe(0))?;
+        if self.infinitesimal {
+            f.write_str(" (infinitesimal)")?;
+        }
+        Ok(())
+    }
+}
+
+impl Shift {
+    fn monomial(&self) -> String {
+        let mut m = self.param.to_string();
+        for (c, k) in [("s", self.s), ("t", self.t)] {
+            match k {
+                0 => {}
+                1 => m += &format!("·{c}"),
+                k => m += &format!("·{c}{}", superscript(k)),
+            }
+        }
+        m
+    }
+
+    /// `∂tᵃ∂sᵇ (p·sᵐtⁿ)`, as a polynomial in p, s, t.
+    fn derivative(&self, d: Deriv) -> Poly {
+        if d.s > self.s || d.t > self.t {
+            return Poly::zero();
+        }
+        let falling = |n: u32, k: u32| ((n - k + 1)..=n).map(i64::from).product::<i64>();
+        let coef = falling(self.s, d.s) * falling(self.t, d.t);
+        Poly::from_mono(
+            Mono {
+                param: 1,
+                s: self.s - d.s,
+                t: self.t - d.t,
+                jet: Vec::new(),
+            },
+            Rational64::from_integer(coef),
+        )
+        .with_param(self.param)
+    }
+}
+
+/// A monomial `pᵏ sᵐ tⁿ ∏ (∂…φ_f)^e` of the transformation algebra.
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
+struct Mono {
+    param: u32,
+    s: u32,
+    t: u32,
+    /// Jet variables with their powers, sorted by (field, derivative).
+    jet: Vec<(u8, Deriv, u32)>,
+}
+
+impl Mono {
+    fn mul(&self, other: &Mono) -> Mono {
+        let mut jet: BTreeMap<(u8, Deriv), u32> = BTreeMap::new();
+        for &(f, d, e) in self.jet.iter().chain(&other.jet) {
+            *jet.entry((f, d)).or_default() += e;
+        }
+        Mono {
+            param: self.param + other.param,
+            s: self.s + other.s,
+            t: self.t + other.t,
+            jet: jet.into_iter().map(|((f, d), e)| (f, d, e)).collect(),
+        }
+    }
+}
+
+/// A polynomial with exact rational coefficients in the jet variables, `s`, `t` and one
+/// transformation parameter: what a transformed term expands to.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Poly {
+    terms: BTreeMap<Mono, Rational64>,
+    param: &'static str,
+}
+
+impl Poly {
+    fn zero() -> Poly {
+        Poly {
+            terms: BTreeMap::new(),
+            param: "",
+        }
+    }
+
+    fn one() -> Poly {
+        Poly::from_mono(
+            Mono {
+                param: 0,
+                s: 0,
+                t: 0,
+                jet: Vec::new(),
+            },
+            Rational64::one(),
+        )
+    }
+
+    fn from_mono(m: Mono, c: Rational64) -> Poly {
+        let mut p = Poly::zero();
+        if !c.is_zero() {
+            p.terms.insert(m, c);
+        }
+        p
+    }
+
+    fn jet(field: u8, deriv: Deriv) -> Poly {
+        Poly::from_mono(
+            Mono {
+                param: 0,
+                s: 0,
+                t: 0,
+                jet: vec![(field, deriv, 1)],
+            },
+            Rational64::one(),
+        )
+    }
+
+    fn of_term(term: &Term) -> Poly {
+        term.factors().iter().fold(Poly::one(), |acc, f| {
+            acc.mul(&Poly::jet(f.field, f.deriv).pow(f.power))
+        })
+    }
+
+    /// True if every coefficient is zero.
+    pub fn is_zero(&self) -> bool {
+        self.terms.is_empty()
+    }
+
+    fn scaled(&self, c: Rational64) -> Poly {
+        let mut p = Poly::zero();
+        p.param = self.param;
+        for (m, v) in &self.terms {
+            if !(v * c).is_zero() {
+                p.terms.insert(m.clone(), v * c);
+            }
+        }
+        p
+    }
+
+    fn add(&self, other: &Poly) -> Poly {
+        let mut p = self.clone();
+        if p.param.is_empty() {
+            p.param = other.param;
+        }
+        for (m, v) in &other.terms {
+            let e = p.terms.entry(m.clone()).or_insert_with(Rational64::zero);
+            *e += v;
+            if e.is_zero() {
+                p.terms.remove(m);
+            }
+        }
+        p
+    }
+
+    fn mul(&self, other: &Poly) -> Poly {
+        let mut p = Poly::zero();
+        p.param = if self.param.is_empty() {
+            other.param
+        } else {
+            self.param
+        };
+        for (a, x) in &self.terms {
+            for (b, y) in &other.terms {
+                p = p.add(&Poly::from_mono(a.mul(b), x * y));
+            }
+        }
+        p
+    }
+
+    fn pow(&self, n: u32) -> Poly {
+        (0..n).fold(Poly::one(), |acc, _| acc.mul(self))
+    }
+
+    /// Drop every monomial of degree above `max` in the parameter.
+    fn truncated(mut self, max: u32) -> Poly {
+        self.terms.retain(|m, _| m.param <= max);
+        self
+    }
+
+    fn with_param(mut self, name: &'static str) -> Poly {
+        self.param = name;
+        self
+    }
+}
+
+impl fmt::Display for Poly {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.terms.is_empty() {
+            return f.write_str("0");
+        }
+        for (i, (m, c)) in self.terms.iter().enumerate() {
+            let negative = c.is_negative();
+            let mag = c.abs();
+            match (i, negative) {
+                (0, true) => f.write_str("−")?,
+                (0, false) => {}
+                (_, true) => f.write_str(" − ")?,
+                (_, false) => f.write_str(" + ")?,
+            }
+            let mut prefix = if mag.is_one() {
+                String::new()
+            } else {
+                mag.to_string()
+            };
+            for (name, k) in [(self.param, m.param), ("s", m.s), ("t", m.t)] {
+                match k {
+                    0 => {}
+                    1 => prefix += name,
+                    k => prefix += &format!("{name}{}", superscript(k)),
+                }
+            }
+            let jet = Term::new(m.jet.iter().map(|&(field, deriv, power)| Factor {
+                field,
+                deriv,
+                power,
+            }));
+            match (prefix.is_empty(), jet) {
+                (true, Ok(j)) => write!(f, "{j}")?,
+                (true, Err(_)) => f.write_str("1")?,
+                (false, Ok(j)) => write!(f, "{prefix}·{j}")?,
+                (false, Err(_)) => f.write_str(&prefix)?,
+            }
+        }
+        Ok(())
+    }
+}
+
+fn ostrogradsky(term: &Term) -> Result<(), String> {
+    match term.max_time_order() {
+        0 | 1 => Ok(()),
+        k => Err(format!(
+            "holds a time derivative of order {k} > 1 (Ostrogradsky instability)"
+        )),
+    }
+}
+
+fn standard_kinetic(term: &Term) -> Result<(), String> {
+    if !term.has_time_derivative() || term.factors() == Term::power(1, 0, 2).factors() {
+        Ok(())
+    } else {
+        Err("holds a time derivative but is not the standard kinetic term (∂t φ)²".into())
+    }
+}
+
+fn dissipative(term: &Term) -> Result<(), String> {
+    match term.max_time_order() {
+        0 => Err("holds no time derivative, so ∂R/∂(∂t φ) vanishes".into()),
+        1 => Ok(()),
+        k => Err(format!(
+            "holds a time derivative of order {k} > 1; R enters only through ∂R/∂(∂t φ)"
+        )),
+    }
+}
+
+/// Every rule the engine knows. Adding a requirement is adding one value here.
+pub static REGISTRY: &[Rule] = &[
+    Rule {
+        code: "OST",
+        name: "ostrogradsky-stable",
+        meaning: "no time derivative above first order (those bring the Ostrogradsky instability)",
+        check: Check::Structural(ostrogradsky),
+    },
+    Rule {
+        code: "TRAN",
+        name: "translation-invariant",
+        meaning: "invariant under a uniform translation of the field, φ → φ + Δ",
+        check: Check::Symmetry(Transformation::shift("Δ", 0, 0, false)),
+    },
+    Rule {
+        code: "REF",
+        name: "reflection-invariant",
+        meaning: "invariant under the reflection φ → −φ",
+        check: Check::Symmetry(Transformation::reflect_field()),
+    },
+    Rule {
+        code: "KIN",
+        name: "standard-kinetic",
+        meaning: "a term with a time derivative must be the standard kinetic energy (∂t φ)²",
+        check: Check::Structural(standard_kinetic),
+    },
+    Rule {
+        code: "ROT",
+        name: "rotation-invariant",
+        meaning: "invariant under an infinitesimal rigid rotation, φ → φ + Δ·s",
+        check: Check::Symmetry(Transformation::shift("Δ", 1, 0, true)),
+    },
+    Rule {
+        code: "DIS",
+        name: "dissipative",
+        meaning: "holds a first time derivative and no higher one, so it acts through ∂R/∂(∂t φ)",
+        check: Check::Structural(dissipative),
+    },
+    Rule {
+        code: "GAL",
+        name: "boost-invariant",
+        meaning: "invariant under a Galilean boost, φ → φ + v·t",
+        check: Check::Symmetry(Transformation::shift("v", 0, 1, false)),
+    },
+    Rule {
+        code: "SPIN",
+        name: "rotation-rate-invariant",
+        meaning: "invariant under rotation at a constant rate, φ → φ + Ω·s·t (infinitesimal)",
+        check: Check::Symmetry(Transformation::shift("Ω", 1, 1, true)),
+    },
+    Rule {
+        code: "PAR",
+        name: "parity-invariant",
+        meaning: "invariant under the anterior–posterior reflection s → −s",
+        check: Check::Symmetry(Transformation::reflect_coordinate(false)),
+    },
+    Rule {
+        code: "TREV",
+        name: "time-reversal-invariant",
+        meaning: "invariant under time reversal t → −t",
+        check: Check::Symmetry(Transformation::reflect_coordinate(true)),
+    },
+];
+
+/// The rule with this code, if any.
+pub fn rule(code: &str) -> Option<&'static Rule> {
+    REGISTRY.iter().find(|r| r.code == code)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn why(code: &str, term: &str) -> Option<String> {
+        match rule(code).unwrap().verdict(&term.parse().unwrap()) {
+            Verdict::Pass => None,
+            Verdict::Reject { why, .. } => Some(why),
+        }
+    }
+
+    #[test]
+    fn codes_and_names_are_unique() {
+        for (i, a) in REGISTRY.iter().enumerate() {
+            for b in &REGISTRY[i + 1..] {
+                assert_ne!(a.code, b.code);
+                assert_ne!(a.name, b.name);
+            }
+        }
+    }
+
+    #[test]
+    fn rotation_names_the_change_it_makes() {
+        assert_eq!(
+            why("ROT", "(∂s φ)²").unwrap(),
+            "φ → φ + Δ·s changes (∂s φ)², to first order, by 2Δ·∂s φ"
+        );
+        assert_eq!(why("ROT", "(∂ss φ)²"), None);
+        assert_eq!(why("ROT", "∂t φ"), None);
+    }
+
+    #[test]
+    fn translation_expands_exactly() {
+        assert_eq!(
+            why("TRAN", "φ²").unwrap(),
+            "φ → φ + Δ changes φ² by 2Δ·φ + Δ²"
+        );
+    }
+
+    #[test]
+    fn reflection_and_parity() {
+        assert_eq!(why("REF", "φ³").unwrap(), "φ → −φ changes φ³ by −2·φ³");
+        assert_eq!(
+            why("PAR", "∂t φ·∂s φ").unwrap(),
+            "φ → φ(−s, t) changes ∂t φ·∂s φ by −2·∂t φ·∂s φ"
+        );
+        assert_eq!(
+            why("TREV", "∂t φ·∂s φ").unwrap(),
+            "φ → φ(s, −t) changes ∂t φ·∂s φ by −2·∂t φ·∂s φ"
+        );
+        assert_eq!(why("PAR", "(∂s φ)²"), None);
+    }
+
+    #[test]
+    fn boosts_and_spins() {
+        assert!(why("GAL", "(∂t φ)²").is_some());
+        assert_eq!(why("GAL", "(∂ts φ)²"), None);
+        assert!(why("SPIN", "(∂ts φ)²").is_some());
+        assert_eq!(why("SPIN", "(∂tss φ)²"), None);
+    }
+
+    #[test]
+    fn interaction_terms_transform_one_field_at_a_time() {
+        // ∂sφ₁·∂sφ₂ picks up Δ·∂sφ₂ when φ₁ rotates.
+        assert!(why("ROT", "∂s φ₁·∂s φ₂").is_some());
+        assert_eq!(why("ROT", "∂ss φ₁·∂ss φ₂"), None);
+    }
+}

@@ -1,0 +1,425 @@
+//! Render analyses as the seed's Table 1 and its Rayleigh twin: aligned Unicode text, Markdown,
+//! CSV, JSON (the contract other tools read) and a LaTeX `tabular`.
+//!
+//! Every cell comes from an [`Analysis`]; nothing here decides anything. A mark `x` means the term
+//! satisfies the requirement (rule columns) or survives in that field's density (field columns),
+//! as in the seed.
+
+use serde_json::{json, Map, Value};
+
+use crate::model::{Density, Model};
+use crate::reduce::{prefactor_text, Analysis, FieldResult};
+use crate::rules::Verdict;
+
+/// An output format of the table command.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Format {
+    /// Aligned Unicode text for the terminal.
+    Text,
+    /// Markdown tables, as in `tables/`.
+    Markdown,
+    /// One CSV table, one row per candidate and density.
+    Csv,
+    /// The JSON contract.
+    Json,
+    /// LaTeX `tabular` environments and an `align*` of the densities.
+    Latex,
+}
+
+const MARK: &str = "x";
+
+fn mark(b: bool) -> String {
+    if b { MARK } else { "" }.to_string()
+}
+
+/// The cells of one density's table: header, then one row per candidate.
+fn cells(model: &Model, a: &Analysis) -> (Vec<String>, Vec<Vec<String>>) {
+    let mut header: Vec<String> = ["term", "δ", "ε", "τ", "σ"].map(String::from).to_vec();
+    header.extend(a.columns.iter().map(|r| r.code.to_string()));
+    header.extend(model.fields.iter().map(|f| f.symbol.clone()));
+    let rows = a
+        .rows
+        .iter()
+        .map(|r| {
+            let o = r.orders;
+            let mut row = vec![r.term.to_string()];
+            row.extend([o.delta, o.epsilon, o.tau, o.sigma].map(|v| v.to_string()));
+            row.extend(r.verdicts.iter().map(|v| mark(v.passed())));
+            row.extend(r.included.iter().map(|&b| mark(b)));
+            row
+        })
+        .collect();
+    (header, rows)
+}
+
+fn title(a: &Analysis) -> String {
+    format!(
+        "{} density: {} candidate terms with {}",
+        a.density,
+        a.rows.len(),
+        a.bounds
+    )
+}
+
+fn requirement_line(model: &Model, a: &Analysis) -> String {
+    // Group fields with the same requirements, as the seed does ("x, θ: …; y, z: …").
+    let mut groups: Vec<(Vec<String>, Vec<&str>)> = Vec::new();
+    for f in &model.fields {
+        let codes: Vec<&str> = model
+            .requirements(a.density, &f.id)
+            .iter()
+            .map(|r| r.code)
+            .collect();
+        match groups.iter_mut().find(|(_, c)| *c == codes) {
+            Some((names, _)) => names.push(f.symbol.clone()),
+            None => groups.push((vec![f.symbol.clone()], codes)),
+        }
+    }
+    let parts: Vec<String> = groups
+        .iter()
+        .map(|(names, codes)| {
+            let codes = if codes.is_empty() {
+                "none".to_string()
+            } else {
+                codes.join(" ")
+            };
+            format!("{}: {codes}", names.join(", "))
+        })
+        .collect();
+    format!("Required: {}", parts.join("; "))
+}
+
+fn notes(a: &Analysis) -> Vec<String> {
+    a.fields.iter().flat_map(|f| f.missing.clone()).collect()
+}
+
+fn width(s: &str) -> usize {
+    s.chars().count()
+}
+
+fn aligned(header: &[String], rows: &[Vec<String>]) -> String {
+    let widths: Vec<usize> = (0..header.len())
+        .map(|c| {
+            rows.iter()
+                .map(|r| width(&r[c]))
+                .chain([width(&header[c])])
+                .max()
+                .unwrap_or(0)
+        })
+        .collect();
+    let line = |cells: &[String]| {
+        let padded: Vec<String> = cells
+            .iter()
+            .zip(&widths)
+            .enumerate()
+            .map(|(i, (c, &w))| {
+                let pad = " ".repeat(w - width(c));
+                // Terms read left to right; numbers and marks are centred under short headers.
+                if i == 0 {
+                    format!("{c}{pad}")
+                } else {
+                    let left = (w - width(c)) / 2;
+                    format!("{}{c}{}", " ".repeat(left), " ".repeat(w - width(c) - left))
+                }
+            })
+            .collect();
+        format!("  {}", padded.join("  ").trim_end())
+    };
+    let rule: String = "─".repeat(widths.iter().sum::<usize>() + 2 * (widths.len() - 1));
+    let mut out = vec![line(header), format!("  {rule}")];
+    out.extend(rows.iter().map(|r| line(r)));
+    out.join("\n") + "\n"
+}
+
+fn text(model: &Model, analyses: &[Analysis]) -> String {
+    let mut out = String::new();
+    for a in analyses {
+        let (header, rows) = cells(model, a);
+        out += &format!("{}\n", title(a));
+        out += &format!("{}\n\n", requirement_line(model, a));
+        out += &aligned(&header, &rows);
+        out += "\n";
+    }
+    for a in analyses {
+        out += &format!(
+            "Surviving {} densities (lowest order in τ and σ):\n",
+            a.density
+        );
+        for f in &a.fields {
+            out += &format!("  {}\n", f.formula(a.density));
+        }
+        for n in notes(a) {
+            out += &format!("  note: {n}\n");
+        }
+        out += "\n";
+    }
+    out.trim_end().to_string() + "\n"
+}
+
+fn markdown(model: &Model, analyses: &[Analysis]) -> String {
+    let mut out = String::new();
+    for a in analyses {
+        let (header, rows) = cells(model, a);
+        out += &format!("## {}\n\n{}.\n\n", title(a), requirement_line(model, a));
+        let line = |c: &[String]| format!("| {} |\n", c.join(" | "));
+        out += &line(&header);
+        out += &format!("|{}\n", "---|".repeat(header.len()));
+        for r in &rows {
+            out += &line(r);
+        }
+        out += &format!(
+            "\nSurviving {} densities (lowest order in τ and σ):\n\n",
+            a.density
+        );
+        for f in &a.fields {
+            out += &format!("- `{}`\n", f.formula(a.density));
+        }
+        for n in notes(a) {
+            out += &format!("- note: {n}\n");
+        }
+        out += "\n";
+    }
+    out.trim_end().to_string() + "\n"
+}
+
+fn csv(model: &Model, analyses: &[Analysis]) -> String {
+    // One table for all densities: the union of rule columns, empty where a rule is not a
+    // requirement column of that density; 1/0 for satisfied/failed and included/not.
+    let mut codes: Vec<&str> = Vec::new();
+    for a in analyses {
+        for r in &a.columns {
+            if !codes.contains(&r.code) {
+                codes.push(r.code);
+            }
+        }
+    }
+    let mut header: Vec<String> = ["density", "term", "delta", "epsilon", "tau", "sigma"]
+        .map(String::from)
+        .to_vec();
+    header.extend(codes.iter().map(|c| c.to_string()));
+    header.extend(model.fields.iter().map(|f| f.id.clone()));
+    let mut out = header.join(",") + "\n";
+    let bit = |b: bool| if b { "1" } else { "0" }.to_string();
+    for a in analyses {
+        for r in &a.rows {
+            let o = r.orders;
+            let mut row = vec![a.density.key().to_string(), r.term.to_string()];
+            row.extend([o.delta, o.epsilon, o.tau, o.sigma].map(|v| v.to_string()));
+            for code in &codes {
+                let v = a.columns.iter().position(|c| c.code == *code);
+                row.push(v.map(|i| bit(r.verdicts[i].passed())).unwrap_or_default());
+            }
+            row.extend(r.included.iter().map(|&b| bit(b)));
+            out += &(row.join(",") + "\n");
+        }
+    }
+    out
+}
+
+fn field_map<T: Into<Value>>(
+    fields: &[FieldResult],
+    value: impl Fn(usize, &FieldResult) -> T,
+) -> Value {
+    let mut m = Map::new();
+    for (i, f) in fields.iter().enumerate() {
+        m.insert(f.field.id.clone(), value(i, f).into());
+    }
+    Value::Object(m)
+}
+
+/// The JSON of one density (the contract's `"lagrangian"` / `"rayleigh"` object).
+fn json_density(model: &Model, a: &Analysis) -> Value {
+    let rows: Vec<Value> = a
+        .rows
+        .iter()
+        .map(|r| {
+            let o = r.orders;
+            let factors: Vec<Value> = r
+                .term
+                .factors()
+                .iter()
+                .map(|f| {
+                    let mut v = json!({"t": f.deriv.t, "s": f.deriv.s, "power": f.power});
+                    if f.field != 0 {
+                        v["field"] = json!(f.field);
+                    }
+                    v
+                })
+                .collect();
+            let mut satisfies = Map::new();
+            let mut rejected = Map::new();
+            for (rule, v) in a.columns.iter().zip(&r.verdicts) {
+                satisfies.insert(rule.code.into(), v.passed().into());
+                if let Verdict::Reject { why, .. } = v {
+                    rejected.insert(rule.code.into(), why.clone().into());
+                }
+            }
+            json!({
+                "term": r.term.to_string(),
+                "factors": factors,
+                "delta": o.delta, "epsilon": o.epsilon, "tau": o.tau, "sigma": o.sigma,
+                "satisfies": satisfies,
+                "included": field_map(&a.fields, |i, _| r.included[i]),
+                "admitted": field_map(&a.fields, |i, _| r.admitted[i]),
+                "rejected": rejected,
+            })
+        })
+        .collect();
+    let codes = |f: &FieldResult| -> Vec<Value> {
+        model
+            .requirements(a.density, &f.field.id)
+            .iter()
+            .map(|r| r.code.into())
+            .collect()
+    };
+    json!({
+        "bound": a.bounds.to_string(),
+        "requirements": a.columns.iter().map(|r| r.code).collect::<Vec<_>>(),
+        "fields": model.fields.iter().map(|f| f.id.as_str()).collect::<Vec<_>>(),
+        "rows": rows,
+        "survivors": field_map(&a.fields, |_, f| {
+            f.survivors.iter().map(|t| Value::from(t.to_string())).collect::<Vec<_>>()
+        }),
+        "field_requirements": field_map(&a.fields, |_, f| codes(f)),
+        "densities": field_map(&a.fields, |_, f| f.formula(a.density)),
+        "notes": notes(a),
+    })
+}
+
+/// The JSON report: `{"order": N, "model": …, "lagrangian": {…}, "rayleigh": {…}}`, with only
+/// the densities analysed.
+pub fn json_report(model: &Model, analyses: &[Analysis]) -> Value {
+    let mut top = Map::new();
+    top.insert(
+        "order".into(),
+        analyses.first().map(|a| a.order).unwrap_or(0).into(),
+    );
+    top.insert("model".into(), model.name.clone().into());
+    for a in analyses {
+        top.insert(a.density.key().into(), json_density(model, a));
+    }
+    Value::Object(top)
+}
+
+const GREEK: [(char, &str); 12] = [
+    ('φ', "\\phi"),
+    ('θ', "\\theta"),
+    ('ψ', "\\psi"),
+    ('χ', "\\chi"),
+    ('α', "\\alpha"),
+    ('β', "\\beta"),
+    ('γ', "\\gamma"),
+    ('ξ', "\\xi"),
+    ('η', "\\eta"),
+    ('ρ', "\\rho"),
+    ('κ', "\\kappa"),
+    ('ζ', "\\zeta"),
+];
+
+/// A symbol in LaTeX math: Greek letters to commands, the rest unchanged.
+pub fn latex_symbol(s: &str) -> String {
+    s.chars()
+        .map(|c| {
+            GREEK
+                .iter()
+                .find(|(g, _)| *g == c)
+                .map(|(_, l)| format!("{l} "))
+                .unwrap_or_else(|| c.to_string())
+        })
+        .collect::<String>()
+        .trim_end()
+        .to_string()
+}
+
+fn latex_formula(density: Density, f: &FieldResult) -> String {
+    let sym = latex_symbol(&f.field.symbol);
+    let mut out = format!("{}_{{{sym}}} &=", density.letter());
+    if f.density.is_empty() {
+        return out + " 0";
+    }
+    for (i, dt) in f.density.iter().enumerate() {
+        out += match (i, dt.sign < 0) {
+            (0, false) => " ",
+            (0, true) => " -",
+            (_, false) => " + ",
+            (_, true) => " - ",
+        };
+        let p = prefactor_text(dt.prefactor);
+        out += &match p.as_str() {
+            "½" => "\\tfrac{1}{2}".to_string(),
+            _ if p.contains('/') => {
+                let (n, d) = p.split_once('/').unwrap_or((&p, "1"));
+                format!("\\tfrac{{{n}}}{{{d}}}")
+            }
+            _ => p,
+        };
+        if let Some(param) = &dt.parameter {
+            let (base, _) = param.split_once('_').unwrap_or((param, ""));
+            out += &format!(" {base}_{{{sym}}}");
+        }
+        out += &format!(" {}", dt.term.render_latex(&|_| sym.clone()));
+    }
+    out
+}
+
+fn latex(model: &Model, analyses: &[Analysis]) -> String {
+    let mut out =
+        String::from("% Generated by theory-search; needs no package beyond LaTeX itself.\n");
+    for a in analyses {
+        let (_, rows) = cells(model, a);
+        let ncols = a.columns.len();
+        let nfields = model.fields.len();
+        out += &format!("% {}\n", title(a));
+        out += &format!(
+            "\\begin{{tabular}}{{l|cccc|{}|{}}}\n\\hline\n",
+            "c".repeat(ncols),
+            "c".repeat(nfields)
+        );
+        let mut header: Vec<String> = ["Term", "$\\delta$", "$\\epsilon$", "$\\tau$", "$\\sigma$"]
+            .map(String::from)
+            .to_vec();
+        header.extend(a.columns.iter().map(|r| r.code.to_string()));
+        header.extend(
+            model
+                .fields
+                .iter()
+                .map(|f| format!("${}$", latex_symbol(&f.symbol))),
+        );
+        out += &format!("{} \\\\\n\\hline\n", header.join(" & "));
+        for (row, r) in rows.iter().zip(&a.rows) {
+            let mut cells = row.clone();
+            cells[0] = format!("${}$", r.term.render_latex(&|_| "\\phi".to_string()));
+            out += &format!("{} \\\\\n", cells.join(" & "));
+        }
+        out += "\\hline\n\\end{tabular}\n\n";
+        out += "\\begin{align*}\n";
+        let lines: Vec<String> = a
+            .fields
+            .iter()
+            .map(|f| latex_formula(a.density, f))
+            .collect();
+        out += &lines.join(" \\\\\n");
+        out += "\n\\end{align*}\n";
+        for n in notes(a) {
+            out += &format!("% note: {n}\n");
+        }
+        out += "\n";
+    }
+    out.trim_end().to_string() + "\n"
+}
+
+/// Render `analyses` (one per density, same order) of `model` in `format`.
+pub fn render(model: &Model, analyses: &[Analysis], format: Format) -> String {
+    match format {
+        Format::Text => text(model, analyses),
+        Format::Markdown => markdown(model, analyses),
+        Format::Csv => csv(model, analyses),
+        Format::Json => {
+            let mut s = serde_json::to_string_pretty(&json_report(model, analyses))
+                .unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"));
+            s.push('\n');
+            s
+        }
+        Format::Latex => latex(model, analyses),
+    }
+}

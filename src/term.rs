@@ -1,0 +1,537 @@
+//! Terms of a density: products of powers of derivatives of placeholder fields.
+//!
+//! A [`Term`] is `∏ᵢ (∂tᵃⁱ∂sᵇⁱ φ_{fᵢ})^{nᵢ}`. It is kept canonical (factors merged, sorted, powers ≥ 1),
+//! so two terms are equal exactly when they are the same monomial. Its four orders follow from
+//! rescaling φ → a·φ, t → t·t₀, s → s·s₀ (seed Eq. 36–37):
+//!
+//! * δ, the derivative order: the highest `a + b` of any factor;
+//! * ε, the amplitude order: `Σ n`;
+//! * τ, the time-scale order: `Σ n·a`;
+//! * σ, the space-scale order: `Σ n·b`.
+//!
+//! Text form (what `Display` writes and `FromStr` reads back): `φ`, `φ³`, `∂t φ`, `(∂ts φ)²`,
+//! `(∂t φ)²·(∂s φ)²`; placeholder field k > 0 is `φ₁`, `φ₂`, …. A derivative repeats its letters
+//! up to four times (`∂ttss`) and writes a superscript beyond (`∂t⁵s`). The parser also takes
+//! ASCII: `(dts phi)^2`, `phi_1`, `*` for `·`, and spaces are optional.
+//!
+//! `Ord` is the canonical table order: by δ, then ε, then factor by factor (field, derivative order,
+//! time derivatives first, power).
+
+use std::cmp::{Ordering, Reverse};
+use std::fmt;
+use std::str::FromStr;
+
+/// A mixed partial derivative `∂tᵗ∂sˢ`; `t = s = 0` is the field itself.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default)]
+pub struct Deriv {
+    /// Order in time.
+    pub t: u32,
+    /// Order in arc length.
+    pub s: u32,
+}
+
+impl Deriv {
+    /// `∂tᵗ∂sˢ`.
+    pub const fn new(t: u32, s: u32) -> Self {
+        Deriv { t, s }
+    }
+
+    /// Total derivative order `t + s`.
+    pub const fn order(self) -> u32 {
+        self.t + self.s
+    }
+}
+
+/// One factor `(∂tᵗ∂sˢ φ_field)^power` of a term.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Factor {
+    /// Placeholder field index: 0 is the single-field `φ`, k > 0 is `φₖ` in interaction terms.
+    pub field: u8,
+    /// Which derivative of the field.
+    pub deriv: Deriv,
+    /// Power, at least 1 in a canonical term.
+    pub power: u32,
+}
+
+impl Factor {
+    fn sort_key(&self) -> (u8, u32, Reverse<u32>, u32) {
+        (
+            self.field,
+            self.deriv.order(),
+            Reverse(self.deriv.t),
+            self.power,
+        )
+    }
+}
+
+impl Ord for Factor {
+    fn cmp(&self, other: &Self) -> Ordering {
+        self.sort_key().cmp(&other.sort_key())
+    }
+}
+
+impl PartialOrd for Factor {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+/// The four orders of a term (seed Appendix A).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Orders {
+    /// δ: highest derivative order of any factor.
+    pub delta: u32,
+    /// ε: amplitude order, the total power.
+    pub epsilon: u32,
+    /// τ: order in the inverse time scale.
+    pub tau: u32,
+    /// σ: order in the inverse space scale.
+    pub sigma: u32,
+}
+
+/// A product of factors, kept canonical.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Term {
+    factors: Vec<Factor>,
+}
+
+/// Why a list of factors or a string is not a term.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum TermError {
+    /// No factor with a positive power: a constant, which never changes the physics.
+    #[error("a term needs at least one factor with a positive power (constants are not terms)")]
+    Empty,
+    /// The text could not be read as a term.
+    #[error("cannot read term {text:?}: {why}")]
+    Parse {
+        /// The text that was given.
+        text: String,
+        /// What is wrong with it.
+        why: String,
+    },
+}
+
+impl Term {
+    /// The canonical term of `factors`: equal derivatives of the same field are merged, zero
+    /// powers dropped, factors sorted.
+    pub fn new(factors: impl IntoIterator<Item = Factor>) -> Result<Term, TermError> {
+        let mut merged: Vec<Factor> = Vec::new();
+        for f in factors {
+            if f.power == 0 {
+                continue;
+            }
+            match merged
+                .iter_mut()
+                .find(|g| g.field == f.field && g.deriv == f.deriv)
+            {
+                Some(g) => g.power += f.power,
+                None => merged.push(f),
+            }
+        }
+        if merged.is_empty() {
+            return Err(TermError::Empty);
+        }
+        merged.sort();
+        Ok(Term { factors: merged })
+    }
+
+    /// The pure power `(∂tᵗ∂sˢ φ)ⁿ` of the single placeholder field; `n ≥ 1`.
+    pub fn power(t: u32, s: u32, n: u32) -> Term {
+        assert!(n > 0, "a pure power needs n ≥ 1");
+        Term {
+            factors: vec![Factor {
+                field: 0,
+                deriv: Deriv::new(t, s),
+                power: n,
+            }],
+        }
+    }
+
+    /// The factors, in canonical order.
+    pub fn factors(&self) -> &[Factor] {
+        &self.factors
+    }
+
+    /// The four orders δ, ε, τ, σ.
+    pub fn orders(&self) -> Orders {
+        let f = &self.factors;
+        Orders {
+            delta: f.iter().map(|f| f.deriv.order()).max().unwrap_or(0),
+            epsilon: f.iter().map(|f| f.power).sum(),
+            tau: f.iter().map(|f| f.power * f.deriv.t).sum(),
+            sigma: f.iter().map(|f| f.power * f.deriv.s).sum(),
+        }
+    }
+
+    /// True if any factor carries a time derivative.
+    pub fn has_time_derivative(&self) -> bool {
+        self.factors.iter().any(|f| f.deriv.t > 0)
+    }
+
+    /// The highest time-derivative order of any factor.
+    pub fn max_time_order(&self) -> u32 {
+        self.factors.iter().map(|f| f.deriv.t).max().unwrap_or(0)
+    }
+
+    /// The placeholder fields the term involves, ascending, without repeats.
+    pub fn fields(&self) -> Vec<u8> {
+        let mut v: Vec<u8> = self.factors.iter().map(|f| f.field).collect();
+        v.dedup();
+        v
+    }
+
+    /// The text form with each placeholder field written by `name` (e.g. the field's symbol).
+    pub fn render(&self, name: &dyn Fn(u8) -> String) -> String {
+        self.factors
+            .iter()
+            .map(|f| render_factor(f, &name(f.field)))
+            .collect::<Vec<_>>()
+            .join("·")
+    }
+
+    /// The term as LaTeX math (without `$`), each placeholder field written by `name`.
+    pub fn render_latex(&self, name: &dyn Fn(u8) -> String) -> String {
+        self.factors
+            .iter()
+            .map(|f| {
+                let field = name(f.field);
+                let base = if f.deriv.order() == 0 {
+                    field
+                } else {
+                    let sub = format!(
+                        "{}{}",
+                        latex_letters('t', f.deriv.t),
+                        latex_letters('s', f.deriv.s)
+                    );
+                    format!("\\partial_{{{sub}}}{field}")
+                };
+                match (f.power, f.deriv.order()) {
+                    (1, _) => base,
+                    (n, 0) => format!("{base}^{{{n}}}"),
+                    (n, _) => format!("({base})^{{{n}}}"),
+                }
+            })
+            .collect::<Vec<_>>()
+            .join(" ")
+    }
+}
+
+impl Ord for Term {
+    fn cmp(&self, other: &Self) -> Ordering {
+        let (a, b) = (self.orders(), other.orders());
+        (a.delta, a.epsilon)
+            .cmp(&(b.delta, b.epsilon))
+            .then_with(|| self.factors.cmp(&other.factors))
+    }
+}
+
+impl PartialOrd for Term {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+/// The name of placeholder field `k`: `φ`, `φ₁`, `φ₂`, ….
+pub fn placeholder(k: u8) -> String {
+    if k == 0 {
+        "φ".to_string()
+    } else {
+        format!("φ{}", to_script(k as u32, SUBSCRIPTS))
+    }
+}
+
+impl fmt::Display for Term {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.render(&placeholder))
+    }
+}
+
+const SUPERSCRIPTS: [char; 10] = ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'];
+const SUBSCRIPTS: [char; 10] = ['₀', '₁', '₂', '₃', '₄', '₅', '₆', '₇', '₈', '₉'];
+
+/// `n` in the given digit set (superscript or subscript).
+pub fn to_script(n: u32, digits: [char; 10]) -> String {
+    n.to_string()
+        .chars()
+        .map(|c| digits[c.to_digit(10).unwrap_or(0) as usize])
+        .collect()
+}
+
+/// `n` as superscript digits, e.g. `²`.
+pub fn superscript(n: u32) -> String {
+    to_script(n, SUPERSCRIPTS)
+}
+
+fn letters(letter: char, count: u32) -> String {
+    match count {
+        0 => String::new(),
+        1..=4 => std::iter::repeat_n(letter, count as usize).collect(),
+        _ => format!("{letter}{}", superscript(count)),
+    }
+}
+
+fn latex_letters(letter: char, count: u32) -> String {
+    match count {
+        0 => String::new(),
+        1..=4 => std::iter::repeat_n(letter, count as usize).collect(),
+        _ => format!("{letter}^{{{count}}}"),
+    }
+}
+
+fn render_factor(f: &Factor, field: &str) -> String {
+    if f.deriv.order() == 0 {
+        return match f.power {
+            1 => field.to_string(),
+            n => format!("{field}{}", superscript(n)),
+        };
+    }
+    let d = format!(
+        "∂{}{} {field}",
+        letters('t', f.deriv.t),
+        letters('s', f.deriv.s)
+    );
+    match f.power {
+        1 => d,
+        n => format!("({d}){}", superscript(n)),
+    }
+}
+
+impl FromStr for Term {
+    type Err = TermError;
+
+    fn from_str(text: &str) -> Result<Term, TermError> {
+        let fail = |why: &str| TermError::Parse {
+            text: text.to_string(),
+            why: why.to_string(),
+        };
+        if text.trim().is_empty() {
+            return Err(fail("empty text"));
+        }
+        let mut factors = Vec::new();
+        for part in text.split(['·', '*']) {
+            factors.push(parse_factor(part).map_err(|why| fail(&why))?);
+        }
+        Term::new(factors).map_err(|e| fail(&e.to_string()))
+    }
+}
+
+/// A cursor over the characters of one factor, skipping white space.
+struct Cursor<'a> {
+    chars: std::iter::Peekable<std::str::Chars<'a>>,
+}
+
+impl Cursor<'_> {
+    fn peek(&mut self) -> Option<char> {
+        while self.chars.peek().is_some_and(|c| c.is_whitespace()) {
+            self.chars.next();
+        }
+        self.chars.peek().copied()
+    }
+
+    fn eat(&mut self, c: char) -> bool {
+        if self.peek() == Some(c) {
+            self.chars.next();
+            true
+        } else {
+            false
+        }
+    }
+
+    fn eat_word(&mut self, word: &str) -> bool {
+        let _ = self.peek();
+        let rest: String = self.chars.clone().take(word.chars().count()).collect();
+        if rest == word {
+            for _ in word.chars() {
+                self.chars.next();
+            }
+            true
+        } else {
+            false
+        }
+    }
+
+    /// An exponent: superscript digits, or `^` and ASCII digits. `None` if there is none.
+    fn exponent(&mut self) -> Result<Option<u32>, String> {
+        let mut digits = String::new();
+        if self.eat('^') {
+            while let Some(c) = self.chars.peek().copied().filter(char::is_ascii_digit) {
+                digits.push(c);
+                self.chars.next();
+            }
+            if digits.is_empty() {
+                return Err("'^' must be followed by digits".into());
+            }
+        } else {
+            while let Some(i) = self
+                .chars
+                .peek()
+                .and_then(|c| SUPERSCRIPTS.iter().position(|d| d == c))
+            {
+                digits.push(char::from(b'0' + i as u8));
+                self.chars.next();
+            }
+            if digits.is_empty() {
+                return Ok(None);
+            }
+        }
+        digits
+            .parse()
+            .map(Some)
+            .map_err(|_| format!("exponent {digits} is too large"))
+    }
+
+    /// The derivative after `∂` (or `d`): letters t and s, each with an optional exponent.
+    fn derivative(&mut self) -> Result<Deriv, String> {
+        let mut d = Deriv::default();
+        loop {
+            let slot = match self.chars.peek() {
+                // `∂t∂s` is read as `∂ts`: partial derivatives commute.
+                Some('∂') => {
+                    self.chars.next();
+                    continue;
+                }
+                Some('t') => &mut d.t,
+                Some('s') => &mut d.s,
+                _ => break,
+            };
+            self.chars.next();
+            *slot += self.exponent()?.unwrap_or(1);
+        }
+        if d.order() == 0 {
+            return Err("'∂' must be followed by t or s".into());
+        }
+        Ok(d)
+    }
+
+    /// A placeholder field: `φ`, `phi`, then an optional index (`₁` or `_1`).
+    fn field(&mut self) -> Result<u8, String> {
+        if !(self.eat('φ') || self.eat_word("phi")) {
+            return Err("expected the field φ".into());
+        }
+        let mut digits = String::new();
+        if self.chars.peek() == Some(&'_') {
+            self.chars.next();
+            while let Some(c) = self.chars.peek().copied().filter(char::is_ascii_digit) {
+                digits.push(c);
+                self.chars.next();
+            }
+        } else {
+            while let Some(i) = self
+                .chars
+                .peek()
+                .and_then(|c| SUBSCRIPTS.iter().position(|d| d == c))
+            {
+                digits.push(char::from(b'0' + i as u8));
+                self.chars.next();
+            }
+        }
+        if digits.is_empty() {
+            Ok(0)
+        } else {
+            digits
+                .parse()
+                .map_err(|_| format!("field index {digits} is out of range"))
+        }
+    }
+
+    /// `∂… φ` or `φ`.
+    fn derivative_of_field(&mut self) -> Result<(Deriv, u8), String> {
+        let deriv = if self.eat('∂') || self.eat('d') {
+            self.derivative()?
+        } else {
+            Deriv::default()
+        };
+        Ok((deriv, self.field()?))
+    }
+}
+
+fn parse_factor(text: &str) -> Result<Factor, String> {
+    let mut c = Cursor {
+        chars: text.chars().peekable(),
+    };
+    let (deriv, field, power) = if c.eat('(') {
+        let (deriv, field) = c.derivative_of_field()?;
+        if !c.eat(')') {
+            return Err("missing ')'".into());
+        }
+        (deriv, field, c.exponent()?.unwrap_or(1))
+    } else {
+        let (deriv, field) = c.derivative_of_field()?;
+        let power = c.exponent()?;
+        if deriv.order() > 0 && power.is_some() {
+            return Err("put a derivative in parentheses to raise it to a power: (∂t φ)²".into());
+        }
+        (deriv, field, power.unwrap_or(1))
+    };
+    if let Some(extra) = c.peek() {
+        return Err(format!("unexpected {extra:?}"));
+    }
+    if power == 0 {
+        return Err("a factor's power must be at least 1".into());
+    }
+    Ok(Factor {
+        field,
+        deriv,
+        power,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn display_matches_the_papers_notation() {
+        assert_eq!(Term::power(1, 1, 2).to_string(), "(∂ts φ)²");
+        assert_eq!(Term::power(0, 0, 3).to_string(), "φ³");
+        assert_eq!(Term::power(1, 0, 1).to_string(), "∂t φ");
+        assert_eq!(Term::power(5, 1, 2).to_string(), "(∂t⁵s φ)²");
+    }
+
+    #[test]
+    fn parses_unicode_ascii_and_spacing_variants() {
+        let want = Term::power(1, 1, 2);
+        for text in [
+            "(∂ts φ)²",
+            "(∂tsφ)²",
+            "(∂ts φ)^2",
+            "(dts phi)^2",
+            "(∂t∂s φ)²",
+            "(∂st φ)²",
+        ] {
+            assert_eq!(text.parse::<Term>().unwrap(), want, "{text}");
+        }
+        assert_eq!("∂ssssφ".parse::<Term>().unwrap(), Term::power(0, 4, 1));
+        assert_eq!("∂s⁴ φ".parse::<Term>().unwrap(), Term::power(0, 4, 1));
+    }
+
+    #[test]
+    fn products_merge_and_sort() {
+        let t: Term = "(∂s φ)·∂t φ·∂s φ".parse().unwrap();
+        assert_eq!(t.to_string(), "∂t φ·(∂s φ)²");
+        assert_eq!(
+            t.orders(),
+            Orders {
+                delta: 1,
+                epsilon: 3,
+                tau: 1,
+                sigma: 2
+            }
+        );
+    }
+
+    #[test]
+    fn rejects_malformed_text() {
+        for bad in ["", "ψ", "(∂t φ", "∂t φ²", "(∂x φ)²", "φ^", "(∂t φ)⁰", "φ φ"]
+        {
+            assert!(bad.parse::<Term>().is_err(), "{bad:?} parsed");
+        }
+    }
+
+    #[test]
+    fn orders_follow_the_seed_example() {
+        // Seed Eq. 36–37: (∂⁵x/∂t²∂s³)² has ε = 2, τ = 4, σ = 6.
+        let o = Term::power(2, 3, 2).orders();
+        assert_eq!((o.delta, o.epsilon, o.tau, o.sigma), (5, 2, 4, 6));
+    }
+}
