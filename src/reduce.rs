@@ -171,9 +171,12 @@ pub fn analyse(model: &Model, density: Density, order: u32) -> Result<Analysis, 
     })
 }
 
+/// A test on a term.
+type TermTest = fn(&Term) -> bool;
+
 /// The parts a density needs: a Lagrangian a kinetic and a potential term, a Rayleigh density
 /// any term. Each is (name, test on a term).
-fn parts(density: Density) -> Vec<(&'static str, fn(&Term) -> bool)> {
+fn parts(density: Density) -> Vec<(&'static str, TermTest)> {
     match density {
         Density::Lagrangian => vec![
             ("kinetic", |t: &Term| t.has_time_derivative()),

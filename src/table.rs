@@ -345,19 +345,20 @@ fn latex_formula(density: Density, f: &FieldResult) -> String {
             (_, true) => " - ",
         };
         let p = prefactor_text(dt.prefactor);
-        out += &match p.as_str() {
-            "½" => "\\tfrac{1}{2}".to_string(),
-            _ if p.contains('/') => {
-                let (n, d) = p.split_once('/').unwrap_or((&p, "1"));
-                format!("\\tfrac{{{n}}}{{{d}}}")
-            }
-            _ => p,
-        };
+        let mut pieces: Vec<String> = Vec::new();
+        if let Some((n, d)) = p.split_once('/') {
+            pieces.push(format!("\\tfrac{{{n}}}{{{d}}}"));
+        } else if p == "½" {
+            pieces.push("\\tfrac{1}{2}".to_string());
+        } else if !p.is_empty() {
+            pieces.push(p);
+        }
         if let Some(param) = &dt.parameter {
             let (base, _) = param.split_once('_').unwrap_or((param, ""));
-            out += &format!(" {base}_{{{sym}}}");
+            pieces.push(format!("{base}_{{{sym}}}"));
         }
-        out += &format!(" {}", dt.term.render_latex(&|_| sym.clone()));
+        pieces.push(dt.term.render_latex(&|_| sym.clone()));
+        out += &pieces.join(" ");
     }
     out
 }

@@ -262,20 +262,21 @@ pub fn superscript(n: u32) -> String {
     to_script(n, SUPERSCRIPTS)
 }
 
-fn letters(letter: char, count: u32) -> String {
+/// `count` derivative letters: repeated up to four times, with an exponent (`exp`) beyond.
+fn letters_with(letter: char, count: u32, exp: fn(u32) -> String) -> String {
     match count {
         0 => String::new(),
         1..=4 => std::iter::repeat_n(letter, count as usize).collect(),
-        _ => format!("{letter}{}", superscript(count)),
+        _ => format!("{letter}{}", exp(count)),
     }
 }
 
+fn letters(letter: char, count: u32) -> String {
+    letters_with(letter, count, superscript)
+}
+
 fn latex_letters(letter: char, count: u32) -> String {
-    match count {
-        0 => String::new(),
-        1..=4 => std::iter::repeat_n(letter, count as usize).collect(),
-        _ => format!("{letter}^{{{count}}}"),
-    }
+    letters_with(letter, count, |n| format!("^{{{n}}}"))
 }
 
 fn render_factor(f: &Factor, field: &str) -> String {

@@ -1,0 +1,14 @@
+//! The generated tables under `tables/` must be what the engine gives now.
+
+use std::path::Path;
+use theory_search::codegen::{ensure_file_contents, generated_files};
+
+#[test]
+fn generated_files_are_fresh() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let stale: Vec<String> = generated_files()
+        .into_iter()
+        .filter_map(|(rel, contents)| ensure_file_contents(&root.join(rel), &contents).err())
+        .collect();
+    assert!(stale.is_empty(), "{}", stale.join("\n"));
+}

@@ -1,0 +1,83 @@
+//! Properties that must hold for every term and every order.
+
+use proptest::prelude::*;
+use theory_search::enumerate::{pure_powers, Bounds, MAX_ORDER};
+use theory_search::model::{BoundShape, Density, Model};
+use theory_search::reduce::{analyse, dominates};
+use theory_search::term::{Deriv, Factor, Term};
+
+fn factor() -> impl Strategy<Value = Factor> {
+    (0u8..3, 0u32..7, 0u32..7, 1u32..6).prop_map(|(field, t, s, power)| Factor {
+        field,
+        deriv: Deriv::new(t, s),
+        power,
+    })
+}
+
+proptest! {
+    #[test]
+    fn display_and_parse_round_trip(factors in prop::collection::vec(factor(), 1..4)) {
+        let term = Term::new(factors).unwrap();
+        let text = term.to_string();
+        prop_assert_eq!(text.parse::<Term>().unwrap(), term.clone(), "{}", text);
+    }
+
+    #[test]
+    fn orders_add_up(factors in prop::collection::vec(factor(), 1..4)) {
+        let term = Term::new(factors.clone()).unwrap();
+        let o = term.orders();
+        prop_assert_eq!(o.epsilon, factors.iter().map(|f| f.power).sum::<u32>());
+        prop_assert_eq!(o.tau, factors.iter().map(|f| f.power * f.deriv.t).sum::<u32>());
+        prop_assert_eq!(o.sigma, factors.iter().map(|f| f.power * f.deriv.s).sum::<u32>());
+    }
+
+    #[test]
+    fn survivors_are_admitted_and_undominated(order in 1u32..=MAX_ORDER) {
+        let model = Model::larva();
+        for density in Density::ALL {
+            let a = analyse(&model, density, order).unwrap();
+            for f in &a.fields {
+                for s in &f.survivors {
+                    prop_assert!(f.admitted.contains(s));
+                    for t in &f.admitted {
+                        prop_assert!(!dominates(&t.orders(), &s.orders()));
+                    }
+                }
+                // Every admitted non-survivor is dominated by some survivor.
+                for t in f.admitted.iter().filter(|t| !f.survivors.contains(t)) {
+                    prop_assert!(f.survivors.iter().any(|s| dominates(&s.orders(), &t.orders())));
+                }
+            }
+        }
+    }
+}
+
+/// Independent count of the Table 1 candidates: triples (a, b, n) by brute force.
+fn brute_count(order: u32, shape: BoundShape) -> usize {
+    let mut n_terms = 0;
+    for n in 1..=order {
+        for a in 0..=order {
+            for b in 0..=order {
+                let (d, tau, sigma) = (a + b, n * a, n * b);
+                let ok = d <= order
+                    && match shape {
+                        BoundShape::TauPlusSigma => tau + sigma <= order,
+                        BoundShape::TauAndSigma => tau <= order && sigma <= order,
+                    };
+                n_terms += ok as usize;
+            }
+        }
+    }
+    n_terms
+}
+
+#[test]
+fn candidate_counts_match_a_brute_force_count_at_every_order() {
+    for order in 1..=MAX_ORDER {
+        for shape in [BoundShape::TauPlusSigma, BoundShape::TauAndSigma] {
+            let terms = pure_powers(&Bounds::for_order(shape, order));
+            assert_eq!(terms.len(), brute_count(order, shape), "order {order}");
+            assert!(terms.windows(2).all(|w| w[0] < w[1]), "sorted and distinct");
+        }
+    }
+}
