@@ -8,10 +8,15 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::codegen;
+use crate::discretise::{operators, Operator};
 use crate::enumerate::MAX_ORDER;
+use crate::equations::{self, derive};
 use crate::model::{Density, Model};
 use crate::reduce::analyse;
 use crate::table::{render, Format};
+
+/// The most points `operators` prints as dense matrices.
+pub const MAX_PRINT_POINTS: usize = 2000;
 
 /// Derive the physics of a soft slender body from symmetry alone.
 ///
@@ -34,9 +39,30 @@ pub struct Cli {
 enum Command {
     /// Print the candidate tables and surviving densities (the default command).
     Table(TableArgs),
+    /// Derive the continuum equations of motion from the surviving densities.
+    Equations {
+        #[command(flatten)]
+        model: ModelArgs,
+        /// Output format.
+        #[arg(long, value_enum, default_value_t = EquationFormat::Text)]
+        format: EquationFormat,
+    },
+    /// Print the difference operators the surviving terms give on N points.
+    Operators {
+        /// Number of points along the body (the seed uses 12). Dense matrices are printed up to
+        /// 2000 points.
+        #[arg(long, short, value_name = "N",
+              value_parser = clap::value_parser!(u64).range(1..=MAX_PRINT_POINTS as u64))]
+        points: u64,
+        #[command(flatten)]
+        model: ModelArgs,
+        /// Output format.
+        #[arg(long, value_enum, default_value_t = OperatorFormat::Text)]
+        format: OperatorFormat,
+    },
     /// List the rules the engine knows (generated from the registry).
     Rules,
-    /// Regenerate every generated file (tables/) under a directory.
+    /// Regenerate every generated file (src/generated/, tables/) under a directory.
     Emit {
         /// Directory to write into: the crate root.
         #[arg(long, default_value = ".")]
@@ -52,22 +78,44 @@ enum DensityChoice {
     Both,
 }
 
+/// Output formats of `equations`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum EquationFormat {
+    Text,
+    Latex,
+    Json,
+}
+
+/// Output formats of `operators`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum OperatorFormat {
+    Text,
+    Json,
+}
+
+/// Which model, at which order.
 #[derive(Debug, Args)]
-struct TableArgs {
+struct ModelArgs {
     /// Order of the expansion: candidates have δ ≤ N and ε ≤ N, and τ+σ ≤ N (Lagrangian) or
     /// τ ≤ N and σ ≤ N (Rayleigh). From 1 to 32.
     #[arg(long, short, default_value_t = 4, value_name = "N",
           value_parser = clap::value_parser!(u32).range(1..=MAX_ORDER as i64))]
     order: u32,
+    /// A model file (TOML) instead of the embedded larva model.
+    #[arg(long, value_name = "FILE")]
+    model: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+struct TableArgs {
+    #[command(flatten)]
+    model: ModelArgs,
     /// Which density to print.
     #[arg(long, value_enum, default_value_t = DensityChoice::Both)]
     density: DensityChoice,
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Text)]
     format: Format,
-    /// A model file (TOML) instead of the embedded larva model.
-    #[arg(long, value_name = "FILE")]
-    model: Option<PathBuf>,
 }
 
 /// A failure, with the exit code it maps to.
@@ -111,7 +159,7 @@ fn one_line(s: &str) -> String {
 }
 
 fn table(args: &TableArgs) -> Result<String, CliError> {
-    let model = load_model(&args.model)?;
+    let model = load_model(&args.model.model)?;
     let densities: &[Density] = match args.density {
         DensityChoice::Lagrangian => &[Density::Lagrangian],
         DensityChoice::Rayleigh => &[Density::Rayleigh],
@@ -119,10 +167,100 @@ fn table(args: &TableArgs) -> Result<String, CliError> {
     };
     let analyses = densities
         .iter()
-        .map(|&d| analyse(&model, d, args.order))
+        .map(|&d| analyse(&model, d, args.model.order))
         .collect::<Result<Vec<_>, _>>()
         .map_err(|e| CliError::new(2, e.to_string()))?;
     Ok(render(&model, &analyses, args.format))
+}
+
+fn equations_command(args: &ModelArgs, format: EquationFormat) -> Result<String, CliError> {
+    let model = load_model(&args.model)?;
+    let (eqs, notes) = derive(&model, args.order).map_err(|e| CliError::new(2, e.to_string()))?;
+    Ok(match format {
+        EquationFormat::Json => {
+            let v = equations::json(args.order, &eqs, &notes);
+            serde_json::to_string_pretty(&v).unwrap_or_default() + "\n"
+        }
+        EquationFormat::Latex => {
+            let lines: Vec<String> = eqs.iter().map(|e| e.latex()).collect();
+            format!(
+                "\\begin{{align*}}\n{}\n\\end{{align*}}\n",
+                lines.join(" \\\\\n")
+            )
+        }
+        EquationFormat::Text => {
+            let mut out = format!(
+                "Equations of motion of the {} model at order {} (δL/δφ = δR/δ(∂tφ)):\n",
+                model.name, args.order
+            );
+            for e in &eqs {
+                out += &format!("  {}\n", e.text());
+            }
+            let folds: Vec<String> = eqs.iter().flat_map(|e| e.folds()).collect();
+            if !folds.is_empty() {
+                out += &format!(
+                    "Coefficients are positive free parameters; {}.\n",
+                    folds.join(", ")
+                );
+            }
+            for n in notes {
+                out += &format!("note: {n}\n");
+            }
+            out
+        }
+    })
+}
+
+fn operators_text(ops: &[Operator], model: &Model, points: usize) -> String {
+    let mut out = format!(
+        "Difference operators of the {} model on N = {points} points:\n",
+        model.name
+    );
+    for op in ops {
+        let symbol = model
+            .field(&op.field)
+            .map(|f| f.symbol.clone())
+            .unwrap_or_default();
+        let term: crate::term::Term = op.term.parse().expect("operators carry canonical terms");
+        out += &format!(
+            "\n{} · {} · {} · {} boundary · {}×{}  (D = Σ (Δ{}{symbol})²)\n",
+            op.field,
+            op.density,
+            term.render(&|_| symbol.clone()),
+            op.boundary,
+            op.size,
+            op.size,
+            crate::term::superscript(op.k),
+        );
+        let width = op
+            .matrix
+            .iter()
+            .flatten()
+            .map(|v| v.to_string().len())
+            .max()
+            .unwrap_or(1);
+        for row in &op.matrix {
+            let cells: Vec<String> = row.iter().map(|v| format!("{v:>width$}")).collect();
+            out += &format!("  {}\n", cells.join(" "));
+        }
+    }
+    out
+}
+
+fn operators_command(
+    args: &ModelArgs,
+    points: usize,
+    format: OperatorFormat,
+) -> Result<String, CliError> {
+    let model = load_model(&args.model)?;
+    let ops = operators(&model, args.order, points).map_err(|e| CliError::new(2, e.to_string()))?;
+    Ok(match format {
+        OperatorFormat::Json => {
+            let v = serde_json::json!({"points": points, "order": args.order, "operators": ops});
+            serde_json::to_string(&v).unwrap_or_default() + "\n"
+        }
+        OperatorFormat::Text => operators_text(&ops, &model, points),
+    })
 }
 
 /// Parse `args` (program name first) and run; the output to print, or the error.
@@ -151,6 +289,12 @@ where
     match &cli.command {
         None => table(&cli.table),
         Some(Command::Table(args)) => table(args),
+        Some(Command::Equations { model, format }) => equations_command(model, *format),
+        Some(Command::Operators {
+            points,
+            model,
+            format,
+        }) => operators_command(model, *points as usize, *format),
         Some(Command::Rules) => Ok(codegen::rules_markdown()),
         Some(Command::Emit { out }) => {
             let written = codegen::emit(out).map_err(|e| CliError::new(1, e))?;

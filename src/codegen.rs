@@ -5,12 +5,19 @@
 //! every one, so a checked-in table can never drift from the engine that made it.
 
 use std::fs;
+use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
 
-use crate::model::{Density, Model};
+use serde::Serialize;
+
+use crate::discretise::{boundary_name, min_points, plan, stencil};
+use crate::model::{Boundary, Density, Model};
 use crate::reduce::analyse;
 use crate::rules::REGISTRY;
 use crate::table::{render, Format};
+
+const OPERATORS_TEMPLATE: &str = include_str!("../templates/operators.rs.tera");
 
 /// The order of the checked-in tables (the seed's Table 1).
 pub const TABLE_ORDER: u32 = 4;
@@ -39,13 +46,125 @@ pub fn rules_markdown() -> String {
     out
 }
 
+/// What the operator template needs to know of one operator.
+#[derive(Debug, Serialize)]
+struct OperatorContext {
+    name: String,
+    upper: String,
+    field: String,
+    meaning: String,
+    density: String,
+    boundary: String,
+    periodic: bool,
+    term: String,
+    k: u32,
+    len: usize,
+    weights: String,
+    min: usize,
+    size_expr: String,
+    index_body: String,
+    positions: String,
+}
+
+/// Format Rust source with rustfmt (which ships with the toolchain).
+pub fn rustfmt(source: &str) -> Result<String, String> {
+    let mut child = Command::new("rustfmt")
+        .args(["--edition", "2021", "--emit", "stdout"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .map_err(|e| {
+            format!("cannot run rustfmt (install it with `rustup component add rustfmt`): {e}")
+        })?;
+    child
+        .stdin
+        .take()
+        .ok_or("rustfmt has no stdin")?
+        .write_all(source.as_bytes())
+        .map_err(|e| format!("cannot write to rustfmt: {e}"))?;
+    let out = child
+        .wait_with_output()
+        .map_err(|e| format!("rustfmt failed: {e}"))?;
+    if !out.status.success() {
+        return Err(format!(
+            "rustfmt rejected the generated code: {}",
+            String::from_utf8_lossy(&out.stderr)
+        ));
+    }
+    String::from_utf8(out.stdout).map_err(|e| format!("rustfmt wrote non-UTF-8: {e}"))
+}
+
+/// The Rust source of the operators of `model` at `order`, rendered through the tera template
+/// and formatted.
+pub fn operators_source(model: &Model, order: u32) -> Result<String, String> {
+    let ops: Vec<OperatorContext> = plan(model, order)
+        .map_err(|e| e.to_string())?
+        .into_iter()
+        .map(|(id, density, term, boundary, k)| {
+            let field = model.field(&id).expect("plan names model fields");
+            let name = format!("{}_{}", id.to_lowercase(), density.key());
+            let (size_expr, index_body, positions) = match boundary {
+                Boundary::Periodic => ("points - 1".into(), "Some((p + j) % n)".into(), "n".into()),
+                Boundary::Free => (
+                    "points".into(),
+                    "debug_assert!(p + j < n);\n    Some(p + j)".into(),
+                    format!("n - {k}"),
+                ),
+                Boundary::Clamped => (
+                    "points".into(),
+                    format!("(p + j).checked_sub({k}).filter(|&i| i < n)"),
+                    format!("n + {k}"),
+                ),
+            };
+            let w = stencil(k);
+            OperatorContext {
+                upper: name.to_uppercase(),
+                name,
+                meaning: field.meaning.clone(),
+                field: id.clone(),
+                density: density.key().into(),
+                boundary: boundary_name(boundary).into(),
+                periodic: boundary == Boundary::Periodic,
+                term: term.render(&|_| field.symbol.clone()),
+                k,
+                len: w.len(),
+                weights: w
+                    .iter()
+                    .map(|c| format!("{c}.0"))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                min: min_points(boundary, k),
+                size_expr,
+                index_body,
+                positions,
+            }
+        })
+        .collect();
+    let mut tera = tera::Tera::new();
+    tera.add_raw_template("operators.rs", OPERATORS_TEMPLATE)
+        .map_err(|e| format!("template: {e}"))?;
+    let mut ctx = tera::Context::new();
+    ctx.insert("ops", &ops);
+    ctx.insert("model", &model.name);
+    ctx.insert("order", &order);
+    let source = tera
+        .render("operators.rs", &ctx)
+        .map_err(|e| format!("template: {e:?}"))?;
+    rustfmt(&source)
+}
+
 /// Every generated file, relative to the crate root, with its current contents.
-pub fn generated_files() -> Vec<(PathBuf, String)> {
+pub fn generated_files() -> Result<Vec<(PathBuf, String)>, String> {
     let model = Model::larva();
     let analysis = |d| vec![analyse(&model, d, TABLE_ORDER).expect("order 4 is in range")];
     let md = |d| header("<!--", " -->") + "\n" + &render(&model, &analysis(d), Format::Markdown);
     let both: Vec<_> = Density::ALL.iter().flat_map(|&d| analysis(d)).collect();
-    vec![
+    Ok(vec![
+        (
+            PathBuf::from("src/generated/operators.rs"),
+            operators_source(&model, TABLE_ORDER)?,
+        ),
         (PathBuf::from("tables/table1.md"), md(Density::Lagrangian)),
         (PathBuf::from("tables/rayleigh.md"), md(Density::Rayleigh)),
         (
@@ -53,7 +172,7 @@ pub fn generated_files() -> Vec<(PathBuf, String)> {
             render(&model, &both, Format::Json),
         ),
         (PathBuf::from("tables/rules.md"), rules_markdown()),
-    ]
+    ])
 }
 
 /// Make sure `path` holds `contents`. If it does not, write it and return an error saying so,
@@ -75,7 +194,7 @@ pub fn ensure_file_contents(path: &Path, contents: &str) -> Result<(), String> {
 /// Write every generated file under `root`; returns the paths written.
 pub fn emit(root: &Path) -> Result<Vec<PathBuf>, String> {
     let mut written = Vec::new();
-    for (rel, contents) in generated_files() {
+    for (rel, contents) in generated_files()? {
         let path = root.join(&rel);
         if let Some(dir) = path.parent() {
             fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;

@@ -4,12 +4,16 @@
 //! field's lowest-order survivors.
 //!
 //! Data flows one way through the modules, in pipeline order:
-//! [`model`] → [`term`] → [`enumerate`] → [`rules`] → [`reduce`] → [`table`] / [`codegen`] → [`cli`].
+//! [`model`] → [`term`] → [`enumerate`] → [`rules`] → [`reduce`] → [`equations`] → [`discretise`] → [`codegen`]
+//! (writes [`generated`]) → [`table`] / [`cli`].
 #![warn(missing_docs)]
 
 pub mod cli;
 pub mod codegen;
+pub mod discretise;
 pub mod enumerate;
+pub mod equations;
+pub mod generated;
 pub mod model;
 pub mod reduce;
 pub mod rules;

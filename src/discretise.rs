@@ -1,0 +1,264 @@
+//! Difference operators from the surviving quadratic terms.
+//!
+//! A surviving term `(∂sᵏφ)²` (Lagrangian) or `(∂t∂sᵏφ)²` (Rayleigh, on the velocity) becomes the
+//! quadratic form `Σ_p (Δᵏφ)_p²` of the k-th forward difference `Δᵏ` (weights
+//! `(−1)^{k−j} C(k, j)`, j = 0…k) over the stencil positions `p` the boundary allows, so the
+//! operator is `D = Σ_p w_pᵀ w_p`: symmetric, positive semi-definite, exact integers.
+//!
+//! * periodic: `N−1` unknowns (head and tail are one point), every position, indices mod `N−1`;
+//!   needs `N−1 ≥ k+1`.
+//! * free: `N` unknowns, only stencils inside the body (`p = 0…N−1−k`); needs `N ≥ k+1`.
+//!   Its null space is the polynomials of degree < k (k = 1: constants; k = 2: constants and
+//!   ramps, the beam's translation and rotation).
+//! * clamped: `N` unknowns, the field is zero outside the body (zero ghost points), every stencil
+//!   that touches the body; needs `N ≥ k+1`. No null space.
+//!
+//! For the larva: `D2,c` (x, periodic, k = 1), `D2,f` (θ, free, k = 1), `D4` (y, z, free, k = 2),
+//! equal to the seed's Eq. 3–5.
+
+use serde::Serialize;
+
+use crate::model::{Boundary, Density, Model};
+use crate::reduce::{analyse, OrderError};
+use crate::term::Term;
+
+/// Why an operator cannot be built.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum DiscretiseError {
+    /// The order is out of range.
+    #[error(transparent)]
+    Order(#[from] OrderError),
+    /// Too few points for the stencil.
+    #[error(
+        "{points} points are too few for a {boundary} stencil of order {k}: need at least {min}"
+    )]
+    TooFewPoints {
+        /// Points asked for.
+        points: usize,
+        /// The stencil order.
+        k: u32,
+        /// Boundary condition name.
+        boundary: String,
+        /// The least number of points that works.
+        min: usize,
+    },
+    /// A surviving term that is not a square of one derivative.
+    #[error("field {field}: cannot discretise {term} in the {density} density: only squares (∂sᵏφ)² (or (∂t∂sᵏφ)² for R) become operators")]
+    Unsupported {
+        /// Field id.
+        field: String,
+        /// Density name.
+        density: String,
+        /// The term.
+        term: String,
+    },
+}
+
+/// `Δᵏ`: the k-th forward difference weights, `(−1)^{k−j} C(k, j)`.
+pub fn stencil(k: u32) -> Vec<i64> {
+    let mut w = vec![1i64];
+    for _ in 0..k {
+        // Multiply by (E − 1): shift minus identity.
+        let mut next = vec![0i64; w.len() + 1];
+        for (j, &c) in w.iter().enumerate() {
+            next[j + 1] += c;
+            next[j] -= c;
+        }
+        w = next;
+    }
+    w
+}
+
+/// Number of unknowns for `points` points.
+pub fn size(boundary: Boundary, points: usize) -> usize {
+    match boundary {
+        Boundary::Periodic => points.saturating_sub(1),
+        Boundary::Free | Boundary::Clamped => points,
+    }
+}
+
+/// The least number of points a stencil of order `k` needs.
+pub fn min_points(boundary: Boundary, k: u32) -> usize {
+    match boundary {
+        Boundary::Periodic => k as usize + 2,
+        Boundary::Free | Boundary::Clamped => k as usize + 1,
+    }
+}
+
+/// Name of a boundary condition.
+pub fn boundary_name(b: Boundary) -> &'static str {
+    match b {
+        Boundary::Periodic => "periodic",
+        Boundary::Free => "free",
+        Boundary::Clamped => "clamped",
+    }
+}
+
+/// For each stencil position, the (index, weight) pairs it touches.
+pub fn stencil_rows(
+    k: u32,
+    boundary: Boundary,
+    points: usize,
+) -> Result<Vec<Vec<(usize, i64)>>, DiscretiseError> {
+    if points < min_points(boundary, k) {
+        return Err(DiscretiseError::TooFewPoints {
+            points,
+            k,
+            boundary: boundary_name(boundary).into(),
+            min: min_points(boundary, k),
+        });
+    }
+    let w = stencil(k);
+    let n = size(boundary, points);
+    let k = k as usize;
+    let rows = match boundary {
+        Boundary::Periodic => (0..n)
+            .map(|p| {
+                w.iter()
+                    .enumerate()
+                    .map(|(j, &c)| ((p + j) % n, c))
+                    .collect()
+            })
+            .collect(),
+        Boundary::Free => (0..=n - 1 - k)
+            .map(|p| w.iter().enumerate().map(|(j, &c)| (p + j, c)).collect())
+            .collect(),
+        // Position p covers indices p−k … p; ghosts outside 0…n−1 are zero.
+        Boundary::Clamped => (0..n + k)
+            .map(|p| {
+                w.iter()
+                    .enumerate()
+                    .filter(|&(j, _)| p + j >= k && p + j - k < n)
+                    .map(|(j, &c)| (p + j - k, c))
+                    .collect()
+            })
+            .collect(),
+    };
+    Ok(rows)
+}
+
+/// The exact operator `Σ_p w_pᵀ w_p` as a dense integer matrix.
+pub fn operator_matrix(
+    k: u32,
+    boundary: Boundary,
+    points: usize,
+) -> Result<Vec<Vec<i64>>, DiscretiseError> {
+    let n = size(boundary, points);
+    let mut m = vec![vec![0i64; n]; n];
+    for row in stencil_rows(k, boundary, points)? {
+        for &(i, a) in &row {
+            for &(j, b) in &row {
+                m[i][j] += a * b;
+            }
+        }
+    }
+    Ok(m)
+}
+
+/// One derived operator of one field and density.
+#[derive(Debug, Clone, Serialize)]
+pub struct Operator {
+    /// Field id.
+    pub field: String,
+    /// `lagrangian` or `rayleigh`.
+    pub density: String,
+    /// The surviving term it comes from, of the generic field φ.
+    pub term: String,
+    /// Boundary condition.
+    pub boundary: String,
+    /// Stencil order k (space derivatives).
+    #[serde(skip)]
+    pub k: u32,
+    /// Number of unknowns.
+    pub size: usize,
+    /// The exact matrix.
+    pub matrix: Vec<Vec<i64>>,
+}
+
+/// A surviving term's stencil order: `(∂sᵏφ)²` in L, `(∂t∂sᵏφ)²` in R. `None` for the standard
+/// kinetic term (the identity mass matrix); `Err` for a term that is no such square.
+pub fn stencil_order(density: Density, term: &Term) -> Result<Option<u32>, ()> {
+    match (density, term.factors()) {
+        (Density::Lagrangian, _) if *term == Term::power(1, 0, 2) => Ok(None),
+        (Density::Lagrangian, [f]) if f.power == 2 && f.deriv.t == 0 => Ok(Some(f.deriv.s)),
+        (Density::Rayleigh, [f]) if f.power == 2 && f.deriv.t == 1 => Ok(Some(f.deriv.s)),
+        _ => Err(()),
+    }
+}
+
+/// What the surviving terms of `model` at `order` give: (field, density, term, boundary, k).
+pub fn plan(
+    model: &Model,
+    order: u32,
+) -> Result<Vec<(String, Density, Term, Boundary, u32)>, DiscretiseError> {
+    let mut out = Vec::new();
+    for density in Density::ALL {
+        let a = analyse(model, density, order)?;
+        for f in &a.fields {
+            for t in &f.survivors {
+                match stencil_order(density, t) {
+                    Ok(Some(k)) => {
+                        out.push((f.field.id.clone(), density, t.clone(), f.field.boundary, k))
+                    }
+                    Ok(None) => {}
+                    Err(()) => {
+                        return Err(DiscretiseError::Unsupported {
+                            field: f.field.id.clone(),
+                            density: density.key().into(),
+                            term: t.to_string(),
+                        })
+                    }
+                }
+            }
+        }
+    }
+    // Field order of the model, Lagrangian before Rayleigh.
+    let rank = |id: &str| model.fields.iter().position(|f| f.id == id);
+    out.sort_by_key(|(id, d, ..)| (rank(id), *d));
+    Ok(out)
+}
+
+/// Every operator of `model` at `order` on `points` points.
+pub fn operators(
+    model: &Model,
+    order: u32,
+    points: usize,
+) -> Result<Vec<Operator>, DiscretiseError> {
+    plan(model, order)?
+        .into_iter()
+        .map(|(field, density, term, boundary, k)| {
+            let matrix = operator_matrix(k, boundary, points)?;
+            Ok(Operator {
+                field,
+                density: density.key().into(),
+                term: term.to_string(),
+                boundary: boundary_name(boundary).into(),
+                k,
+                size: matrix.len(),
+                matrix,
+            })
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stencils_are_binomial() {
+        assert_eq!(stencil(1), [-1, 1]);
+        assert_eq!(stencil(2), [1, -2, 1]);
+        assert_eq!(stencil(3), [-1, 3, -3, 1]);
+    }
+
+    #[test]
+    fn too_few_points_is_an_error() {
+        assert!(operator_matrix(2, Boundary::Free, 2).is_err());
+        assert!(operator_matrix(1, Boundary::Periodic, 2).is_err());
+        assert_eq!(
+            operator_matrix(1, Boundary::Free, 2).unwrap(),
+            [[1, -1], [-1, 1]]
+        );
+    }
+}

@@ -1,0 +1,284 @@
+//! Continuum equations of motion derived from the surviving densities.
+//!
+//! For each field, with `v = ∂tφ`, the dissipative Euler–Lagrange equation is
+//!
+//! ```text
+//! δL/δφ = δR/δv,      δF/δu = Σ_α (−1)^|α| ∂^α ∂F/∂(∂^α u)
+//! ```
+//!
+//! (integration by parts, boundary terms dropped). For a quadratic term `C·∂^αφ·∂^βφ` the
+//! variational derivative is `C[(−1)^|α| + (−1)^|β|] ∂^{α+β}φ`; a Rayleigh factor `∂^αφ` with
+//! `α_t ≥ 1` is `∂^{α−t}v`. The standard kinetic term `½(∂tφ)²` gives `−∂t²φ`; solving for it
+//! gives `∂t²φ = Σ sign·prefactor·coefficient·∂tᵗ∂sˢφ`, exact. For the larva:
+//! `∂t²x = c_x ∂s²x + 2c'_x ∂t∂s²x` and `∂t²y = −c_y ∂s⁴y − 2c'_y ∂t∂s⁴y`.
+//! The printed coefficients fold the rational prefactor into the free positive parameter; the
+//! prefactor is kept in [`RhsTerm::prefactor`].
+
+use std::collections::BTreeMap;
+
+use num_rational::Rational64;
+use num_traits::{One, Signed, Zero};
+use serde_json::{json, Value};
+
+use crate::model::{Density, Field, Model};
+use crate::reduce::{analyse, Analysis, DensityTerm, OrderError};
+use crate::table::latex_symbol;
+use crate::term::{superscript, Deriv, Term};
+
+/// One term `sign · prefactor · coefficient · ∂tᵗ∂sˢφ` of a right-hand side.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RhsTerm {
+    /// Derivative of the field.
+    pub deriv: Deriv,
+    /// +1 or −1.
+    pub sign: i64,
+    /// Exact positive prefactor, folded into `coefficient` when printed.
+    pub prefactor: Rational64,
+    /// The free positive parameter (`c_x`, `c'_x`).
+    pub coefficient: String,
+}
+
+/// `∂t²φ = Σ rhs` for one field.
+#[derive(Debug, Clone)]
+pub struct Equation {
+    /// The field.
+    pub field: Field,
+    /// Right-hand side, by ascending time then space derivative.
+    pub rhs: Vec<RhsTerm>,
+}
+
+/// Why the equations cannot be written.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum EquationError {
+    /// The order is out of range.
+    #[error(transparent)]
+    Order(#[from] OrderError),
+    /// No standard kinetic term survives, so there is no `∂t²φ` to solve for.
+    #[error("field {field}: no kinetic term (∂t {field})² survives at order {order}, so there is no ∂t²{field} to solve for")]
+    NoKinetic {
+        /// Field id.
+        field: String,
+        /// The order asked for.
+        order: u32,
+    },
+    /// A surviving term is not quadratic: its equation would not be linear.
+    #[error("field {field}: surviving term {term} is not quadratic; only linear equations of motion are derived")]
+    NotQuadratic {
+        /// Field id.
+        field: String,
+        /// The term.
+        term: String,
+    },
+}
+
+/// A linear combination `Σ value·parameter·∂^D φ`, keyed by (derivative, parameter).
+pub type Linear = BTreeMap<(Deriv, Option<String>), Rational64>;
+
+fn add(into: &mut Linear, deriv: Deriv, param: &Option<String>, value: Rational64) {
+    let e = into
+        .entry((deriv, param.clone()))
+        .or_insert_with(Rational64::zero);
+    *e += value;
+    if e.is_zero() {
+        into.remove(&(deriv, param.clone()));
+    }
+}
+
+fn parity(d: Deriv) -> Rational64 {
+    Rational64::from_integer(if d.order() % 2 == 0 { 1 } else { -1 })
+}
+
+/// The two derivatives of a quadratic single-field term (equal for a square), or `None`.
+pub fn quadratic_parts(term: &Term) -> Option<(Deriv, Deriv)> {
+    match term.factors() {
+        [f] if f.power == 2 => Some((f.deriv, f.deriv)),
+        [f, g] if f.power == 1 && g.power == 1 && f.field == g.field => Some((f.deriv, g.deriv)),
+        _ => None,
+    }
+}
+
+fn plus(a: Deriv, b: Deriv) -> Deriv {
+    Deriv::new(a.t + b.t, a.s + b.s)
+}
+
+/// δL/δφ of `C·term` (Lagrangian) or δR/δv of it (Rayleigh), added to `into`.
+/// `C = sign·prefactor·parameter`.
+pub fn variational_derivative(density: Density, dt: &DensityTerm, into: &mut Linear) -> bool {
+    let Some((a, b)) = quadratic_parts(&dt.term) else {
+        return false;
+    };
+    let c = dt.prefactor * Rational64::from_integer(dt.sign);
+    for (x, y) in [(a, b), (b, a)] {
+        match density {
+            // ∂F/∂(∂^x φ) = C·∂^y φ; then (−1)^|x| ∂^x of it.
+            Density::Lagrangian => add(into, plus(x, y), &dt.parameter, c * parity(x)),
+            // Only factors holding ∂t depend on v: ∂^x φ = ∂^{x−t} v.
+            Density::Rayleigh if x.t >= 1 => {
+                let xv = Deriv::new(x.t - 1, x.s);
+                add(into, plus(xv, y), &dt.parameter, c * parity(xv))
+            }
+            Density::Rayleigh => {}
+        }
+    }
+    true
+}
+
+fn field_equation(
+    l: &Analysis,
+    r: &Analysis,
+    index: usize,
+    order: u32,
+) -> Result<Equation, EquationError> {
+    let field = l.fields[index].field.clone();
+    // δL/δφ − δR/δv = 0, as one linear combination.
+    let mut total = Linear::new();
+    for (analysis, sign) in [(l, 1), (r, -1)] {
+        let mut part = Linear::new();
+        for dt in &analysis.fields[index].density {
+            if !variational_derivative(analysis.density, dt, &mut part) {
+                return Err(EquationError::NotQuadratic {
+                    field: field.id.clone(),
+                    term: dt.term.render(&|_| field.symbol.clone()),
+                });
+            }
+        }
+        for ((d, p), v) in part {
+            add(&mut total, d, &p, v * Rational64::from_integer(sign));
+        }
+    }
+    let tt = (Deriv::new(2, 0), None);
+    let lead = total.remove(&tt).unwrap_or_else(Rational64::zero);
+    if lead.is_zero() {
+        return Err(EquationError::NoKinetic {
+            field: field.symbol.clone(),
+            order,
+        });
+    }
+    let mut rhs: Vec<RhsTerm> = total
+        .into_iter()
+        .map(|((deriv, param), v)| {
+            let value = -v / lead;
+            RhsTerm {
+                deriv,
+                sign: if value.is_negative() { -1 } else { 1 },
+                prefactor: value.abs(),
+                coefficient: param.unwrap_or_else(|| "1".to_string()),
+            }
+        })
+        .collect();
+    rhs.sort_by_key(|t| (t.deriv.t, t.deriv.s));
+    Ok(Equation { field, rhs })
+}
+
+/// The equations of motion of every field of `model` at `order`, plus the analyses' notes.
+pub fn derive(model: &Model, order: u32) -> Result<(Vec<Equation>, Vec<String>), EquationError> {
+    let l = analyse(model, Density::Lagrangian, order)?;
+    let r = analyse(model, Density::Rayleigh, order)?;
+    let equations = (0..model.fields.len())
+        .map(|i| field_equation(&l, &r, i, order))
+        .collect::<Result<Vec<_>, _>>()?;
+    let notes = l
+        .fields
+        .iter()
+        .chain(&r.fields)
+        .flat_map(|f| f.missing.clone())
+        .collect();
+    Ok((equations, notes))
+}
+
+/// `∂t∂s² x`: a derivative as the seed writes it in equations.
+pub fn derivative_text(d: Deriv, symbol: &str) -> String {
+    let part = |c: &str, k: u32| match k {
+        0 => String::new(),
+        1 => format!("∂{c}"),
+        k => format!("∂{c}{}", superscript(k)),
+    };
+    let ops = part("t", d.t) + &part("s", d.s);
+    if ops.is_empty() {
+        symbol.to_string()
+    } else {
+        format!("{ops} {symbol}")
+    }
+}
+
+fn latex_derivative(d: Deriv, symbol: &str) -> String {
+    let part = |c: &str, k: u32| match k {
+        0 => String::new(),
+        1 => format!("\\partial_{c}"),
+        k => format!("\\partial_{c}^{{{k}}}"),
+    };
+    format!("{}{} {symbol}", part("t", d.t), part("s", d.s))
+}
+
+impl Equation {
+    /// `∂t² x = c_x ∂s² x + c'_x ∂t∂s² x`.
+    pub fn text(&self) -> String {
+        let sym = &self.field.symbol;
+        let mut out = format!("{} =", derivative_text(Deriv::new(2, 0), sym));
+        if self.rhs.is_empty() {
+            return out + " 0";
+        }
+        for (i, t) in self.rhs.iter().enumerate() {
+            out += match (i, t.sign < 0) {
+                (0, false) => " ",
+                (0, true) => " −",
+                (_, false) => " + ",
+                (_, true) => " − ",
+            };
+            out += &format!("{} {}", t.coefficient, derivative_text(t.deriv, sym));
+        }
+        out
+    }
+
+    /// The equation in LaTeX math.
+    pub fn latex(&self) -> String {
+        let sym = latex_symbol(&self.field.symbol);
+        let mut out = format!("{} &=", latex_derivative(Deriv::new(2, 0), &sym));
+        if self.rhs.is_empty() {
+            return out + " 0";
+        }
+        for (i, t) in self.rhs.iter().enumerate() {
+            out += match (i, t.sign < 0) {
+                (0, false) => " ",
+                (0, true) => " -",
+                (_, false) => " + ",
+                (_, true) => " - ",
+            };
+            let (base, _) = t
+                .coefficient
+                .split_once('_')
+                .unwrap_or((&t.coefficient, ""));
+            out += &format!("{base}_{{{sym}}} {}", latex_derivative(t.deriv, &sym));
+        }
+        out
+    }
+
+    /// What each folded coefficient absorbed, e.g. `c'_x absorbs 2`.
+    pub fn folds(&self) -> Vec<String> {
+        self.rhs
+            .iter()
+            .filter(|t| !t.prefactor.is_one())
+            .map(|t| format!("{} absorbs the exact factor {}", t.coefficient, t.prefactor))
+            .collect()
+    }
+}
+
+/// The JSON contract: `{"order": N, "equations": [{"field", "rhs": [{"t","s","sign","coefficient"}]}]}`.
+pub fn json(order: u32, equations: &[Equation], notes: &[String]) -> Value {
+    json!({
+        "order": order,
+        "equations": equations.iter().map(|e| json!({
+            "field": e.field.id,
+            "lhs": {"t": 2, "s": 0},
+            "rhs": e.rhs.iter().map(|t| json!({
+                "t": t.deriv.t,
+                "s": t.deriv.s,
+                "sign": t.sign,
+                "coefficient": t.coefficient,
+                "prefactor": t.prefactor.to_string(),
+            })).collect::<Vec<_>>(),
+            "text": e.text(),
+        })).collect::<Vec<_>>(),
+        "notes": notes,
+    })
+}
