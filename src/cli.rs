@@ -223,7 +223,7 @@ fn operators_text(ops: &[Operator], model: &Model, points: usize) -> String {
             .unwrap_or_default();
         let term: crate::term::Term = op.term.parse().expect("operators carry canonical terms");
         out += &format!(
-            "\n{} · {} · {} · {} boundary · {}×{}  (D = Σ (Δ{}{symbol})²)\n",
+            "\n{} · {} · {} · {} boundary · {}×{} · D = Σ (Δ{}{symbol})²{}\n",
             op.field,
             op.density,
             term.render(&|_| symbol.clone()),
@@ -231,6 +231,7 @@ fn operators_text(ops: &[Operator], model: &Model, points: usize) -> String {
             op.size,
             op.size,
             crate::term::superscript(op.k),
+            op.seed_name.map(|n| format!(" = {n}")).unwrap_or_default(),
         );
         let width = op
             .matrix
@@ -279,8 +280,14 @@ where
                 | ErrorKind::DisplayVersion
                 | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => Ok(rendered),
                 _ => {
-                    let first = rendered.lines().next().unwrap_or("invalid arguments");
-                    let msg = first.strip_prefix("error: ").unwrap_or(first);
+                    // Clap's message runs up to the first blank line; keep it, on one line.
+                    let head: Vec<&str> = rendered
+                        .lines()
+                        .take_while(|l| !l.trim().is_empty())
+                        .map(str::trim)
+                        .collect();
+                    let joined = head.join(" ");
+                    let msg = joined.strip_prefix("error: ").unwrap_or(&joined);
                     Err(CliError::new(2, format!("{msg} (see --help)")))
                 }
             };

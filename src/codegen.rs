@@ -11,7 +11,7 @@ use std::process::{Command, Stdio};
 
 use serde::Serialize;
 
-use crate::discretise::{boundary_name, min_points, plan, stencil};
+use crate::discretise::{boundary_name, min_points, plan, stencil, Planned};
 use crate::model::{Boundary, Density, Model};
 use crate::reduce::analyse;
 use crate::rules::REGISTRY;
@@ -101,45 +101,55 @@ pub fn operators_source(model: &Model, order: u32) -> Result<String, String> {
     let ops: Vec<OperatorContext> = plan(model, order)
         .map_err(|e| e.to_string())?
         .into_iter()
-        .map(|(id, density, term, boundary, k)| {
-            let field = model.field(&id).expect("plan names model fields");
-            let name = format!("{}_{}", id.to_lowercase(), density.key());
-            let (size_expr, index_body, positions) = match boundary {
-                Boundary::Periodic => ("points - 1".into(), "Some((p + j) % n)".into(), "n".into()),
-                Boundary::Free => (
-                    "points".into(),
-                    "debug_assert!(p + j < n);\n    Some(p + j)".into(),
-                    format!("n - {k}"),
-                ),
-                Boundary::Clamped => (
-                    "points".into(),
-                    format!("(p + j).checked_sub({k}).filter(|&i| i < n)"),
-                    format!("n + {k}"),
-                ),
-            };
-            let w = stencil(k);
-            OperatorContext {
-                upper: name.to_uppercase(),
-                name,
-                meaning: field.meaning.clone(),
-                field: id.clone(),
-                density: density.key().into(),
-                boundary: boundary_name(boundary).into(),
-                periodic: boundary == Boundary::Periodic,
-                term: term.render(&|_| field.symbol.clone()),
-                k,
-                len: w.len(),
-                weights: w
-                    .iter()
-                    .map(|c| format!("{c}.0"))
-                    .collect::<Vec<_>>()
-                    .join(", "),
-                min: min_points(boundary, k),
-                size_expr,
-                index_body,
-                positions,
-            }
-        })
+        .map(
+            |Planned {
+                 field: id,
+                 density,
+                 term,
+                 boundary,
+                 k,
+             }| {
+                let field = model.field(&id).expect("plan names model fields");
+                let name = format!("{}_{}", id.to_lowercase(), density.key());
+                let (size_expr, index_body, positions) = match boundary {
+                    Boundary::Periodic => {
+                        ("points - 1".into(), "Some((p + j) % n)".into(), "n".into())
+                    }
+                    Boundary::Free => (
+                        "points".into(),
+                        "debug_assert!(p + j < n);\n    Some(p + j)".into(),
+                        format!("n - {k}"),
+                    ),
+                    Boundary::Clamped => (
+                        "points".into(),
+                        format!("(p + j).checked_sub({k}).filter(|&i| i < n)"),
+                        format!("n + {k}"),
+                    ),
+                };
+                let w = stencil(k);
+                OperatorContext {
+                    upper: name.to_uppercase(),
+                    name,
+                    meaning: field.meaning.clone(),
+                    field: id.clone(),
+                    density: density.key().into(),
+                    boundary: boundary_name(boundary).into(),
+                    periodic: boundary == Boundary::Periodic,
+                    term: term.render(&|_| field.symbol.clone()),
+                    k,
+                    len: w.len(),
+                    weights: w
+                        .iter()
+                        .map(|c| format!("{c}.0"))
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                    min: min_points(boundary, k),
+                    size_expr,
+                    index_body,
+                    positions,
+                }
+            },
+        )
         .collect();
     let mut tera = tera::Tera::new();
     tera.add_raw_template("operators.rs", OPERATORS_TEMPLATE)

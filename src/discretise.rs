@@ -94,6 +94,16 @@ pub fn boundary_name(b: Boundary) -> &'static str {
     }
 }
 
+/// The seed's name for an operator of stencil order `k` with this boundary, if it has one.
+pub fn seed_name(k: u32, boundary: Boundary) -> Option<&'static str> {
+    match (k, boundary) {
+        (1, Boundary::Periodic) => Some("D2,c, seed Eq. 3"),
+        (1, Boundary::Free) => Some("D2,f, seed Eq. 4"),
+        (2, Boundary::Free) => Some("D4, seed Eq. 5"),
+        _ => None,
+    }
+}
+
 /// For each stencil position, the (index, weight) pairs it touches.
 pub fn stencil_rows(
     k: u32,
@@ -167,41 +177,72 @@ pub struct Operator {
     /// Boundary condition.
     pub boundary: String,
     /// Stencil order k (space derivatives).
-    #[serde(skip)]
     pub k: u32,
+    /// The seed's name for the operator, if it has one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub seed_name: Option<&'static str>,
     /// Number of unknowns.
     pub size: usize,
     /// The exact matrix.
     pub matrix: Vec<Vec<i64>>,
 }
 
-/// A surviving term's stencil order: `(∂sᵏφ)²` in L, `(∂t∂sᵏφ)²` in R. `None` for the standard
-/// kinetic term (the identity mass matrix); `Err` for a term that is no such square.
-pub fn stencil_order(density: Density, term: &Term) -> Result<Option<u32>, ()> {
+/// What a surviving term becomes on the grid.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TermShape {
+    /// The standard kinetic term: the identity mass matrix, no operator.
+    Mass,
+    /// `(∂sᵏφ)²` in L or `(∂t∂sᵏφ)²` in R: the operator of stencil order k.
+    Stencil(u32),
+    /// Anything else.
+    Unsupported,
+}
+
+/// The grid shape of a surviving term of `density`.
+pub fn term_shape(density: Density, term: &Term) -> TermShape {
     match (density, term.factors()) {
-        (Density::Lagrangian, _) if *term == Term::power(1, 0, 2) => Ok(None),
-        (Density::Lagrangian, [f]) if f.power == 2 && f.deriv.t == 0 => Ok(Some(f.deriv.s)),
-        (Density::Rayleigh, [f]) if f.power == 2 && f.deriv.t == 1 => Ok(Some(f.deriv.s)),
-        _ => Err(()),
+        (Density::Lagrangian, _) if *term == Term::power(1, 0, 2) => TermShape::Mass,
+        (Density::Lagrangian, [f]) if f.power == 2 && f.deriv.t == 0 => {
+            TermShape::Stencil(f.deriv.s)
+        }
+        (Density::Rayleigh, [f]) if f.power == 2 && f.deriv.t == 1 => TermShape::Stencil(f.deriv.s),
+        _ => TermShape::Unsupported,
     }
 }
 
-/// What the surviving terms of `model` at `order` give: (field, density, term, boundary, k).
-pub fn plan(
-    model: &Model,
-    order: u32,
-) -> Result<Vec<(String, Density, Term, Boundary, u32)>, DiscretiseError> {
+/// One operator to build: which field, density and term, with its boundary and stencil order.
+#[derive(Debug, Clone)]
+pub struct Planned {
+    /// Field id.
+    pub field: String,
+    /// Density.
+    pub density: Density,
+    /// The surviving term, of the generic field φ.
+    pub term: Term,
+    /// Boundary condition of the field.
+    pub boundary: Boundary,
+    /// Stencil order.
+    pub k: u32,
+}
+
+/// The operators the surviving terms of `model` at `order` give, in model field order,
+/// Lagrangian before Rayleigh.
+pub fn plan(model: &Model, order: u32) -> Result<Vec<Planned>, DiscretiseError> {
     let mut out = Vec::new();
     for density in Density::ALL {
         let a = analyse(model, density, order)?;
         for f in &a.fields {
             for t in &f.survivors {
-                match stencil_order(density, t) {
-                    Ok(Some(k)) => {
-                        out.push((f.field.id.clone(), density, t.clone(), f.field.boundary, k))
-                    }
-                    Ok(None) => {}
-                    Err(()) => {
+                match term_shape(density, t) {
+                    TermShape::Stencil(k) => out.push(Planned {
+                        field: f.field.id.clone(),
+                        density,
+                        term: t.clone(),
+                        boundary: f.field.boundary,
+                        k,
+                    }),
+                    TermShape::Mass => {}
+                    TermShape::Unsupported => {
                         return Err(DiscretiseError::Unsupported {
                             field: f.field.id.clone(),
                             density: density.key().into(),
@@ -212,9 +253,8 @@ pub fn plan(
             }
         }
     }
-    // Field order of the model, Lagrangian before Rayleigh.
     let rank = |id: &str| model.fields.iter().position(|f| f.id == id);
-    out.sort_by_key(|(id, d, ..)| (rank(id), *d));
+    out.sort_by_key(|p| (rank(&p.field), p.density));
     Ok(out)
 }
 
@@ -226,18 +266,27 @@ pub fn operators(
 ) -> Result<Vec<Operator>, DiscretiseError> {
     plan(model, order)?
         .into_iter()
-        .map(|(field, density, term, boundary, k)| {
-            let matrix = operator_matrix(k, boundary, points)?;
-            Ok(Operator {
-                field,
-                density: density.key().into(),
-                term: term.to_string(),
-                boundary: boundary_name(boundary).into(),
-                k,
-                size: matrix.len(),
-                matrix,
-            })
-        })
+        .map(
+            |Planned {
+                 field,
+                 density,
+                 term,
+                 boundary,
+                 k,
+             }| {
+                let matrix = operator_matrix(k, boundary, points)?;
+                Ok(Operator {
+                    field,
+                    density: density.key().into(),
+                    term: term.to_string(),
+                    boundary: boundary_name(boundary).into(),
+                    k,
+                    seed_name: seed_name(k, boundary),
+                    size: matrix.len(),
+                    matrix,
+                })
+            },
+        )
         .collect()
 }
 

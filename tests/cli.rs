@@ -119,3 +119,69 @@ fn help_explains_every_option() {
         assert!(out.contains(opt), "--help lacks {opt}");
     }
 }
+
+#[test]
+fn equations_command_prints_every_format() {
+    let (code, out, err) = run(&["equations"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("∂t² x = c_x ∂s² x + c'_x ∂t∂s² x"), "{out}");
+    assert!(out.contains("∂t² y = −c_y ∂s⁴ y − c'_y ∂t∂s⁴ y"), "{out}");
+    let (_, latex, _) = run(&["equations", "--format", "latex"]);
+    assert!(
+        latex.contains("\\partial_t^{2} y &= -c_{y} \\partial_s^{4} y"),
+        "{latex}"
+    );
+    let (_, json, _) = run(&["equations", "--format", "json", "--order", "6"]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(v["equations"][3]["field"], "z");
+    assert_clean_error(&["equations", "--order", "1"], "no kinetic term");
+    assert_clean_error(&["equations", "--format", "html"], "html");
+}
+
+#[test]
+fn operators_command_prints_the_seeds_operators() {
+    let (code, out, err) = run(&["operators", "--points", "12"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("x · lagrangian · (∂s x)² · periodic boundary · 11×11 · D = Σ (Δ¹x)² = D2,c, seed Eq. 3"), "{out}");
+    assert!(out.contains("= D2,f, seed Eq. 4"));
+    assert!(out.contains(
+        "y · lagrangian · (∂ss y)² · free boundary · 12×12 · D = Σ (Δ²y)² = D4, seed Eq. 5"
+    ));
+    assert!(out.contains("  -2  5 -4  1  0  0  0  0  0  0  0  0\n"));
+
+    let (_, json, _) = run(&["operators", "--points", "5", "--format", "json"]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(v["points"], 5);
+    let x = &v["operators"][0];
+    assert_eq!(
+        (
+            x["field"].as_str(),
+            x["density"].as_str(),
+            x["term"].as_str(),
+            x["boundary"].as_str()
+        ),
+        (
+            Some("x"),
+            Some("lagrangian"),
+            Some("(∂s φ)²"),
+            Some("periodic")
+        )
+    );
+    assert_eq!(x["size"], 4);
+    assert_eq!(
+        x["matrix"],
+        serde_json::json!([
+            [2, -1, 0, -1],
+            [-1, 2, -1, 0],
+            [0, -1, 2, -1],
+            [-1, 0, -1, 2]
+        ])
+    );
+    assert_eq!(v["operators"].as_array().unwrap().len(), 8);
+
+    assert_clean_error(&["operators", "--points", "1"], "too few");
+    assert_clean_error(&["operators", "--points", "2"], "need at least 3");
+    assert_clean_error(&["operators", "--points", "0"], "0 is not in 1..=2000");
+    assert_clean_error(&["operators", "--points", "5000"], "5000");
+    assert_clean_error(&["operators"], "--points");
+}

@@ -34,6 +34,9 @@ pub struct Banded {
     pub bands: Vec<Vec<f64>>,
 }
 
+/// `apply(points, phi, out)`: `out = D·phi`.
+pub type ApplyFn = fn(usize, &[f64], &mut [f64]) -> Result<(), OperatorError>;
+
 /// A generated operator with its functions.
 #[derive(Debug, Clone, Copy)]
 pub struct GeneratedOperator {
@@ -50,7 +53,7 @@ pub struct GeneratedOperator {
     /// Number of unknowns on N points.
     pub size: fn(usize) -> Result<usize, OperatorError>,
     /// `out = D·phi` in O(N).
-    pub apply: fn(usize, &[f64], &mut [f64]) -> Result<(), OperatorError>,
+    pub apply: ApplyFn,
     /// The dense matrix.
     pub dense: fn(usize) -> Result<Vec<Vec<f64>>, OperatorError>,
     /// The upper bands (not for periodic operators, whose corners wrap).

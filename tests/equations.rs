@@ -1,0 +1,180 @@
+//! Scenario: equations of motion from the survivors, checked term by term against variational
+//! derivatives worked out by hand (including term shapes the larva does not use).
+
+use num_rational::Rational64;
+use theory_search::equations::{derive, json, variational_derivative, Linear};
+use theory_search::model::{Density, Model};
+use theory_search::reduce::DensityTerm;
+
+fn r(n: i64) -> Rational64 {
+    Rational64::from_integer(n)
+}
+
+/// `sign · prefactor · c · term`.
+fn dt(term: &str, sign: i64, prefactor: Rational64, param: Option<&str>) -> DensityTerm {
+    DensityTerm {
+        term: term.parse().unwrap(),
+        sign,
+        prefactor,
+        parameter: param.map(String::from),
+    }
+}
+
+fn derivative(density: Density, term: DensityTerm) -> Vec<(u32, u32, Rational64)> {
+    let mut out = Linear::new();
+    assert!(variational_derivative(density, &term, &mut out));
+    out.into_iter().map(|((d, _), v)| (d.t, d.s, v)).collect()
+}
+
+/// (density, term, sign, prefactor, expected Σ value·∂tᵗ∂sˢφ as (t, s, value)).
+type Case = (Density, &'static str, i64, Rational64, Vec<(u32, u32, i64)>);
+
+#[test]
+fn variational_derivatives_match_hand_calculations() {
+    let half = Rational64::new(1, 2);
+    let c = Some("c");
+    use Density::{Lagrangian as L, Rayleigh as R};
+    // (density, term, sign, prefactor, expected Σ value·∂ᵗˢφ), each worked out by hand from
+    // δF/δu = Σ (−1)^|α| ∂^α ∂F/∂(∂^α u).
+    let cases: Vec<Case> = vec![
+        // ½(∂tφ)²: ∂L/∂φt = φt, −∂t φt.
+        (L, "(∂t φ)²", 1, half, vec![(2, 0, -1)]),
+        // −½c(∂sφ)²: ∂L/∂φs = −cφs, −∂s(−cφs) = cφss.
+        (L, "(∂s φ)²", -1, half, vec![(0, 2, 1)]),
+        // −½c(∂ssφ)²: +∂s²(−cφss) = −cφssss.
+        (L, "(∂ss φ)²", -1, half, vec![(0, 4, -1)]),
+        // −½c(∂sssφ)²: −∂s³(−cφsss) = +cφ₆ₛ.
+        (L, "(∂sss φ)²", -1, half, vec![(0, 6, 1)]),
+        // −½c(∂ssssφ)²: +∂s⁴(−cφ₄ₛ) = −cφ₈ₛ.
+        (L, "(∂ssss φ)²", -1, half, vec![(0, 8, -1)]),
+        // ½k(∂tsφ)² (Rayleigh's rotary inertia): +∂t∂s(kφts) = kφttss.
+        (L, "(∂ts φ)²", 1, half, vec![(2, 2, 1)]),
+        // cφtφs: −∂t(cφs) − ∂s(cφt) = −2cφts.
+        (L, "∂t φ·∂s φ", 1, r(1), vec![(1, 1, -2)]),
+        // cφφss: cφss + ∂s²(cφ) = 2cφss.
+        (L, "φ·∂ss φ", 1, r(1), vec![(0, 2, 2)]),
+        // Rayleigh terms, in v = ∂tφ:
+        // c'(∂tφ)² = c'v²: 2c'v.
+        (R, "(∂t φ)²", 1, r(1), vec![(1, 0, 2)]),
+        // c'(∂tsφ)² = c'vs²: −∂s(2c'vs) = −2c'φtss.
+        (R, "(∂ts φ)²", 1, r(1), vec![(1, 2, -2)]),
+        // c'(∂tssφ)²: +∂s²(2c'vss) = 2c'φt₄ₛ.
+        (R, "(∂tss φ)²", 1, r(1), vec![(1, 4, 2)]),
+        // c'(∂tsssφ)²: −∂s³(2c'vsss) = −2c'φt₆ₛ.
+        (R, "(∂tsss φ)²", 1, r(1), vec![(1, 6, -2)]),
+        // c'·v·φs: only v varies: c'φs.
+        (R, "∂t φ·∂s φ", 1, r(1), vec![(0, 1, 1)]),
+    ];
+    for (density, term, sign, pre, want) in cases {
+        let got = derivative(density, dt(term, sign, pre, c));
+        let want: Vec<(u32, u32, Rational64)> =
+            want.into_iter().map(|(t, s, v)| (t, s, r(v))).collect();
+        assert_eq!(got, want, "{density} {term}");
+    }
+}
+
+#[test]
+fn potential_terms_give_stable_equations_at_every_order() {
+    // −½c(∂sᵏφ)² must give ∂t²φ = ±c ∂s²ᵏφ whose Fourier symbol ±c(ik)²ᵏ is negative.
+    for k in 1..=8u32 {
+        let got = derivative(
+            Density::Lagrangian,
+            dt(
+                &format!("(∂s^{k} φ)²"),
+                -1,
+                Rational64::new(1, 2),
+                Some("c"),
+            ),
+        );
+        assert_eq!(got.len(), 1);
+        let (t, s, v) = got[0];
+        assert_eq!((t, s), (0, 2 * k));
+        // δL/δφ = v·∂s²ᵏφ + (−∂t²φ) = 0 ⇒ ∂t²φ = v·∂s²ᵏφ; symbol v·(−1)ᵏ k²ᵏ.
+        let symbol_sign = if k % 2 == 0 { v } else { -v };
+        assert!(symbol_sign < r(0), "k = {k}: {v}");
+        // Likewise the Kelvin damping −δR/δv must be dissipative: symbol of −(δR/δv) < 0.
+        let got = derivative(
+            Density::Rayleigh,
+            dt(&format!("(∂ts^{k} φ)²"), 1, r(1), Some("c'")),
+        );
+        let (_, s, v) = got[0];
+        assert_eq!(s, 2 * k);
+        let symbol = if k % 2 == 0 { v } else { -v };
+        assert!(symbol > r(0), "R, k = {k}");
+    }
+}
+
+/// (t, s, sign, coefficient, prefactor).
+type Rhs = (u32, u32, i64, String, String);
+
+#[test]
+fn larva_gives_wave_and_beam_equations_with_kelvin_damping() {
+    let (eqs, notes) = derive(&Model::larva(), 4).unwrap();
+    assert!(notes.is_empty());
+    let rows: Vec<Vec<Rhs>> = eqs
+        .iter()
+        .map(|e| {
+            e.rhs
+                .iter()
+                .map(|t| {
+                    (
+                        t.deriv.t,
+                        t.deriv.s,
+                        t.sign,
+                        t.coefficient.clone(),
+                        t.prefactor.to_string(),
+                    )
+                })
+                .collect()
+        })
+        .collect();
+    let row = |s: u32, sign: i64, sym: &str| {
+        vec![
+            (0, s, sign, format!("c_{sym}"), "1".to_string()),
+            (1, s, sign, format!("c'_{sym}"), "2".to_string()),
+        ]
+    };
+    assert_eq!(
+        rows,
+        [
+            row(2, 1, "x"),
+            row(2, 1, "θ"),
+            row(4, -1, "y"),
+            row(4, -1, "z")
+        ]
+    );
+    assert_eq!(eqs[0].text(), "∂t² x = c_x ∂s² x + c'_x ∂t∂s² x");
+    assert_eq!(eqs[2].text(), "∂t² y = −c_y ∂s⁴ y − c'_y ∂t∂s⁴ y");
+    for order in 5..=10 {
+        let (more, _) = derive(&Model::larva(), order).unwrap();
+        assert_eq!(
+            more.iter().map(|e| e.text()).collect::<Vec<_>>(),
+            eqs.iter().map(|e| e.text()).collect::<Vec<_>>()
+        );
+    }
+}
+
+#[test]
+fn json_contract() {
+    let (eqs, notes) = derive(&Model::larva(), 4).unwrap();
+    let v = json(4, &eqs, &notes);
+    assert_eq!(v["equations"][0]["field"], "x");
+    assert_eq!(
+        v["equations"][0]["rhs"][0],
+        serde_json::json!({"t": 0, "s": 2, "sign": 1, "coefficient": "c_x", "prefactor": "1"})
+    );
+    assert_eq!(v["equations"][0]["rhs"][1]["coefficient"], "c'_x");
+    assert_eq!(v["equations"][1]["field"], "theta");
+    assert_eq!(v["equations"][2]["rhs"][0]["sign"], -1);
+    assert_eq!(v["equations"][2]["rhs"][0]["s"], 4);
+}
+
+#[test]
+fn low_orders_drop_missing_terms_and_say_so() {
+    let (eqs, notes) = derive(&Model::larva(), 3).unwrap();
+    assert_eq!(eqs[2].text(), "∂t² y = 0");
+    assert!(notes.iter().any(|n| n.contains("L_y: no potential term")));
+    // At order 1 nothing kinetic survives: there is no ∂t²φ to solve for.
+    let err = derive(&Model::larva(), 1).unwrap_err().to_string();
+    assert!(err.contains("no kinetic term"), "{err}");
+}
