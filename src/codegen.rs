@@ -11,7 +11,7 @@ use std::process::{Command, Stdio};
 
 use serde::Serialize;
 
-use crate::discretise::{boundary_name, min_points, plan, stencil, Planned};
+use crate::discretise::{boundary_name, min_points, plan, stencil};
 use crate::model::{Boundary, Density, Model};
 use crate::reduce::analyse;
 use crate::rules::REGISTRY;
@@ -46,17 +46,15 @@ pub fn rules_markdown() -> String {
     out
 }
 
-/// What the operator template needs to know of one operator.
+/// What the operator template needs to know of one distinct stencil.
 #[derive(Debug, Serialize)]
-struct OperatorContext {
+struct StencilContext {
     name: String,
     upper: String,
-    field: String,
-    meaning: String,
-    density: String,
+    /// `field · density · term` of every operator that uses it.
+    users: Vec<String>,
     boundary: String,
     periodic: bool,
-    term: String,
     k: u32,
     len: usize,
     weights: String,
@@ -64,6 +62,55 @@ struct OperatorContext {
     size_expr: String,
     index_body: String,
     positions: String,
+}
+
+/// One entry of the generated operator table.
+#[derive(Debug, Serialize)]
+struct OperatorContext {
+    field: String,
+    meaning: String,
+    density: String,
+    boundary: String,
+    periodic: bool,
+    term: String,
+    k: u32,
+    stencil: String,
+}
+
+fn stencil_context(boundary: Boundary, k: u32) -> StencilContext {
+    let name = format!("{}_k{k}", boundary_name(boundary));
+    let (size_expr, index_body, positions) = match boundary {
+        Boundary::Periodic => ("points - 1".into(), "Some((p + j) % n)".into(), "n".into()),
+        Boundary::Free => (
+            "points".into(),
+            "debug_assert!(p + j < n);\n    Some(p + j)".into(),
+            format!("n - {k}"),
+        ),
+        Boundary::Clamped => (
+            "points".into(),
+            format!("(p + j).checked_sub({k}).filter(|&i| i < n)"),
+            format!("n + {k}"),
+        ),
+    };
+    let w = stencil(k);
+    StencilContext {
+        upper: name.to_uppercase(),
+        name,
+        users: Vec::new(),
+        boundary: boundary_name(boundary).into(),
+        periodic: boundary == Boundary::Periodic,
+        k,
+        len: w.len(),
+        weights: w
+            .iter()
+            .map(|c| format!("{c}.0"))
+            .collect::<Vec<_>>()
+            .join(", "),
+        min: min_points(boundary, k),
+        size_expr,
+        index_body,
+        positions,
+    }
 }
 
 /// Format Rust source with rustfmt (which ships with the toolchain).
@@ -98,63 +145,38 @@ pub fn rustfmt(source: &str) -> Result<String, String> {
 /// The Rust source of the operators of `model` at `order`, rendered through the tera template
 /// and formatted.
 pub fn operators_source(model: &Model, order: u32) -> Result<String, String> {
-    let ops: Vec<OperatorContext> = plan(model, order)
-        .map_err(|e| e.to_string())?
-        .into_iter()
-        .map(
-            |Planned {
-                 field: id,
-                 density,
-                 term,
-                 boundary,
-                 k,
-             }| {
-                let field = model.field(&id).expect("plan names model fields");
-                let name = format!("{}_{}", id.to_lowercase(), density.key());
-                let (size_expr, index_body, positions) = match boundary {
-                    Boundary::Periodic => {
-                        ("points - 1".into(), "Some((p + j) % n)".into(), "n".into())
-                    }
-                    Boundary::Free => (
-                        "points".into(),
-                        "debug_assert!(p + j < n);\n    Some(p + j)".into(),
-                        format!("n - {k}"),
-                    ),
-                    Boundary::Clamped => (
-                        "points".into(),
-                        format!("(p + j).checked_sub({k}).filter(|&i| i < n)"),
-                        format!("n + {k}"),
-                    ),
-                };
-                let w = stencil(k);
-                OperatorContext {
-                    upper: name.to_uppercase(),
-                    name,
-                    meaning: field.meaning.clone(),
-                    field: id.clone(),
-                    density: density.key().into(),
-                    boundary: boundary_name(boundary).into(),
-                    periodic: boundary == Boundary::Periodic,
-                    term: term.render(&|_| field.symbol.clone()),
-                    k,
-                    len: w.len(),
-                    weights: w
-                        .iter()
-                        .map(|c| format!("{c}.0"))
-                        .collect::<Vec<_>>()
-                        .join(", "),
-                    min: min_points(boundary, k),
-                    size_expr,
-                    index_body,
-                    positions,
-                }
-            },
-        )
-        .collect();
+    let mut stencils: Vec<StencilContext> = Vec::new();
+    let mut ops: Vec<OperatorContext> = Vec::new();
+    for p in plan(model, order).map_err(|e| e.to_string())? {
+        let field = model.field(&p.field).ok_or("plan names a model field")?;
+        let term = p.term.render(&|_| field.symbol.clone());
+        let name = format!("{}_k{}", boundary_name(p.boundary), p.k);
+        let index = match stencils.iter().position(|s| s.name == name) {
+            Some(i) => i,
+            None => {
+                stencils.push(stencil_context(p.boundary, p.k));
+                stencils.len() - 1
+            }
+        };
+        stencils[index]
+            .users
+            .push(format!("{} · {} · {term}", p.field, p.density.key()));
+        ops.push(OperatorContext {
+            field: p.field.clone(),
+            meaning: format!("{} ({}): {term}", p.field, field.meaning),
+            density: p.density.key().into(),
+            boundary: boundary_name(p.boundary).into(),
+            periodic: p.boundary == Boundary::Periodic,
+            term,
+            k: p.k,
+            stencil: name,
+        });
+    }
     let mut tera = tera::Tera::new();
     tera.add_raw_template("operators.rs", OPERATORS_TEMPLATE)
         .map_err(|e| format!("template: {e}"))?;
     let mut ctx = tera::Context::new();
+    ctx.insert("stencils", &stencils);
     ctx.insert("ops", &ops);
     ctx.insert("model", &model.name);
     ctx.insert("order", &order);

@@ -21,7 +21,7 @@ use num_traits::{One, Signed, Zero};
 use serde_json::{json, Value};
 
 use crate::model::{Density, Field, Model};
-use crate::reduce::{analyse, Analysis, DensityTerm, OrderError};
+use crate::reduce::{analyse, sign_joiner, Analysis, DensityTerm, OrderError};
 use crate::table::latex_symbol;
 use crate::term::{superscript, Deriv, Term};
 
@@ -219,12 +219,7 @@ impl Equation {
             return out + " 0";
         }
         for (i, t) in self.rhs.iter().enumerate() {
-            out += match (i, t.sign < 0) {
-                (0, false) => " ",
-                (0, true) => " −",
-                (_, false) => " + ",
-                (_, true) => " − ",
-            };
+            out += &sign_joiner(i, t.sign < 0, "−");
             out += &format!("{} {}", t.coefficient, derivative_text(t.deriv, sym));
         }
         out
@@ -238,12 +233,7 @@ impl Equation {
             return out + " 0";
         }
         for (i, t) in self.rhs.iter().enumerate() {
-            out += match (i, t.sign < 0) {
-                (0, false) => " ",
-                (0, true) => " -",
-                (_, false) => " + ",
-                (_, true) => " - ",
-            };
+            out += &sign_joiner(i, t.sign < 0, "-");
             let (base, _) = t
                 .coefficient
                 .split_once('_')

@@ -260,6 +260,17 @@ fn coefficients(density: Density, field: &Field, survivors: &[Term]) -> Vec<Dens
         .collect()
 }
 
+/// What goes before the `index`-th term of a sum: `" "`, `" −"`, `" + "` or `" − "`, with `minus`
+/// the minus sign to use (`−` in text, `-` in LaTeX).
+pub fn sign_joiner(index: usize, negative: bool, minus: &str) -> String {
+    match (index, negative) {
+        (0, false) => " ".to_string(),
+        (0, true) => format!(" {minus}"),
+        (_, false) => " + ".to_string(),
+        (_, true) => format!(" {minus} "),
+    }
+}
+
 /// `½`, `1`, `3/2`: an exact prefactor as people write it.
 pub fn prefactor_text(r: Rational64) -> String {
     if r == Rational64::new(1, 2) {
@@ -280,12 +291,7 @@ impl FieldResult {
             return out + " 0";
         }
         for (i, dt) in self.density.iter().enumerate() {
-            let sign = match (i, dt.sign < 0) {
-                (0, false) => " ",
-                (0, true) => " −",
-                (_, false) => " + ",
-                (_, true) => " − ",
-            };
+            let sign = sign_joiner(i, dt.sign < 0, "−");
             let mut coef = prefactor_text(dt.prefactor);
             if let Some(p) = &dt.parameter {
                 if !coef.is_empty() {

@@ -8,7 +8,7 @@
 use serde_json::{json, Map, Value};
 
 use crate::model::{Density, Model};
-use crate::reduce::{prefactor_text, Analysis, FieldResult};
+use crate::reduce::{prefactor_text, sign_joiner, Analysis, FieldResult};
 use crate::rules::Verdict;
 
 /// An output format of the table command.
@@ -338,12 +338,7 @@ fn latex_formula(density: Density, f: &FieldResult) -> String {
         return out + " 0";
     }
     for (i, dt) in f.density.iter().enumerate() {
-        out += match (i, dt.sign < 0) {
-            (0, false) => " ",
-            (0, true) => " -",
-            (_, false) => " + ",
-            (_, true) => " - ",
-        };
+        out += &sign_joiner(i, dt.sign < 0, "-");
         let p = prefactor_text(dt.prefactor);
         let mut pieces: Vec<String> = Vec::new();
         if let Some((n, d)) = p.split_once('/') {

@@ -7,29 +7,27 @@
 
 use super::{Banded, GeneratedOperator, OperatorError};
 
-/// Stencil `Δ^1` of `(∂s x)²`: field `x` (axial displacement), lagrangian density, periodic boundary.
-const W_X_LAGRANGIAN: [f64; 2] = [-1.0, 1.0];
+/// Stencil `Δ^1` with the periodic boundary, used by:
+/// - `x · lagrangian · (∂s x)²`
+/// - `x · rayleigh · (∂ts x)²`
+const W_PERIODIC_K1: [f64; 2] = [-1.0, 1.0];
 
-/// Number of unknowns of `x_lagrangian` on `points` points (periodic boundary).
-pub fn size_x_lagrangian(points: usize) -> Result<usize, OperatorError> {
+/// Number of unknowns of `periodic_k1` on `points` points (periodic boundary).
+pub fn size_periodic_k1(points: usize) -> Result<usize, OperatorError> {
     if points < 3 {
         return Err(OperatorError::TooFewPoints { points, min: 3 });
     }
     Ok(points - 1)
 }
 
-/// Stencil positions of `x_lagrangian`: index of weight `j` at position `p`, if inside the body.
-fn index_x_lagrangian(n: usize, p: usize, j: usize) -> Option<usize> {
+/// Stencil positions of `periodic_k1`: index of weight `j` at position `p`, if inside the body.
+fn index_periodic_k1(n: usize, p: usize, j: usize) -> Option<usize> {
     Some((p + j) % n)
 }
 
-/// `out = D·phi` for `(∂s x)²` of field `x` (lagrangian, periodic), in O(N).
-pub fn apply_x_lagrangian(
-    points: usize,
-    phi: &[f64],
-    out: &mut [f64],
-) -> Result<(), OperatorError> {
-    let n = size_x_lagrangian(points)?;
+/// `out = D·phi` for the periodic `Δ^1` operator, in O(N).
+pub fn apply_periodic_k1(points: usize, phi: &[f64], out: &mut [f64]) -> Result<(), OperatorError> {
+    let n = size_periodic_k1(points)?;
     if phi.len() != n || out.len() != n {
         return Err(OperatorError::Length {
             expected: n,
@@ -39,13 +37,13 @@ pub fn apply_x_lagrangian(
     out.fill(0.0);
     for p in 0..n {
         let mut d = 0.0;
-        for (j, w) in W_X_LAGRANGIAN.iter().enumerate() {
-            if let Some(i) = index_x_lagrangian(n, p, j) {
+        for (j, w) in W_PERIODIC_K1.iter().enumerate() {
+            if let Some(i) = index_periodic_k1(n, p, j) {
                 d += w * phi[i];
             }
         }
-        for (j, w) in W_X_LAGRANGIAN.iter().enumerate() {
-            if let Some(i) = index_x_lagrangian(n, p, j) {
+        for (j, w) in W_PERIODIC_K1.iter().enumerate() {
+            if let Some(i) = index_periodic_k1(n, p, j) {
                 out[i] += w * d;
             }
         }
@@ -53,15 +51,14 @@ pub fn apply_x_lagrangian(
     Ok(())
 }
 
-/// The dense matrix D of `(∂s x)²` for field `x` (lagrangian, periodic).
-pub fn dense_x_lagrangian(points: usize) -> Result<Vec<Vec<f64>>, OperatorError> {
-    let n = size_x_lagrangian(points)?;
+/// The dense matrix D of the periodic `Δ^1` operator.
+pub fn dense_periodic_k1(points: usize) -> Result<Vec<Vec<f64>>, OperatorError> {
+    let n = size_periodic_k1(points)?;
     let mut m = vec![vec![0.0; n]; n];
     for p in 0..n {
-        for (a, wa) in W_X_LAGRANGIAN.iter().enumerate() {
-            for (b, wb) in W_X_LAGRANGIAN.iter().enumerate() {
-                if let (Some(i), Some(j)) =
-                    (index_x_lagrangian(n, p, a), index_x_lagrangian(n, p, b))
+        for (a, wa) in W_PERIODIC_K1.iter().enumerate() {
+            for (b, wb) in W_PERIODIC_K1.iter().enumerate() {
+                if let (Some(i), Some(j)) = (index_periodic_k1(n, p, a), index_periodic_k1(n, p, b))
                 {
                     m[i][j] += wa * wb;
                 }
@@ -71,88 +68,28 @@ pub fn dense_x_lagrangian(points: usize) -> Result<Vec<Vec<f64>>, OperatorError>
     Ok(m)
 }
 
-/// Stencil `Δ^1` of `(∂ts x)²`: field `x` (axial displacement), rayleigh density, periodic boundary.
-const W_X_RAYLEIGH: [f64; 2] = [-1.0, 1.0];
+/// Stencil `Δ^1` with the free boundary, used by:
+/// - `theta · lagrangian · (∂s θ)²`
+/// - `theta · rayleigh · (∂ts θ)²`
+const W_FREE_K1: [f64; 2] = [-1.0, 1.0];
 
-/// Number of unknowns of `x_rayleigh` on `points` points (periodic boundary).
-pub fn size_x_rayleigh(points: usize) -> Result<usize, OperatorError> {
-    if points < 3 {
-        return Err(OperatorError::TooFewPoints { points, min: 3 });
-    }
-    Ok(points - 1)
-}
-
-/// Stencil positions of `x_rayleigh`: index of weight `j` at position `p`, if inside the body.
-fn index_x_rayleigh(n: usize, p: usize, j: usize) -> Option<usize> {
-    Some((p + j) % n)
-}
-
-/// `out = D·phi` for `(∂ts x)²` of field `x` (rayleigh, periodic), in O(N).
-pub fn apply_x_rayleigh(points: usize, phi: &[f64], out: &mut [f64]) -> Result<(), OperatorError> {
-    let n = size_x_rayleigh(points)?;
-    if phi.len() != n || out.len() != n {
-        return Err(OperatorError::Length {
-            expected: n,
-            got: phi.len().min(out.len()),
-        });
-    }
-    out.fill(0.0);
-    for p in 0..n {
-        let mut d = 0.0;
-        for (j, w) in W_X_RAYLEIGH.iter().enumerate() {
-            if let Some(i) = index_x_rayleigh(n, p, j) {
-                d += w * phi[i];
-            }
-        }
-        for (j, w) in W_X_RAYLEIGH.iter().enumerate() {
-            if let Some(i) = index_x_rayleigh(n, p, j) {
-                out[i] += w * d;
-            }
-        }
-    }
-    Ok(())
-}
-
-/// The dense matrix D of `(∂ts x)²` for field `x` (rayleigh, periodic).
-pub fn dense_x_rayleigh(points: usize) -> Result<Vec<Vec<f64>>, OperatorError> {
-    let n = size_x_rayleigh(points)?;
-    let mut m = vec![vec![0.0; n]; n];
-    for p in 0..n {
-        for (a, wa) in W_X_RAYLEIGH.iter().enumerate() {
-            for (b, wb) in W_X_RAYLEIGH.iter().enumerate() {
-                if let (Some(i), Some(j)) = (index_x_rayleigh(n, p, a), index_x_rayleigh(n, p, b)) {
-                    m[i][j] += wa * wb;
-                }
-            }
-        }
-    }
-    Ok(m)
-}
-
-/// Stencil `Δ^1` of `(∂s θ)²`: field `theta` (torsional rotation about the midline), lagrangian density, free boundary.
-const W_THETA_LAGRANGIAN: [f64; 2] = [-1.0, 1.0];
-
-/// Number of unknowns of `theta_lagrangian` on `points` points (free boundary).
-pub fn size_theta_lagrangian(points: usize) -> Result<usize, OperatorError> {
+/// Number of unknowns of `free_k1` on `points` points (free boundary).
+pub fn size_free_k1(points: usize) -> Result<usize, OperatorError> {
     if points < 2 {
         return Err(OperatorError::TooFewPoints { points, min: 2 });
     }
     Ok(points)
 }
 
-/// Stencil positions of `theta_lagrangian`: index of weight `j` at position `p`, if inside the body.
-fn index_theta_lagrangian(n: usize, p: usize, j: usize) -> Option<usize> {
+/// Stencil positions of `free_k1`: index of weight `j` at position `p`, if inside the body.
+fn index_free_k1(n: usize, p: usize, j: usize) -> Option<usize> {
     debug_assert!(p + j < n);
     Some(p + j)
 }
 
-/// `out = D·phi` for `(∂s θ)²` of field `theta` (lagrangian, free), in O(N).
-pub fn apply_theta_lagrangian(
-    points: usize,
-    phi: &[f64],
-    out: &mut [f64],
-) -> Result<(), OperatorError> {
-    let n = size_theta_lagrangian(points)?;
+/// `out = D·phi` for the free `Δ^1` operator, in O(N).
+pub fn apply_free_k1(points: usize, phi: &[f64], out: &mut [f64]) -> Result<(), OperatorError> {
+    let n = size_free_k1(points)?;
     if phi.len() != n || out.len() != n {
         return Err(OperatorError::Length {
             expected: n,
@@ -162,13 +99,13 @@ pub fn apply_theta_lagrangian(
     out.fill(0.0);
     for p in 0..n - 1 {
         let mut d = 0.0;
-        for (j, w) in W_THETA_LAGRANGIAN.iter().enumerate() {
-            if let Some(i) = index_theta_lagrangian(n, p, j) {
+        for (j, w) in W_FREE_K1.iter().enumerate() {
+            if let Some(i) = index_free_k1(n, p, j) {
                 d += w * phi[i];
             }
         }
-        for (j, w) in W_THETA_LAGRANGIAN.iter().enumerate() {
-            if let Some(i) = index_theta_lagrangian(n, p, j) {
+        for (j, w) in W_FREE_K1.iter().enumerate() {
+            if let Some(i) = index_free_k1(n, p, j) {
                 out[i] += w * d;
             }
         }
@@ -176,17 +113,14 @@ pub fn apply_theta_lagrangian(
     Ok(())
 }
 
-/// The dense matrix D of `(∂s θ)²` for field `theta` (lagrangian, free).
-pub fn dense_theta_lagrangian(points: usize) -> Result<Vec<Vec<f64>>, OperatorError> {
-    let n = size_theta_lagrangian(points)?;
+/// The dense matrix D of the free `Δ^1` operator.
+pub fn dense_free_k1(points: usize) -> Result<Vec<Vec<f64>>, OperatorError> {
+    let n = size_free_k1(points)?;
     let mut m = vec![vec![0.0; n]; n];
     for p in 0..n - 1 {
-        for (a, wa) in W_THETA_LAGRANGIAN.iter().enumerate() {
-            for (b, wb) in W_THETA_LAGRANGIAN.iter().enumerate() {
-                if let (Some(i), Some(j)) = (
-                    index_theta_lagrangian(n, p, a),
-                    index_theta_lagrangian(n, p, b),
-                ) {
+        for (a, wa) in W_FREE_K1.iter().enumerate() {
+            for (b, wb) in W_FREE_K1.iter().enumerate() {
+                if let (Some(i), Some(j)) = (index_free_k1(n, p, a), index_free_k1(n, p, b)) {
                     m[i][j] += wa * wb;
                 }
             }
@@ -195,17 +129,14 @@ pub fn dense_theta_lagrangian(points: usize) -> Result<Vec<Vec<f64>>, OperatorEr
     Ok(m)
 }
 
-/// The upper bands of D for `(∂s θ)²` of field `theta` (free): O(N·k) memory.
-pub fn banded_theta_lagrangian(points: usize) -> Result<Banded, OperatorError> {
-    let n = size_theta_lagrangian(points)?;
+/// The upper bands of the free `Δ^1` operator: O(N·k) memory.
+pub fn banded_free_k1(points: usize) -> Result<Banded, OperatorError> {
+    let n = size_free_k1(points)?;
     let mut bands: Vec<Vec<f64>> = (0..=1).map(|d| vec![0.0; n.saturating_sub(d)]).collect();
     for p in 0..n - 1 {
-        for (a, wa) in W_THETA_LAGRANGIAN.iter().enumerate() {
-            for (b, wb) in W_THETA_LAGRANGIAN.iter().enumerate().skip(a) {
-                if let (Some(i), Some(j)) = (
-                    index_theta_lagrangian(n, p, a),
-                    index_theta_lagrangian(n, p, b),
-                ) {
+        for (a, wa) in W_FREE_K1.iter().enumerate() {
+            for (b, wb) in W_FREE_K1.iter().enumerate().skip(a) {
+                if let (Some(i), Some(j)) = (index_free_k1(n, p, a), index_free_k1(n, p, b)) {
                     bands[j - i][i] += wa * wb;
                 }
             }
@@ -214,113 +145,30 @@ pub fn banded_theta_lagrangian(points: usize) -> Result<Banded, OperatorError> {
     Ok(Banded { size: n, bands })
 }
 
-/// Stencil `Δ^1` of `(∂ts θ)²`: field `theta` (torsional rotation about the midline), rayleigh density, free boundary.
-const W_THETA_RAYLEIGH: [f64; 2] = [-1.0, 1.0];
+/// Stencil `Δ^2` with the free boundary, used by:
+/// - `y · lagrangian · (∂ss y)²`
+/// - `y · rayleigh · (∂tss y)²`
+/// - `z · lagrangian · (∂ss z)²`
+/// - `z · rayleigh · (∂tss z)²`
+const W_FREE_K2: [f64; 3] = [1.0, -2.0, 1.0];
 
-/// Number of unknowns of `theta_rayleigh` on `points` points (free boundary).
-pub fn size_theta_rayleigh(points: usize) -> Result<usize, OperatorError> {
-    if points < 2 {
-        return Err(OperatorError::TooFewPoints { points, min: 2 });
-    }
-    Ok(points)
-}
-
-/// Stencil positions of `theta_rayleigh`: index of weight `j` at position `p`, if inside the body.
-fn index_theta_rayleigh(n: usize, p: usize, j: usize) -> Option<usize> {
-    debug_assert!(p + j < n);
-    Some(p + j)
-}
-
-/// `out = D·phi` for `(∂ts θ)²` of field `theta` (rayleigh, free), in O(N).
-pub fn apply_theta_rayleigh(
-    points: usize,
-    phi: &[f64],
-    out: &mut [f64],
-) -> Result<(), OperatorError> {
-    let n = size_theta_rayleigh(points)?;
-    if phi.len() != n || out.len() != n {
-        return Err(OperatorError::Length {
-            expected: n,
-            got: phi.len().min(out.len()),
-        });
-    }
-    out.fill(0.0);
-    for p in 0..n - 1 {
-        let mut d = 0.0;
-        for (j, w) in W_THETA_RAYLEIGH.iter().enumerate() {
-            if let Some(i) = index_theta_rayleigh(n, p, j) {
-                d += w * phi[i];
-            }
-        }
-        for (j, w) in W_THETA_RAYLEIGH.iter().enumerate() {
-            if let Some(i) = index_theta_rayleigh(n, p, j) {
-                out[i] += w * d;
-            }
-        }
-    }
-    Ok(())
-}
-
-/// The dense matrix D of `(∂ts θ)²` for field `theta` (rayleigh, free).
-pub fn dense_theta_rayleigh(points: usize) -> Result<Vec<Vec<f64>>, OperatorError> {
-    let n = size_theta_rayleigh(points)?;
-    let mut m = vec![vec![0.0; n]; n];
-    for p in 0..n - 1 {
-        for (a, wa) in W_THETA_RAYLEIGH.iter().enumerate() {
-            for (b, wb) in W_THETA_RAYLEIGH.iter().enumerate() {
-                if let (Some(i), Some(j)) =
-                    (index_theta_rayleigh(n, p, a), index_theta_rayleigh(n, p, b))
-                {
-                    m[i][j] += wa * wb;
-                }
-            }
-        }
-    }
-    Ok(m)
-}
-
-/// The upper bands of D for `(∂ts θ)²` of field `theta` (free): O(N·k) memory.
-pub fn banded_theta_rayleigh(points: usize) -> Result<Banded, OperatorError> {
-    let n = size_theta_rayleigh(points)?;
-    let mut bands: Vec<Vec<f64>> = (0..=1).map(|d| vec![0.0; n.saturating_sub(d)]).collect();
-    for p in 0..n - 1 {
-        for (a, wa) in W_THETA_RAYLEIGH.iter().enumerate() {
-            for (b, wb) in W_THETA_RAYLEIGH.iter().enumerate().skip(a) {
-                if let (Some(i), Some(j)) =
-                    (index_theta_rayleigh(n, p, a), index_theta_rayleigh(n, p, b))
-                {
-                    bands[j - i][i] += wa * wb;
-                }
-            }
-        }
-    }
-    Ok(Banded { size: n, bands })
-}
-
-/// Stencil `Δ^2` of `(∂ss y)²`: field `y` (mediolateral (left–right) bending), lagrangian density, free boundary.
-const W_Y_LAGRANGIAN: [f64; 3] = [1.0, -2.0, 1.0];
-
-/// Number of unknowns of `y_lagrangian` on `points` points (free boundary).
-pub fn size_y_lagrangian(points: usize) -> Result<usize, OperatorError> {
+/// Number of unknowns of `free_k2` on `points` points (free boundary).
+pub fn size_free_k2(points: usize) -> Result<usize, OperatorError> {
     if points < 3 {
         return Err(OperatorError::TooFewPoints { points, min: 3 });
     }
     Ok(points)
 }
 
-/// Stencil positions of `y_lagrangian`: index of weight `j` at position `p`, if inside the body.
-fn index_y_lagrangian(n: usize, p: usize, j: usize) -> Option<usize> {
+/// Stencil positions of `free_k2`: index of weight `j` at position `p`, if inside the body.
+fn index_free_k2(n: usize, p: usize, j: usize) -> Option<usize> {
     debug_assert!(p + j < n);
     Some(p + j)
 }
 
-/// `out = D·phi` for `(∂ss y)²` of field `y` (lagrangian, free), in O(N).
-pub fn apply_y_lagrangian(
-    points: usize,
-    phi: &[f64],
-    out: &mut [f64],
-) -> Result<(), OperatorError> {
-    let n = size_y_lagrangian(points)?;
+/// `out = D·phi` for the free `Δ^2` operator, in O(N).
+pub fn apply_free_k2(points: usize, phi: &[f64], out: &mut [f64]) -> Result<(), OperatorError> {
+    let n = size_free_k2(points)?;
     if phi.len() != n || out.len() != n {
         return Err(OperatorError::Length {
             expected: n,
@@ -330,13 +178,13 @@ pub fn apply_y_lagrangian(
     out.fill(0.0);
     for p in 0..n - 2 {
         let mut d = 0.0;
-        for (j, w) in W_Y_LAGRANGIAN.iter().enumerate() {
-            if let Some(i) = index_y_lagrangian(n, p, j) {
+        for (j, w) in W_FREE_K2.iter().enumerate() {
+            if let Some(i) = index_free_k2(n, p, j) {
                 d += w * phi[i];
             }
         }
-        for (j, w) in W_Y_LAGRANGIAN.iter().enumerate() {
-            if let Some(i) = index_y_lagrangian(n, p, j) {
+        for (j, w) in W_FREE_K2.iter().enumerate() {
+            if let Some(i) = index_free_k2(n, p, j) {
                 out[i] += w * d;
             }
         }
@@ -344,16 +192,14 @@ pub fn apply_y_lagrangian(
     Ok(())
 }
 
-/// The dense matrix D of `(∂ss y)²` for field `y` (lagrangian, free).
-pub fn dense_y_lagrangian(points: usize) -> Result<Vec<Vec<f64>>, OperatorError> {
-    let n = size_y_lagrangian(points)?;
+/// The dense matrix D of the free `Δ^2` operator.
+pub fn dense_free_k2(points: usize) -> Result<Vec<Vec<f64>>, OperatorError> {
+    let n = size_free_k2(points)?;
     let mut m = vec![vec![0.0; n]; n];
     for p in 0..n - 2 {
-        for (a, wa) in W_Y_LAGRANGIAN.iter().enumerate() {
-            for (b, wb) in W_Y_LAGRANGIAN.iter().enumerate() {
-                if let (Some(i), Some(j)) =
-                    (index_y_lagrangian(n, p, a), index_y_lagrangian(n, p, b))
-                {
+        for (a, wa) in W_FREE_K2.iter().enumerate() {
+            for (b, wb) in W_FREE_K2.iter().enumerate() {
+                if let (Some(i), Some(j)) = (index_free_k2(n, p, a), index_free_k2(n, p, b)) {
                     m[i][j] += wa * wb;
                 }
             }
@@ -362,249 +208,14 @@ pub fn dense_y_lagrangian(points: usize) -> Result<Vec<Vec<f64>>, OperatorError>
     Ok(m)
 }
 
-/// The upper bands of D for `(∂ss y)²` of field `y` (free): O(N·k) memory.
-pub fn banded_y_lagrangian(points: usize) -> Result<Banded, OperatorError> {
-    let n = size_y_lagrangian(points)?;
+/// The upper bands of the free `Δ^2` operator: O(N·k) memory.
+pub fn banded_free_k2(points: usize) -> Result<Banded, OperatorError> {
+    let n = size_free_k2(points)?;
     let mut bands: Vec<Vec<f64>> = (0..=2).map(|d| vec![0.0; n.saturating_sub(d)]).collect();
     for p in 0..n - 2 {
-        for (a, wa) in W_Y_LAGRANGIAN.iter().enumerate() {
-            for (b, wb) in W_Y_LAGRANGIAN.iter().enumerate().skip(a) {
-                if let (Some(i), Some(j)) =
-                    (index_y_lagrangian(n, p, a), index_y_lagrangian(n, p, b))
-                {
-                    bands[j - i][i] += wa * wb;
-                }
-            }
-        }
-    }
-    Ok(Banded { size: n, bands })
-}
-
-/// Stencil `Δ^2` of `(∂tss y)²`: field `y` (mediolateral (left–right) bending), rayleigh density, free boundary.
-const W_Y_RAYLEIGH: [f64; 3] = [1.0, -2.0, 1.0];
-
-/// Number of unknowns of `y_rayleigh` on `points` points (free boundary).
-pub fn size_y_rayleigh(points: usize) -> Result<usize, OperatorError> {
-    if points < 3 {
-        return Err(OperatorError::TooFewPoints { points, min: 3 });
-    }
-    Ok(points)
-}
-
-/// Stencil positions of `y_rayleigh`: index of weight `j` at position `p`, if inside the body.
-fn index_y_rayleigh(n: usize, p: usize, j: usize) -> Option<usize> {
-    debug_assert!(p + j < n);
-    Some(p + j)
-}
-
-/// `out = D·phi` for `(∂tss y)²` of field `y` (rayleigh, free), in O(N).
-pub fn apply_y_rayleigh(points: usize, phi: &[f64], out: &mut [f64]) -> Result<(), OperatorError> {
-    let n = size_y_rayleigh(points)?;
-    if phi.len() != n || out.len() != n {
-        return Err(OperatorError::Length {
-            expected: n,
-            got: phi.len().min(out.len()),
-        });
-    }
-    out.fill(0.0);
-    for p in 0..n - 2 {
-        let mut d = 0.0;
-        for (j, w) in W_Y_RAYLEIGH.iter().enumerate() {
-            if let Some(i) = index_y_rayleigh(n, p, j) {
-                d += w * phi[i];
-            }
-        }
-        for (j, w) in W_Y_RAYLEIGH.iter().enumerate() {
-            if let Some(i) = index_y_rayleigh(n, p, j) {
-                out[i] += w * d;
-            }
-        }
-    }
-    Ok(())
-}
-
-/// The dense matrix D of `(∂tss y)²` for field `y` (rayleigh, free).
-pub fn dense_y_rayleigh(points: usize) -> Result<Vec<Vec<f64>>, OperatorError> {
-    let n = size_y_rayleigh(points)?;
-    let mut m = vec![vec![0.0; n]; n];
-    for p in 0..n - 2 {
-        for (a, wa) in W_Y_RAYLEIGH.iter().enumerate() {
-            for (b, wb) in W_Y_RAYLEIGH.iter().enumerate() {
-                if let (Some(i), Some(j)) = (index_y_rayleigh(n, p, a), index_y_rayleigh(n, p, b)) {
-                    m[i][j] += wa * wb;
-                }
-            }
-        }
-    }
-    Ok(m)
-}
-
-/// The upper bands of D for `(∂tss y)²` of field `y` (free): O(N·k) memory.
-pub fn banded_y_rayleigh(points: usize) -> Result<Banded, OperatorError> {
-    let n = size_y_rayleigh(points)?;
-    let mut bands: Vec<Vec<f64>> = (0..=2).map(|d| vec![0.0; n.saturating_sub(d)]).collect();
-    for p in 0..n - 2 {
-        for (a, wa) in W_Y_RAYLEIGH.iter().enumerate() {
-            for (b, wb) in W_Y_RAYLEIGH.iter().enumerate().skip(a) {
-                if let (Some(i), Some(j)) = (index_y_rayleigh(n, p, a), index_y_rayleigh(n, p, b)) {
-                    bands[j - i][i] += wa * wb;
-                }
-            }
-        }
-    }
-    Ok(Banded { size: n, bands })
-}
-
-/// Stencil `Δ^2` of `(∂ss z)²`: field `z` (dorsoventral bending), lagrangian density, free boundary.
-const W_Z_LAGRANGIAN: [f64; 3] = [1.0, -2.0, 1.0];
-
-/// Number of unknowns of `z_lagrangian` on `points` points (free boundary).
-pub fn size_z_lagrangian(points: usize) -> Result<usize, OperatorError> {
-    if points < 3 {
-        return Err(OperatorError::TooFewPoints { points, min: 3 });
-    }
-    Ok(points)
-}
-
-/// Stencil positions of `z_lagrangian`: index of weight `j` at position `p`, if inside the body.
-fn index_z_lagrangian(n: usize, p: usize, j: usize) -> Option<usize> {
-    debug_assert!(p + j < n);
-    Some(p + j)
-}
-
-/// `out = D·phi` for `(∂ss z)²` of field `z` (lagrangian, free), in O(N).
-pub fn apply_z_lagrangian(
-    points: usize,
-    phi: &[f64],
-    out: &mut [f64],
-) -> Result<(), OperatorError> {
-    let n = size_z_lagrangian(points)?;
-    if phi.len() != n || out.len() != n {
-        return Err(OperatorError::Length {
-            expected: n,
-            got: phi.len().min(out.len()),
-        });
-    }
-    out.fill(0.0);
-    for p in 0..n - 2 {
-        let mut d = 0.0;
-        for (j, w) in W_Z_LAGRANGIAN.iter().enumerate() {
-            if let Some(i) = index_z_lagrangian(n, p, j) {
-                d += w * phi[i];
-            }
-        }
-        for (j, w) in W_Z_LAGRANGIAN.iter().enumerate() {
-            if let Some(i) = index_z_lagrangian(n, p, j) {
-                out[i] += w * d;
-            }
-        }
-    }
-    Ok(())
-}
-
-/// The dense matrix D of `(∂ss z)²` for field `z` (lagrangian, free).
-pub fn dense_z_lagrangian(points: usize) -> Result<Vec<Vec<f64>>, OperatorError> {
-    let n = size_z_lagrangian(points)?;
-    let mut m = vec![vec![0.0; n]; n];
-    for p in 0..n - 2 {
-        for (a, wa) in W_Z_LAGRANGIAN.iter().enumerate() {
-            for (b, wb) in W_Z_LAGRANGIAN.iter().enumerate() {
-                if let (Some(i), Some(j)) =
-                    (index_z_lagrangian(n, p, a), index_z_lagrangian(n, p, b))
-                {
-                    m[i][j] += wa * wb;
-                }
-            }
-        }
-    }
-    Ok(m)
-}
-
-/// The upper bands of D for `(∂ss z)²` of field `z` (free): O(N·k) memory.
-pub fn banded_z_lagrangian(points: usize) -> Result<Banded, OperatorError> {
-    let n = size_z_lagrangian(points)?;
-    let mut bands: Vec<Vec<f64>> = (0..=2).map(|d| vec![0.0; n.saturating_sub(d)]).collect();
-    for p in 0..n - 2 {
-        for (a, wa) in W_Z_LAGRANGIAN.iter().enumerate() {
-            for (b, wb) in W_Z_LAGRANGIAN.iter().enumerate().skip(a) {
-                if let (Some(i), Some(j)) =
-                    (index_z_lagrangian(n, p, a), index_z_lagrangian(n, p, b))
-                {
-                    bands[j - i][i] += wa * wb;
-                }
-            }
-        }
-    }
-    Ok(Banded { size: n, bands })
-}
-
-/// Stencil `Δ^2` of `(∂tss z)²`: field `z` (dorsoventral bending), rayleigh density, free boundary.
-const W_Z_RAYLEIGH: [f64; 3] = [1.0, -2.0, 1.0];
-
-/// Number of unknowns of `z_rayleigh` on `points` points (free boundary).
-pub fn size_z_rayleigh(points: usize) -> Result<usize, OperatorError> {
-    if points < 3 {
-        return Err(OperatorError::TooFewPoints { points, min: 3 });
-    }
-    Ok(points)
-}
-
-/// Stencil positions of `z_rayleigh`: index of weight `j` at position `p`, if inside the body.
-fn index_z_rayleigh(n: usize, p: usize, j: usize) -> Option<usize> {
-    debug_assert!(p + j < n);
-    Some(p + j)
-}
-
-/// `out = D·phi` for `(∂tss z)²` of field `z` (rayleigh, free), in O(N).
-pub fn apply_z_rayleigh(points: usize, phi: &[f64], out: &mut [f64]) -> Result<(), OperatorError> {
-    let n = size_z_rayleigh(points)?;
-    if phi.len() != n || out.len() != n {
-        return Err(OperatorError::Length {
-            expected: n,
-            got: phi.len().min(out.len()),
-        });
-    }
-    out.fill(0.0);
-    for p in 0..n - 2 {
-        let mut d = 0.0;
-        for (j, w) in W_Z_RAYLEIGH.iter().enumerate() {
-            if let Some(i) = index_z_rayleigh(n, p, j) {
-                d += w * phi[i];
-            }
-        }
-        for (j, w) in W_Z_RAYLEIGH.iter().enumerate() {
-            if let Some(i) = index_z_rayleigh(n, p, j) {
-                out[i] += w * d;
-            }
-        }
-    }
-    Ok(())
-}
-
-/// The dense matrix D of `(∂tss z)²` for field `z` (rayleigh, free).
-pub fn dense_z_rayleigh(points: usize) -> Result<Vec<Vec<f64>>, OperatorError> {
-    let n = size_z_rayleigh(points)?;
-    let mut m = vec![vec![0.0; n]; n];
-    for p in 0..n - 2 {
-        for (a, wa) in W_Z_RAYLEIGH.iter().enumerate() {
-            for (b, wb) in W_Z_RAYLEIGH.iter().enumerate() {
-                if let (Some(i), Some(j)) = (index_z_rayleigh(n, p, a), index_z_rayleigh(n, p, b)) {
-                    m[i][j] += wa * wb;
-                }
-            }
-        }
-    }
-    Ok(m)
-}
-
-/// The upper bands of D for `(∂tss z)²` of field `z` (free): O(N·k) memory.
-pub fn banded_z_rayleigh(points: usize) -> Result<Banded, OperatorError> {
-    let n = size_z_rayleigh(points)?;
-    let mut bands: Vec<Vec<f64>> = (0..=2).map(|d| vec![0.0; n.saturating_sub(d)]).collect();
-    for p in 0..n - 2 {
-        for (a, wa) in W_Z_RAYLEIGH.iter().enumerate() {
-            for (b, wb) in W_Z_RAYLEIGH.iter().enumerate().skip(a) {
-                if let (Some(i), Some(j)) = (index_z_rayleigh(n, p, a), index_z_rayleigh(n, p, b)) {
+        for (a, wa) in W_FREE_K2.iter().enumerate() {
+            for (b, wb) in W_FREE_K2.iter().enumerate().skip(a) {
+                if let (Some(i), Some(j)) = (index_free_k2(n, p, a), index_free_k2(n, p, b)) {
                     bands[j - i][i] += wa * wb;
                 }
             }
@@ -615,92 +226,100 @@ pub fn banded_z_rayleigh(points: usize) -> Result<Banded, OperatorError> {
 
 /// Every generated operator, in model field order, Lagrangian before Rayleigh.
 pub const OPERATORS: &[GeneratedOperator] = &[
+    // x (axial displacement): (∂s x)²
     GeneratedOperator {
         field: "x",
         density: "lagrangian",
         term: "(∂s x)²",
         boundary: "periodic",
         k: 1,
-        size: size_x_lagrangian,
-        apply: apply_x_lagrangian,
-        dense: dense_x_lagrangian,
+        size: size_periodic_k1,
+        apply: apply_periodic_k1,
+        dense: dense_periodic_k1,
         banded: None,
     },
+    // x (axial displacement): (∂ts x)²
     GeneratedOperator {
         field: "x",
         density: "rayleigh",
         term: "(∂ts x)²",
         boundary: "periodic",
         k: 1,
-        size: size_x_rayleigh,
-        apply: apply_x_rayleigh,
-        dense: dense_x_rayleigh,
+        size: size_periodic_k1,
+        apply: apply_periodic_k1,
+        dense: dense_periodic_k1,
         banded: None,
     },
+    // theta (torsional rotation about the midline): (∂s θ)²
     GeneratedOperator {
         field: "theta",
         density: "lagrangian",
         term: "(∂s θ)²",
         boundary: "free",
         k: 1,
-        size: size_theta_lagrangian,
-        apply: apply_theta_lagrangian,
-        dense: dense_theta_lagrangian,
-        banded: Some(banded_theta_lagrangian),
+        size: size_free_k1,
+        apply: apply_free_k1,
+        dense: dense_free_k1,
+        banded: Some(banded_free_k1),
     },
+    // theta (torsional rotation about the midline): (∂ts θ)²
     GeneratedOperator {
         field: "theta",
         density: "rayleigh",
         term: "(∂ts θ)²",
         boundary: "free",
         k: 1,
-        size: size_theta_rayleigh,
-        apply: apply_theta_rayleigh,
-        dense: dense_theta_rayleigh,
-        banded: Some(banded_theta_rayleigh),
+        size: size_free_k1,
+        apply: apply_free_k1,
+        dense: dense_free_k1,
+        banded: Some(banded_free_k1),
     },
+    // y (mediolateral (left–right) bending): (∂ss y)²
     GeneratedOperator {
         field: "y",
         density: "lagrangian",
         term: "(∂ss y)²",
         boundary: "free",
         k: 2,
-        size: size_y_lagrangian,
-        apply: apply_y_lagrangian,
-        dense: dense_y_lagrangian,
-        banded: Some(banded_y_lagrangian),
+        size: size_free_k2,
+        apply: apply_free_k2,
+        dense: dense_free_k2,
+        banded: Some(banded_free_k2),
     },
+    // y (mediolateral (left–right) bending): (∂tss y)²
     GeneratedOperator {
         field: "y",
         density: "rayleigh",
         term: "(∂tss y)²",
         boundary: "free",
         k: 2,
-        size: size_y_rayleigh,
-        apply: apply_y_rayleigh,
-        dense: dense_y_rayleigh,
-        banded: Some(banded_y_rayleigh),
+        size: size_free_k2,
+        apply: apply_free_k2,
+        dense: dense_free_k2,
+        banded: Some(banded_free_k2),
     },
+    // z (dorsoventral bending): (∂ss z)²
     GeneratedOperator {
         field: "z",
         density: "lagrangian",
         term: "(∂ss z)²",
         boundary: "free",
         k: 2,
-        size: size_z_lagrangian,
-        apply: apply_z_lagrangian,
-        dense: dense_z_lagrangian,
-        banded: Some(banded_z_lagrangian),
+        size: size_free_k2,
+        apply: apply_free_k2,
+        dense: dense_free_k2,
+        banded: Some(banded_free_k2),
     },
+    // z (dorsoventral bending): (∂tss z)²
     GeneratedOperator {
         field: "z",
         density: "rayleigh",
         term: "(∂tss z)²",
         boundary: "free",
         k: 2,
-        size: size_z_rayleigh,
-        apply: apply_z_rayleigh,
-        dense: dense_z_rayleigh,
-        banded: Some(banded_z_rayleigh),
+        size: size_free_k2,
+        apply: apply_free_k2,
+        dense: dense_free_k2,
+        banded: Some(banded_free_k2),
     },
 ];
