@@ -81,3 +81,29 @@ fn candidate_counts_match_a_brute_force_count_at_every_order() {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// The generated operators agree with the exact ones at sizes no other test names.
+    #[test]
+    fn generated_apply_matches_exact_operators(points in 3usize..400, seed in any::<u64>()) {
+        use theory_search::discretise::operators;
+        use theory_search::generated::operators::OPERATORS;
+        let ops = operators(&Model::larva(), 4, points).unwrap();
+        let mut state = seed | 1;
+        for (op, generated) in ops.iter().zip(OPERATORS) {
+            let n = op.size;
+            let phi: Vec<f64> = (0..n).map(|_| {
+                state ^= state << 13; state ^= state >> 7; state ^= state << 17;
+                (state % 2001) as f64 / 1000.0 - 1.0
+            }).collect();
+            let mut out = vec![0.0; n];
+            (generated.apply)(points, &phi, &mut out).unwrap();
+            for (i, row) in op.matrix.iter().enumerate() {
+                let want: f64 = row.iter().zip(&phi).map(|(&a, b)| a as f64 * b).sum();
+                prop_assert!((out[i] - want).abs() <= 1e-12 * (1.0 + want.abs()));
+            }
+        }
+    }
+}
