@@ -5,15 +5,17 @@
 //!
 //! Data flows one way through the modules, in pipeline order:
 //! [`model`] → [`term`] → [`enumerate`] → [`rules`] → [`reduce`] → [`equations`] → [`discretise`] → [`codegen`]
-//! (writes [`generated`]) → [`table`] / [`cli`].
+//! (writes [`generated`]) → [`modal`] (with [`banded`]) → [`table`] / [`cli`].
 #![warn(missing_docs)]
 
+pub mod banded;
 pub mod cli;
 pub mod codegen;
 pub mod discretise;
 pub mod enumerate;
 pub mod equations;
 pub mod generated;
+pub mod modal;
 pub mod model;
 pub mod reduce;
 pub mod rules;

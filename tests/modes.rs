@@ -1,0 +1,210 @@
+//! Scenario: the modes of the larva's operators. Every structured method (closed forms, the D4
+//! characteristic equation, banded shapes, Σ1/λ by selected inversion) against faer's dense
+//! self-adjoint eigensolver on the exact operator.
+
+use faer::Mat;
+use theory_search::discretise::operator_matrix;
+use theory_search::modal::{spectrum, Method, Spectrum};
+use theory_search::model::Boundary;
+
+/// All eigenvalues and vectors of the exact operator, densely.
+fn dense_reference(
+    k: u32,
+    boundary: Boundary,
+    points: usize,
+) -> (Vec<f64>, Mat<f64>, Vec<Vec<i64>>) {
+    let m = operator_matrix(k, boundary, points).unwrap();
+    let n = m.len();
+    let a = Mat::<f64>::from_fn(n, n, |i, j| m[i][j] as f64);
+    let evd = a.self_adjoint_eigen(faer::Side::Lower).unwrap();
+    let s = evd.S().column_vector();
+    ((0..n).map(|i| s[i]).collect(), evd.U().to_owned(), m)
+}
+
+/// Every computed eigenpair satisfies D v = λ v to `tol`, shapes are orthonormal, eigenvalues
+/// match the dense ones.
+fn check(k: u32, boundary: Boundary, points: usize, s: &Spectrum, tol: f64) {
+    let (reference, _, m) = dense_reference(k, boundary, points);
+    let scale = reference.last().copied().unwrap_or(1.0).max(1.0);
+    for (i, (got, want)) in s.eigenvalues.iter().zip(&reference).enumerate() {
+        assert!(
+            (got - want).abs() <= tol * scale,
+            "k={k} {boundary:?} N={points} λ{i}: {got} vs {want}"
+        );
+    }
+    // Dense small eigenvalues carry an absolute error ~ ε·λmax, so Σ1/λ is only known from them
+    // to about ε·λmax/λmin relative.
+    let dense_trace: f64 = reference[s.nullity..].iter().map(|l| 1.0 / l).sum();
+    let dense_tol = 1e-13 * scale / reference.get(s.nullity).copied().unwrap_or(1.0);
+    assert!(
+        (s.inverse_trace - dense_trace).abs() <= dense_tol.max(1e-12) * dense_trace,
+        "Σ1/λ {} vs {dense_trace}",
+        s.inverse_trace
+    );
+    if s.eigenvalues.len() == reference.len() {
+        let own: f64 = s.eigenvalues[s.nullity..].iter().map(|l| 1.0 / l).sum();
+        assert!(
+            (own - s.inverse_trace).abs() <= 1e-11 * own,
+            "Σ1/λ of own eigenvalues {own} vs {}",
+            s.inverse_trace
+        );
+    }
+    if let Some(v) = &s.shapes {
+        let n = m.len();
+        for c in 0..v.ncols() {
+            let lam = s.eigenvalues[c];
+            for i in 0..n {
+                let dv: f64 = (0..n).map(|j| m[i][j] as f64 * v[(j, c)]).sum();
+                assert!(
+                    (dv - lam * v[(i, c)]).abs() <= tol * scale,
+                    "residual of mode {c} at N={points}"
+                );
+            }
+            for d in 0..=c {
+                let dot: f64 = (0..n).map(|i| v[(i, c)] * v[(i, d)]).sum();
+                let want = if c == d { 1.0 } else { 0.0 };
+                assert!(
+                    (dot - want).abs() < 1e-9,
+                    "orthonormality {c},{d} at N={points}"
+                );
+            }
+            let first = (0..n).map(|i| v[(i, c)]).find(|x| x.abs() > 1e-6).unwrap();
+            assert!(first > 0.0, "sign convention");
+        }
+    }
+}
+
+#[test]
+fn closed_forms_agree_with_dense_at_every_size() {
+    for points in 3..=80 {
+        let s = spectrum(1, Boundary::Periodic, points, None, true).unwrap();
+        assert_eq!(s.method, Method::ClosedForm);
+        check(1, Boundary::Periodic, points, &s, 1e-12);
+        let s = spectrum(1, Boundary::Free, points, None, true).unwrap();
+        assert_eq!(s.method, Method::ClosedForm);
+        check(1, Boundary::Free, points, &s, 1e-12);
+    }
+}
+
+#[test]
+fn d4_characteristic_equation_agrees_with_dense() {
+    for points in (3..=60).chain([101, 150, 201]) {
+        let s = spectrum(2, Boundary::Free, points, None, points <= 60).unwrap();
+        assert_eq!(s.method, Method::Characteristic, "N = {points}");
+        assert_eq!(s.eigenvalues.len(), points);
+        check(2, Boundary::Free, points, &s, 1e-12);
+    }
+}
+
+#[test]
+fn lowest_modes_only() {
+    let all = spectrum(2, Boundary::Free, 300, None, false).unwrap();
+    let few = spectrum(2, Boundary::Free, 300, Some(7), true).unwrap();
+    assert_eq!(few.eigenvalues.len(), 7);
+    assert_eq!(&all.eigenvalues[..7], &few.eigenvalues[..]);
+    assert_eq!(all.inverse_trace, few.inverse_trace);
+    check(2, Boundary::Free, 300, &few, 1e-11);
+}
+
+#[test]
+fn other_operators_use_the_dense_solver() {
+    for (k, boundary) in [
+        (3, Boundary::Free),
+        (2, Boundary::Clamped),
+        (2, Boundary::Periodic),
+    ] {
+        for points in [6, 13, 40] {
+            let s = spectrum(k, boundary, points, None, true).unwrap();
+            check(k, boundary, points, &s, 1e-10);
+        }
+    }
+}
+
+#[test]
+fn sums_of_inverse_eigenvalues_match_closed_forms() {
+    // Σ over non-zero modes: (n²−1)/12 for D2,c (n = N−1), (N²−1)/6 for D2,f.
+    for points in [3usize, 12, 1000, 100_000] {
+        let n = (points - 1) as f64;
+        let s = spectrum(1, Boundary::Periodic, points, Some(3), false).unwrap();
+        assert!((s.inverse_trace - (n * n - 1.0) / 12.0).abs() < 1e-9 * n * n);
+        let nf = points as f64;
+        let s = spectrum(1, Boundary::Free, points, Some(3), false).unwrap();
+        assert!((s.inverse_trace - (nf * nf - 1.0) / 6.0).abs() < 1e-9 * nf * nf);
+    }
+}
+
+#[test]
+fn too_few_points_is_an_error() {
+    assert!(spectrum(1, Boundary::Periodic, 2, None, false).is_err());
+    assert!(spectrum(2, Boundary::Free, 2, None, false).is_err());
+    assert!(spectrum(1, Boundary::Free, 1, None, false).is_err());
+}
+
+/// tr((SSᵀ)⁻¹) by exact Gauss–Jordan elimination over the rationals.
+fn exact_d4_inverse_trace(points: usize) -> num_rational::Ratio<i128> {
+    use num_rational::Ratio;
+    let m = points - 2;
+    let mut a: Vec<Vec<Ratio<i128>>> = (0..m)
+        .map(|i| {
+            (0..m)
+                .map(|j| {
+                    let v = match i.abs_diff(j) {
+                        0 => 6,
+                        1 => -4,
+                        2 => 1,
+                        _ => 0,
+                    };
+                    Ratio::from_integer(v)
+                })
+                .collect()
+        })
+        .collect();
+    let mut inv: Vec<Vec<Ratio<i128>>> = (0..m)
+        .map(|i| {
+            (0..m)
+                .map(|j| Ratio::from_integer((i == j) as i128))
+                .collect()
+        })
+        .collect();
+    for c in 0..m {
+        let p = (c..m).find(|&r| a[r][c] != Ratio::from_integer(0)).unwrap();
+        a.swap(c, p);
+        inv.swap(c, p);
+        let piv = a[c][c];
+        for j in 0..m {
+            a[c][j] /= piv;
+            inv[c][j] /= piv;
+        }
+        for r in 0..m {
+            if r != c && a[r][c] != Ratio::from_integer(0) {
+                let f = a[r][c];
+                for j in 0..m {
+                    let (x, y) = (a[c][j], inv[c][j]);
+                    a[r][j] -= f * x;
+                    inv[r][j] -= f * y;
+                }
+            }
+        }
+    }
+    (0..m).map(|i| inv[i][i]).sum()
+}
+
+#[test]
+fn d4_inverse_trace_polynomial_is_exact() {
+    use num_rational::Ratio;
+    for points in 3..=24usize {
+        let n = points as i128;
+        let poly = Ratio::new(n.pow(4) + n * n - 20, 420);
+        assert_eq!(exact_d4_inverse_trace(points), poly, "N = {points}");
+    }
+    // At large N it agrees with the sum over the characteristic-equation eigenvalues.
+    for points in [500usize, 2000] {
+        let s = spectrum(2, Boundary::Free, points, None, false).unwrap();
+        let own: f64 = s.eigenvalues[2..].iter().map(|l| 1.0 / l).sum();
+        assert!(
+            (own - s.inverse_trace).abs() <= 1e-10 * own,
+            "N = {points}: {own} vs {}",
+            s.inverse_trace
+        );
+    }
+}
