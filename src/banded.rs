@@ -122,11 +122,11 @@ mod tests {
         };
         let b: Vec<f64> = (0..6).map(|i| i as f64 - 2.5).collect();
         let x = a.solve_shifted(0.5, &b);
-        for i in 0..6 {
+        for (i, bi) in b.iter().enumerate() {
             let ax: f64 = (0..6)
                 .map(|j| (a.get(i, j) - if i == j { 0.5 } else { 0.0 }) * x[j])
                 .sum();
-            assert!((ax - b[i]).abs() < 1e-12);
+            assert!((ax - bi).abs() < 1e-12);
         }
     }
 }

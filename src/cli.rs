@@ -11,8 +11,10 @@ use crate::codegen;
 use crate::discretise::{operators, Operator};
 use crate::enumerate::MAX_ORDER;
 use crate::equations::{self, derive};
+use crate::modal::{field_modes, Params};
 use crate::model::{Density, Model};
 use crate::reduce::analyse;
+use crate::table as report;
 use crate::table::{render, Format};
 
 /// The most points `operators` prints as dense matrices.
@@ -60,6 +62,8 @@ enum Command {
         #[arg(long, value_enum, default_value_t = OperatorFormat::Text)]
         format: OperatorFormat,
     },
+    /// Modes of every field: eigenvalues, frequencies, damping ratios, variance shares.
+    Modes(ModesArgs),
     /// List the rules the engine knows (generated from the registry).
     Rules,
     /// Regenerate every generated file (src/generated/, tables/) under a directory.
@@ -84,6 +88,40 @@ enum EquationFormat {
     Text,
     Latex,
     Json,
+}
+
+/// Output formats of `modes`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum ModesFormat {
+    Text,
+    Json,
+    Csv,
+}
+
+#[derive(Debug, Args)]
+struct ModesArgs {
+    /// Number of points along the body (the seed uses 12), up to 10 000 000.
+    #[arg(long, short, value_name = "N",
+          value_parser = clap::value_parser!(u64).range(1..=crate::modal::MAX_POINTS as u64))]
+    points: u64,
+    /// Report only the lowest K modes of each field (shares stay exact over all modes).
+    #[arg(long = "modes", value_name = "K",
+          value_parser = clap::value_parser!(u64).range(1..))]
+    limit: Option<u64>,
+    /// Also print the mode shapes (unit norm, first significant component positive).
+    #[arg(long)]
+    shapes: bool,
+    /// Set a scale, e.g. `--param omega_b=2.5 --param zeta_s=0.3` (defaults: ω = 1, ζ = 0.1).
+    #[arg(long = "param", value_name = "NAME=VALUE")]
+    params: Vec<String>,
+    /// Read scales from a TOML file of `omega_s = 1.0` lines (before any --param).
+    #[arg(long = "params", value_name = "FILE")]
+    params_file: Option<PathBuf>,
+    #[command(flatten)]
+    model: ModelArgs,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = ModesFormat::Text)]
+    format: ModesFormat,
 }
 
 /// Output formats of `operators`.
@@ -264,6 +302,62 @@ fn operators_command(
     })
 }
 
+/// The most numbers `--shapes` prints.
+const MAX_SHAPE_VALUES: usize = 20_000_000;
+
+fn modes_command(args: &ModesArgs) -> Result<String, CliError> {
+    let model = load_model(&args.model.model)?;
+    let mut params = Params::default();
+    if let Some(path) = &args.params_file {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| CliError::new(1, format!("cannot read {}: {e}", path.display())))?;
+        params
+            .set_from_toml(&text)
+            .map_err(|e| CliError::new(2, format!("{}: {e}", path.display())))?;
+    }
+    for p in &args.params {
+        params
+            .set_assignment(p)
+            .map_err(|e| CliError::new(2, e.to_string()))?;
+    }
+    let scales: Vec<&str> = model.fields.iter().map(|f| f.scale()).collect();
+    if let Some(name) = params.unused(&scales).first() {
+        return Err(CliError::new(
+            2,
+            format!(
+                "parameter {name}: no field of the {} model uses it (scales: {})",
+                model.name,
+                scales.join(", ")
+            ),
+        ));
+    }
+    let points = args.points as usize;
+    let limit = args.limit.map(|k| k as usize);
+    if args.shapes && points.saturating_mul(limit.unwrap_or(points)) > MAX_SHAPE_VALUES {
+        return Err(CliError::new(
+            2,
+            format!("--shapes at {points} points would print more than {MAX_SHAPE_VALUES} numbers; add --modes K"),
+        ));
+    }
+    let modes = field_modes(
+        &model,
+        args.model.order,
+        points,
+        &params,
+        limit,
+        args.shapes,
+    )
+    .map_err(|e| CliError::new(2, e.to_string()))?;
+    Ok(match args.format {
+        ModesFormat::Text => report::modes_text(&model, points, &modes),
+        ModesFormat::Json => {
+            serde_json::to_string_pretty(&report::modes_json(points, &modes)).unwrap_or_default()
+                + "\n"
+        }
+        ModesFormat::Csv => report::modes_csv(&modes, args.shapes),
+    })
+}
+
 /// Parse `args` (program name first) and run; the output to print, or the error.
 pub fn run<I, T>(args: I) -> Result<String, CliError>
 where
@@ -302,6 +396,7 @@ where
             model,
             format,
         }) => operators_command(model, *points as usize, *format),
+        Some(Command::Modes(args)) => modes_command(args),
         Some(Command::Rules) => Ok(codegen::rules_markdown()),
         Some(Command::Emit { out }) => {
             let written = codegen::emit(out).map_err(|e| CliError::new(1, e))?;

@@ -27,7 +27,8 @@ use std::f64::consts::PI;
 use faer::Mat;
 
 use crate::banded::BandedSym;
-use crate::discretise::{min_points, size, stencil, stencil_rows};
+use crate::discretise::{boundary_name, min_points, size, stencil_rows};
+use crate::generated::operators::OPERATORS;
 use crate::model::Boundary;
 
 /// The largest operator the dense fallback will take.
@@ -108,8 +109,29 @@ pub fn nullity(k: u32, boundary: Boundary) -> usize {
     }
 }
 
-/// The operator `Σ_p w_pᵀw_p` in band storage.
+/// The operator `Σ_p w_pᵀw_p` in band storage: from the generated code when it has this
+/// operator (the larva's), otherwise from the stencil. Periodic operators wrap around and are
+/// not banded.
 pub fn banded_operator(k: u32, boundary: Boundary, points: usize) -> Result<BandedSym, ModalError> {
+    if boundary == Boundary::Periodic {
+        return Err(ModalError::Solver(
+            "a periodic operator is not banded".into(),
+        ));
+    }
+    let generated = OPERATORS
+        .iter()
+        .find(|o| o.k == k && o.boundary == boundary_name(boundary))
+        .and_then(|o| o.banded);
+    if let Some(build) = generated {
+        let b = build(points).map_err(|_| ModalError::TooFewPoints {
+            points,
+            min: min_points(boundary, k),
+        })?;
+        return Ok(BandedSym {
+            n: b.size,
+            bands: b.bands,
+        });
+    }
     let rows = stencil_rows(k, boundary, points).map_err(|_| ModalError::TooFewPoints {
         points,
         min: min_points(boundary, k),
@@ -343,49 +365,50 @@ fn d4(points: usize, count: usize, want_shapes: bool) -> Option<Spectrum> {
     let n = points;
     let needed = count.saturating_sub(2);
     let step = PI / (4.0 * (n as f64 + 1.0));
-    let mut roots: Vec<f64> = Vec::with_capacity(needed);
-    let mut prev = [
-        (step * 0.5, d4_characteristic(step * 0.5, n, true)),
-        (step * 0.5, d4_characteristic(step * 0.5, n, false)),
-    ];
-    let mut theta = step * 0.5;
+    // (θ, symmetric?) of each root, found in increasing θ; the grid is 8 times finer than the
+    // spacing of either family's roots, so no sign change is missed.
+    let mut roots: Vec<(f64, bool)> = Vec::with_capacity(needed);
+    let start = 0.5 * step;
+    let mut prev = [start, start].map(|t| (t, 0.0));
+    prev[0].1 = d4_characteristic(start, n, true);
+    prev[1].1 = d4_characteristic(start, n, false);
+    let mut theta = start;
     while roots.len() < needed && theta < PI {
         theta = (theta + step).min(PI);
+        let mut found: Vec<(f64, bool)> = Vec::new();
         for (fam, sym) in [(0, true), (1, false)] {
             let f = d4_characteristic(theta, n, sym);
             let (ta, fa) = prev[fam];
-            if fa == 0.0 {
-                roots.push(ta);
-            } else if (f < 0.0) != (fa < 0.0) && f != 0.0 {
-                roots.push(refine(|t| d4_characteristic(t, n, sym), ta, theta));
+            if f == 0.0 {
+                found.push((theta, sym));
+            } else if fa != 0.0 && (f < 0.0) != (fa < 0.0) {
+                found.push((refine(|t| d4_characteristic(t, n, sym), ta, theta), sym));
             }
             prev[fam] = (theta, f);
         }
-        // The last point, θ = π, can itself be a root (λ = 16).
-        if theta >= PI {
-            for (fam, _) in [(0, true), (1, false)] {
-                if prev[fam].1 == 0.0 {
-                    roots.push(PI);
-                }
-            }
-        }
+        found.sort_by(|a, b| a.0.total_cmp(&b.0));
+        roots.extend(found);
     }
-    roots.sort_by(f64::total_cmp);
     roots.truncate(needed);
-    let lam = |t: f64| (2.0 * (t / 2.0).sin()).powi(4);
-    let mut eigenvalues = vec![0.0; count.min(2)];
-    eigenvalues.extend(roots.iter().map(|&t| lam(t)));
-    if eigenvalues.len() != count {
+    // The non-zero modes of the centrosymmetric D4 alternate symmetric, antisymmetric, …
+    // (checked against the dense solver in the tests); a missed root would break that.
+    let alternates = roots
+        .iter()
+        .enumerate()
+        .all(|(i, &(_, sym))| sym == (i % 2 == 0));
+    let increasing = roots.windows(2).all(|w| w[0].0 < w[1].0);
+    if roots.len() != needed || !alternates || !increasing {
         return None;
     }
-    // Sylvester: exactly `count` eigenvalues lie below just above the largest one found.
+    let lam = |t: f64| (2.0 * (t / 2.0).sin()).powi(4);
+    let mut eigenvalues = vec![0.0; count.min(2)];
+    eigenvalues.extend(roots.iter().map(|&(t, _)| lam(t)));
     let band = banded_operator(2, Boundary::Free, points).ok()?;
-    if let Some(&top) = eigenvalues.last() {
-        if top > 0.0 {
-            let gap = 1e-9 * top;
-            if band.count_below(top + gap) != count || band.count_below(top - gap) != count - 1 {
-                return None;
-            }
+    // Where it is well conditioned (λ not tiny), Sylvester's inertia confirms the count.
+    if let Some(&top) = eigenvalues.last().filter(|&&t| t > 1e-6) {
+        let gap = 1e-9 * top;
+        if band.count_below(top + gap) != count || band.count_below(top - gap) != count - 1 {
+            return None;
         }
     }
     let inverse_trace = d4_inverse_trace(points);
@@ -437,12 +460,23 @@ fn dense(
             points,
             why: format!(
                 "no structured solver for a {} operator of order {k}; the dense one takes at most {MAX_DENSE}",
-                crate::discretise::boundary_name(boundary)
+                boundary_name(boundary)
             ),
         });
     }
-    let band = banded_operator(k, boundary, points)?;
-    let m = Mat::<f64>::from_fn(n, n, |i, j| band.get(i, j));
+    // The generated dense builder when the crate has this operator, else the exact matrix.
+    let generated = OPERATORS
+        .iter()
+        .find(|o| o.k == k && o.boundary == boundary_name(boundary));
+    let rows: Vec<Vec<f64>> = match generated {
+        Some(o) => (o.dense)(points).map_err(|e| ModalError::Solver(e.to_string()))?,
+        None => crate::discretise::operator_matrix(k, boundary, points)
+            .map_err(|e| ModalError::Solver(e.to_string()))?
+            .into_iter()
+            .map(|r| r.into_iter().map(|v| v as f64).collect())
+            .collect(),
+    };
+    let m = Mat::<f64>::from_fn(n, n, |i, j| rows[i][j]);
     let evd = m
         .self_adjoint_eigen(faer::Side::Lower)
         .map_err(|e| ModalError::Solver(format!("{e:?}")))?;
@@ -526,4 +560,348 @@ mod tests {
             [(1, 2), (3, 4)]
         );
     }
+}
+
+/// Frequency and damping scales: `omega_X`, `zeta_X` for each scale suffix X (`s`, `b`, `t`).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Params {
+    values: std::collections::BTreeMap<String, f64>,
+}
+
+/// The documented defaults: ω = 1 (it sets the unit of time) and ζ = 0.1 for every scale.
+pub const DEFAULT_OMEGA: f64 = 1.0;
+/// Default damping scale.
+pub const DEFAULT_ZETA: f64 = 0.1;
+
+/// A bad parameter.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("parameter {name}: {why}")]
+pub struct ParamError {
+    /// The parameter.
+    pub name: String,
+    /// What is wrong.
+    pub why: String,
+}
+
+impl Params {
+    /// Set `name` (`omega_s`, `zeta_b`, …) after checking it: finite, ω > 0, ζ ≥ 0.
+    pub fn set(&mut self, name: &str, value: f64) -> Result<(), ParamError> {
+        let err = |why: &str| ParamError {
+            name: name.to_string(),
+            why: why.to_string(),
+        };
+        let Some((kind, scale)) = name.split_once('_') else {
+            return Err(err("expected omega_<scale> or zeta_<scale>, e.g. omega_b"));
+        };
+        if scale.is_empty() || !matches!(kind, "omega" | "zeta") {
+            return Err(err("expected omega_<scale> or zeta_<scale>, e.g. omega_b"));
+        }
+        if !value.is_finite() {
+            return Err(err(&format!("{value} is not a finite number")));
+        }
+        if kind == "omega" && value <= 0.0 {
+            return Err(err(&format!(
+                "a frequency scale must be positive, not {value}"
+            )));
+        }
+        if kind == "zeta" && value < 0.0 {
+            return Err(err(&format!(
+                "a damping scale cannot be negative ({value})"
+            )));
+        }
+        self.values.insert(name.to_string(), value);
+        Ok(())
+    }
+
+    /// Parse `name=value`.
+    pub fn set_assignment(&mut self, text: &str) -> Result<(), ParamError> {
+        let (name, value) = text.split_once('=').ok_or_else(|| ParamError {
+            name: text.to_string(),
+            why: "expected name=value, e.g. omega_b=2.5".into(),
+        })?;
+        let value: f64 = value.trim().parse().map_err(|_| ParamError {
+            name: name.trim().to_string(),
+            why: format!("{:?} is not a number", value.trim()),
+        })?;
+        self.set(name.trim(), value)
+    }
+
+    /// Read `name = value` lines from a TOML table of numbers.
+    pub fn set_from_toml(&mut self, text: &str) -> Result<(), ParamError> {
+        let table: toml::Table = toml::from_str(text).map_err(|e| ParamError {
+            name: "file".into(),
+            why: e.to_string().replace('\n', " "),
+        })?;
+        for (name, value) in table {
+            let v = value.as_float().or(value.as_integer().map(|i| i as f64));
+            let v = v.ok_or_else(|| ParamError {
+                name: name.clone(),
+                why: "must be a number".into(),
+            })?;
+            self.set(&name, v)?;
+        }
+        Ok(())
+    }
+
+    /// ω for a scale suffix.
+    pub fn omega(&self, scale: &str) -> f64 {
+        *self
+            .values
+            .get(&format!("omega_{scale}"))
+            .unwrap_or(&DEFAULT_OMEGA)
+    }
+
+    /// ζ for a scale suffix.
+    pub fn zeta(&self, scale: &str) -> f64 {
+        *self
+            .values
+            .get(&format!("zeta_{scale}"))
+            .unwrap_or(&DEFAULT_ZETA)
+    }
+
+    /// Names set that no field of `scales` uses (probably typos).
+    pub fn unused(&self, scales: &[&str]) -> Vec<String> {
+        self.values
+            .keys()
+            .filter(|k| !scales.iter().any(|s| k.ends_with(&format!("_{s}"))))
+            .cloned()
+            .collect()
+    }
+}
+
+/// How a damped mode moves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Regime {
+    /// A zero mode: free motion.
+    Free,
+    /// ζᵢ < 1: oscillates at the damped frequency.
+    Underdamped,
+    /// ζᵢ = 1 (to 1e-12).
+    Critical,
+    /// ζᵢ > 1: creeps back without oscillation.
+    Overdamped,
+}
+
+impl Regime {
+    /// Name for reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Regime::Free => "free",
+            Regime::Underdamped => "underdamped",
+            Regime::Critical => "critical",
+            Regime::Overdamped => "overdamped",
+        }
+    }
+}
+
+/// One mode with its physics.
+#[derive(Debug, Clone)]
+pub struct Mode {
+    /// Index in ascending order.
+    pub index: usize,
+    /// Eigenvalue λᵢ.
+    pub eigenvalue: f64,
+    /// ωᵢ = ω√λᵢ.
+    pub frequency: f64,
+    /// ζᵢ = ζ√λᵢ.
+    pub damping_ratio: f64,
+    /// ωᵢ√(1 − ζᵢ²) when underdamped.
+    pub damped_frequency: Option<f64>,
+    /// Regime.
+    pub regime: Regime,
+    /// λᵢ⁻¹ / Σⱼ λⱼ⁻¹ over all non-zero modes; 0 for zero modes.
+    pub variance_share: f64,
+    /// Running sum of the shares.
+    pub cumulative_share: f64,
+    /// The zero mode's name, for zero modes.
+    pub zero_mode: Option<String>,
+}
+
+/// D4's i-th non-zero eigenvalue beside the seed's Eq. 17 and the continuum beam limit.
+#[derive(Debug, Clone)]
+pub struct BeamComparison {
+    /// Mode index (ascending, zero modes included).
+    pub index: usize,
+    /// The numerical eigenvalue.
+    pub eigenvalue: f64,
+    /// 16 sin⁴(πi/(2(N−1))).
+    pub seed_eq17: f64,
+    /// (βᵢL)⁴/(N−1)⁴.
+    pub continuum: f64,
+}
+
+/// All the modes of one field.
+#[derive(Debug, Clone)]
+pub struct FieldModes {
+    /// The field.
+    pub field: crate::model::Field,
+    /// Stencil order of its operator.
+    pub k: u32,
+    /// The spectrum.
+    pub spectrum: Spectrum,
+    /// ω of the field.
+    pub omega: f64,
+    /// ζ of the field.
+    pub zeta: f64,
+    /// The lowest modes.
+    pub modes: Vec<Mode>,
+    /// Consecutive degenerate pairs (i, j).
+    pub degenerate_pairs: Vec<(usize, usize)>,
+    /// An earlier field with the same operator and scales, hence the same frequencies.
+    pub same_frequencies_as: Option<String>,
+    /// D4 only: numerics beside Eq. 17 and the continuum limit.
+    pub beam: Vec<BeamComparison>,
+}
+
+/// Why the model's modes cannot be computed.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ModesError {
+    /// The modal solver failed.
+    #[error("field {field}: {source}")]
+    Modal {
+        /// Field id.
+        field: String,
+        /// The error.
+        source: ModalError,
+    },
+    /// The operators could not be derived.
+    #[error(transparent)]
+    Discretise(#[from] crate::discretise::DiscretiseError),
+    /// A field lacks a potential or damping operator, or they differ.
+    #[error("field {field}: {why}")]
+    Operator {
+        /// Field id.
+        field: String,
+        /// What is wrong.
+        why: String,
+    },
+}
+
+/// The modes of every field of `model` at `order` on `points` points.
+pub fn field_modes(
+    model: &crate::model::Model,
+    order: u32,
+    points: usize,
+    params: &Params,
+    limit: Option<usize>,
+    shapes: bool,
+) -> Result<Vec<FieldModes>, ModesError> {
+    use crate::model::Density;
+    let plan = crate::discretise::plan(model, order)?;
+    let mut out: Vec<FieldModes> = Vec::new();
+    for field in &model.fields {
+        let op = |d: Density| {
+            plan.iter()
+                .filter(|p| p.field == field.id && p.density == d)
+                .collect::<Vec<_>>()
+        };
+        let (potential, damping) = (op(Density::Lagrangian), op(Density::Rayleigh));
+        let operator_error = |why: String| ModesError::Operator {
+            field: field.id.clone(),
+            why,
+        };
+        let [stiff] = potential.as_slice() else {
+            return Err(operator_error(format!(
+                "needs exactly one potential operator at order {order}, has {}",
+                potential.len()
+            )));
+        };
+        // Modal damping ζᵢ = ζ√λᵢ needs the Rayleigh operator to be the potential one.
+        if let Some(d) = damping.iter().find(|d| d.k != stiff.k) {
+            return Err(operator_error(format!(
+                "the damping operator (Δ^{}) differs from the stiffness one (Δ^{}): damping is not modal",
+                d.k, stiff.k
+            )));
+        }
+        let spectrum =
+            spectrum(stiff.k, stiff.boundary, points, limit, shapes).map_err(|source| {
+                ModesError::Modal {
+                    field: field.id.clone(),
+                    source,
+                }
+            })?;
+        let (omega, zeta) = (params.omega(field.scale()), params.zeta(field.scale()));
+        let zeta = if damping.is_empty() { 0.0 } else { zeta };
+        let mut cumulative = 0.0;
+        let modes = spectrum
+            .eigenvalues
+            .iter()
+            .enumerate()
+            .map(|(i, &lam)| {
+                let zero = i < spectrum.nullity;
+                let (frequency, ratio) = (omega * lam.sqrt(), zeta * lam.sqrt());
+                let regime = if zero {
+                    Regime::Free
+                } else if (ratio - 1.0).abs() <= 1e-12 {
+                    Regime::Critical
+                } else if ratio < 1.0 {
+                    Regime::Underdamped
+                } else {
+                    Regime::Overdamped
+                };
+                let share = if zero {
+                    0.0
+                } else {
+                    1.0 / lam / spectrum.inverse_trace
+                };
+                cumulative += share;
+                Mode {
+                    index: i,
+                    eigenvalue: lam,
+                    frequency,
+                    damping_ratio: ratio,
+                    damped_frequency: (regime == Regime::Underdamped)
+                        .then(|| frequency * (1.0 - ratio * ratio).sqrt()),
+                    regime,
+                    variance_share: share,
+                    cumulative_share: cumulative,
+                    zero_mode: zero.then(|| {
+                        field
+                            .zero_modes
+                            .get(i)
+                            .cloned()
+                            .unwrap_or_else(|| format!("null mode of degree {i}"))
+                    }),
+                }
+            })
+            .collect();
+        let same_frequencies_as = out
+            .iter()
+            .find(|o| {
+                o.k == stiff.k
+                    && o.field.boundary == field.boundary
+                    && o.omega == omega
+                    && o.zeta == zeta
+            })
+            .map(|o| o.field.id.clone());
+        let beam = if stiff.k == 2 && stiff.boundary == Boundary::Free {
+            let l4 = (points as f64 - 1.0).powi(4);
+            spectrum
+                .eigenvalues
+                .iter()
+                .enumerate()
+                .skip(2)
+                .map(|(i, &lam)| BeamComparison {
+                    index: i,
+                    eigenvalue: lam,
+                    seed_eq17: seed_eq17(i - 1, points),
+                    continuum: beam_beta(i - 1).powi(4) / l4,
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        out.push(FieldModes {
+            degenerate_pairs: degenerate_pairs(&spectrum.eigenvalues, spectrum.nullity, 1e-9),
+            field: field.clone(),
+            k: stiff.k,
+            spectrum,
+            omega,
+            zeta,
+            modes,
+            same_frequencies_as,
+            beam,
+        });
+    }
+    Ok(out)
 }

@@ -36,6 +36,19 @@ pub struct Field {
     pub meaning: String,
     /// Boundary condition at head and tail.
     pub boundary: Boundary,
+    /// Which frequency and damping scale the field uses (`s` → ω_s, ζ_s). Defaults to the id.
+    #[serde(default)]
+    pub scale: Option<String>,
+    /// Names of the operator's zero modes, in order (constant first, then linear ramp, …).
+    #[serde(default)]
+    pub zero_modes: Vec<String>,
+}
+
+impl Field {
+    /// The scale suffix of this field's ω and ζ.
+    pub fn scale(&self) -> &str {
+        self.scale.as_deref().unwrap_or(&self.id)
+    }
 }
 
 /// The two densities of a dissipative Lagrangian field theory.
