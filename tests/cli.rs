@@ -185,3 +185,48 @@ fn operators_command_prints_the_seeds_operators() {
     assert_clean_error(&["operators", "--points", "5000"], "5000");
     assert_clean_error(&["operators"], "--points");
 }
+
+#[test]
+fn modes_command() {
+    let (code, out, err) = run(&["modes", "--points", "12"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("zero mode: axial translation"));
+    assert!(out.contains("80.10 %"), "{out}");
+    assert!(out.contains("98.33 %"), "{out}");
+    assert!(out.contains("degenerate pairs: (1, 2) (3, 4)"));
+
+    let (_, json, _) = run(&["modes", "--points", "12", "--format", "json", "--shapes", "--modes", "5"]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(v["points"], 12);
+    let x = &v["fields"][0];
+    assert_eq!(x["field"], "x");
+    for key in ["eigenvalues", "frequencies", "damping_ratios", "variance_share"] {
+        assert_eq!(x[key].as_array().unwrap().len(), 5, "{key}");
+    }
+    assert_eq!(x["zero_modes"], serde_json::json!([0]));
+    assert_eq!(x["variance_share"][0], 0.0);
+    assert_eq!(x["degenerate_pairs"], serde_json::json!([[1, 2], [3, 4]]));
+    assert_eq!(x["shapes"].as_array().unwrap().len(), 5);
+    assert_eq!(x["shapes"][0].as_array().unwrap().len(), 11);
+    assert_eq!(v["fields"][2]["zero_modes"], serde_json::json!([0, 1]));
+    let (_, plain, _) = run(&["modes", "--points", "12", "--format", "json"]);
+    assert!(!plain.contains("\"shapes\""));
+
+    let (_, csv, _) = run(&["modes", "--points", "6", "--format", "csv"]);
+    assert!(csv.starts_with("field,index,eigenvalue,frequency"));
+    assert_eq!(csv.lines().count(), 1 + 5 + 6 + 6 + 6);
+
+    let (code, _, err) = run(&["modes", "--points", "100000", "--modes", "20"]);
+    assert_eq!(code, 0, "{err}");
+
+    assert_clean_error(&["modes", "--points", "2"], "too few");
+    assert_clean_error(&["modes", "--points", "0"], "0 is not in");
+    assert_clean_error(&["modes", "--points", "12", "--param", "omega_b=nan"], "finite");
+    assert_clean_error(&["modes", "--points", "12", "--param", "omega_b=-2"], "positive");
+    assert_clean_error(&["modes", "--points", "12", "--param", "zeta_q=0.2"], "no field");
+    assert_clean_error(&["modes", "--points", "12", "--param", "omega_b"], "name=value");
+    assert_clean_error(&["modes", "--points", "12", "--params", "/no/file.toml"], "cannot read");
+    assert_clean_error(&["modes", "--points", "12", "--modes", "0"], "--modes");
+    assert_clean_error(&["modes", "--points", "200000", "--shapes"], "--modes K");
+    assert_clean_error(&["modes", "--points", "12", "--order", "3"], "potential operator");
+}

@@ -208,3 +208,82 @@ fn d4_inverse_trace_polynomial_is_exact() {
         );
     }
 }
+
+use theory_search::modal::{field_modes, Params, Regime};
+use theory_search::model::Model;
+
+#[test]
+fn larva_at_12_points_has_the_operators_equipartition_shares() {
+    let modes = field_modes(&Model::larva(), 4, 12, &Params::default(), None, false).unwrap();
+    let x = &modes[0];
+    // First four axial modes (two cos/sin pairs) over all non-zero modes: 80.10 %.
+    assert!((x.modes[4].cumulative_share - 0.8010).abs() < 5e-5, "{}", x.modes[4].cumulative_share);
+    assert_eq!(x.degenerate_pairs, [(1, 2), (3, 4), (5, 6), (7, 8), (9, 10)]);
+    assert_eq!(x.modes[0].zero_mode.as_deref(), Some("axial translation"));
+    assert_eq!(x.modes[0].variance_share, 0.0);
+    let y = &modes[2];
+    // First four transverse non-zero modes: 98.33 %.
+    assert!((y.modes[5].cumulative_share - 0.9833).abs() < 5e-5, "{}", y.modes[5].cumulative_share);
+    assert_eq!(y.modes[1].zero_mode.as_deref(), Some("mediolateral rotation"));
+    assert!(y.degenerate_pairs.is_empty());
+    assert_eq!(modes[3].same_frequencies_as.as_deref(), Some("y"));
+    assert_eq!(modes[1].modes[0].zero_mode.as_deref(), Some("rotation about the axis"));
+    for f in &modes {
+        let total: f64 = f.modes.iter().map(|m| m.variance_share).sum();
+        assert!((total - 1.0).abs() < 1e-12);
+        assert!(f.modes.windows(2).all(|w| w[0].eigenvalue <= w[1].eigenvalue));
+    }
+}
+
+#[test]
+fn frequencies_and_damping_scale_with_the_parameters() {
+    let mut p = Params::default();
+    p.set("omega_b", 3.0).unwrap();
+    p.set("zeta_b", 0.5).unwrap();
+    let modes = field_modes(&Model::larva(), 4, 20, &p, Some(6), false).unwrap();
+    let y = &modes[2];
+    for m in &y.modes {
+        assert!((m.frequency - 3.0 * m.eigenvalue.sqrt()).abs() < 1e-15);
+        assert!((m.damping_ratio - 0.5 * m.eigenvalue.sqrt()).abs() < 1e-15);
+        if let Some(wd) = m.damped_frequency {
+            assert!((wd - m.frequency * (1.0 - m.damping_ratio.powi(2)).sqrt()).abs() < 1e-15);
+        }
+    }
+    // Critical damping of the first bending mode, overdamping above it.
+    let lam = y.modes[2].eigenvalue;
+    let mut p = Params::default();
+    p.set("zeta_b", 1.0 / lam.sqrt()).unwrap();
+    let y = &field_modes(&Model::larva(), 4, 20, &p, Some(6), false).unwrap()[2];
+    assert_eq!(y.modes[2].regime, Regime::Critical);
+    assert_eq!(y.modes[3].regime, Regime::Overdamped);
+    assert_eq!(y.modes[0].regime, Regime::Free);
+    assert!(y.modes[3].damped_frequency.is_none());
+}
+
+#[test]
+fn bad_parameters_are_rejected() {
+    let mut p = Params::default();
+    for (name, value) in [("omega_b", f64::NAN), ("omega_b", -1.0), ("omega_b", 0.0), ("zeta_s", -0.1), ("zeta_t", f64::INFINITY), ("omegab", 1.0), ("kappa_b", 1.0)] {
+        assert!(p.set(name, value).is_err(), "{name} = {value}");
+    }
+    assert!(p.set_assignment("omega_b").is_err());
+    assert!(p.set_assignment("omega_b=fast").is_err());
+    assert!(p.set_from_toml("omega_b = \"x\"").is_err());
+    assert!(p.set_from_toml("omega_b = 2\nzeta_b = 0.25").is_ok());
+    assert_eq!((p.omega("b"), p.zeta("b")), (2.0, 0.25));
+}
+
+#[test]
+fn d4_converges_to_the_beam_not_to_eq_17() {
+    let first = |points: usize| {
+        let modes = field_modes(&Model::larva(), 4, points, &Params::default(), Some(3), false).unwrap();
+        let b = modes[2].beam[0].clone();
+        ((b.continuum - b.eigenvalue) / b.eigenvalue, (b.seed_eq17 - b.eigenvalue) / b.eigenvalue)
+    };
+    let (beam_small, _) = first(12);
+    let (beam_large, eq17_large) = first(100_000);
+    assert!(beam_small.abs() > 0.1);
+    assert!(beam_large.abs() < 1e-4, "{beam_large}");
+    // Eq. 17 stays off by 1 − (π/β₁L)⁴ ≈ 80.5 %.
+    assert!((eq17_large + 0.8054).abs() < 1e-3, "{eq17_large}");
+}
