@@ -3,6 +3,7 @@
 //! Every failure is one line on stderr (`error: …`) and a non-zero exit: 2 for bad usage, 1 for a
 //! file that cannot be read or a model that is invalid.
 
+use std::io::Write;
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
@@ -64,6 +65,8 @@ enum Command {
     },
     /// Modes of every field: eigenvalues, frequencies, damping ratios, variance shares.
     Modes(ModesArgs),
+    /// Integrate the dissipative Hamilton's equations mode by mode (exact propagators); CSV out.
+    Simulate(SimulateArgs),
     /// List the rules the engine knows (generated from the registry).
     Rules,
     /// Regenerate every generated file (src/generated/, tables/) under a directory.
@@ -98,6 +101,56 @@ enum ModesFormat {
     Csv,
 }
 
+/// Scales of the frequencies and damping.
+#[derive(Debug, Args)]
+struct ParamArgs {
+    /// Set a scale, e.g. `--param omega_b=2.5 --param zeta_s=0.3` (defaults: ω = 1, ζ = 0.1).
+    #[arg(long = "param", value_name = "NAME=VALUE")]
+    params: Vec<String>,
+    /// Read scales from a TOML file of `omega_s = 1.0` lines (before any --param).
+    #[arg(long = "params", value_name = "FILE")]
+    params_file: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+struct SimulateArgs {
+    /// Number of points along the body (the seed uses 12), up to 2000.
+    #[arg(long, short, value_name = "N",
+          value_parser = clap::value_parser!(u64).range(1..=crate::dynamics::MAX_SIM_POINTS as u64))]
+    points: u64,
+    /// Time step.
+    #[arg(long, default_value_t = 0.01)]
+    dt: f64,
+    /// Number of steps.
+    #[arg(long, default_value_t = 1000)]
+    steps: u64,
+    /// Write a row every K steps (the initial state is always written).
+    #[arg(long, default_value_t = 1, value_name = "K")]
+    every: u64,
+    /// Initial modal state FIELD:MODE=Q[,Q̇], e.g. `theta:1=3.14` or `y:2=0,0.5` (repeatable).
+    #[arg(long = "initial", value_name = "FIELD:MODE=Q[,V]")]
+    initial: Vec<String>,
+    /// Constant modal force FIELD:MODE=F (repeatable).
+    #[arg(long = "force", value_name = "FIELD:MODE=F")]
+    force: Vec<String>,
+    /// Sinusoidal modal force FIELD:MODE=F0,OMEGA[,PHASE]: F0·cos(OMEGA·t + PHASE) (repeatable).
+    #[arg(long = "drive", value_name = "FIELD:MODE=F0,OMEGA[,PHASE]")]
+    drive: Vec<String>,
+    /// Thermal energy kT of the Langevin noise (0: none).
+    #[arg(long, default_value_t = 0.0)]
+    temperature: f64,
+    /// Seed of the noise (same seed, same run).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Write the CSV here instead of standard output.
+    #[arg(long, value_name = "FILE")]
+    out: Option<PathBuf>,
+    #[command(flatten)]
+    params: ParamArgs,
+    #[command(flatten)]
+    model: ModelArgs,
+}
+
 #[derive(Debug, Args)]
 struct ModesArgs {
     /// Number of points along the body (the seed uses 12), up to 10 000 000.
@@ -111,12 +164,8 @@ struct ModesArgs {
     /// Also print the mode shapes (unit norm, first significant component positive).
     #[arg(long)]
     shapes: bool,
-    /// Set a scale, e.g. `--param omega_b=2.5 --param zeta_s=0.3` (defaults: ω = 1, ζ = 0.1).
-    #[arg(long = "param", value_name = "NAME=VALUE")]
-    params: Vec<String>,
-    /// Read scales from a TOML file of `omega_s = 1.0` lines (before any --param).
-    #[arg(long = "params", value_name = "FILE")]
-    params_file: Option<PathBuf>,
+    #[command(flatten)]
+    params: ParamArgs,
     #[command(flatten)]
     model: ModelArgs,
     /// Output format.
@@ -305,8 +354,7 @@ fn operators_command(
 /// The most numbers `--shapes` prints.
 const MAX_SHAPE_VALUES: usize = 20_000_000;
 
-fn modes_command(args: &ModesArgs) -> Result<String, CliError> {
-    let model = load_model(&args.model.model)?;
+fn load_params(args: &ParamArgs, model: &Model) -> Result<Params, CliError> {
     let mut params = Params::default();
     if let Some(path) = &args.params_file {
         let text = std::fs::read_to_string(path)
@@ -331,6 +379,132 @@ fn modes_command(args: &ModesArgs) -> Result<String, CliError> {
             ),
         ));
     }
+    Ok(params)
+}
+
+/// `FIELD:MODE=values`: the field, the mode and the comma-separated numbers.
+fn modal_assignment(text: &str, what: &str) -> Result<(String, usize, Vec<f64>), CliError> {
+    let bad = |why: &str| CliError::new(2, format!("{what} {text:?}: {why}"));
+    let (target, values) = text
+        .split_once('=')
+        .ok_or_else(|| bad("expected FIELD:MODE=VALUE"))?;
+    let (field, mode) = target
+        .split_once(':')
+        .ok_or_else(|| bad("expected FIELD:MODE before '='"))?;
+    let mode: usize = mode
+        .trim()
+        .parse()
+        .map_err(|_| bad("the mode must be a whole number"))?;
+    let values = values
+        .split(',')
+        .map(|v| v.trim().parse::<f64>())
+        .collect::<Result<Vec<f64>, _>>()
+        .map_err(|_| bad("values must be numbers"))?;
+    if values.iter().any(|v| !v.is_finite()) {
+        return Err(bad("values must be finite"));
+    }
+    Ok((field.trim().to_string(), mode, values))
+}
+
+fn simulate_command(args: &SimulateArgs, out: &mut dyn Write) -> Result<(), CliError> {
+    use crate::dynamics::{csv_header, csv_row, simulate, Config, Forcing, Initial};
+    let model = load_model(&args.model.model)?;
+    let params = load_params(&args.params, &model)?;
+    let mut initial = Vec::new();
+    for text in &args.initial {
+        let (field, mode, v) = modal_assignment(text, "--initial")?;
+        if v.is_empty() || v.len() > 2 {
+            return Err(CliError::new(
+                2,
+                format!("--initial {text:?}: give Q or Q,V"),
+            ));
+        }
+        initial.push(Initial {
+            field,
+            mode,
+            displacement: v[0],
+            velocity: v.get(1).copied().unwrap_or(0.0),
+        });
+    }
+    let mut forcing = Vec::new();
+    for text in &args.force {
+        let (field, mode, v) = modal_assignment(text, "--force")?;
+        if v.len() != 1 {
+            return Err(CliError::new(
+                2,
+                format!("--force {text:?}: give one value"),
+            ));
+        }
+        forcing.push(Forcing {
+            field,
+            mode,
+            constant: v[0],
+            amplitude: 0.0,
+            frequency: 0.0,
+            phase: 0.0,
+        });
+    }
+    for text in &args.drive {
+        let (field, mode, v) = modal_assignment(text, "--drive")?;
+        if !(2..=3).contains(&v.len()) {
+            return Err(CliError::new(
+                2,
+                format!("--drive {text:?}: give F0,OMEGA or F0,OMEGA,PHASE"),
+            ));
+        }
+        forcing.push(Forcing {
+            field,
+            mode,
+            constant: 0.0,
+            amplitude: v[0],
+            frequency: v[1],
+            phase: v.get(2).copied().unwrap_or(0.0),
+        });
+    }
+    let config = Config {
+        points: args.points as usize,
+        order: args.model.order,
+        dt: args.dt,
+        steps: args.steps,
+        every: args.every,
+        temperature: args.temperature,
+        seed: args.seed,
+        initial,
+        forcing,
+    };
+    let mut file;
+    let sink: &mut dyn Write = match &args.out {
+        Some(path) => {
+            file =
+                std::io::BufWriter::new(std::fs::File::create(path).map_err(|e| {
+                    CliError::new(1, format!("cannot create {}: {e}", path.display()))
+                })?);
+            &mut file
+        }
+        None => out,
+    };
+    let ids: Vec<&str> = model.fields.iter().map(|f| f.id.as_str()).collect();
+    let mut first = true;
+    let result = simulate(&model, &params, &config, |s| {
+        if first {
+            writeln!(sink, "{}", csv_header(&ids, s)).map_err(|e| e.to_string())?;
+            first = false;
+        }
+        writeln!(sink, "{}", csv_row(s)).map_err(|e| e.to_string())
+    });
+    match result {
+        Ok(()) => sink
+            .flush()
+            .map_err(|e| CliError::new(1, format!("cannot write: {e}"))),
+        // A closed pipe (`| head`) ends the run quietly.
+        Err(crate::dynamics::DynamicsError::Invalid(m)) if m.contains("Broken pipe") => Ok(()),
+        Err(e) => Err(CliError::new(2, e.to_string())),
+    }
+}
+
+fn modes_command(args: &ModesArgs) -> Result<String, CliError> {
+    let model = load_model(&args.model.model)?;
+    let params = load_params(&args.params, &model)?;
     let points = args.points as usize;
     let limit = args.limit.map(|k| k as usize);
     if args.shapes && points.saturating_mul(limit.unwrap_or(points)) > MAX_SHAPE_VALUES {
@@ -358,8 +532,8 @@ fn modes_command(args: &ModesArgs) -> Result<String, CliError> {
     })
 }
 
-/// Parse `args` (program name first) and run; the output to print, or the error.
-pub fn run<I, T>(args: I) -> Result<String, CliError>
+/// Parse `args` (program name first), run, and write the output to `out`.
+pub fn run<I, T>(args: I, out: &mut dyn Write) -> Result<(), CliError>
 where
     I: IntoIterator<Item = T>,
     T: Into<std::ffi::OsString> + Clone,
@@ -372,7 +546,7 @@ where
             return match e.kind() {
                 ErrorKind::DisplayHelp
                 | ErrorKind::DisplayVersion
-                | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => Ok(rendered),
+                | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => write_out(out, &rendered),
                 _ => {
                     // Clap's message runs up to the first blank line; keep it, on one line.
                     let head: Vec<&str> = rendered
@@ -387,7 +561,7 @@ where
             };
         }
     };
-    match &cli.command {
+    let text = match &cli.command {
         None => table(&cli.table),
         Some(Command::Table(args)) => table(args),
         Some(Command::Equations { model, format }) => equations_command(model, *format),
@@ -397,13 +571,25 @@ where
             format,
         }) => operators_command(model, *points as usize, *format),
         Some(Command::Modes(args)) => modes_command(args),
+        Some(Command::Simulate(args)) => return simulate_command(args, out),
         Some(Command::Rules) => Ok(codegen::rules_markdown()),
-        Some(Command::Emit { out }) => {
-            let written = codegen::emit(out).map_err(|e| CliError::new(1, e))?;
+        Some(Command::Emit { out: dir }) => {
+            let written = codegen::emit(dir).map_err(|e| CliError::new(1, e))?;
             Ok(written
                 .iter()
                 .map(|p| format!("wrote {}\n", p.display()))
                 .collect())
         }
+    }?;
+    write_out(out, &text)
+}
+
+/// Write `text`; a closed pipe (`| head`) is not an error.
+fn write_out(out: &mut dyn Write, text: &str) -> Result<(), CliError> {
+    match out.write_all(text.as_bytes()).and_then(|_| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(CliError::new(1, format!("cannot write output: {e}")))
+        }
+        _ => Ok(()),
     }
 }

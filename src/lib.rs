@@ -5,13 +5,14 @@
 //!
 //! Data flows one way through the modules, in pipeline order:
 //! [`model`] → [`term`] → [`enumerate`] → [`rules`] → [`reduce`] → [`equations`] → [`discretise`] → [`codegen`]
-//! (writes [`generated`]) → [`modal`] (with [`banded`]) → [`table`] / [`cli`].
+//! (writes [`generated`]) → [`modal`] (with [`banded`]) → [`dynamics`] → [`table`] / [`cli`].
 #![warn(missing_docs)]
 
 pub mod banded;
 pub mod cli;
 pub mod codegen;
 pub mod discretise;
+pub mod dynamics;
 pub mod enumerate;
 pub mod equations;
 pub mod generated;

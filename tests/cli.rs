@@ -195,12 +195,19 @@ fn modes_command() {
     assert!(out.contains("98.33 %"), "{out}");
     assert!(out.contains("degenerate pairs: (1, 2) (3, 4)"));
 
-    let (_, json, _) = run(&["modes", "--points", "12", "--format", "json", "--shapes", "--modes", "5"]);
+    let (_, json, _) = run(&[
+        "modes", "--points", "12", "--format", "json", "--shapes", "--modes", "5",
+    ]);
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
     assert_eq!(v["points"], 12);
     let x = &v["fields"][0];
     assert_eq!(x["field"], "x");
-    for key in ["eigenvalues", "frequencies", "damping_ratios", "variance_share"] {
+    for key in [
+        "eigenvalues",
+        "frequencies",
+        "damping_ratios",
+        "variance_share",
+    ] {
         assert_eq!(x[key].as_array().unwrap().len(), 5, "{key}");
     }
     assert_eq!(x["zero_modes"], serde_json::json!([0]));
@@ -221,12 +228,30 @@ fn modes_command() {
 
     assert_clean_error(&["modes", "--points", "2"], "too few");
     assert_clean_error(&["modes", "--points", "0"], "0 is not in");
-    assert_clean_error(&["modes", "--points", "12", "--param", "omega_b=nan"], "finite");
-    assert_clean_error(&["modes", "--points", "12", "--param", "omega_b=-2"], "positive");
-    assert_clean_error(&["modes", "--points", "12", "--param", "zeta_q=0.2"], "no field");
-    assert_clean_error(&["modes", "--points", "12", "--param", "omega_b"], "name=value");
-    assert_clean_error(&["modes", "--points", "12", "--params", "/no/file.toml"], "cannot read");
+    assert_clean_error(
+        &["modes", "--points", "12", "--param", "omega_b=nan"],
+        "finite",
+    );
+    assert_clean_error(
+        &["modes", "--points", "12", "--param", "omega_b=-2"],
+        "positive",
+    );
+    assert_clean_error(
+        &["modes", "--points", "12", "--param", "zeta_q=0.2"],
+        "no field",
+    );
+    assert_clean_error(
+        &["modes", "--points", "12", "--param", "omega_b"],
+        "name=value",
+    );
+    assert_clean_error(
+        &["modes", "--points", "12", "--params", "/no/file.toml"],
+        "cannot read",
+    );
     assert_clean_error(&["modes", "--points", "12", "--modes", "0"], "--modes");
     assert_clean_error(&["modes", "--points", "200000", "--shapes"], "--modes K");
-    assert_clean_error(&["modes", "--points", "12", "--order", "3"], "potential operator");
+    assert_clean_error(
+        &["modes", "--points", "12", "--order", "3"],
+        "potential operator",
+    );
 }

@@ -217,21 +217,41 @@ fn larva_at_12_points_has_the_operators_equipartition_shares() {
     let modes = field_modes(&Model::larva(), 4, 12, &Params::default(), None, false).unwrap();
     let x = &modes[0];
     // First four axial modes (two cos/sin pairs) over all non-zero modes: 80.10 %.
-    assert!((x.modes[4].cumulative_share - 0.8010).abs() < 5e-5, "{}", x.modes[4].cumulative_share);
-    assert_eq!(x.degenerate_pairs, [(1, 2), (3, 4), (5, 6), (7, 8), (9, 10)]);
+    assert!(
+        (x.modes[4].cumulative_share - 0.8010).abs() < 5e-5,
+        "{}",
+        x.modes[4].cumulative_share
+    );
+    assert_eq!(
+        x.degenerate_pairs,
+        [(1, 2), (3, 4), (5, 6), (7, 8), (9, 10)]
+    );
     assert_eq!(x.modes[0].zero_mode.as_deref(), Some("axial translation"));
     assert_eq!(x.modes[0].variance_share, 0.0);
     let y = &modes[2];
     // First four transverse non-zero modes: 98.33 %.
-    assert!((y.modes[5].cumulative_share - 0.9833).abs() < 5e-5, "{}", y.modes[5].cumulative_share);
-    assert_eq!(y.modes[1].zero_mode.as_deref(), Some("mediolateral rotation"));
+    assert!(
+        (y.modes[5].cumulative_share - 0.9833).abs() < 5e-5,
+        "{}",
+        y.modes[5].cumulative_share
+    );
+    assert_eq!(
+        y.modes[1].zero_mode.as_deref(),
+        Some("mediolateral rotation")
+    );
     assert!(y.degenerate_pairs.is_empty());
     assert_eq!(modes[3].same_frequencies_as.as_deref(), Some("y"));
-    assert_eq!(modes[1].modes[0].zero_mode.as_deref(), Some("rotation about the axis"));
+    assert_eq!(
+        modes[1].modes[0].zero_mode.as_deref(),
+        Some("rotation about the axis")
+    );
     for f in &modes {
         let total: f64 = f.modes.iter().map(|m| m.variance_share).sum();
         assert!((total - 1.0).abs() < 1e-12);
-        assert!(f.modes.windows(2).all(|w| w[0].eigenvalue <= w[1].eigenvalue));
+        assert!(f
+            .modes
+            .windows(2)
+            .all(|w| w[0].eigenvalue <= w[1].eigenvalue));
     }
 }
 
@@ -263,7 +283,15 @@ fn frequencies_and_damping_scale_with_the_parameters() {
 #[test]
 fn bad_parameters_are_rejected() {
     let mut p = Params::default();
-    for (name, value) in [("omega_b", f64::NAN), ("omega_b", -1.0), ("omega_b", 0.0), ("zeta_s", -0.1), ("zeta_t", f64::INFINITY), ("omegab", 1.0), ("kappa_b", 1.0)] {
+    for (name, value) in [
+        ("omega_b", f64::NAN),
+        ("omega_b", -1.0),
+        ("omega_b", 0.0),
+        ("zeta_s", -0.1),
+        ("zeta_t", f64::INFINITY),
+        ("omegab", 1.0),
+        ("kappa_b", 1.0),
+    ] {
         assert!(p.set(name, value).is_err(), "{name} = {value}");
     }
     assert!(p.set_assignment("omega_b").is_err());
@@ -276,9 +304,20 @@ fn bad_parameters_are_rejected() {
 #[test]
 fn d4_converges_to_the_beam_not_to_eq_17() {
     let first = |points: usize| {
-        let modes = field_modes(&Model::larva(), 4, points, &Params::default(), Some(3), false).unwrap();
+        let modes = field_modes(
+            &Model::larva(),
+            4,
+            points,
+            &Params::default(),
+            Some(3),
+            false,
+        )
+        .unwrap();
         let b = modes[2].beam[0].clone();
-        ((b.continuum - b.eigenvalue) / b.eigenvalue, (b.seed_eq17 - b.eigenvalue) / b.eigenvalue)
+        (
+            (b.continuum - b.eigenvalue) / b.eigenvalue,
+            (b.seed_eq17 - b.eigenvalue) / b.eigenvalue,
+        )
     };
     let (beam_small, _) = first(12);
     let (beam_large, eq17_large) = first(100_000);
