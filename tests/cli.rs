@@ -255,3 +255,80 @@ fn modes_command() {
         "potential operator",
     );
 }
+
+#[test]
+fn simulate_command_writes_csv() {
+    let (code, out, err) = run(&[
+        "simulate",
+        "--points",
+        "6",
+        "--steps",
+        "4",
+        "--initial",
+        "y:2=1,0.5",
+        "--force",
+        "theta:1=0.2",
+        "--drive",
+        "x:1=0.1,2.0",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 1 + 5);
+    assert!(lines[0].starts_with("t,energy,x_0,x_1,x_2,x_3,x_4,theta_0"));
+    assert!(lines[0].ends_with("q_z_5"));
+    let cols = lines[0].split(',').count();
+    assert!(lines.iter().all(|l| l.split(',').count() == cols));
+    let dir = std::env::temp_dir().join(format!("theory-search-sim-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("run.csv");
+    let (code, out, _) = run(&[
+        "simulate",
+        "--points",
+        "6",
+        "--steps",
+        "4",
+        "--every",
+        "2",
+        "--temperature",
+        "0.5",
+        "--seed",
+        "3",
+        "--out",
+        file.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0);
+    assert!(out.is_empty());
+    assert_eq!(
+        std::fs::read_to_string(&file).unwrap().lines().count(),
+        1 + 3
+    );
+
+    assert_clean_error(&["simulate", "--points", "6", "--dt", "0"], "time step");
+    assert_clean_error(
+        &["simulate", "--points", "6", "--temperature", "nan"],
+        "temperature",
+    );
+    assert_clean_error(&["simulate", "--points", "6", "--every", "0"], "--every");
+    assert_clean_error(
+        &["simulate", "--points", "6", "--initial", "w:1=1"],
+        "unknown field",
+    );
+    assert_clean_error(
+        &["simulate", "--points", "6", "--initial", "y:1"],
+        "FIELD:MODE=VALUE",
+    );
+    assert_clean_error(
+        &["simulate", "--points", "6", "--initial", "y:one=1"],
+        "whole number",
+    );
+    assert_clean_error(
+        &["simulate", "--points", "6", "--drive", "y:2=1"],
+        "F0,OMEGA",
+    );
+    assert_clean_error(
+        &["simulate", "--points", "6", "--force", "y:2=inf"],
+        "finite",
+    );
+    assert_clean_error(&["simulate", "--points", "5000"], "5000");
+    assert_clean_error(&["simulate", "--points", "2"], "too few");
+}
