@@ -83,7 +83,7 @@ fn stencil_context(boundary: Boundary, k: u32) -> StencilContext {
         Boundary::Periodic => ("points - 1".into(), "Some((p + j) % n)".into(), "n".into()),
         Boundary::Free => (
             "points".into(),
-            "debug_assert!(p + j < n);\n    Some(p + j)".into(),
+            "debug_assert!(p + j < n); Some(p + j)".into(),
             format!("n - {k}"),
         ),
         Boundary::Clamped => (

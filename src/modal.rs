@@ -250,20 +250,30 @@ fn periodic(k: u32, n: usize, count: usize, want_shapes: bool) -> Spectrum {
         .map(|&(m, _)| if m == 0 { 0.0 } else { lam(m) })
         .collect();
     let inverse_trace = (1..n).map(|m| 1.0 / lam(m)).sum();
+    closed_form(n, eigenvalues, inverse_trace, want_shapes, |c, j| {
+        let (m, sine) = order[c];
+        let a = 2.0 * PI * (m * j % n) as f64 / n as f64;
+        if sine {
+            a.sin()
+        } else {
+            a.cos()
+        }
+    })
+}
+
+/// A closed-form spectrum with one structural zero mode; `shape(c, j)` is component j of mode c
+/// before normalisation.
+fn closed_form(
+    n: usize,
+    eigenvalues: Vec<f64>,
+    inverse_trace: f64,
+    want_shapes: bool,
+    shape: impl Fn(usize, usize) -> f64,
+) -> Spectrum {
     let shapes = want_shapes.then(|| {
-        let cols: Vec<Vec<f64>> = order
-            .iter()
-            .map(|&(m, sine)| {
-                let mut v: Vec<f64> = (0..n)
-                    .map(|j| {
-                        let a = 2.0 * PI * (m * j % n) as f64 / n as f64;
-                        if sine {
-                            a.sin()
-                        } else {
-                            a.cos()
-                        }
-                    })
-                    .collect();
+        let cols: Vec<Vec<f64>> = (0..eigenvalues.len())
+            .map(|c| {
+                let mut v: Vec<f64> = (0..n).map(|j| shape(c, j)).collect();
                 normalise(&mut v);
                 v
             })
@@ -286,26 +296,9 @@ fn free_second_difference(n: usize, count: usize, want_shapes: bool) -> Spectrum
         .map(|i| if i == 0 { 0.0 } else { lam(i) })
         .collect();
     let inverse_trace = (1..n).map(|i| 1.0 / lam(i)).sum();
-    let shapes = want_shapes.then(|| {
-        let cols: Vec<Vec<f64>> = (0..count)
-            .map(|i| {
-                let mut v: Vec<f64> = (0..n)
-                    .map(|j| (PI * i as f64 * (j as f64 + 0.5) / n as f64).cos())
-                    .collect();
-                normalise(&mut v);
-                v
-            })
-            .collect();
-        columns_to_mat(&cols, n)
-    });
-    Spectrum {
-        eigenvalues,
-        size: n,
-        nullity: 1,
-        inverse_trace,
-        shapes,
-        method: Method::ClosedForm,
-    }
+    closed_form(n, eigenvalues, inverse_trace, want_shapes, |i, j| {
+        (PI * i as f64 * (j as f64 + 0.5) / n as f64).cos()
+    })
 }
 
 /// The D4 characteristic function of the symmetric (`sym`) or antisymmetric family at θ ∈ (0, π],

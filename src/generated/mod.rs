@@ -59,3 +59,80 @@ pub struct GeneratedOperator {
     /// The upper bands (not for periodic operators, whose corners wrap).
     pub banded: Option<fn(usize) -> Result<Banded, OperatorError>>,
 }
+
+/// What a generated stencil supplies: its weights, how many positions it takes on n unknowns,
+/// and where weight j of position p lands (None: outside the body).
+#[derive(Clone, Copy)]
+pub(crate) struct Stencil {
+    /// The k-th difference weights.
+    pub weights: &'static [f64],
+    /// Number of stencil positions on n unknowns.
+    pub positions: fn(usize) -> usize,
+    /// Index of weight j at position p on n unknowns.
+    pub index: fn(usize, usize, usize) -> Option<usize>,
+}
+
+impl Stencil {
+    /// `out = D·phi`, D = Σ_p w_pᵀw_p, in O(N·k).
+    pub(crate) fn apply(
+        &self,
+        n: usize,
+        phi: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), OperatorError> {
+        if phi.len() != n || out.len() != n {
+            return Err(OperatorError::Length {
+                expected: n,
+                got: phi.len().min(out.len()),
+            });
+        }
+        out.fill(0.0);
+        for p in 0..(self.positions)(n) {
+            let at = |j: usize| (self.index)(n, p, j);
+            let d: f64 = self
+                .weights
+                .iter()
+                .enumerate()
+                .filter_map(|(j, w)| at(j).map(|i| w * phi[i]))
+                .sum();
+            for (j, w) in self.weights.iter().enumerate() {
+                if let Some(i) = at(j) {
+                    out[i] += w * d;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Every (i, j, w_a·w_b) product the positions contribute to D.
+    fn products(&self, n: usize, mut add: impl FnMut(usize, usize, f64)) {
+        for p in 0..(self.positions)(n) {
+            for (a, wa) in self.weights.iter().enumerate() {
+                for (b, wb) in self.weights.iter().enumerate() {
+                    if let (Some(i), Some(j)) = ((self.index)(n, p, a), (self.index)(n, p, b)) {
+                        add(i, j, wa * wb);
+                    }
+                }
+            }
+        }
+    }
+
+    /// The dense matrix D.
+    pub(crate) fn dense(&self, n: usize) -> Vec<Vec<f64>> {
+        let mut m = vec![vec![0.0; n]; n];
+        self.products(n, |i, j, v| m[i][j] += v);
+        m
+    }
+
+    /// The upper bands of D (non-periodic stencils only).
+    pub(crate) fn banded(&self, n: usize) -> Banded {
+        let k = self.weights.len() - 1;
+        let mut bands: Vec<Vec<f64>> = (0..=k).map(|d| vec![0.0; n.saturating_sub(d)]).collect();
+        self.products(n, |i, j, v| {
+            if j >= i {
+                bands[j - i][i] += v;
+            }
+        });
+        Banded { size: n, bands }
+    }
+}
