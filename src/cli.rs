@@ -74,6 +74,8 @@ enum Command {
         /// Directory to write into: the crate root.
         #[arg(long, default_value = ".")]
         out: PathBuf,
+        #[command(flatten)]
+        model: ModelArgs,
     },
 }
 
@@ -573,8 +575,10 @@ where
         Some(Command::Modes(args)) => modes_command(args),
         Some(Command::Simulate(args)) => return simulate_command(args, out),
         Some(Command::Rules) => Ok(codegen::rules_markdown()),
-        Some(Command::Emit { out: dir }) => {
-            let written = codegen::emit(dir).map_err(|e| CliError::new(1, e))?;
+        Some(Command::Emit { out: dir, model }) => {
+            let loaded = load_model(&model.model)?;
+            let written =
+                codegen::emit(dir, &loaded, model.order).map_err(|e| CliError::new(1, e))?;
             Ok(written
                 .iter()
                 .map(|p| format!("wrote {}\n", p.display()))

@@ -186,19 +186,32 @@ pub fn operators_source(model: &Model, order: u32) -> Result<String, String> {
     rustfmt(&source)
 }
 
-/// Every generated file, relative to the crate root, with its current contents.
+/// Every generated file, relative to the crate root, with the contents the engine gives now for
+/// the embedded larva model at [`TABLE_ORDER`] (what is checked in).
 pub fn generated_files() -> Result<Vec<(PathBuf, String)>, String> {
-    let model = Model::larva();
-    let analysis = |d| vec![analyse(&model, d, TABLE_ORDER).expect("order 4 is in range")];
-    let md = |d| header("<!--", " -->") + "\n" + &render(&model, &analysis(d), Format::Markdown);
-    let both: Vec<_> = Density::ALL.iter().flat_map(|&d| analysis(d)).collect();
+    generated_files_for(&Model::larva(), TABLE_ORDER)
+}
+
+/// Every generated file for `model` at `order`.
+pub fn generated_files_for(model: &Model, order: u32) -> Result<Vec<(PathBuf, String)>, String> {
+    let model = model.clone();
+    let analysis = |d| {
+        analyse(&model, d, order)
+            .map(|a| vec![a])
+            .map_err(|e| e.to_string())
+    };
+    let md = |d| -> Result<String, String> {
+        Ok(header("<!--", " -->") + "\n" + &render(&model, &analysis(d)?, Format::Markdown))
+    };
+    let mut both = analysis(Density::Lagrangian)?;
+    both.extend(analysis(Density::Rayleigh)?);
     Ok(vec![
         (
             PathBuf::from("src/generated/operators.rs"),
-            operators_source(&model, TABLE_ORDER)?,
+            operators_source(&model, order)?,
         ),
-        (PathBuf::from("tables/table1.md"), md(Density::Lagrangian)),
-        (PathBuf::from("tables/rayleigh.md"), md(Density::Rayleigh)),
+        (PathBuf::from("tables/table1.md"), md(Density::Lagrangian)?),
+        (PathBuf::from("tables/rayleigh.md"), md(Density::Rayleigh)?),
         (
             PathBuf::from("tables/table1.json"),
             render(&model, &both, Format::Json),
@@ -223,10 +236,10 @@ pub fn ensure_file_contents(path: &Path, contents: &str) -> Result<(), String> {
     ))
 }
 
-/// Write every generated file under `root`; returns the paths written.
-pub fn emit(root: &Path) -> Result<Vec<PathBuf>, String> {
+/// Write every generated file for `model` at `order` under `root`; returns the paths written.
+pub fn emit(root: &Path, model: &Model, order: u32) -> Result<Vec<PathBuf>, String> {
     let mut written = Vec::new();
-    for (rel, contents) in generated_files()? {
+    for (rel, contents) in generated_files_for(model, order)? {
         let path = root.join(&rel);
         if let Some(dir) = path.parent() {
             fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;

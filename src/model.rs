@@ -3,7 +3,7 @@
 //! or another set of symmetries is another file, not other code.
 //!
 //! The embedded default is the Drosophila larva of the seed ([`Model::larva`]), read from
-//! `src/model/larva.toml`.
+//! `tables/models/larva.toml`.
 
 use std::collections::BTreeMap;
 use std::fmt;
@@ -145,7 +145,7 @@ pub enum ModelError {
     },
 }
 
-const LARVA: &str = include_str!("model/larva.toml");
+const LARVA: &str = include_str!("../tables/models/larva.toml");
 
 impl Model {
     /// The embedded Drosophila larva model.
