@@ -10,11 +10,12 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::codegen;
 use crate::discretise::{operators, Operator};
+use crate::enumerate::Basis;
 use crate::enumerate::MAX_ORDER;
-use crate::equations::{self, derive};
+use crate::equations::{self, derive_basis};
 use crate::modal::{field_modes, Params};
 use crate::model::{Density, Model};
-use crate::reduce::analyse;
+use crate::reduce::analyse_basis;
 use crate::table as report;
 use crate::table::{render, Format};
 
@@ -46,6 +47,9 @@ enum Command {
     Equations {
         #[command(flatten)]
         model: ModelArgs,
+        /// Candidate terms: pure powers (the seed's) or every monomial.
+        #[arg(long, value_enum, default_value_t = Basis::Powers)]
+        basis: Basis,
         /// Output format.
         #[arg(long, value_enum, default_value_t = EquationFormat::Text)]
         format: EquationFormat,
@@ -67,6 +71,19 @@ enum Command {
     Modes(ModesArgs),
     /// Integrate the dissipative Hamilton's equations mode by mode (exact propagators); CSV out.
     Simulate(SimulateArgs),
+    /// Count the candidate terms of each density at every order up to a maximum.
+    Count {
+        /// Candidate terms: pure powers or every monomial.
+        #[arg(long, value_enum, default_value_t = Basis::Powers)]
+        basis: Basis,
+        /// Count orders 1 … N.
+        #[arg(long, default_value_t = 8, value_name = "N",
+              value_parser = clap::value_parser!(u32).range(1..=MAX_ORDER as i64))]
+        max_order: u32,
+        /// A model file (TOML) instead of the embedded larva model.
+        #[arg(long, value_name = "FILE")]
+        model: Option<PathBuf>,
+    },
     /// List the rules the engine knows (generated from the registry).
     Rules,
     /// Regenerate every generated file (src/generated/, tables/) under a directory.
@@ -199,6 +216,9 @@ struct ModelArgs {
 struct TableArgs {
     #[command(flatten)]
     model: ModelArgs,
+    /// Candidate terms: pure powers (the seed's Table 1) or every monomial (products of factors).
+    #[arg(long, value_enum, default_value_t = Basis::Powers)]
+    basis: Basis,
     /// Which density to print.
     #[arg(long, value_enum, default_value_t = DensityChoice::Both)]
     density: DensityChoice,
@@ -256,15 +276,20 @@ fn table(args: &TableArgs) -> Result<String, CliError> {
     };
     let analyses = densities
         .iter()
-        .map(|&d| analyse(&model, d, args.model.order))
+        .map(|&d| analyse_basis(&model, d, args.model.order, args.basis))
         .collect::<Result<Vec<_>, _>>()
         .map_err(|e| CliError::new(2, e.to_string()))?;
     Ok(render(&model, &analyses, args.format))
 }
 
-fn equations_command(args: &ModelArgs, format: EquationFormat) -> Result<String, CliError> {
+fn equations_command(
+    args: &ModelArgs,
+    basis: Basis,
+    format: EquationFormat,
+) -> Result<String, CliError> {
     let model = load_model(&args.model)?;
-    let (eqs, notes) = derive(&model, args.order).map_err(|e| CliError::new(2, e.to_string()))?;
+    let (eqs, notes) =
+        derive_basis(&model, args.order, basis).map_err(|e| CliError::new(2, e.to_string()))?;
     Ok(match format {
         EquationFormat::Json => {
             let v = equations::json(args.order, &eqs, &notes);
@@ -566,7 +591,11 @@ where
     let text = match &cli.command {
         None => table(&cli.table),
         Some(Command::Table(args)) => table(args),
-        Some(Command::Equations { model, format }) => equations_command(model, *format),
+        Some(Command::Equations {
+            model,
+            basis,
+            format,
+        }) => equations_command(model, *basis, *format),
         Some(Command::Operators {
             points,
             model,
@@ -574,6 +603,36 @@ where
         }) => operators_command(model, *points as usize, *format),
         Some(Command::Modes(args)) => modes_command(args),
         Some(Command::Simulate(args)) => return simulate_command(args, out),
+        Some(Command::Count {
+            basis,
+            max_order,
+            model,
+        }) => {
+            let model = load_model(model)?;
+            let name = match basis {
+                Basis::Powers => "powers",
+                Basis::Monomials => "monomials",
+            };
+            let mut text = format!(
+                "order  lagrangian  rayleigh   ({name} basis, model {})\n",
+                model.name
+            );
+            for order in 1..=*max_order {
+                let count = |d: Density| {
+                    crate::enumerate::candidates(
+                        *basis,
+                        &crate::enumerate::Bounds::for_order(model.density(d).bound, order),
+                    )
+                    .len()
+                };
+                text += &format!(
+                    "{order:>5}  {:>10}  {:>8}\n",
+                    count(Density::Lagrangian),
+                    count(Density::Rayleigh)
+                );
+            }
+            Ok(text)
+        }
         Some(Command::Rules) => Ok(codegen::rules_markdown()),
         Some(Command::Emit { out: dir, model }) => {
             let loaded = load_model(&model.model)?;

@@ -92,6 +92,97 @@ pub fn pure_powers(bounds: &Bounds) -> Vec<Term> {
     terms
 }
 
+/// Which candidate terms to enumerate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum Basis {
+    /// Pure powers of one derivative, `(∂tᵃ∂sᵇφ)ⁿ`: the seed's Table 1.
+    #[default]
+    Powers,
+    /// Every product of derivative factors of the field, e.g. `∂t φ·∂s φ`, `φ·∂ss φ`.
+    Monomials,
+}
+
+/// The candidates of `basis` within `bounds`, canonical order.
+pub fn candidates(basis: Basis, bounds: &Bounds) -> Vec<Term> {
+    match basis {
+        Basis::Powers => pure_powers(bounds),
+        Basis::Monomials => monomials(bounds),
+    }
+}
+
+/// Every product `∏ (∂tᵃ∂sᵇφ)^{n_ab}` (single field, total power ≥ 1) within `bounds`, in
+/// canonical order.
+pub fn monomials(bounds: &Bounds) -> Vec<Term> {
+    let d = bounds.delta;
+    let kinds: Vec<(u32, u32)> = iproduct!(0..=d, 0..=d)
+        .filter(|&(a, b)| a + b <= d)
+        .collect();
+    let mut out = Vec::new();
+    let mut powers = vec![0u32; kinds.len()];
+    // Depth-first over the kinds, pruning as soon as a partial product is out of bounds (every
+    // order only grows as factors are added).
+    fn walk(
+        i: usize,
+        kinds: &[(u32, u32)],
+        powers: &mut Vec<u32>,
+        orders: Orders,
+        bounds: &Bounds,
+        out: &mut Vec<Term>,
+    ) {
+        if i == kinds.len() {
+            if orders.epsilon > 0 {
+                let factors =
+                    kinds
+                        .iter()
+                        .zip(powers.iter())
+                        .filter(|(_, &n)| n > 0)
+                        .map(|(&(a, b), &n)| crate::term::Factor {
+                            field: 0,
+                            deriv: crate::term::Deriv::new(a, b),
+                            power: n,
+                        });
+                out.push(Term::new(factors).expect("a positive total power"));
+            }
+            return;
+        }
+        let (a, b) = kinds[i];
+        let mut n = 0;
+        loop {
+            let o = Orders {
+                delta: if n > 0 {
+                    orders.delta.max(a + b)
+                } else {
+                    orders.delta
+                },
+                epsilon: orders.epsilon + n,
+                tau: orders.tau + n * a,
+                sigma: orders.sigma + n * b,
+            };
+            // δ of the final term is at least o.delta, and the rest only grow: prune.
+            let partial_ok = o.epsilon <= bounds.epsilon
+                && bounds.tau.is_none_or(|t| o.tau <= t)
+                && bounds.sigma.is_none_or(|s| o.sigma <= s)
+                && bounds.tau_plus_sigma.is_none_or(|w| o.tau + o.sigma <= w);
+            if !partial_ok {
+                break;
+            }
+            powers[i] = n;
+            walk(i + 1, kinds, powers, o, bounds, out);
+            n += 1;
+        }
+        powers[i] = 0;
+    }
+    let zero = Orders {
+        delta: 0,
+        epsilon: 0,
+        tau: 0,
+        sigma: 0,
+    };
+    walk(0, &kinds, &mut powers, zero, bounds, &mut out);
+    out.sort();
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

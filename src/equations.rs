@@ -20,8 +20,9 @@ use num_rational::Rational64;
 use num_traits::{One, Signed, Zero};
 use serde_json::{json, Value};
 
+use crate::enumerate::Basis;
 use crate::model::{Density, Field, Model};
-use crate::reduce::{analyse, sign_joiner, Analysis, DensityTerm, OrderError};
+use crate::reduce::{analyse_basis, sign_joiner, Analysis, DensityTerm, OrderError};
 use crate::table::latex_symbol;
 use crate::term::{superscript, Deriv, Term};
 
@@ -172,8 +173,17 @@ fn field_equation(
 
 /// The equations of motion of every field of `model` at `order`, plus the analyses' notes.
 pub fn derive(model: &Model, order: u32) -> Result<(Vec<Equation>, Vec<String>), EquationError> {
-    let l = analyse(model, Density::Lagrangian, order)?;
-    let r = analyse(model, Density::Rayleigh, order)?;
+    derive_basis(model, order, Basis::Powers)
+}
+
+/// The equations of motion when the candidates are `basis`.
+pub fn derive_basis(
+    model: &Model,
+    order: u32,
+    basis: Basis,
+) -> Result<(Vec<Equation>, Vec<String>), EquationError> {
+    let l = analyse_basis(model, Density::Lagrangian, order, basis)?;
+    let r = analyse_basis(model, Density::Rayleigh, order, basis)?;
     let equations = (0..model.fields.len())
         .map(|i| field_equation(&l, &r, i, order))
         .collect::<Result<Vec<_>, _>>()?;

@@ -11,7 +11,7 @@ use std::fmt;
 use num_rational::Rational64;
 use num_traits::{One, Signed};
 
-use crate::enumerate::{pure_powers, Bounds, MAX_ORDER};
+use crate::enumerate::{candidates, Basis, Bounds, MAX_ORDER};
 use crate::model::{Density, Field, Model};
 use crate::rules::{Rule, Verdict};
 use crate::term::{Orders, Term};
@@ -73,6 +73,8 @@ pub struct Analysis {
     pub order: u32,
     /// The candidate bounds that order means here.
     pub bounds: Bounds,
+    /// Which candidates were enumerated.
+    pub basis: Basis,
     /// The rules shown as columns.
     pub columns: Vec<&'static Rule>,
     /// Every candidate, canonical order.
@@ -98,14 +100,19 @@ pub fn lowest_order(terms: &[Term]) -> Vec<Term> {
 }
 
 /// Candidates, verdicts and admission per field, without reduction.
-fn decide(model: &Model, density: Density, bounds: &Bounds) -> (Vec<&'static Rule>, Vec<Row>) {
+fn decide(
+    model: &Model,
+    density: Density,
+    bounds: &Bounds,
+    basis: Basis,
+) -> (Vec<&'static Rule>, Vec<Row>) {
     let columns = model.columns(density);
     let requirements: Vec<Vec<&'static Rule>> = model
         .fields
         .iter()
         .map(|f| model.requirements(density, &f.id))
         .collect();
-    let rows = pure_powers(bounds)
+    let rows = candidates(basis, bounds)
         .into_iter()
         .map(|term| {
             let verdicts: Vec<Verdict> = columns.iter().map(|r| r.verdict(&term)).collect();
@@ -131,13 +138,23 @@ fn decide(model: &Model, density: Density, bounds: &Bounds) -> (Vec<&'static Rul
     (columns, rows)
 }
 
-/// Enumerate, decide and reduce `density` of `model` at `order`.
+/// Enumerate, decide and reduce `density` of `model` at `order`, on pure powers (Table 1).
 pub fn analyse(model: &Model, density: Density, order: u32) -> Result<Analysis, OrderError> {
+    analyse_basis(model, density, order, Basis::Powers)
+}
+
+/// Enumerate `basis`, decide and reduce `density` of `model` at `order`.
+pub fn analyse_basis(
+    model: &Model,
+    density: Density,
+    order: u32,
+    basis: Basis,
+) -> Result<Analysis, OrderError> {
     if order == 0 || order > MAX_ORDER {
         return Err(OrderError(order));
     }
     let bounds = Bounds::for_order(model.density(density).bound, order);
-    let (columns, mut rows) = decide(model, density, &bounds);
+    let (columns, mut rows) = decide(model, density, &bounds, basis);
     let mut fields = Vec::new();
     for (i, field) in model.fields.iter().enumerate() {
         let admitted: Vec<Term> = rows
@@ -146,7 +163,7 @@ pub fn analyse(model: &Model, density: Density, order: u32) -> Result<Analysis, 
             .map(|r| r.term.clone())
             .collect();
         let survivors = lowest_order(&admitted);
-        let missing = missing_parts(model, density, order, i, &survivors);
+        let missing = missing_parts(model, density, order, basis, i, &survivors);
         fields.push(FieldResult {
             field: field.clone(),
             density: coefficients(density, field, &survivors),
@@ -165,6 +182,7 @@ pub fn analyse(model: &Model, density: Density, order: u32) -> Result<Analysis, 
         density,
         order,
         bounds,
+        basis,
         columns,
         rows,
         fields,
@@ -190,6 +208,7 @@ fn missing_parts(
     model: &Model,
     density: Density,
     order: u32,
+    basis: Basis,
     field: usize,
     survivors: &[Term],
 ) -> Vec<String> {
@@ -202,7 +221,7 @@ fn missing_parts(
         // Look for the first order at which the field admits such a term at all.
         let first = (order + 1..=MAX_ORDER).find_map(|k| {
             let bounds = Bounds::for_order(model.density(density).bound, k);
-            let (_, rows) = decide(model, density, &bounds);
+            let (_, rows) = decide(model, density, &bounds, basis);
             rows.into_iter()
                 .find(|r| r.admitted[field] && is_part(&r.term))
                 .map(|r| (k, r.term))

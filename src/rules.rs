@@ -467,9 +467,17 @@ fn standard_kinetic(term: &Term) -> Result<(), String> {
 }
 
 fn dissipative(term: &Term) -> Result<(), String> {
+    // R is a function of the velocity field v = ∂tφ and its space derivatives: every factor
+    // carries exactly one time derivative. (For pure powers: "a first time derivative and no
+    // higher one", as in the seed; for products it also rules out ∂sφ·∂tsφ = ∂t(½(∂sφ)²),
+    // which would act as a stiffness, not as damping.)
     match term.max_time_order() {
         0 => Err("holds no time derivative, so ∂R/∂(∂t φ) vanishes".into()),
-        1 => Ok(()),
+        1 if term.factors().iter().all(|f| f.deriv.t == 1) => Ok(()),
+        1 => Err(
+            "has a factor without a time derivative: R must be a function of the velocity ∂t φ"
+                .into(),
+        ),
         k => Err(format!(
             "holds a time derivative of order {k} > 1; R enters only through ∂R/∂(∂t φ)"
         )),
@@ -511,7 +519,7 @@ pub static REGISTRY: &[Rule] = &[
     Rule {
         code: "DIS",
         name: "dissipative",
-        meaning: "holds a first time derivative and no higher one, so it acts through ∂R/∂(∂t φ)",
+        meaning: "a function of the velocity: every factor holds exactly one time derivative",
         check: Check::Structural(dissipative),
     },
     Rule {

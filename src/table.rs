@@ -53,8 +53,12 @@ fn cells(model: &Model, a: &Analysis) -> (Vec<String>, Vec<Vec<String>>) {
 }
 
 fn title(a: &Analysis) -> String {
+    let kind = match a.basis {
+        crate::enumerate::Basis::Powers => "candidate terms",
+        crate::enumerate::Basis::Monomials => "candidate monomials",
+    };
     format!(
-        "{} density: {} candidate terms with {}",
+        "{} density: {} {kind} with {}",
         a.density,
         a.rows.len(),
         a.bounds
@@ -273,6 +277,10 @@ fn json_density(model: &Model, a: &Analysis) -> Value {
             .collect()
     };
     json!({
+        "basis": match a.basis {
+            crate::enumerate::Basis::Powers => "powers",
+            crate::enumerate::Basis::Monomials => "monomials",
+        },
         "bound": a.bounds.to_string(),
         "requirements": a.columns.iter().map(|r| r.code).collect::<Vec<_>>(),
         "fields": model.fields.iter().map(|f| f.id.as_str()).collect::<Vec<_>>(),

@@ -200,6 +200,16 @@ fn engine_and_checker_agree_on_every_candidate() {
 }
 
 #[test]
+fn engine_and_checker_agree_on_every_monomial() {
+    let mut rng = Rng(0xDEAD_BEEF);
+    for shape in [BoundShape::TauPlusSigma, BoundShape::TauAndSigma] {
+        for term in theory_search::enumerate::monomials(&Bounds::for_order(shape, 4)) {
+            assert_agree(&term, &mut rng);
+        }
+    }
+}
+
+#[test]
 fn engine_and_checker_agree_on_products() {
     let mut rng = Rng(12345);
     let texts = [
