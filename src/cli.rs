@@ -71,6 +71,15 @@ enum Command {
     Modes(ModesArgs),
     /// Integrate the dissipative Hamilton's equations mode by mode (exact propagators); CSV out.
     Simulate(SimulateArgs),
+    /// The interaction table: which terms could couple each pair of fields, and whether any
+    /// survives at long wavelengths.
+    Interactions {
+        #[command(flatten)]
+        model: ModelArgs,
+        /// Which density.
+        #[arg(long, value_enum, default_value_t = DensityChoice::Both)]
+        density: DensityChoice,
+    },
     /// Count the candidate terms of each density at every order up to a maximum.
     Count {
         /// Candidate terms: pure powers or every monomial.
@@ -603,6 +612,22 @@ where
         }) => operators_command(model, *points as usize, *format),
         Some(Command::Modes(args)) => modes_command(args),
         Some(Command::Simulate(args)) => return simulate_command(args, out),
+        Some(Command::Interactions { model, density }) => {
+            let loaded = load_model(&model.model)?;
+            let densities: &[Density] = match density {
+                DensityChoice::Lagrangian => &[Density::Lagrangian],
+                DensityChoice::Rayleigh => &[Density::Rayleigh],
+                DensityChoice::Both => &Density::ALL,
+            };
+            let mut text = String::new();
+            for &d in densities {
+                let i = crate::interaction::interactions(&loaded, d, model.order)
+                    .map_err(|e| CliError::new(2, e.to_string()))?;
+                text += &i.text(&loaded);
+                text.push('\n');
+            }
+            Ok(text)
+        }
         Some(Command::Count {
             basis,
             max_order,

@@ -9,7 +9,7 @@ use std::fmt;
 use itertools::iproduct;
 
 use crate::model::BoundShape;
-use crate::term::{Orders, Term};
+use crate::term::{Deriv, Factor, Orders, Term};
 
 /// The largest `--order` the tool accepts. Far beyond any physical use (the long-wavelength
 /// survivors settle at order 4), it keeps every coefficient of the exact expansions within i64.
@@ -113,74 +113,76 @@ pub fn candidates(basis: Basis, bounds: &Bounds) -> Vec<Term> {
 /// Every product `∏ (∂tᵃ∂sᵇφ)^{n_ab}` (single field, total power ≥ 1) within `bounds`, in
 /// canonical order.
 pub fn monomials(bounds: &Bounds) -> Vec<Term> {
+    products(bounds, &[0])
+}
+
+/// Every product over the two placeholder fields φ₁, φ₂ that involves both, within `bounds`:
+/// the candidates of an interaction density.
+pub fn interaction_monomials(bounds: &Bounds) -> Vec<Term> {
+    products(bounds, &[1, 2])
+        .into_iter()
+        .filter(|t| t.fields().len() == 2)
+        .collect()
+}
+
+/// Every product of derivative factors of the placeholder `fields` within `bounds`.
+fn products(bounds: &Bounds, fields: &[u8]) -> Vec<Term> {
     let d = bounds.delta;
-    let kinds: Vec<(u32, u32)> = iproduct!(0..=d, 0..=d)
-        .filter(|&(a, b)| a + b <= d)
+    let kinds: Vec<Factor> = iproduct!(fields.iter().copied(), 0..=d, 0..=d)
+        .filter(|&(_, a, b)| a + b <= d)
+        .map(|(field, a, b)| Factor {
+            field,
+            deriv: Deriv::new(a, b),
+            power: 0,
+        })
         .collect();
     let mut out = Vec::new();
-    let mut powers = vec![0u32; kinds.len()];
-    // Depth-first over the kinds, pruning as soon as a partial product is out of bounds (every
-    // order only grows as factors are added).
-    fn walk(
-        i: usize,
-        kinds: &[(u32, u32)],
-        powers: &mut Vec<u32>,
-        orders: Orders,
-        bounds: &Bounds,
-        out: &mut Vec<Term>,
-    ) {
-        if i == kinds.len() {
-            if orders.epsilon > 0 {
-                let factors =
-                    kinds
-                        .iter()
-                        .zip(powers.iter())
-                        .filter(|(_, &n)| n > 0)
-                        .map(|(&(a, b), &n)| crate::term::Factor {
-                            field: 0,
-                            deriv: crate::term::Deriv::new(a, b),
-                            power: n,
-                        });
-                out.push(Term::new(factors).expect("a positive total power"));
-            }
-            return;
-        }
-        let (a, b) = kinds[i];
-        let mut n = 0;
-        loop {
-            let o = Orders {
-                delta: if n > 0 {
-                    orders.delta.max(a + b)
-                } else {
-                    orders.delta
-                },
-                epsilon: orders.epsilon + n,
-                tau: orders.tau + n * a,
-                sigma: orders.sigma + n * b,
-            };
-            // δ of the final term is at least o.delta, and the rest only grow: prune.
-            let partial_ok = o.epsilon <= bounds.epsilon
-                && bounds.tau.is_none_or(|t| o.tau <= t)
-                && bounds.sigma.is_none_or(|s| o.sigma <= s)
-                && bounds.tau_plus_sigma.is_none_or(|w| o.tau + o.sigma <= w);
-            if !partial_ok {
-                break;
-            }
-            powers[i] = n;
-            walk(i + 1, kinds, powers, o, bounds, out);
-            n += 1;
-        }
-        powers[i] = 0;
-    }
     let zero = Orders {
         delta: 0,
         epsilon: 0,
         tau: 0,
         sigma: 0,
     };
-    walk(0, &kinds, &mut powers, zero, bounds, &mut out);
+    walk(&mut kinds.clone(), 0, zero, bounds, &mut out);
     out.sort();
     out
+}
+
+/// Depth-first over the factor kinds, choosing each one's power; prunes as soon as a partial
+/// product is out of bounds (every order only grows as factors are added).
+fn walk(kinds: &mut [Factor], i: usize, orders: Orders, bounds: &Bounds, out: &mut Vec<Term>) {
+    if i == kinds.len() {
+        if orders.epsilon > 0 {
+            let chosen = kinds.iter().filter(|f| f.power > 0).copied();
+            out.push(Term::new(chosen).expect("a positive total power"));
+        }
+        return;
+    }
+    let (a, b) = (kinds[i].deriv.t, kinds[i].deriv.s);
+    let mut n = 0;
+    loop {
+        let o = Orders {
+            delta: if n > 0 {
+                orders.delta.max(a + b)
+            } else {
+                orders.delta
+            },
+            epsilon: orders.epsilon + n,
+            tau: orders.tau + n * a,
+            sigma: orders.sigma + n * b,
+        };
+        let within = o.epsilon <= bounds.epsilon
+            && bounds.tau.is_none_or(|t| o.tau <= t)
+            && bounds.sigma.is_none_or(|s| o.sigma <= s)
+            && bounds.tau_plus_sigma.is_none_or(|w| o.tau + o.sigma <= w);
+        if !within {
+            break;
+        }
+        kinds[i].power = n;
+        walk(kinds, i + 1, o, bounds, out);
+        n += 1;
+    }
+    kinds[i].power = 0;
 }
 
 #[cfg(test)]

@@ -4,7 +4,7 @@
 //! field's lowest-order survivors.
 //!
 //! Data flows one way through the modules, in pipeline order:
-//! [`model`] → [`term`] → [`enumerate`] → [`rules`] → [`reduce`] → [`equations`] → [`discretise`] → [`codegen`]
+//! [`model`] → [`term`] → [`enumerate`] → [`rules`] → [`reduce`] (and [`interaction`]) → [`equations`] → [`discretise`] → [`codegen`]
 //! (writes [`generated`]) → [`modal`] (with [`banded`]) → [`dynamics`] → [`table`] / [`cli`].
 #![warn(missing_docs)]
 
@@ -16,6 +16,7 @@ pub mod dynamics;
 pub mod enumerate;
 pub mod equations;
 pub mod generated;
+pub mod interaction;
 pub mod modal;
 pub mod model;
 pub mod reduce;

@@ -109,6 +109,10 @@ pub struct DensitySpec {
     pub bound: BoundShape,
     /// Rule codes shown as table columns, in order.
     pub columns: Vec<String>,
+    /// Structural rules an interaction term must satisfy as a whole (symmetries come from each
+    /// participating field's own requirements).
+    #[serde(default)]
+    pub interaction: Vec<String>,
     /// For each field id, the rule codes its terms must satisfy.
     pub requirements: BTreeMap<String, Vec<String>>,
 }
@@ -231,6 +235,17 @@ impl Model {
                         "{density} column {code:?} is not a rule (known: {})",
                         known.join(", ")
                     )));
+                }
+            }
+            for code in &spec.interaction {
+                match rules::rule(code) {
+                    Some(r) if matches!(r.check, rules::Check::Structural(_)) => {}
+                    Some(_) => {
+                        return Err(invalid(format!(
+                            "{density} interaction rule {code:?} is a symmetry: symmetries come from each field's requirements"
+                        )))
+                    }
+                    None => return Err(invalid(format!("{density} interaction rule {code:?} is not a rule"))),
                 }
             }
             for field in &self.fields {

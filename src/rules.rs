@@ -175,24 +175,29 @@ impl Transformation {
     /// `Ok` if `term` is invariant under the transformation of each field it involves; otherwise
     /// the change the transformation makes.
     pub fn check_invariant(&self, term: &Term) -> Result<(), String> {
+        term.fields()
+            .into_iter()
+            .try_for_each(|field| self.check_invariant_field(term, field))
+    }
+
+    /// `Ok` if `term` is invariant when only placeholder field `field` is transformed.
+    pub fn check_invariant_field(&self, term: &Term, field: u8) -> Result<(), String> {
         let original = Poly::of_term(term);
-        for field in term.fields() {
-            let change = self
-                .apply(term, field)
-                .add(&original.scaled(-Rational64::one()));
-            if !change.is_zero() {
-                let order = if self.infinitesimal {
-                    ", to first order,"
-                } else {
-                    ""
-                };
-                return Err(format!(
-                    "{} changes {term}{order} by {change}",
-                    self.describe(field)
-                ));
-            }
+        let change = self
+            .apply(term, field)
+            .add(&original.scaled(-Rational64::one()));
+        if change.is_zero() {
+            return Ok(());
         }
-        Ok(())
+        let order = if self.infinitesimal {
+            ", to first order,"
+        } else {
+            ""
+        };
+        Err(format!(
+            "{} changes {term}{order} by {change}",
+            self.describe(field)
+        ))
     }
 
     fn describe(&self, field: u8) -> String {

@@ -1,0 +1,86 @@
+//! Scenario: the interaction densities of the larva reproduce the seed's argument that the
+//! long-wavelength theory is free (Appendix A, seed lines 1160–1230).
+
+use theory_search::interaction::interactions;
+use theory_search::model::{Density, Model};
+use theory_search::term::Term;
+
+fn t(s: &str) -> Term {
+    s.parse().unwrap()
+}
+
+#[test]
+fn only_the_axial_torsional_potential_coupling_is_admitted_and_it_is_dominated() {
+    let i = interactions(&Model::larva(), Density::Lagrangian, 4).unwrap();
+    assert_eq!(i.pairs.len(), 6);
+    for p in &i.pairs {
+        // The seed's three classes are among the lowest candidates of every pair that shares
+        // only TRAN and REF.
+        if p.shared == ["TRAN", "REF"] {
+            let rows: Vec<&Term> = p.rows.iter().map(|r| &r.term).collect();
+            for class in [
+                "(∂s φ₁)²·(∂s φ₂)²",
+                "(∂t φ₁)²·(∂t φ₂)²",
+                "(∂s φ₁)²·(∂t φ₂)²",
+            ] {
+                assert!(rows.contains(&&t(class)), "{:?} lacks {class}", p.fields);
+            }
+        }
+        let is_x_theta = p.fields == ("x".to_string(), "theta".to_string());
+        if is_x_theta {
+            assert_eq!(p.admitted, [t("(∂s φ₁)²·(∂s φ₂)²")]);
+            assert_eq!(p.admitted[0].orders().sigma, 4);
+        } else {
+            assert!(
+                p.admitted.is_empty(),
+                "{:?} admits {:?}",
+                p.fields,
+                p.admitted
+            );
+        }
+        assert!(p.kept.is_empty(), "{:?}", p.fields);
+    }
+    assert!(i.is_free());
+    // The kinetic and mixed couplings fail KIN; a potential coupling with y fails ROT on y.
+    let xy = &i.pairs[1];
+    let row = xy
+        .rows
+        .iter()
+        .find(|r| r.term == t("(∂s φ₁)²·(∂s φ₂)²"))
+        .unwrap();
+    let failed: Vec<(&str, Option<&str>)> = row
+        .verdicts
+        .iter()
+        .filter(|v| !v.verdict.passed())
+        .map(|v| (v.rule, v.field.as_deref()))
+        .collect();
+    assert_eq!(failed, [("ROT", Some("y"))]);
+}
+
+#[test]
+fn rayleigh_interactions_are_also_negligible() {
+    let i = interactions(&Model::larva(), Density::Rayleigh, 4).unwrap();
+    assert!(i.is_free());
+}
+
+#[test]
+fn without_kin_a_mixed_coupling_would_survive() {
+    // Drop KIN from the interaction rules: couplings with time derivatives, such as the mixed
+    // (∂s x)²·(∂t θ)² at (τ, σ) = (2, 2), are then admitted, but the free (∂t x)² at (2, 0)
+    // dominates them, so the long-wavelength theory stays free.
+    let text = Model::larva_toml().replacen(
+        "interaction = [\"OST\", \"KIN\"]",
+        "interaction = [\"OST\"]",
+        1,
+    );
+    let model = Model::from_toml(&text).unwrap();
+    let i = interactions(&model, Density::Lagrangian, 4).unwrap();
+    let xt = &i.pairs[0];
+    assert!(
+        xt.admitted.iter().any(|a| a.orders().tau > 0),
+        "{:?}",
+        xt.admitted
+    );
+    // Every admitted coupling is still dominated by a free term: the theory stays free.
+    assert!(i.is_free());
+}
