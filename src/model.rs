@@ -301,12 +301,22 @@ mod tests {
 
     #[test]
     fn bad_models_name_the_problem() {
-        let bad_rule = LARVA.replace(
-            "\"KIN\", \"ROT\"]\n\n[lagrangian.req",
-            "\"KIN\", \"ROTX\"]\n\n[lagrangian.req",
+        let bad_rule = LARVA.replacen(
+            "columns = [\"OST\", \"TRAN\", \"REF\", \"KIN\", \"ROT\"]",
+            "columns = [\"OST\", \"TRAN\", \"REF\", \"KIN\", \"ROTX\"]",
+            1,
         );
+        assert_ne!(bad_rule, LARVA);
         let err = Model::from_toml(&bad_rule).unwrap_err().to_string();
         assert!(err.contains("\"ROTX\" is not a rule"), "{err}");
+
+        let symmetry = LARVA.replacen(
+            "interaction = [\"OST\", \"KIN\"]",
+            "interaction = [\"ROT\"]",
+            1,
+        );
+        let err = Model::from_toml(&symmetry).unwrap_err().to_string();
+        assert!(err.contains("is a symmetry"), "{err}");
 
         let err = Model::from_toml("name = 3").unwrap_err().to_string();
         assert!(err.contains("line 1"), "{err}");
