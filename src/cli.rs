@@ -80,6 +80,15 @@ enum Command {
         #[arg(long, value_enum, default_value_t = DensityChoice::Both)]
         density: DensityChoice,
     },
+    /// Reduce each field's admitted monomials modulo total derivatives: the independent terms
+    /// and the relations used.
+    Parts {
+        #[command(flatten)]
+        model: ModelArgs,
+        /// Which density.
+        #[arg(long, value_enum, default_value_t = DensityChoice::Lagrangian)]
+        density: DensityChoice,
+    },
     /// Count the candidate terms of each density at every order up to a maximum.
     Count {
         /// Candidate terms: pure powers or every monomial.
@@ -236,6 +245,14 @@ struct TableArgs {
     format: Format,
 }
 
+fn densities_of(choice: DensityChoice) -> &'static [Density] {
+    match choice {
+        DensityChoice::Lagrangian => &[Density::Lagrangian],
+        DensityChoice::Rayleigh => &[Density::Rayleigh],
+        DensityChoice::Both => &Density::ALL,
+    }
+}
+
 /// A failure, with the exit code it maps to.
 #[derive(Debug)]
 pub struct CliError {
@@ -278,11 +295,7 @@ fn one_line(s: &str) -> String {
 
 fn table(args: &TableArgs) -> Result<String, CliError> {
     let model = load_model(&args.model.model)?;
-    let densities: &[Density] = match args.density {
-        DensityChoice::Lagrangian => &[Density::Lagrangian],
-        DensityChoice::Rayleigh => &[Density::Rayleigh],
-        DensityChoice::Both => &Density::ALL,
-    };
+    let densities = densities_of(args.density);
     let analyses = densities
         .iter()
         .map(|&d| analyse_basis(&model, d, args.model.order, args.basis))
@@ -612,15 +625,21 @@ where
         }) => operators_command(model, *points as usize, *format),
         Some(Command::Modes(args)) => modes_command(args),
         Some(Command::Simulate(args)) => return simulate_command(args, out),
+        Some(Command::Parts { model, density }) => {
+            let loaded = load_model(&model.model)?;
+            let mut text = String::new();
+            for &d in densities_of(*density) {
+                let fields = crate::parts::reduce_model(&loaded, d, model.order)
+                    .map_err(|e| CliError::new(2, e.to_string()))?;
+                text += &crate::parts::text(&loaded, d, model.order, &fields);
+                text.push('\n');
+            }
+            Ok(text)
+        }
         Some(Command::Interactions { model, density }) => {
             let loaded = load_model(&model.model)?;
-            let densities: &[Density] = match density {
-                DensityChoice::Lagrangian => &[Density::Lagrangian],
-                DensityChoice::Rayleigh => &[Density::Rayleigh],
-                DensityChoice::Both => &Density::ALL,
-            };
             let mut text = String::new();
-            for &d in densities {
+            for &d in densities_of(*density) {
                 let i = crate::interaction::interactions(&loaded, d, model.order)
                     .map_err(|e| CliError::new(2, e.to_string()))?;
                 text += &i.text(&loaded);

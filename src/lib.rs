@@ -4,7 +4,7 @@
 //! field's lowest-order survivors.
 //!
 //! Data flows one way through the modules, in pipeline order:
-//! [`model`] → [`term`] → [`enumerate`] → [`rules`] → [`reduce`] (and [`interaction`]) → [`equations`] → [`discretise`] → [`codegen`]
+//! [`model`] → [`term`] → [`enumerate`] → [`rules`] → [`reduce`] (and [`interaction`], [`parts`]) → [`equations`] → [`discretise`] → [`codegen`]
 //! (writes [`generated`]) → [`modal`] (with [`banded`]) → [`dynamics`] → [`table`] / [`cli`].
 #![warn(missing_docs)]
 
@@ -19,6 +19,7 @@ pub mod generated;
 pub mod interaction;
 pub mod modal;
 pub mod model;
+pub mod parts;
 pub mod reduce;
 pub mod rules;
 pub mod table;

@@ -28,8 +28,8 @@ pub struct Row {
     pub term: Term,
     /// Its orders.
     pub orders: Orders,
-    /// One verdict per column of the density, in column order.
-    pub verdicts: Vec<Verdict>,
+    /// Per column of the density, in column order: does the term satisfy the rule?
+    pub passed: Vec<bool>,
     /// Per field (model order): does the field admit the term?
     pub admitted: Vec<bool>,
     /// Per field (model order): is the term one of the field's survivors?
@@ -115,12 +115,12 @@ fn decide(
     let rows = candidates(basis, bounds)
         .into_iter()
         .map(|term| {
-            let verdicts: Vec<Verdict> = columns.iter().map(|r| r.verdict(&term)).collect();
+            let passed: Vec<bool> = columns.iter().map(|r| r.passes(&term)).collect();
             let passes = |rule: &Rule| {
                 columns
                     .iter()
-                    .zip(&verdicts)
-                    .any(|(c, v)| c.code == rule.code && v.passed())
+                    .zip(&passed)
+                    .any(|(c, &ok)| c.code == rule.code && ok)
             };
             let admitted = requirements
                 .iter()
@@ -129,7 +129,7 @@ fn decide(
             Row {
                 orders: term.orders(),
                 term,
-                verdicts,
+                passed,
                 admitted,
                 included: Vec::new(),
             }
@@ -298,6 +298,16 @@ pub fn prefactor_text(r: Rational64) -> String {
         String::new()
     } else {
         r.abs().to_string()
+    }
+}
+
+impl Row {
+    /// Why the term fails column `i` of `analysis` (recomputed: rows keep only the decision).
+    pub fn why(&self, analysis: &Analysis, i: usize) -> Option<String> {
+        match analysis.columns[i].verdict(&self.term) {
+            Verdict::Pass => None,
+            Verdict::Reject { why, .. } => Some(why),
+        }
     }
 }
 

@@ -76,6 +76,26 @@ impl Rule {
         }
     }
 
+    /// Does `term` satisfy the rule? The same decision as [`Rule::verdict`], without building
+    /// the explanation. A shift φ → φ + p·g is compared to first order in p only: the map is
+    /// affine in φ, so the p¹ coefficient Σ nᵢ·(∂^αᵢ g)·∏ⱼ≠ᵢ… vanishes exactly when every shifted
+    /// factor is unchanged, which is exactly when the whole expansion is.
+    pub fn passes(&self, term: &Term) -> bool {
+        match &self.check {
+            Check::Structural(pred) => pred(term).is_ok(),
+            Check::Symmetry(tr) => {
+                let first_order = Transformation {
+                    infinitesimal: true,
+                    ..*tr
+                };
+                let original = Poly::of_term(term);
+                term.fields()
+                    .into_iter()
+                    .all(|f| first_order.apply(term, f) == original)
+            }
+        }
+    }
+
     /// How the rule is decided, in words (for the generated rule docs).
     pub fn decided_by(&self) -> String {
         match &self.check {
@@ -283,15 +303,34 @@ struct Mono {
 
 impl Mono {
     fn mul(&self, other: &Mono) -> Mono {
-        let mut jet: BTreeMap<(u8, Deriv), u32> = BTreeMap::new();
-        for &(f, d, e) in self.jet.iter().chain(&other.jet) {
-            *jet.entry((f, d)).or_default() += e;
+        // Merge the two sorted jet lists, adding powers of equal variables.
+        let (a, b) = (&self.jet, &other.jet);
+        let mut jet = Vec::with_capacity(a.len() + b.len());
+        let (mut i, mut j) = (0, 0);
+        while i < a.len() || j < b.len() {
+            let take_a = j == b.len() || (i < a.len() && (a[i].0, a[i].1) <= (b[j].0, b[j].1));
+            let take_b = i == a.len() || (j < b.len() && (b[j].0, b[j].1) <= (a[i].0, a[i].1));
+            match (take_a, take_b) {
+                (true, true) => {
+                    jet.push((a[i].0, a[i].1, a[i].2 + b[j].2));
+                    i += 1;
+                    j += 1;
+                }
+                (true, false) => {
+                    jet.push(a[i]);
+                    i += 1;
+                }
+                _ => {
+                    jet.push(b[j]);
+                    j += 1;
+                }
+            }
         }
         Mono {
             param: self.param + other.param,
             s: self.s + other.s,
             t: self.t + other.t,
-            jet: jet.into_iter().map(|((f, d), e)| (f, d, e)).collect(),
+            jet,
         }
     }
 }
@@ -390,9 +429,12 @@ impl Poly {
         };
         for (a, x) in &self.terms {
             for (b, y) in &other.terms {
-                p = p.add(&Poly::from_mono(a.mul(b), x * y));
+                let m = a.mul(b);
+                let e = p.terms.entry(m).or_insert_with(Rational64::zero);
+                *e += x * y;
             }
         }
+        p.terms.retain(|_, v| !v.is_zero());
         p
     }
 

@@ -9,7 +9,6 @@ use serde_json::{json, Map, Value};
 
 use crate::model::{Density, Model};
 use crate::reduce::{prefactor_text, sign_joiner, Analysis, FieldResult};
-use crate::rules::Verdict;
 
 /// An output format of the table command.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -44,7 +43,7 @@ fn cells(model: &Model, a: &Analysis) -> (Vec<String>, Vec<Vec<String>>) {
             let o = r.orders;
             let mut row = vec![r.term.to_string()];
             row.extend([o.delta, o.epsilon, o.tau, o.sigma].map(|v| v.to_string()));
-            row.extend(r.verdicts.iter().map(|v| mark(v.passed())));
+            row.extend(r.passed.iter().map(|&ok| mark(ok)));
             row.extend(r.included.iter().map(|&b| mark(b)));
             row
         })
@@ -211,7 +210,7 @@ fn csv(model: &Model, analyses: &[Analysis]) -> String {
             row.extend([o.delta, o.epsilon, o.tau, o.sigma].map(|v| v.to_string()));
             for code in &codes {
                 let v = a.columns.iter().position(|c| c.code == *code);
-                row.push(v.map(|i| bit(r.verdicts[i].passed())).unwrap_or_default());
+                row.push(v.map(|i| bit(r.passed[i])).unwrap_or_default());
             }
             row.extend(r.included.iter().map(|&b| bit(b)));
             out += &(row.join(",") + "\n");
@@ -252,10 +251,10 @@ fn json_density(model: &Model, a: &Analysis) -> Value {
                 .collect();
             let mut satisfies = Map::new();
             let mut rejected = Map::new();
-            for (rule, v) in a.columns.iter().zip(&r.verdicts) {
-                satisfies.insert(rule.code.into(), v.passed().into());
-                if let Verdict::Reject { why, .. } = v {
-                    rejected.insert(rule.code.into(), why.clone().into());
+            for (i, (rule, &ok)) in a.columns.iter().zip(&r.passed).enumerate() {
+                satisfies.insert(rule.code.into(), ok.into());
+                if let Some(why) = r.why(a, i) {
+                    rejected.insert(rule.code.into(), why.into());
                 }
             }
             json!({

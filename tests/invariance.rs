@@ -177,12 +177,19 @@ fn symmetry_rules() -> Vec<(&'static str, Transformation)> {
         .collect()
 }
 
-/// Engine and checker give the same verdict for every symmetry rule; returns how many rules.
+/// Engine and checker give the same verdict for every symmetry rule, and the engine's fast
+/// decision (`passes`) equals its explained one (`verdict`); returns how many rules.
 fn assert_agree(term: &Term, rng: &mut Rng) -> usize {
     let rules = symmetry_rules();
     for (code, tr) in &rules {
         let engine = tr.check_invariant(term).is_ok();
         assert_eq!(engine, checker_invariant(tr, term, rng), "{code} on {term}");
+        let rule = theory_search::rules::rule(code).unwrap();
+        assert_eq!(
+            rule.passes(term),
+            rule.verdict(term).passed(),
+            "{code} on {term}"
+        );
     }
     rules.len()
 }

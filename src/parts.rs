@@ -1,0 +1,439 @@
+//! Reduction by parts: admitted terms that differ by a total derivative give the same physics.
+//!
+//! Total derivatives `D_t`, `D_s` act on monomials of a single field by the product rule and
+//! preserve ε while raising τ or σ by one, so the work splits into blocks of fixed (ε, τ, σ). In
+//! a block, T is the span of `D_t m` and `D_s m` over *every* monomial m of the blocks below
+//! (invariant or not: L and L + D_tK are the same theory whatever K is). The admitted terms are
+//! taken in canonical order and one is kept when it is independent of T and of the terms kept
+//! before it; every dropped term is recorded as a relation `m ≡ Σ cᵢ kᵢ (mod total derivatives)`,
+//! in exact rational arithmetic.
+//!
+//! Checks: [`euler_lagrange`] is a separate implementation of `E(L) = Σ_α (−D)^α ∂L/∂u_α`; a
+//! relation is right exactly when E(m − Σ cᵢ kᵢ) = 0, so the reduced basis gives the same
+//! equations of motion as the unreduced set. The number of independent shift-symmetric terms per
+//! block also follows from a Hilbert-series count, `(1 − t)(1 − s)·H_V(t, s)`, which is exact for
+//! ε ≥ 2 (the horizontal complex is exact there); at ε = 1 the class `D_t ∂sφ = D_s ∂tφ`, whose
+//! primitive φ is not shift-symmetric, adds one term at (τ, σ) = (1, 1).
+
+use std::collections::BTreeMap;
+
+use num_rational::Rational64;
+use num_traits::{One, Zero};
+
+use crate::enumerate::Basis;
+use crate::model::{Density, Model};
+use crate::reduce::{analyse_basis, OrderError};
+use crate::term::{Deriv, Factor, Orders, Term};
+
+/// A monomial of one field as a sorted list of (derivative, power); empty is the constant 1.
+pub type Mono = Vec<(Deriv, u32)>;
+
+/// A polynomial in the jet variables of one field, exact coefficients.
+pub type JetPoly = BTreeMap<Mono, Rational64>;
+
+/// The monomial of a single-field term.
+pub fn mono_of(term: &Term) -> Mono {
+    let mut m: Mono = term.factors().iter().map(|f| (f.deriv, f.power)).collect();
+    m.sort();
+    m
+}
+
+/// The term of a non-empty monomial.
+pub fn term_of(m: &Mono) -> Option<Term> {
+    Term::new(m.iter().map(|&(deriv, power)| Factor {
+        field: 0,
+        deriv,
+        power,
+    }))
+    .ok()
+}
+
+fn add_to(p: &mut JetPoly, m: Mono, c: Rational64) {
+    let e = p.entry(m.clone()).or_insert_with(Rational64::zero);
+    *e += c;
+    if e.is_zero() {
+        p.remove(&m);
+    }
+}
+
+/// `m` with one factor `d` (power reduced by one) replaced by `replacement` (if any).
+fn swap_factor(m: &Mono, i: usize, replacement: Option<Deriv>) -> Mono {
+    let mut out: Mono = Vec::with_capacity(m.len() + 1);
+    for (j, &(d, n)) in m.iter().enumerate() {
+        let n = if j == i { n - 1 } else { n };
+        if n > 0 {
+            out.push((d, n));
+        }
+    }
+    if let Some(r) = replacement {
+        match out.iter_mut().find(|(d, _)| *d == r) {
+            Some(entry) => entry.1 += 1,
+            None => out.push((r, 1)),
+        }
+        out.sort();
+    }
+    out
+}
+
+/// `D_t m` (time) or `D_s m` (space) by the product rule.
+pub fn total_derivative(m: &Mono, time: bool) -> JetPoly {
+    let mut out = JetPoly::new();
+    for (i, &(d, n)) in m.iter().enumerate() {
+        let up = if time {
+            Deriv::new(d.t + 1, d.s)
+        } else {
+            Deriv::new(d.t, d.s + 1)
+        };
+        add_to(
+            &mut out,
+            swap_factor(m, i, Some(up)),
+            Rational64::from_integer(n as i64),
+        );
+    }
+    out
+}
+
+fn derivative_of_poly(p: &JetPoly, time: bool) -> JetPoly {
+    let mut out = JetPoly::new();
+    for (m, c) in p {
+        for (mm, cc) in total_derivative(m, time) {
+            add_to(&mut out, mm, c * cc);
+        }
+    }
+    out
+}
+
+/// The Euler–Lagrange expression `E(L) = Σ_α (−D_t)^a (−D_s)^b ∂L/∂u_(a,b)`.
+pub fn euler_lagrange(l: &JetPoly) -> JetPoly {
+    // ∂L/∂u_α for every α that occurs.
+    let mut partials: BTreeMap<Deriv, JetPoly> = BTreeMap::new();
+    for (m, c) in l {
+        for (i, &(d, n)) in m.iter().enumerate() {
+            add_to(
+                partials.entry(d).or_default(),
+                swap_factor(m, i, None),
+                c * Rational64::from_integer(n as i64),
+            );
+        }
+    }
+    let mut out = JetPoly::new();
+    for (d, mut p) in partials {
+        for _ in 0..d.t {
+            p = derivative_of_poly(&p, true);
+        }
+        for _ in 0..d.s {
+            p = derivative_of_poly(&p, false);
+        }
+        let sign = if (d.t + d.s) % 2 == 0 { 1 } else { -1 };
+        for (m, c) in p {
+            add_to(&mut out, m, c * Rational64::from_integer(sign));
+        }
+    }
+    out
+}
+
+/// Every monomial of one field with the given (ε, τ, σ), optionally without the bare field.
+pub fn block_monomials(epsilon: u32, tau: u32, sigma: u32, shift_symmetric: bool) -> Vec<Mono> {
+    let kinds: Vec<Deriv> = (0..=tau)
+        .flat_map(|a| (0..=sigma).map(move |b| Deriv::new(a, b)))
+        .filter(|d| !(shift_symmetric && d.order() == 0))
+        .collect();
+    let mut out = Vec::new();
+    fn walk(kinds: &[Deriv], i: usize, left: (u32, u32, u32), cur: &mut Mono, out: &mut Vec<Mono>) {
+        if left == (0, 0, 0) {
+            out.push(cur.clone());
+            return;
+        }
+        if i == kinds.len() || left.0 == 0 {
+            return;
+        }
+        let d = kinds[i];
+        let mut n = 0;
+        while n * d.t <= left.1 && n * d.s <= left.2 && n <= left.0 {
+            if n > 0 {
+                cur.push((d, n));
+            }
+            walk(
+                kinds,
+                i + 1,
+                (left.0 - n, left.1 - n * d.t, left.2 - n * d.s),
+                cur,
+                out,
+            );
+            if n > 0 {
+                cur.pop();
+            }
+            n += 1;
+        }
+    }
+    walk(&kinds, 0, (epsilon, tau, sigma), &mut Vec::new(), &mut out);
+    for m in &mut out {
+        m.sort();
+    }
+    out
+}
+
+/// Incremental row echelon form over the rationals, each row tagged with the combination of
+/// kept terms it carries.
+struct Echelon {
+    /// (pivot monomial, row, tag over kept indices)
+    rows: Vec<(Mono, JetPoly, BTreeMap<usize, Rational64>)>,
+}
+
+impl Echelon {
+    /// Reduce `v` (with tag) against the rows; returns the remainder and its tag.
+    fn reduce(
+        &self,
+        mut v: JetPoly,
+        mut tag: BTreeMap<usize, Rational64>,
+    ) -> (JetPoly, BTreeMap<usize, Rational64>) {
+        for (pivot, row, rtag) in &self.rows {
+            if let Some(c) = v.get(pivot).copied() {
+                let f = c / row[pivot];
+                for (m, x) in row {
+                    add_to(&mut v, m.clone(), -f * x);
+                }
+                for (k, x) in rtag {
+                    let e = tag.entry(*k).or_insert_with(Rational64::zero);
+                    *e -= f * x;
+                    if e.is_zero() {
+                        tag.remove(k);
+                    }
+                }
+            }
+        }
+        (v, tag)
+    }
+
+    /// Add `v` if independent; true if it was.
+    fn insert(&mut self, v: JetPoly, tag: BTreeMap<usize, Rational64>) -> bool {
+        let (v, tag) = self.reduce(v, tag);
+        match v.keys().next().cloned() {
+            Some(pivot) => {
+                self.rows.push((pivot, v, tag));
+                true
+            }
+            None => false,
+        }
+    }
+}
+
+/// A dropped term: `term ≡ Σ coefficient·kept (mod total derivatives)`.
+#[derive(Debug, Clone)]
+pub struct Relation {
+    /// The dropped term.
+    pub term: Term,
+    /// (coefficient, kept term) pairs; empty when the term is itself a total derivative.
+    pub combination: Vec<(Rational64, Term)>,
+}
+
+/// The reduction of one block (ε, τ, σ).
+#[derive(Debug, Clone)]
+pub struct Block {
+    /// The block's orders (δ unused).
+    pub orders: Orders,
+    /// Admitted terms in the block.
+    pub admitted: Vec<Term>,
+    /// The independent ones kept, canonical order.
+    pub kept: Vec<Term>,
+    /// How every dropped one reduces.
+    pub relations: Vec<Relation>,
+}
+
+/// True when the generators of T may be taken shift-symmetric for these admitted terms.
+fn restrict_to_shift_symmetric(admitted: &[Term]) -> bool {
+    FULL_GENERATORS.with(|f| !f.get())
+        && admitted
+            .iter()
+            .all(|t| t.factors().iter().all(|f| f.deriv.order() > 0))
+}
+
+thread_local! {
+    /// Testing switch: always use the generators of every monomial.
+    static FULL_GENERATORS: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Reduce with T generated by every lower monomial, never restricting to shift-symmetric ones
+/// (slower; for checking the restriction).
+pub fn reduce_terms_full(terms: &[Term]) -> Vec<Block> {
+    FULL_GENERATORS.with(|f| f.set(true));
+    let out = reduce_terms(terms);
+    FULL_GENERATORS.with(|f| f.set(false));
+    out
+}
+
+/// Reduce `terms` (single-field, any set) modulo total derivatives, block by block.
+pub fn reduce_terms(terms: &[Term]) -> Vec<Block> {
+    let mut blocks: BTreeMap<(u32, u32, u32), Vec<Term>> = BTreeMap::new();
+    for t in terms {
+        let o = t.orders();
+        blocks
+            .entry((o.epsilon, o.tau, o.sigma))
+            .or_default()
+            .push(t.clone());
+    }
+    blocks
+        .into_iter()
+        .map(|((e, tau, sigma), mut admitted)| {
+            admitted.sort();
+            let mut ech = Echelon { rows: Vec::new() };
+            // Total derivatives of the monomials of the blocks below. When no admitted term holds
+            // the bare field and ε ≥ 2, the shift-symmetric ones span the same part of the
+            // admitted space (exactness of the horizontal complex; `tests/parts.rs` compares
+            // both). At ε = 1, ∂sφ = D_s φ needs the bare field.
+            let shift = e >= 2 && restrict_to_shift_symmetric(&admitted);
+            for (time, lower) in [
+                (true, tau.checked_sub(1).map(|t| (t, sigma))),
+                (false, sigma.checked_sub(1).map(|s| (tau, s))),
+            ] {
+                if let Some((t, s)) = lower {
+                    for m in block_monomials(e, t, s, shift) {
+                        ech.insert(total_derivative(&m, time), BTreeMap::new());
+                    }
+                }
+            }
+            let (mut kept, mut relations): (Vec<Term>, Vec<Relation>) = (Vec::new(), Vec::new());
+            for t in &admitted {
+                let v: JetPoly = [(mono_of(t), Rational64::one())].into_iter().collect();
+                let tag: BTreeMap<usize, Rational64> =
+                    [(kept.len(), Rational64::one())].into_iter().collect();
+                let (rest, rtag) = ech.reduce(v.clone(), tag.clone());
+                if rest.is_empty() {
+                    // t − (−Σ rtag_k k) ∈ T, with rtag holding t's own index (coefficient 1).
+                    let combination = rtag
+                        .iter()
+                        .filter(|(k, _)| **k != kept.len())
+                        .map(|(k, c)| (-c, kept[*k].clone()))
+                        .collect();
+                    relations.push(Relation {
+                        term: t.clone(),
+                        combination,
+                    });
+                } else {
+                    ech.insert(v, tag);
+                    kept.push(t.clone());
+                }
+            }
+            Block {
+                orders: Orders {
+                    delta: 0,
+                    epsilon: e,
+                    tau,
+                    sigma,
+                },
+                admitted,
+                kept,
+                relations,
+            }
+        })
+        .collect()
+}
+
+/// One field's reduction.
+#[derive(Debug, Clone)]
+pub struct FieldReduction {
+    /// Field id.
+    pub field: String,
+    /// Blocks with admitted terms.
+    pub blocks: Vec<Block>,
+}
+
+/// Reduce every field's admitted monomials of `density` at `order` modulo total derivatives.
+pub fn reduce_model(
+    model: &Model,
+    density: Density,
+    order: u32,
+) -> Result<Vec<FieldReduction>, OrderError> {
+    let a = analyse_basis(model, density, order, Basis::Monomials)?;
+    Ok(a.fields
+        .iter()
+        .map(|f| FieldReduction {
+            field: f.field.id.clone(),
+            blocks: reduce_terms(&f.admitted),
+        })
+        .collect())
+}
+
+/// The Hilbert-series count of independent shift-symmetric terms in block (ε, τ, σ):
+/// `V(τ,σ) − V(τ−1,σ) − V(τ,σ−1) + V(τ−1,σ−1)`, plus the one ε = 1 class at (1, 1).
+pub fn hilbert_count(epsilon: u32, tau: u32, sigma: u32) -> i64 {
+    let v = |t: i64, s: i64| {
+        if t < 0 || s < 0 {
+            0
+        } else {
+            block_monomials(epsilon, t as u32, s as u32, true).len() as i64
+        }
+    };
+    let (t, s) = (tau as i64, sigma as i64);
+    let correction = i64::from(epsilon == 1 && tau == 1 && sigma == 1);
+    v(t, s) - v(t - 1, s) - v(t, s - 1) + v(t - 1, s - 1) + correction
+}
+
+impl Relation {
+    /// `m − Σ cᵢ kᵢ` as a polynomial (zero Euler–Lagrange expression if the relation is right).
+    pub fn difference(&self) -> JetPoly {
+        let mut p = JetPoly::new();
+        add_to(&mut p, mono_of(&self.term), Rational64::one());
+        for (c, k) in &self.combination {
+            add_to(&mut p, mono_of(k), -c);
+        }
+        p
+    }
+
+    /// `term ≡ c₁ k₁ + …` in text.
+    pub fn text(&self, symbol: &str) -> String {
+        let r = |t: &Term| t.render(&|_| symbol.to_string());
+        if self.combination.is_empty() {
+            return format!("{} ≡ 0 (a total derivative)", r(&self.term));
+        }
+        let mut out = format!("{} ≡", r(&self.term));
+        for (i, (c, k)) in self.combination.iter().enumerate() {
+            let negative = *c < Rational64::zero();
+            out += &crate::reduce::sign_joiner(i, negative, "−");
+            let mag = if negative { -c } else { *c };
+            if !mag.is_one() {
+                out += &format!("{mag}·");
+            }
+            out += &r(k);
+        }
+        out
+    }
+}
+
+/// The reduction as text: per field, the independent terms and the relations used.
+pub fn text(model: &Model, density: Density, order: u32, fields: &[FieldReduction]) -> String {
+    let mut out = format!(
+        "{density} density of the {} model at order {order}: admitted monomials modulo total derivatives\n",
+        model.name
+    );
+    for f in fields {
+        let symbol = model
+            .field(&f.field)
+            .map(|x| x.symbol.clone())
+            .unwrap_or_default();
+        let r = |t: &Term| t.render(&|_| symbol.clone());
+        let admitted: usize = f.blocks.iter().map(|b| b.admitted.len()).sum();
+        let mut kept: Vec<Term> = f.blocks.iter().flat_map(|b| b.kept.clone()).collect();
+        kept.sort();
+        out += &format!(
+            "\n{} ({symbol}): {admitted} admitted, {} independent\n",
+            f.field,
+            kept.len()
+        );
+        let front = crate::reduce::lowest_order(&kept);
+        out += &format!(
+            "  lowest order: {}\n",
+            front.iter().map(r).collect::<Vec<_>>().join(", ")
+        );
+        out += &format!(
+            "  basis: {}\n",
+            kept.iter().map(r).collect::<Vec<_>>().join(", ")
+        );
+        for b in &f.blocks {
+            for rel in &b.relations {
+                out += &format!("  {}\n", rel.text(&symbol));
+            }
+        }
+    }
+    out
+}
