@@ -116,12 +116,13 @@ pub fn monomials(bounds: &Bounds) -> Vec<Term> {
     products(bounds, &[0])
 }
 
-/// Every product over the two placeholder fields φ₁, φ₂ that involves both, within `bounds`:
-/// the candidates of an interaction density.
-pub fn interaction_monomials(bounds: &Bounds) -> Vec<Term> {
-    products(bounds, &[1, 2])
+/// Every product over the placeholder fields φ₁ … φ_k that involves all k of them, within
+/// `bounds`: the candidates of a k-field interaction density.
+pub fn interaction_monomials(bounds: &Bounds, k: u8) -> Vec<Term> {
+    let fields: Vec<u8> = (1..=k).collect();
+    products(bounds, &fields)
         .into_iter()
-        .filter(|t| t.fields().len() == 2)
+        .filter(|t| t.fields().len() == k as usize)
         .collect()
 }
 
@@ -144,8 +145,21 @@ fn products(bounds: &Bounds, fields: &[u8]) -> Vec<Term> {
         sigma: 0,
     };
     walk(&mut kinds.clone(), 0, zero, bounds, &mut out);
-    out.sort();
+    sort_canonical(&mut out);
     out
+}
+
+/// Sort distinct terms into canonical order, computing each term's (δ, ε) once.
+fn sort_canonical(terms: &mut Vec<Term>) {
+    let mut keyed: Vec<((u32, u32), Term)> = terms
+        .drain(..)
+        .map(|t| {
+            let o = t.orders();
+            ((o.delta, o.epsilon), t)
+        })
+        .collect();
+    keyed.sort_unstable_by(|a, b| a.0.cmp(&b.0).then_with(|| a.1.factors().cmp(b.1.factors())));
+    terms.extend(keyed.into_iter().map(|(_, t)| t));
 }
 
 /// Depth-first over the factor kinds, choosing each one's power; prunes as soon as a partial

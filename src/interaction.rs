@@ -1,14 +1,15 @@
-//! Interaction densities L_I, R_I: terms that couple two fields.
+//! Interaction densities L_I, R_I: terms that couple two or more fields.
 //!
-//! Candidates are products over two placeholder fields φ₁, φ₂ that involve both. For a pair of
-//! model fields (f₁, f₂) a candidate must satisfy the density's structural interaction rules
-//! as a whole (the model's `interaction` list, e.g. OST and KIN) and each field's own symmetry
-//! rules with only that field transformed (ROT for y transforms φ₂ = y, not φ₁ = x).
+//! For every set of k ≥ 2 model fields (f₁, …, f_k), the candidates are products over the
+//! placeholders φ₁ … φ_k that involve all of them. A candidate must satisfy the density's
+//! structural interaction rules as a whole (the model's `interaction` list, e.g. OST and KIN) and
+//! each field's own symmetry rules with only that field transformed (ROT for y transforms the
+//! placeholder standing for y, not the one for x).
 //!
 //! The table lists the lowest-order candidates (the Pareto front in (τ, σ)) among those that
-//! the symmetries the two fields share allow, each with every verdict. Of the admitted ones, the
-//! lowest are *kept* only if no free-field survivor of either field dominates them: at long
-//! wavelengths a dominated coupling is negligible (the seed's argument for a free theory).
+//! the symmetries all the fields share allow, each with every verdict. Of the admitted ones, the
+//! lowest are *kept* only if no free-field survivor of a participating field dominates them: at
+//! long wavelengths a dominated coupling is negligible (the seed's argument for a free theory).
 
 use crate::enumerate::{interaction_monomials, Bounds};
 use crate::model::{Density, Model};
@@ -44,18 +45,18 @@ impl PairRow {
     }
 }
 
-/// What one pair of fields can couple through.
+/// What one set of fields can couple through.
 #[derive(Debug, Clone)]
-pub struct Pair {
-    /// The two field ids.
-    pub fields: (String, String),
-    /// The symmetry rules both fields require.
+pub struct Coupling {
+    /// The field ids; placeholder φᵢ stands for `fields[i − 1]`.
+    pub fields: Vec<String>,
+    /// The symmetry rules all the fields require.
     pub shared: Vec<&'static str>,
     /// The lowest-order candidates those shared symmetries allow, with verdicts.
     pub rows: Vec<PairRow>,
     /// The lowest-order admitted candidates (over all candidates, not only `rows`).
     pub admitted: Vec<Term>,
-    /// Those admitted terms that no free survivor of either field dominates.
+    /// Those admitted terms that no free survivor of a participating field dominates.
     pub kept: Vec<Term>,
 }
 
@@ -68,8 +69,8 @@ pub struct Interactions {
     pub order: u32,
     /// The candidate bounds.
     pub bounds: Bounds,
-    /// Every unordered pair of fields.
-    pub pairs: Vec<Pair>,
+    /// Every set of two or more fields, pairs first.
+    pub couplings: Vec<Coupling>,
 }
 
 fn symmetry_codes(model: &Model, density: Density, field: &str) -> Vec<&'static str> {
@@ -81,7 +82,7 @@ fn symmetry_codes(model: &Model, density: Density, field: &str) -> Vec<&'static 
         .collect()
 }
 
-fn verdicts(model: &Model, density: Density, pair: (&str, &str), term: &Term) -> Vec<PairVerdict> {
+fn verdicts(model: &Model, density: Density, fields: &[String], term: &Term) -> Vec<PairVerdict> {
     let mut out: Vec<PairVerdict> = model
         .density(density)
         .interaction
@@ -93,7 +94,8 @@ fn verdicts(model: &Model, density: Density, pair: (&str, &str), term: &Term) ->
             verdict: r.verdict(term),
         })
         .collect();
-    for (placeholder, field) in [(1u8, pair.0), (2u8, pair.1)] {
+    for (i, field) in fields.iter().enumerate() {
+        let placeholder = i as u8 + 1;
         for code in symmetry_codes(model, density, field) {
             let Some(rule) = rules::rule(code) else {
                 continue;
@@ -115,7 +117,37 @@ fn verdicts(model: &Model, density: Density, pair: (&str, &str), term: &Term) ->
     out
 }
 
-/// Analyse the interactions of every pair of fields of `model` in `density` at `order`.
+/// The same decision as `verdicts(…)` all passing, without building explanations.
+fn admitted_by(model: &Model, density: Density, fields: &[String], term: &Term) -> bool {
+    let structural = model
+        .density(density)
+        .interaction
+        .iter()
+        .filter_map(|c| rules::rule(c))
+        .all(|r| r.passes(term));
+    structural
+        && fields.iter().enumerate().all(|(i, field)| {
+            symmetry_codes(model, density, field).iter().all(|code| {
+                match rules::rule(code).map(|r| r.check) {
+                    Some(Check::Symmetry(tr)) => tr.is_invariant_field(term, i as u8 + 1),
+                    _ => true,
+                }
+            })
+        })
+}
+
+/// Every subset of `0..n` with at least two elements, smaller sets first.
+fn subsets(n: usize) -> Vec<Vec<usize>> {
+    let mut all: Vec<Vec<usize>> = (0u32..1 << n)
+        .map(|mask| (0..n).filter(|i| mask & (1 << i) != 0).collect::<Vec<_>>())
+        .filter(|s| s.len() >= 2)
+        .collect();
+    all.sort_by_key(|s| (s.len(), s.clone()));
+    all
+}
+
+/// Analyse the interactions of every set of two or more fields of `model` in `density` at
+/// `order`.
 pub fn interactions(
     model: &Model,
     density: Density,
@@ -123,80 +155,74 @@ pub fn interactions(
 ) -> Result<Interactions, OrderError> {
     let free = analyse(model, density, order)?;
     let bounds = free.bounds;
-    let candidates = interaction_monomials(&bounds);
-    let mut pairs = Vec::new();
-    for (i, f1) in model.fields.iter().enumerate() {
-        for (j, f2) in model.fields.iter().enumerate().skip(i + 1) {
-            let ids = (f1.id.as_str(), f2.id.as_str());
-            let (s1, s2) = (
-                symmetry_codes(model, density, ids.0),
-                symmetry_codes(model, density, ids.1),
-            );
-            let shared: Vec<&'static str> = s1.iter().copied().filter(|c| s2.contains(c)).collect();
-            let allowed_by_shared: Vec<Term> = candidates
-                .iter()
-                .filter(|t| {
-                    shared
-                        .iter()
-                        .all(|code| match rules::rule(code).map(|r| r.check) {
-                            Some(Check::Symmetry(tr)) => tr.check_invariant(t).is_ok(),
-                            _ => true,
-                        })
-                })
-                .cloned()
-                .collect();
-            let rows = lowest_order(&allowed_by_shared)
-                .into_iter()
-                .map(|term| PairRow {
-                    verdicts: verdicts(model, density, ids, &term),
-                    term,
-                })
-                .collect();
-            let all_admitted: Vec<Term> = candidates
-                .iter()
-                .filter(|t| {
-                    verdicts(model, density, ids, t)
-                        .iter()
-                        .all(|v| v.verdict.passed())
-                })
-                .cloned()
-                .collect();
-            let admitted = lowest_order(&all_admitted);
-            let free_terms: Vec<&Term> = free.fields[i]
-                .survivors
-                .iter()
-                .chain(&free.fields[j].survivors)
-                .collect();
-            let kept = admitted
-                .iter()
-                .filter(|t| {
-                    !free_terms
-                        .iter()
-                        .any(|f| dominates(&f.orders(), &t.orders()))
-                })
-                .cloned()
-                .collect();
-            pairs.push(Pair {
-                fields: (ids.0.to_string(), ids.1.to_string()),
-                shared,
-                rows,
-                admitted,
-                kept,
-            });
+    let mut couplings = Vec::new();
+    // A k-field product has ε ≥ k, so k ≤ ε's bound.
+    for set in subsets(model.fields.len())
+        .into_iter()
+        .filter(|s| s.len() as u32 <= bounds.epsilon)
+    {
+        let ids: Vec<String> = set.iter().map(|&i| model.fields[i].id.clone()).collect();
+        let candidates = interaction_monomials(&bounds, set.len() as u8);
+        let mut shared = symmetry_codes(model, density, &ids[0]);
+        for id in &ids[1..] {
+            let own = symmetry_codes(model, density, id);
+            shared.retain(|c| own.contains(c));
         }
+        let allowed_by_shared: Vec<Term> = candidates
+            .iter()
+            .filter(|t| {
+                shared
+                    .iter()
+                    .all(|code| rules::rule(code).is_none_or(|r| r.passes(t)))
+            })
+            .cloned()
+            .collect();
+        let rows = lowest_order(&allowed_by_shared)
+            .into_iter()
+            .map(|term| PairRow {
+                verdicts: verdicts(model, density, &ids, &term),
+                term,
+            })
+            .collect();
+        let all_admitted: Vec<Term> = candidates
+            .iter()
+            .filter(|t| admitted_by(model, density, &ids, t))
+            .cloned()
+            .collect();
+        let admitted = lowest_order(&all_admitted);
+        let free_terms: Vec<&Term> = set
+            .iter()
+            .flat_map(|&i| &free.fields[i].survivors)
+            .collect();
+        let kept = admitted
+            .iter()
+            .filter(|t| {
+                !free_terms
+                    .iter()
+                    .any(|f| dominates(&f.orders(), &t.orders()))
+            })
+            .cloned()
+            .collect();
+        couplings.push(Coupling {
+            fields: ids,
+            shared,
+            rows,
+            admitted,
+            kept,
+        });
     }
     Ok(Interactions {
         density,
         order,
         bounds,
-        pairs,
+        couplings,
     })
 }
 
 impl Interactions {
-    /// True if no pair keeps a coupling: the long-wavelength theory is free.
+    /// True if no set of fields keeps a coupling: the long-wavelength theory is free.
     pub fn is_free(&self) -> bool {
-        self.pairs.iter().all(|p| p.kept.is_empty())
+        self.couplings.iter().all(|p| p.kept.is_empty())
     }
 
     /// The analysis as text, one block per pair.
@@ -208,13 +234,15 @@ impl Interactions {
                 .unwrap_or_default()
         };
         let mut out = format!(
-            "{} interactions at order {} ({}); φ₁, φ₂ are the pair's first and second field\n",
+            "{} interactions at order {} ({}); each coupling's terms are shown in its fields\n",
             self.density, self.order, self.bounds
         );
-        for p in &self.pairs {
-            let (a, b) = (sym(&p.fields.0), sym(&p.fields.1));
+        for p in &self.couplings {
+            let symbols: Vec<String> = p.fields.iter().map(|f| sym(f)).collect();
+            let name = |k: u8| symbols.get(k as usize - 1).cloned().unwrap_or_default();
             out += &format!(
-                "\n{a}–{b}: lowest candidates the shared symmetries ({}) allow:\n",
+                "\n{}: lowest candidates the shared symmetries ({}) allow:\n",
+                symbols.join("–"),
                 if p.shared.is_empty() {
                     "none".to_string()
                 } else {
@@ -237,15 +265,13 @@ impl Interactions {
                 } else {
                     format!("fails {}", failed.join(" "))
                 };
-                let shown = row
-                    .term
-                    .render(&|k| if k == 1 { a.clone() } else { b.clone() });
+                let shown = row.term.render(&name);
                 out += &format!(
                     "  {shown:<28} (τ, σ) = ({}, {})  {verdict}\n",
                     o.tau, o.sigma
                 );
             }
-            let render = |t: &Term| t.render(&|k| if k == 1 { a.clone() } else { b.clone() });
+            let render = |t: &Term| t.render(&name);
             if p.admitted.is_empty() {
                 out += "  admitted: none at this order\n";
             } else {
@@ -259,7 +285,7 @@ impl Interactions {
                     .collect();
                 out += &format!("  admitted at lowest order: {}\n", admitted.join(", "));
                 if p.kept.is_empty() {
-                    out += "  dominated by the free-field terms of the two fields: negligible at long wavelengths\n";
+                    out += "  dominated by the free-field terms of its fields: negligible at long wavelengths\n";
                 } else {
                     let kept: Vec<String> = p.kept.iter().map(render).collect();
                     out += &format!(

@@ -88,13 +88,37 @@ pub fn dominates(u: &Orders, t: &Orders) -> bool {
     u.tau <= t.tau && u.sigma <= t.sigma && (u.tau < t.tau || u.sigma < t.sigma)
 }
 
-/// The terms of `terms` that no other term dominates, in the given order.
+/// The terms of `terms` that no other term dominates, in the given order. O(n log n): over the
+/// distinct (τ, σ) in ascending order, a group's least σ is on the front exactly when it is
+/// below every σ seen at smaller τ; the group's other σ are dominated by it.
 pub fn lowest_order(terms: &[Term]) -> Vec<Term> {
-    let orders: Vec<Orders> = terms.iter().map(Term::orders).collect();
+    let orders: Vec<(u32, u32)> = terms
+        .iter()
+        .map(|t| {
+            let o = t.orders();
+            (o.tau, o.sigma)
+        })
+        .collect();
+    let mut distinct = orders.clone();
+    distinct.sort_unstable();
+    distinct.dedup();
+    let mut front = std::collections::HashSet::new();
+    let mut best = u32::MAX;
+    let mut last_tau = None;
+    for &(tau, sigma) in &distinct {
+        if last_tau == Some(tau) {
+            continue;
+        }
+        last_tau = Some(tau);
+        if sigma < best {
+            front.insert((tau, sigma));
+            best = sigma;
+        }
+    }
     terms
         .iter()
         .zip(&orders)
-        .filter(|(_, o)| !orders.iter().any(|u| dominates(u, o)))
+        .filter(|(_, o)| front.contains(o))
         .map(|(t, _)| t.clone())
         .collect()
 }

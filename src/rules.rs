@@ -200,6 +200,16 @@ impl Transformation {
             .try_for_each(|field| self.check_invariant_field(term, field))
     }
 
+    /// Is `term` unchanged when only placeholder `field` is transformed? For a shift, first order
+    /// in the parameter decides it exactly (see [`Rule::passes`]).
+    pub fn is_invariant_field(&self, term: &Term, field: u8) -> bool {
+        let first_order = Transformation {
+            infinitesimal: true,
+            ..*self
+        };
+        first_order.apply(term, field) == Poly::of_term(term)
+    }
+
     /// `Ok` if `term` is invariant when only placeholder field `field` is transformed.
     pub fn check_invariant_field(&self, term: &Term, field: u8) -> Result<(), String> {
         let original = Poly::of_term(term);

@@ -12,11 +12,12 @@ fn t(s: &str) -> Term {
 #[test]
 fn only_the_axial_torsional_potential_coupling_is_admitted_and_it_is_dominated() {
     let i = interactions(&Model::larva(), Density::Lagrangian, 4).unwrap();
-    assert_eq!(i.pairs.len(), 6);
-    for p in &i.pairs {
+    // 6 pairs, 4 triples and the quadruple.
+    assert_eq!(i.couplings.len(), 11);
+    for p in &i.couplings {
         // The seed's three classes are among the lowest candidates of every pair that shares
         // only TRAN and REF.
-        if p.shared == ["TRAN", "REF"] {
+        if p.shared == ["TRAN", "REF"] && p.fields.len() == 2 {
             let rows: Vec<&Term> = p.rows.iter().map(|r| &r.term).collect();
             for class in [
                 "(∂s φ₁)²·(∂s φ₂)²",
@@ -26,7 +27,7 @@ fn only_the_axial_torsional_potential_coupling_is_admitted_and_it_is_dominated()
                 assert!(rows.contains(&&t(class)), "{:?} lacks {class}", p.fields);
             }
         }
-        let is_x_theta = p.fields == ("x".to_string(), "theta".to_string());
+        let is_x_theta = p.fields == ["x", "theta"];
         if is_x_theta {
             assert_eq!(p.admitted, [t("(∂s φ₁)²·(∂s φ₂)²")]);
             assert_eq!(p.admitted[0].orders().sigma, 4);
@@ -42,7 +43,8 @@ fn only_the_axial_torsional_potential_coupling_is_admitted_and_it_is_dominated()
     }
     assert!(i.is_free());
     // The kinetic and mixed couplings fail KIN; a potential coupling with y fails ROT on y.
-    let xy = &i.pairs[1];
+    let xy = &i.couplings[1];
+    assert_eq!(xy.fields, ["x", "y"]);
     let row = xy
         .rows
         .iter()
@@ -75,7 +77,7 @@ fn without_kin_a_mixed_coupling_would_survive() {
     );
     let model = Model::from_toml(&text).unwrap();
     let i = interactions(&model, Density::Lagrangian, 4).unwrap();
-    let xt = &i.pairs[0];
+    let xt = &i.couplings[0];
     assert!(
         xt.admitted.iter().any(|a| a.orders().tau > 0),
         "{:?}",
@@ -83,4 +85,23 @@ fn without_kin_a_mixed_coupling_would_survive() {
     );
     // Every admitted coupling is still dominated by a free term: the theory stays free.
     assert!(i.is_free());
+}
+
+#[test]
+fn couplings_of_three_fields_need_higher_orders() {
+    // Under REF every field needs an even power, so a three-field term has ε ≥ 6.
+    let i = interactions(&Model::larva(), Density::Lagrangian, 6).unwrap();
+    let triple = i
+        .couplings
+        .iter()
+        .find(|c| c.fields == ["x", "theta", "y"])
+        .unwrap();
+    assert!(triple.admitted.iter().all(|t| t.orders().epsilon >= 6));
+    assert!(i.is_free());
+    let i4 = interactions(&Model::larva(), Density::Lagrangian, 4).unwrap();
+    assert!(i4
+        .couplings
+        .iter()
+        .filter(|c| c.fields.len() > 2)
+        .all(|c| c.admitted.is_empty()));
 }
