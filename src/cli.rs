@@ -353,10 +353,7 @@ fn operators_text(ops: &[Operator], model: &Model, points: usize) -> String {
         model.name
     );
     for op in ops {
-        let symbol = model
-            .field(&op.field)
-            .map(|f| f.symbol.clone())
-            .unwrap_or_default();
+        let symbol = model.symbol(&op.field);
         let term: crate::term::Term = op.term.parse().expect("operators carry canonical terms");
         out += &format!(
             "\n{} · {} · {} · {} boundary · {}×{} · D = Σ (Δ{}{symbol})²{}\n",

@@ -225,14 +225,9 @@ impl Interactions {
         self.couplings.iter().all(|p| p.kept.is_empty())
     }
 
-    /// The analysis as text, one block per pair.
+    /// The analysis as text, one block per coupling.
     pub fn text(&self, model: &Model) -> String {
-        let sym = |id: &str| {
-            model
-                .field(id)
-                .map(|f| f.symbol.clone())
-                .unwrap_or_default()
-        };
+        let sym = |id: &str| model.symbol(id);
         let mut out = format!(
             "{} interactions at order {} ({}); each coupling's terms are shown in its fields\n",
             self.density, self.order, self.bounds

@@ -182,6 +182,11 @@ impl Model {
         self.fields.iter().find(|f| f.id == id)
     }
 
+    /// The symbol of the field with this id (empty if there is none).
+    pub fn symbol(&self, id: &str) -> String {
+        self.field(id).map(|f| f.symbol.clone()).unwrap_or_default()
+    }
+
     /// The rules `field` must satisfy in `density`.
     pub fn requirements(&self, density: Density, field: &str) -> Vec<&'static Rule> {
         self.density(density)

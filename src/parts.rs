@@ -407,10 +407,7 @@ pub fn text(model: &Model, density: Density, order: u32, fields: &[FieldReductio
         model.name
     );
     for f in fields {
-        let symbol = model
-            .field(&f.field)
-            .map(|x| x.symbol.clone())
-            .unwrap_or_default();
+        let symbol = model.symbol(&f.field);
         let r = |t: &Term| t.render(&|_| symbol.clone());
         let admitted: usize = f.blocks.iter().map(|b| b.admitted.len()).sum();
         let mut kept: Vec<Term> = f.blocks.iter().flat_map(|b| b.kept.clone()).collect();
