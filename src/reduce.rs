@@ -16,6 +16,9 @@ use crate::model::{Density, Field, Model};
 use crate::rules::{Rule, Verdict};
 use crate::term::{Orders, Term};
 
+/// How many orders past the requested one a missing part is looked for on the monomial basis.
+const MONOMIAL_LOOK_AHEAD: u32 = 4;
+
 /// An order outside `1..=MAX_ORDER`.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error("order {0} is out of range: use an order from 1 to {MAX_ORDER}")]
@@ -243,7 +246,12 @@ fn missing_parts(
             continue;
         }
         // Look for the first order at which the field admits such a term at all.
-        let first = (order + 1..=MAX_ORDER).find_map(|k| {
+        // Pure powers are few at every order; monomials grow too fast to look far ahead.
+        let horizon = match basis {
+            Basis::Powers => MAX_ORDER,
+            Basis::Monomials => (order + MONOMIAL_LOOK_AHEAD).min(MAX_ORDER),
+        };
+        let first = (order + 1..=horizon).find_map(|k| {
             let bounds = Bounds::for_order(model.density(density).bound, k);
             let (_, rows) = decide(model, density, &bounds, basis);
             rows.into_iter()
@@ -257,7 +265,7 @@ fn missing_parts(
                 term.render(&|_| symbol.clone())
             ),
             None => format!(
-                "{letter}_{symbol}: no {part} term is admitted at any order up to {MAX_ORDER}"
+                "{letter}_{symbol}: no {part} term is admitted at any order up to {horizon}"
             ),
         });
     }

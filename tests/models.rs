@@ -95,3 +95,46 @@ fn malformed_models_name_the_line() {
         "{err}"
     );
 }
+
+#[test]
+fn a_part_that_never_appears_is_reported_without_searching_forever() {
+    let never = Model::from_toml(
+        r#"
+name = "never"
+description = "a field that never admits a potential term"
+[[fields]]
+id = "u"
+symbol = "u"
+meaning = "a field"
+boundary = "free"
+[lagrangian]
+bound = "tau-plus-sigma"
+columns = ["OST", "DIS"]
+[lagrangian.requirements]
+u = ["OST", "DIS"]
+[rayleigh]
+bound = "tau-and-sigma"
+columns = ["DIS"]
+[rayleigh.requirements]
+u = ["DIS"]
+"#,
+    )
+    .unwrap();
+    use theory_search::enumerate::Basis;
+    let a = theory_search::reduce::analyse_basis(&never, Density::Lagrangian, 3, Basis::Monomials)
+        .unwrap();
+    assert_eq!(
+        a.fields[0].missing,
+        ["L_u: no potential term is admitted at any order up to 7"]
+    );
+    let a = analyse(&never, Density::Lagrangian, 3).unwrap();
+    assert_eq!(
+        a.fields[0].missing,
+        ["L_u: no potential term is admitted at any order up to 32"]
+    );
+    // Without a potential operator there are no modes, and the error says so.
+    let err = field_modes(&never, 3, 12, &Params::default(), None, false)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("potential operator"), "{err}");
+}
