@@ -110,6 +110,53 @@ pub fn candidates(basis: Basis, bounds: &Bounds) -> Vec<Term> {
     }
 }
 
+/// The most candidates an analysis enumerates; beyond it the tool refuses rather than run for
+/// minutes and gigabytes (the monomial basis grows roughly like N⁴·e^N).
+pub const MAX_CANDIDATES: u128 = 1_000_000;
+
+/// How many products of factors of `fields` placeholder fields lie within `bounds` (an upper
+/// bound on the interaction candidates, which must involve every field), from the generating
+/// function ∏ 1/(1 − x·u^a·v^b) over the factor kinds, without enumerating them.
+pub fn count_products(bounds: &Bounds, fields: u32) -> u128 {
+    let n = bounds.epsilon as usize;
+    let cap = |b: Option<u32>| b.map_or(usize::MAX, |v| v as usize);
+    let (tmax, smax, wmax) = (
+        cap(bounds.tau),
+        cap(bounds.sigma),
+        cap(bounds.tau_plus_sigma),
+    );
+    // τ and σ of a product are at most ε·δ.
+    let reach = (n * bounds.delta as usize).min(tmax.min(wmax));
+    let sreach = (n * bounds.delta as usize).min(smax.min(wmax));
+    let mut c = vec![vec![vec![0u128; sreach + 1]; reach + 1]; n + 1];
+    c[0][0][0] = 1;
+    for _ in 0..fields {
+        for a in 0..=bounds.delta as usize {
+            for b in 0..=(bounds.delta as usize - a) {
+                for e in 1..=n {
+                    for t in a..=reach {
+                        for s in b..=sreach {
+                            let add = c[e - 1][t - a][s - b];
+                            c[e][t][s] = c[e][t][s].saturating_add(add);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    let mut total: u128 = 0;
+    for plane in c.iter().skip(1) {
+        for (t, row) in plane.iter().enumerate() {
+            for (s, &count) in row.iter().enumerate() {
+                if t + s <= wmax {
+                    total = total.saturating_add(count);
+                }
+            }
+        }
+    }
+    total
+}
+
 /// Every product `∏ (∂tᵃ∂sᵇφ)^{n_ab}` (single field, total power ≥ 1) within `bounds`, in
 /// canonical order.
 pub fn monomials(bounds: &Bounds) -> Vec<Term> {

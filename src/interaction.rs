@@ -13,7 +13,7 @@
 
 use crate::enumerate::{interaction_monomials, Bounds};
 use crate::model::{Density, Model};
-use crate::reduce::{analyse, dominates, lowest_order, OrderError};
+use crate::reduce::{analyse, check_candidates, dominates, lowest_order, OrderError};
 use crate::rules::{self, Check, Verdict};
 use crate::term::Term;
 
@@ -162,6 +162,7 @@ pub fn interactions(
         .filter(|s| s.len() as u32 <= bounds.epsilon)
     {
         let ids: Vec<String> = set.iter().map(|&i| model.fields[i].id.clone()).collect();
+        check_candidates(order, &bounds, set.len() as u32)?;
         let candidates = interaction_monomials(&bounds, set.len() as u8);
         let mut shared = symmetry_codes(model, density, &ids[0]);
         for id in &ids[1..] {

@@ -11,7 +11,7 @@ use std::fmt;
 use num_rational::Rational64;
 use num_traits::{One, Signed};
 
-use crate::enumerate::{candidates, Basis, Bounds, MAX_ORDER};
+use crate::enumerate::{candidates, count_products, Basis, Bounds, MAX_CANDIDATES, MAX_ORDER};
 use crate::model::{Density, Field, Model};
 use crate::rules::{Rule, Verdict};
 use crate::term::{Orders, Term};
@@ -19,10 +19,23 @@ use crate::term::{Orders, Term};
 /// How many orders past the requested one a missing part is looked for on the monomial basis.
 const MONOMIAL_LOOK_AHEAD: u32 = 4;
 
-/// An order outside `1..=MAX_ORDER`.
+/// An order the engine will not analyse.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("order {0} is out of range: use an order from 1 to {MAX_ORDER}")]
-pub struct OrderError(pub u32);
+pub enum OrderError {
+    /// Outside `1..=MAX_ORDER`.
+    #[error("order {0} is out of range: use an order from 1 to {MAX_ORDER}")]
+    OutOfRange(u32),
+    /// The basis has too many candidates at this order.
+    #[error("order {order} has {count} candidate monomials, more than the {limit} the tool enumerates: use a lower order or --basis powers")]
+    TooManyCandidates {
+        /// The order asked for.
+        order: u32,
+        /// How many candidates it has.
+        count: u128,
+        /// The limit.
+        limit: u128,
+    },
+}
 
 /// One candidate term with its verdicts.
 #[derive(Debug, Clone)]
@@ -37,6 +50,19 @@ pub struct Row {
     pub admitted: Vec<bool>,
     /// Per field (model order): is the term one of the field's survivors?
     pub included: Vec<bool>,
+}
+
+/// Refuse an enumeration of more than [`MAX_CANDIDATES`] products of `fields` fields.
+pub fn check_candidates(order: u32, bounds: &Bounds, fields: u32) -> Result<(), OrderError> {
+    let count = count_products(bounds, fields);
+    if count > MAX_CANDIDATES {
+        return Err(OrderError::TooManyCandidates {
+            order,
+            count,
+            limit: MAX_CANDIDATES,
+        });
+    }
+    Ok(())
 }
 
 /// A term of a surviving density with its coefficient `sign · prefactor · parameter`.
@@ -178,9 +204,12 @@ pub fn analyse_basis(
     basis: Basis,
 ) -> Result<Analysis, OrderError> {
     if order == 0 || order > MAX_ORDER {
-        return Err(OrderError(order));
+        return Err(OrderError::OutOfRange(order));
     }
     let bounds = Bounds::for_order(model.density(density).bound, order);
+    if basis == Basis::Monomials {
+        check_candidates(order, &bounds, 1)?;
+    }
     let (columns, mut rows) = decide(model, density, &bounds, basis);
     let mut fields = Vec::new();
     for (i, field) in model.fields.iter().enumerate() {

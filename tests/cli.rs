@@ -332,3 +332,10 @@ fn simulate_command_writes_csv() {
     assert_clean_error(&["simulate", "--points", "5000"], "5000");
     assert_clean_error(&["simulate", "--points", "2"], "too few");
 }
+
+#[test]
+fn absurd_monomial_orders_are_refused_quickly() {
+    assert_clean_error(&["--basis", "monomials", "--order", "32"], "more than");
+    assert_clean_error(&["interactions", "--order", "32"], "more than");
+    assert_clean_error(&["parts", "--order", "30"], "more than");
+}

@@ -144,3 +144,24 @@ fn the_gyroscopic_term_breaks_forward_backward_symmetry() {
             .unwrap();
     assert_eq!(eqs[0].text(), "∂t² x = c_x ∂s² x + c'_x ∂t∂s² x");
 }
+
+#[test]
+fn the_candidate_guard_counts_exactly_and_refuses_absurd_orders() {
+    use theory_search::enumerate::count_products;
+    for order in 1..=8u32 {
+        for shape in [BoundShape::TauPlusSigma, BoundShape::TauAndSigma] {
+            let b = Bounds::for_order(shape, order);
+            assert_eq!(
+                count_products(&b, 1),
+                monomials(&b).len() as u128,
+                "order {order}"
+            );
+        }
+    }
+    let err = analyse_basis(&Model::larva(), Density::Lagrangian, 20, Basis::Monomials)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("candidate monomials, more than"), "{err}");
+    assert!(analyse_basis(&Model::larva(), Density::Rayleigh, 32, Basis::Monomials).is_err());
+    assert!(analyse_basis(&Model::larva(), Density::Lagrangian, 12, Basis::Monomials).is_ok());
+}
