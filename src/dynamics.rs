@@ -323,7 +323,15 @@ pub fn simulate(
     let report = |state: &[Vec<Vector2<f64>>],
                   t: f64,
                   sink: &mut dyn FnMut(&Sample) -> Result<(), String>| {
-        sink(&sample(&fields, &oscillators, state, t)).map_err(DynamicsError::Invalid)
+        let s = sample(&fields, &oscillators, state, t);
+        let finite = s.energy.is_finite() && s.positions.iter().flatten().all(|v| v.is_finite());
+        if !finite {
+            return Err(DynamicsError::Invalid(format!(
+                "the state overflowed f64 at t = {t} (energy {}): use smaller amplitudes, forces or temperature",
+                s.energy
+            )));
+        }
+        sink(&s).map_err(DynamicsError::Invalid)
     };
     report(&state, 0.0, &mut sink)?;
     for n in 1..=config.steps {

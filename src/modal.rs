@@ -794,10 +794,11 @@ pub fn field_modes(
             why,
         };
         let [stiff] = potential.as_slice() else {
-            return Err(operator_error(format!(
-                "needs exactly one potential operator at order {order}, has {}",
-                potential.len()
-            )));
+            return Err(operator_error(if potential.is_empty() {
+                format!("no potential term survives at order {order}, so there is no stiffness operator (see the notes of `theory-search --order {order}`; raise --order)")
+            } else {
+                format!("{} potential terms survive at order {order}; modes need exactly one potential operator", potential.len())
+            }));
         };
         // Modal damping ζᵢ = ζ√λᵢ needs the Rayleigh operator to be the potential one.
         if let Some(d) = damping.iter().find(|d| d.k != stiff.k) {

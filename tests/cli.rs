@@ -252,7 +252,7 @@ fn modes_command() {
     assert_clean_error(&["modes", "--points", "200000", "--shapes"], "--modes K");
     assert_clean_error(
         &["modes", "--points", "12", "--order", "3"],
-        "potential operator",
+        "no potential term survives at order 3",
     );
 }
 

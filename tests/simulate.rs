@@ -320,3 +320,13 @@ fn bad_settings_are_errors() {
     c.points = 2;
     assert!(bad(c).contains("too few"));
 }
+
+#[test]
+fn overflow_is_an_error_not_garbage() {
+    let mut c = config(5, 0.1, 2, 1);
+    c.initial = vec![initial("y", 2, 1e300, 1e300)];
+    let err = simulate(&Model::larva(), &Params::default(), &c, |_| Ok(()))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("overflowed"), "{err}");
+}
