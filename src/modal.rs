@@ -239,6 +239,9 @@ fn periodic(k: u32, n: usize, count: usize, want_shapes: bool) -> Spectrum {
     let lam = |m: usize| (2.0 * (PI * m as f64 / n as f64).sin()).powi(2 * k as i32);
     let mut order: Vec<(usize, bool)> = vec![(0, false)];
     for m in 1..=n / 2 {
+        if order.len() >= count {
+            break;
+        }
         order.push((m, false));
         if 2 * m != n {
             order.push((m, true));
@@ -396,16 +399,22 @@ fn d4(points: usize, count: usize, want_shapes: bool) -> Option<Spectrum> {
     let lam = |t: f64| (2.0 * (t / 2.0).sin()).powi(4);
     let mut eigenvalues = vec![0.0; count.min(2)];
     eigenvalues.extend(roots.iter().map(|&(t, _)| lam(t)));
-    let band = banded_operator(2, Boundary::Free, points).ok()?;
+    // The band (3N numbers) only when the inertia check or the shapes need it.
+    let top = eigenvalues.last().copied().filter(|&t| t > 1e-6);
+    let band = if top.is_some() || want_shapes {
+        Some(banded_operator(2, Boundary::Free, points).ok()?)
+    } else {
+        None
+    };
     // Where it is well conditioned (λ not tiny), Sylvester's inertia confirms the count.
-    if let Some(&top) = eigenvalues.last().filter(|&&t| t > 1e-6) {
+    if let (Some(top), Some(band)) = (top, &band) {
         let gap = 1e-9 * top;
         if band.count_below(top + gap) != count || band.count_below(top - gap) != count - 1 {
             return None;
         }
     }
     let inverse_trace = d4_inverse_trace(points);
-    let shapes = want_shapes.then(|| {
+    let shapes = band.filter(|_| want_shapes).map(|band| {
         let mut cols = null_shapes(count.min(2), n);
         cols.extend(
             eigenvalues
