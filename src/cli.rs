@@ -89,6 +89,45 @@ enum Command {
         #[arg(long, value_enum, default_value_t = DensityChoice::Lagrangian)]
         density: DensityChoice,
     },
+    /// Forward/backward wave frequencies of the self-interacting axial pair (seed App. C).
+    Asymmetry {
+        /// Coupling constant c of the cubic dissipative interaction.
+        #[arg(long, allow_negative_numbers = true)]
+        coupling: f64,
+        /// Wave amplitude A.
+        #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+        amplitude: f64,
+        /// Free-field frequency ω.
+        #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+        omega: f64,
+        /// Output format.
+        #[arg(long, value_enum, default_value_t = EquationFormat::Text)]
+        format: EquationFormat,
+    },
+    /// Floquet stability chart of the Mathieu equation Φ̈ + λ²[1 − 2ε cos ωt]Φ = 0 (seed App. D).
+    Mathieu {
+        /// Natural frequency λ of the transverse mode.
+        #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+        lambda: f64,
+        /// Lowest ω/λ of the chart.
+        #[arg(long, default_value_t = 0.5, allow_negative_numbers = true)]
+        ratio_min: f64,
+        /// Highest ω/λ of the chart.
+        #[arg(long, default_value_t = 4.5, allow_negative_numbers = true)]
+        ratio_max: f64,
+        /// Largest ε of the chart.
+        #[arg(long, default_value_t = 0.5, allow_negative_numbers = true)]
+        epsilon_max: f64,
+        /// Grid points along ω/λ.
+        #[arg(long, default_value_t = 81)]
+        columns: usize,
+        /// Grid points along ε.
+        #[arg(long, default_value_t = 21)]
+        rows: usize,
+        /// Output format (csv: one row per grid point).
+        #[arg(long, value_enum, default_value_t = ModesFormat::Text)]
+        format: ModesFormat,
+    },
     /// Count the candidate terms of each density at every order up to a maximum.
     Count {
         /// Candidate terms: pure powers or every monomial.
@@ -643,6 +682,64 @@ where
                 text.push('\n');
             }
             Ok(text)
+        }
+        Some(Command::Asymmetry {
+            coupling,
+            amplitude,
+            omega,
+            format,
+        }) => {
+            let a = crate::behaviour::asymmetry(*coupling, *amplitude, *omega)
+                .map_err(|e| CliError::new(2, e.to_string()))?;
+            Ok(match format {
+                EquationFormat::Json => serde_json::to_string_pretty(&a).unwrap_or_default() + "\n",
+                _ => format!(
+                    "ω_s² + cA²ω_s − ω² = 0 with c = {coupling}, A = {amplitude}, ω = {omega}\n  forward  ω₊ = {:.12}  (simulated {:.12})\n  backward ω₋ = {:.12}  (simulated {:.12})\n  |ω₋/ω₊| = {:.12}\n",
+                    a.forward, a.simulated_forward, a.backward, a.simulated_backward, a.ratio
+                ),
+            })
+        }
+        Some(Command::Mathieu {
+            lambda,
+            ratio_min,
+            ratio_max,
+            epsilon_max,
+            columns,
+            rows,
+            format,
+        }) => {
+            let chart = crate::behaviour::stability_chart(
+                *lambda,
+                (*ratio_min, *ratio_max),
+                *epsilon_max,
+                (*columns, *rows),
+            )
+            .map_err(|e| CliError::new(2, e.to_string()))?;
+            Ok(match format {
+                ModesFormat::Json => serde_json::to_string(&chart).unwrap_or_default() + "\n",
+                ModesFormat::Csv => {
+                    let mut t = String::from("frequency_ratio,epsilon,trace,multiplier,stable\n");
+                    for p in &chart {
+                        t += &format!(
+                            "{},{},{},{},{}\n",
+                            p.frequency_ratio, p.epsilon, p.trace, p.multiplier, p.stable
+                        );
+                    }
+                    t
+                }
+                ModesFormat::Text => {
+                    let mut t = format!("Mathieu stability chart, λ = {lambda}: '#' unstable (|tr M| > 2), '.' stable; ε up, ω/λ across\n");
+                    for row in chart.chunks(*columns).rev() {
+                        let cells: String = row
+                            .iter()
+                            .map(|p| if p.stable { '.' } else { '#' })
+                            .collect();
+                        t += &format!("ε = {:<6.3} {cells}\n", row[0].epsilon);
+                    }
+                    t += &format!("           ω/λ from {ratio_min} to {ratio_max}; the first tongue is at ω/λ = 2\n");
+                    t
+                }
+            })
         }
         Some(Command::Count {
             basis,

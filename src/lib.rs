@@ -5,10 +5,11 @@
 //!
 //! Data flows one way through the modules, in pipeline order:
 //! [`model`] → [`term`] → [`enumerate`] → [`rules`] → [`reduce`] (and [`interaction`], [`parts`]) → [`equations`] → [`discretise`] → [`codegen`]
-//! (writes [`generated`]) → [`modal`] (with [`banded`]) → [`dynamics`] → [`table`] / [`cli`].
+//! (writes [`generated`]) → [`modal`] (with [`banded`]) → [`dynamics`] → [`behaviour`] → [`table`] / [`cli`].
 #![warn(missing_docs)]
 
 pub mod banded;
+pub mod behaviour;
 pub mod cli;
 pub mod codegen;
 pub mod discretise;

@@ -339,3 +339,63 @@ fn absurd_monomial_orders_are_refused_quickly() {
     assert_clean_error(&["interactions", "--order", "32"], "more than");
     assert_clean_error(&["parts", "--order", "30"], "more than");
 }
+
+#[test]
+fn asymmetry_and_mathieu_commands() {
+    let (code, out, err) = run(&[
+        "asymmetry",
+        "--coupling",
+        "-0.7071067811865476",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    for key in [
+        "forward",
+        "backward",
+        "ratio",
+        "simulated_forward",
+        "simulated_backward",
+    ] {
+        assert!(v[key].is_number(), "{key}");
+    }
+    assert!((v["ratio"].as_f64().unwrap() - 0.5).abs() < 1e-12);
+    assert_clean_error(&["asymmetry", "--coupling", "nan"], "finite");
+    assert_clean_error(
+        &["asymmetry", "--coupling", "1", "--amplitude", "0"],
+        "positive",
+    );
+    assert_clean_error(&["asymmetry"], "--coupling");
+
+    let (code, out, _) = run(&[
+        "mathieu",
+        "--rows",
+        "3",
+        "--columns",
+        "5",
+        "--format",
+        "csv",
+    ]);
+    assert_eq!(code, 0);
+    assert_eq!(out.lines().count(), 1 + 15);
+    let (_, chart, _) = run(&[
+        "mathieu",
+        "--rows",
+        "5",
+        "--columns",
+        "41",
+        "--ratio-min",
+        "1.5",
+        "--ratio-max",
+        "2.5",
+    ]);
+    let top = chart.lines().nth(1).unwrap();
+    assert!(top.contains('#') && top.contains('.'), "{chart}");
+    assert_clean_error(
+        &["mathieu", "--ratio-min", "3", "--ratio-max", "2"],
+        "empty",
+    );
+    assert_clean_error(&["mathieu", "--columns", "1"], "grid");
+    assert_clean_error(&["mathieu", "--lambda", "-1"], "positive");
+}

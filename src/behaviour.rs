@@ -1,0 +1,219 @@
+//! Behaviour models of the seed that need more than the linear modal dynamics.
+//!
+//! * Forward/backward asymmetry (App. C): a degenerate axial pair with the cubic dissipative
+//!   self-interaction `Ẍᵢ + ω²Xᵢ = c·φ̇·Xᵢ`, `φ̇ = X₁Ẋ₂ − X₂Ẋ₁`. The travelling wave
+//!   `X₁ = A cos ω_s t, X₂ = A sin ω_s t` has `φ̇ = A²ω_s`, hence `ω_s² + cA²ω_s − ω² = 0`. The seed
+//!   prints `cAω_s` (Eq. 94–96), which agrees only at A = 1; we solve the correct equation and
+//!   confirm both roots by integrating the nonlinear pair (RK4) and measuring the phase advance.
+//! * Axial–transverse resonance (App. D): the Mathieu equation `Φ̈ + λ²[1 − 2ε cos ωt]Φ = 0`.
+//!   The monodromy matrix M over one period 2π/ω (RK4 on the two fundamental solutions) has
+//!   det M = 1; the motion is stable when |tr M| ≤ 2. The first instability tongue sits at
+//!   ω = 2λ, between ω/λ = 2√(1 − ε) and 2√(1 + ε) for small ε.
+
+/// A bad parameter of a behaviour model.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct BehaviourError(pub String);
+
+fn finite(name: &str, v: f64) -> Result<f64, BehaviourError> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(BehaviourError(format!(
+            "{name} must be a finite number, not {v}"
+        )))
+    }
+}
+
+fn positive(name: &str, v: f64) -> Result<f64, BehaviourError> {
+    if finite(name, v)? > 0.0 {
+        Ok(v)
+    } else {
+        Err(BehaviourError(format!("{name} must be positive, not {v}")))
+    }
+}
+
+/// Forward and backward frequencies of the self-interacting axial pair.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Asymmetry {
+    /// The positive root of ω_s² + cA²ω_s − ω² = 0.
+    pub forward: f64,
+    /// The negative root.
+    pub backward: f64,
+    /// |backward / forward|.
+    pub ratio: f64,
+    /// The forward frequency measured by integrating the nonlinear pair.
+    pub simulated_forward: f64,
+    /// The backward frequency measured likewise.
+    pub simulated_backward: f64,
+}
+
+/// Integrate `Ẍᵢ + ω²Xᵢ = c·φ̇·Xᵢ` from the travelling-wave state of frequency `ws` and return
+/// the mean phase velocity of (X₁, X₂) over `periods` periods.
+pub fn simulate_pair(c: f64, a: f64, omega: f64, ws: f64, periods: f64) -> f64 {
+    let rhs = |x: [f64; 4]| {
+        let (x1, x2, v1, v2) = (x[0], x[1], x[2], x[3]);
+        let phi_dot = x1 * v2 - x2 * v1;
+        [
+            v1,
+            v2,
+            -omega * omega * x1 + c * phi_dot * x1,
+            -omega * omega * x2 + c * phi_dot * x2,
+        ]
+    };
+    let t_end = periods * 2.0 * std::f64::consts::PI / ws.abs();
+    let steps = (periods * 2000.0).ceil() as usize;
+    let h = t_end / steps as f64;
+    let mut x = [a, 0.0, 0.0, a * ws];
+    let mut angle = 0.0;
+    let mut last = x[1].atan2(x[0]);
+    for _ in 0..steps {
+        let k1 = rhs(x);
+        let k2 = rhs(std::array::from_fn(|i| x[i] + 0.5 * h * k1[i]));
+        let k3 = rhs(std::array::from_fn(|i| x[i] + 0.5 * h * k2[i]));
+        let k4 = rhs(std::array::from_fn(|i| x[i] + h * k3[i]));
+        x = std::array::from_fn(|i| x[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]));
+        // Unwrap the polar angle of (X₁, X₂).
+        let now = x[1].atan2(x[0]);
+        let mut d = now - last;
+        d -= (d / (2.0 * std::f64::consts::PI)).round() * 2.0 * std::f64::consts::PI;
+        angle += d;
+        last = now;
+    }
+    angle / t_end
+}
+
+/// The asymmetry for coupling `c`, amplitude `a` and free frequency `omega`.
+pub fn asymmetry(c: f64, a: f64, omega: f64) -> Result<Asymmetry, BehaviourError> {
+    let c = finite("the coupling", c)?;
+    let a = positive("the amplitude", a)?;
+    let omega = positive("the frequency", omega)?;
+    let b = c * a * a;
+    let root = (b * b + 4.0 * omega * omega).sqrt();
+    // Numerically stable roots of ω_s² + bω_s − ω² = 0 (product −ω²).
+    let big = if b >= 0.0 {
+        -(b + root) / 2.0
+    } else {
+        (root - b) / 2.0
+    };
+    let small = -omega * omega / big;
+    let (forward, backward) = if big > 0.0 {
+        (big, small)
+    } else {
+        (small, big)
+    };
+    Ok(Asymmetry {
+        forward,
+        backward,
+        ratio: (backward / forward).abs(),
+        simulated_forward: simulate_pair(c, a, omega, forward, 20.0),
+        simulated_backward: simulate_pair(c, a, omega, backward, 20.0),
+    })
+}
+
+/// The monodromy matrix of `Φ̈ + λ²[1 − 2ε cos ωt]Φ = 0` over one period 2π/ω.
+pub fn mathieu_monodromy(lambda: f64, epsilon: f64, omega: f64) -> [[f64; 2]; 2] {
+    let period = 2.0 * std::f64::consts::PI / omega;
+    // 400 RK4 steps per half oscillation of the unforced motion keep tr M to ~1e-10.
+    let steps = 400 * (2.0 * lambda / omega).ceil().max(1.0) as usize;
+    let h = period / steps as f64;
+    let f = |t: f64, y: [f64; 2]| {
+        [
+            y[1],
+            -lambda * lambda * (1.0 - 2.0 * epsilon * (omega * t).cos()) * y[0],
+        ]
+    };
+    let mut cols = [[1.0, 0.0], [0.0, 1.0]];
+    for col in &mut cols {
+        let mut y = *col;
+        for n in 0..steps {
+            let t = n as f64 * h;
+            let k1 = f(t, y);
+            let k2 = f(
+                t + h / 2.0,
+                [y[0] + h / 2.0 * k1[0], y[1] + h / 2.0 * k1[1]],
+            );
+            let k3 = f(
+                t + h / 2.0,
+                [y[0] + h / 2.0 * k2[0], y[1] + h / 2.0 * k2[1]],
+            );
+            let k4 = f(t + h, [y[0] + h * k3[0], y[1] + h * k3[1]]);
+            for i in 0..2 {
+                y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+            }
+        }
+        *col = y;
+    }
+    // Columns are the images of (1, 0) and (0, 1): M = [[a, b], [c, d]] row-major.
+    [[cols[0][0], cols[1][0]], [cols[0][1], cols[1][1]]]
+}
+
+/// One point of the stability chart.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct FloquetPoint {
+    /// ω/λ.
+    pub frequency_ratio: f64,
+    /// ε.
+    pub epsilon: f64,
+    /// tr M.
+    pub trace: f64,
+    /// The larger Floquet multiplier modulus.
+    pub multiplier: f64,
+    /// |tr M| ≤ 2.
+    pub stable: bool,
+}
+
+/// Floquet analysis at one point.
+pub fn floquet(lambda: f64, epsilon: f64, omega: f64) -> Result<FloquetPoint, BehaviourError> {
+    let lambda = positive("λ", lambda)?;
+    let epsilon = finite("ε", epsilon)?;
+    let omega = positive("ω", omega)?;
+    let m = mathieu_monodromy(lambda, epsilon, omega);
+    let trace = m[0][0] + m[1][1];
+    let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+    let disc = trace * trace / 4.0 - det;
+    let multiplier = if disc > 0.0 {
+        (trace.abs() / 2.0 + disc.sqrt()).max((trace.abs() / 2.0 - disc.sqrt()).abs())
+    } else {
+        det.abs().sqrt()
+    };
+    Ok(FloquetPoint {
+        frequency_ratio: omega / lambda,
+        epsilon,
+        trace,
+        multiplier,
+        stable: trace.abs() <= 2.0 + 1e-9,
+    })
+}
+
+/// The stability chart over ω/λ ∈ [lo, hi] (`n` points) and ε ∈ [0, ε_max] (`m` points).
+pub fn stability_chart(
+    lambda: f64,
+    ratio: (f64, f64),
+    epsilon_max: f64,
+    grid: (usize, usize),
+) -> Result<Vec<FloquetPoint>, BehaviourError> {
+    let (lo, hi) = (
+        positive("the lowest ω/λ", ratio.0)?,
+        positive("the highest ω/λ", ratio.1)?,
+    );
+    if lo >= hi {
+        return Err(BehaviourError(format!("the ω/λ range {lo}…{hi} is empty")));
+    }
+    let emax = finite("ε_max", epsilon_max)?;
+    let (n, m) = grid;
+    if !(2..=2000).contains(&n) || !(2..=2000).contains(&m) {
+        return Err(BehaviourError(
+            "the grid needs 2 to 2000 points each way".into(),
+        ));
+    }
+    let mut out = Vec::with_capacity(n * m);
+    for j in 0..m {
+        let eps = emax * j as f64 / (m - 1) as f64;
+        for i in 0..n {
+            let r = lo + (hi - lo) * i as f64 / (n - 1) as f64;
+            out.push(floquet(lambda, eps, r * lambda)?);
+        }
+    }
+    Ok(out)
+}
