@@ -99,3 +99,151 @@ fn the_first_tongue_sits_at_twice_the_natural_frequency() {
         assert!(row[0].stable && row[40].stable);
     }
 }
+
+use theory_search::behaviour::{integrate, pair_statistics, sample_pair};
+
+#[test]
+fn partition_function_matches_quadrature_and_the_kink() {
+    for (omega, beta, m) in [
+        (1.0, 1.0, 0.0),
+        (1.3, 2.0, 0.7),
+        (0.5, 10.0, -2.0),
+        (2.0, 0.3, 0.05),
+    ] {
+        let s = pair_statistics(omega, beta, m).unwrap();
+        let rel =
+            (s.partition_function - s.partition_function_quadrature).abs() / s.partition_function;
+        assert!(rel < 1e-9, "Z at ({omega}, {beta}, {m}): {rel}");
+        // ⟨A⟩ against the quadrature of A·p(A).
+        let w = |a: f64| {
+            if a <= 0.0 {
+                0.0
+            } else {
+                (-0.5 * beta * (m * m / (a * a) + omega * omega * a * a) + beta * m.abs() * omega)
+                    .exp()
+            }
+        };
+        let upper = (m.abs() / omega).sqrt() + 14.0 / (omega * beta.sqrt());
+        let mean = integrate(&|a| a * w(a), 0.0, upper, 1e-15) / integrate(&w, 0.0, upper, 1e-15);
+        assert!(
+            (s.mean_amplitude - mean).abs() < 1e-8 * mean,
+            "⟨A⟩ {} vs {mean}",
+            s.mean_amplitude
+        );
+        // F(M) − F(0) = |M|ω: a kink at M = 0 with slopes ∓ω.
+        let f0 = pair_statistics(omega, beta, 0.0).unwrap().free_energy;
+        assert!((s.free_energy - f0 - m.abs() * omega).abs() < 1e-12 * (1.0 + s.free_energy.abs()));
+    }
+    assert_eq!(
+        pair_statistics(1.0, 1.0, 0.5).unwrap().free_energy_slope,
+        1.0
+    );
+    assert_eq!(
+        pair_statistics(1.0, 1.0, -0.5).unwrap().free_energy_slope,
+        -1.0
+    );
+    assert!(pair_statistics(1.0, -1.0, 0.0).is_err());
+    assert!(pair_statistics(f64::NAN, 1.0, 0.0).is_err());
+}
+
+/// Kolmogorov–Smirnov statistic of `xs` against the CDF `cdf`.
+fn ks(mut xs: Vec<f64>, cdf: impl Fn(f64) -> f64) -> f64 {
+    xs.sort_by(f64::total_cmp);
+    let n = xs.len() as f64;
+    xs.iter().enumerate().fold(0.0f64, |d, (i, &x)| {
+        let c = cdf(x);
+        d.max((c - i as f64 / n).abs())
+            .max(((i + 1) as f64 / n - c).abs())
+    })
+}
+
+fn thinned(xs: &[f64], ess: f64) -> Vec<f64> {
+    let k = ((xs.len() as f64 / ess).ceil() as usize).max(1);
+    xs.iter().step_by(k).copied().collect()
+}
+
+#[test]
+fn metropolis_marginals_match_the_analytic_densities() {
+    let (omega, beta, m) = (1.3, 2.0, 0.7);
+    let s = sample_pair(omega, beta, m, 400_000, 7).unwrap();
+    assert!(
+        s.acceptance_rate > 0.1 && s.acceptance_rate < 0.9,
+        "{}",
+        s.acceptance_rate
+    );
+    assert!(
+        s.effective_sample_size > 2000.0,
+        "{}",
+        s.effective_sample_size
+    );
+    // KS at the 0.1 % level on thinned (about independent) draws: D < 1.95/√n.
+    let w = |a: f64| {
+        if a <= 0.0 {
+            0.0
+        } else {
+            (-0.5 * beta * (m * m / (a * a) + omega * omega * a * a) + beta * m * omega).exp()
+        }
+    };
+    let upper = (m / omega).sqrt() + 14.0 / (omega * beta.sqrt());
+    let norm = integrate(&w, 0.0, upper, 1e-14);
+    let a = thinned(&s.amplitude, s.effective_sample_size);
+    let crit = 1.95 / (a.len() as f64).sqrt();
+    let d = ks(a.clone(), |x| {
+        integrate(&w, 0.0, x.min(upper), 1e-11) / norm
+    });
+    assert!(d < crit, "A: D = {d}, critical {crit}");
+    let phi = thinned(&s.phase, s.effective_sample_size);
+    let d = ks(phi.clone(), |x| x / (2.0 * std::f64::consts::PI));
+    assert!(d < 1.95 / (phi.len() as f64).sqrt(), "φ: D = {d}");
+    let p = thinned(&s.momentum, s.effective_sample_size);
+    let d = ks(p.clone(), |x| {
+        0.5 * (1.0 + libm::erf(x * (beta / 2.0).sqrt()))
+    });
+    assert!(d < 1.95 / (p.len() as f64).sqrt(), "p_A: D = {d}");
+    let analytic = pair_statistics(omega, beta, m).unwrap().mean_amplitude;
+    assert!(
+        (s.mean_amplitude - analytic).abs()
+            < 5.0 * 0.5 / (omega * beta.sqrt() * s.effective_sample_size.sqrt()),
+        "{} vs {analytic}",
+        s.mean_amplitude
+    );
+}
+
+#[test]
+fn at_zero_momentum_the_modal_coordinates_follow_the_conditioned_density() {
+    // On the slice M = 0 the amplitude density is exp(−βω²A²/2) (canonical coordinates: no
+    // polar Jacobian), so A is half-normal and X₁ = A cos φ is *not* the Gaussian of the
+    // unconstrained ensemble: P(X₁ ≤ x) = (1/2π)∫ P(A cos φ ≤ x) dφ.
+    let (omega, beta) = (0.8, 3.0);
+    let s = sample_pair(omega, beta, 0.0, 400_000, 11).unwrap();
+    let x1: Vec<f64> = s
+        .amplitude
+        .iter()
+        .zip(&s.phase)
+        .map(|(a, f)| a * f.cos())
+        .collect();
+    let x1 = thinned(&x1, s.effective_sample_size);
+    let k = omega * (beta / 2.0).sqrt();
+    let f_a = |a: f64| if a <= 0.0 { 0.0 } else { libm::erf(a * k) };
+    let cdf = |x: f64| {
+        let at = |phi: f64| {
+            let c = phi.cos();
+            if c > 0.0 {
+                f_a(x / c)
+            } else if c < 0.0 {
+                1.0 - f_a(x / c)
+            } else if x >= 0.0 {
+                1.0
+            } else {
+                0.0
+            }
+        };
+        integrate(&at, 0.0, 2.0 * std::f64::consts::PI, 1e-9) / (2.0 * std::f64::consts::PI)
+    };
+    let d = ks(x1.clone(), cdf);
+    assert!(d < 1.95 / (x1.len() as f64).sqrt(), "X₁: D = {d}");
+    // Reproducible.
+    let again = sample_pair(omega, beta, 0.0, 1000, 11).unwrap();
+    let once = sample_pair(omega, beta, 0.0, 1000, 11).unwrap();
+    assert_eq!(again.amplitude, once.amplitude);
+}

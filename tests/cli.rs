@@ -399,3 +399,58 @@ fn asymmetry_and_mathieu_commands() {
     assert_clean_error(&["mathieu", "--columns", "1"], "grid");
     assert_clean_error(&["mathieu", "--lambda", "-1"], "positive");
 }
+
+#[test]
+fn stats_pair_command() {
+    let (code, out, err) = run(&[
+        "stats",
+        "pair",
+        "--omega",
+        "1.3",
+        "--beta",
+        "2",
+        "--momentum",
+        "0.7",
+        "--format",
+        "json",
+        "--samples",
+        "20000",
+        "--seed",
+        "5",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    for key in [
+        "partition_function",
+        "free_energy",
+        "amplitude_at_minimum",
+        "mean_amplitude",
+    ] {
+        assert!(v[key].is_number(), "{key}");
+    }
+    let z = 2.0 * std::f64::consts::PI.powi(2) / (2.0 * 1.3) * (-2.0f64 * 0.7 * 1.3).exp();
+    assert!((v["partition_function"].as_f64().unwrap() - z).abs() < 1e-12 * z);
+    assert!(
+        v["samples"]["mean_amplitude"].is_number() && v["samples"]["acceptance_rate"].is_number()
+    );
+    let (_, again, _) = run(&[
+        "stats",
+        "pair",
+        "--omega",
+        "1.3",
+        "--beta",
+        "2",
+        "--momentum",
+        "0.7",
+        "--format",
+        "json",
+        "--samples",
+        "20000",
+        "--seed",
+        "5",
+    ]);
+    assert_eq!(out, again, "seeded runs repeat");
+    assert_clean_error(&["stats", "pair", "--beta", "-1"], "positive");
+    assert_clean_error(&["stats", "pair", "--omega", "nan"], "finite");
+    assert_clean_error(&["stats", "pair", "--samples", "0"], "samples");
+}
