@@ -435,3 +435,108 @@ pub fn sample_pair(
         momentum: moment,
     })
 }
+
+/// Principal components of simulated postures of one field beside its modes.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct EquipartitionCheck {
+    /// Field id.
+    pub field: String,
+    /// Postures used.
+    pub frames: usize,
+    /// Variance share of each principal component (descending), over the non-zero modes.
+    pub pca_variance_share: Vec<f64>,
+    /// Equipartition share λᵢ⁻¹/Σλⱼ⁻¹ of the non-zero modes (ascending λ).
+    pub theory_variance_share: Vec<f64>,
+    /// |cos| between principal component k and the k-th non-zero mode shape.
+    pub overlap: Vec<f64>,
+}
+
+/// Run the Langevin dynamics of `model` at temperature `kt` and compare the PCA of the postures
+/// of `field` with its modes (seed App. B: equipartition from dynamics).
+pub fn equipartition_from_dynamics(
+    model: &crate::model::Model,
+    params: &crate::modal::Params,
+    field: &str,
+    points: usize,
+    steps: u64,
+    kt: f64,
+    seed: u64,
+) -> Result<EquipartitionCheck, BehaviourError> {
+    use crate::dynamics::{simulate, Config};
+    use crate::modal::field_modes;
+    let index = model
+        .fields
+        .iter()
+        .position(|f| f.id == field)
+        .ok_or_else(|| BehaviourError(format!("unknown field {field:?}")))?;
+    let modes = field_modes(model, 4, points, params, None, true)
+        .map_err(|e| BehaviourError(e.to_string()))?;
+    let f = &modes[index];
+    let n = f.spectrum.size;
+    let config = Config {
+        points,
+        order: 4,
+        dt: 0.5,
+        steps,
+        every: 1,
+        temperature: positive("kT", kt)?,
+        seed,
+        initial: Vec::new(),
+        forcing: Vec::new(),
+    };
+    // Accumulate the covariance of the postures after a burn-in of a tenth of the run.
+    let burn = steps / 10;
+    let (mut sum, mut outer, mut frames) = (vec![0.0; n], vec![vec![0.0; n]; n], 0usize);
+    simulate(model, params, &config, |s| {
+        if (s.t / config.dt).round() as u64 > burn {
+            let q = &s.positions[index];
+            for i in 0..n {
+                sum[i] += q[i];
+                for j in 0..n {
+                    outer[i][j] += q[i] * q[j];
+                }
+            }
+            frames += 1;
+        }
+        Ok(())
+    })
+    .map_err(|e| BehaviourError(e.to_string()))?;
+    let fr = frames as f64;
+    let cov =
+        faer::Mat::<f64>::from_fn(n, n, |i, j| outer[i][j] / fr - sum[i] * sum[j] / (fr * fr));
+    let evd = cov
+        .self_adjoint_eigen(faer::Side::Lower)
+        .map_err(|e| BehaviourError(format!("{e:?}")))?;
+    let s = evd.S().column_vector();
+    let u = evd.U();
+    let nonzero = n - f.spectrum.nullity;
+    // Principal components by descending variance; the zero modes carry none.
+    let order: Vec<usize> = (0..n).rev().take(nonzero).collect();
+    let total: f64 = order.iter().map(|&k| s[k].max(0.0)).sum();
+    let shapes = f
+        .spectrum
+        .shapes
+        .as_ref()
+        .ok_or_else(|| BehaviourError("no shapes".into()))?;
+    let overlap = order
+        .iter()
+        .enumerate()
+        .map(|(rank, &k)| {
+            let mode = f.spectrum.nullity + rank;
+            (0..n)
+                .map(|i| u[(i, k)] * shapes[(i, mode)])
+                .sum::<f64>()
+                .abs()
+        })
+        .collect();
+    Ok(EquipartitionCheck {
+        field: field.to_string(),
+        frames,
+        pca_variance_share: order.iter().map(|&k| s[k].max(0.0) / total).collect(),
+        theory_variance_share: f.modes[f.spectrum.nullity..]
+            .iter()
+            .map(|m| m.variance_share)
+            .collect(),
+        overlap,
+    })
+}

@@ -160,6 +160,29 @@ enum Command {
 
 #[derive(Debug, Subcommand)]
 enum StatsCommand {
+    /// Langevin run, PCA of one field's postures, and the modes beside it (seed App. B).
+    Equipartition {
+        /// The field (id).
+        #[arg(long, default_value = "y")]
+        field: String,
+        /// Points along the body.
+        #[arg(long, default_value_t = 12)]
+        points: usize,
+        /// Time steps of 0.5 (a tenth are burn-in).
+        #[arg(long, default_value_t = 200_000)]
+        steps: u64,
+        /// Thermal energy kT.
+        #[arg(long, default_value_t = 0.5, allow_negative_numbers = true)]
+        temperature: f64,
+        /// Seed of the noise.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        #[command(flatten)]
+        params: ParamArgs,
+        /// Output format.
+        #[arg(long, value_enum, default_value_t = EquationFormat::Text)]
+        format: EquationFormat,
+    },
     /// A degenerate pair at fixed momentum M: Z, F, A*, ⟨A⟩; with --samples also a Metropolis run.
     Pair {
         /// The pair's frequency ω.
@@ -806,6 +829,56 @@ where
                         t += &format!(
                             "  Metropolis ({} samples, seed {seed}): ⟨A⟩ = {:.6}, acceptance {:.3}, effective sample size {:.0}\n",
                             s.amplitude.len(), s.mean_amplitude, s.acceptance_rate, s.effective_sample_size
+                        );
+                    }
+                    t
+                }
+            })
+        }
+        Some(Command::Stats {
+            what:
+                StatsCommand::Equipartition {
+                    field,
+                    points,
+                    steps,
+                    temperature,
+                    seed,
+                    params,
+                    format,
+                },
+        }) => {
+            let model = Model::larva();
+            let params = load_params(params, &model)?;
+            if *points > crate::dynamics::MAX_SIM_POINTS {
+                return Err(CliError::new(
+                    2,
+                    format!("at most {} points", crate::dynamics::MAX_SIM_POINTS),
+                ));
+            }
+            let c = crate::behaviour::equipartition_from_dynamics(
+                &model,
+                &params,
+                field,
+                *points,
+                *steps,
+                *temperature,
+                *seed,
+            )
+            .map_err(|e| CliError::new(2, e.to_string()))?;
+            Ok(match format {
+                EquationFormat::Json => serde_json::to_string_pretty(&c).unwrap_or_default() + "\n",
+                _ => {
+                    let mut t = format!(
+                        "PCA of {} simulated postures of {} (N = {points}, kT = {temperature}) beside its non-zero modes\n   k   PCA share   equipartition   |cos(PC, mode)|\n",
+                        c.frames, c.field
+                    );
+                    for k in 0..c.overlap.len() {
+                        t += &format!(
+                            "  {:>2}   {:>8.4} %   {:>10.4} %   {:>10.5}\n",
+                            k + 1,
+                            100.0 * c.pca_variance_share[k],
+                            100.0 * c.theory_variance_share[k],
+                            c.overlap[k]
                         );
                     }
                     t

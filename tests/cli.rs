@@ -454,3 +454,28 @@ fn stats_pair_command() {
     assert_clean_error(&["stats", "pair", "--omega", "nan"], "finite");
     assert_clean_error(&["stats", "pair", "--samples", "0"], "samples");
 }
+
+#[test]
+fn stats_equipartition_command() {
+    let (code, out, err) = run(&[
+        "stats",
+        "equipartition",
+        "--points",
+        "6",
+        "--steps",
+        "20000",
+        "--format",
+        "json",
+        "--param",
+        "zeta_b=1",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["pca_variance_share"].as_array().unwrap().len(), 4);
+    assert!(v["overlap"][0].as_f64().unwrap() > 0.99);
+    assert_clean_error(&["stats", "equipartition", "--field", "w"], "unknown field");
+    assert_clean_error(
+        &["stats", "equipartition", "--temperature", "0"],
+        "positive",
+    );
+}
