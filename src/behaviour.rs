@@ -540,3 +540,177 @@ pub fn equipartition_from_dynamics(
         overlap,
     })
 }
+
+/// Which degenerate pair to set in motion.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum PairKind {
+    /// The first axial cos/sin pair: a travelling compression wave (peristalsis).
+    Peristalsis,
+    /// The first mediolateral and dorsoventral bending modes: a C-bend rotating about the axis.
+    Rolling,
+}
+
+/// The minimum-energy orbit of a degenerate pair at momentum M, run with the exact propagators.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct PairOrbit {
+    /// Which pair.
+    pub kind: PairKind,
+    /// The pair's frequency ω (natural frequency of its modes).
+    pub omega: f64,
+    /// The momentum M = Q_a·Q̇_b − Q_b·Q̇_a.
+    pub momentum: f64,
+    /// The orbit's amplitude A* = √(|M|/ω).
+    pub amplitude: f64,
+    /// Largest relative change of M over the run.
+    pub momentum_drift: f64,
+    /// Mean rate of the pair's polar angle, measured (equals ω·sign M).
+    pub angular_velocity: f64,
+    /// Mean rate at which the wave crest (peristalsis) or the bend direction at the head
+    /// (rolling) moves, in body lengths or radians per unit time.
+    pub body_rate: f64,
+}
+
+/// Run the minimum-energy orbit of `kind` for `periods` periods, undamped.
+pub fn pair_orbit(
+    model: &crate::model::Model,
+    params: &crate::modal::Params,
+    points: usize,
+    kind: PairKind,
+    momentum: f64,
+    periods: f64,
+) -> Result<PairOrbit, BehaviourError> {
+    use crate::dynamics::{simulate, Config, Initial};
+    use crate::modal::field_modes;
+    let m = finite("M", momentum)?;
+    if m == 0.0 {
+        return Err(BehaviourError(
+            "M = 0 has no orbit: the pair is at rest".into(),
+        ));
+    }
+    let periods = positive("the number of periods", periods)?;
+    // The undamped dynamics: the orbit is a statement about the conservative pair.
+    let mut undamped = params.clone();
+    for scale in model.fields.iter().map(|f| f.scale().to_string()) {
+        undamped
+            .set(&format!("zeta_{scale}"), 0.0)
+            .map_err(|e| BehaviourError(e.to_string()))?;
+    }
+    let modes = field_modes(model, 4, points, &undamped, None, true)
+        .map_err(|e| BehaviourError(e.to_string()))?;
+    let index = |id: &str| {
+        model
+            .fields
+            .iter()
+            .position(|f| f.id == id)
+            .ok_or_else(|| BehaviourError(format!("the model has no field {id:?}")))
+    };
+    // (field index, mode) of the two members of the pair.
+    let (a, b) = match kind {
+        PairKind::Peristalsis => {
+            let x = index("x")?;
+            let (i, j) = *modes[x]
+                .degenerate_pairs
+                .first()
+                .ok_or_else(|| BehaviourError("x has no degenerate pair".into()))?;
+            ((x, i), (x, j))
+        }
+        PairKind::Rolling => {
+            let (y, z) = (index("y")?, index("z")?);
+            let first = modes[y].spectrum.nullity;
+            ((y, first), (z, first))
+        }
+    };
+    let omega = modes[a.0].modes[a.1].frequency;
+    if (modes[b.0].modes[b.1].frequency - omega).abs() > 1e-9 * omega {
+        return Err(BehaviourError("the two modes are not degenerate".into()));
+    }
+    let amplitude = (m.abs() / omega).sqrt();
+    let id = |f: usize| model.fields[f].id.clone();
+    let period = 2.0 * std::f64::consts::PI / omega;
+    let steps_per_period = 200u64;
+    let dt = period / steps_per_period as f64;
+    let steps = (periods * steps_per_period as f64).ceil() as u64;
+    let config = Config {
+        points,
+        order: 4,
+        dt,
+        steps,
+        every: 1,
+        temperature: 0.0,
+        seed: 0,
+        initial: vec![
+            Initial {
+                field: id(a.0),
+                mode: a.1,
+                displacement: amplitude,
+                velocity: 0.0,
+            },
+            Initial {
+                field: id(b.0),
+                mode: b.1,
+                displacement: 0.0,
+                velocity: m / amplitude,
+            },
+        ],
+        forcing: Vec::new(),
+    };
+    let n_a = modes[a.0].spectrum.size;
+    let unwrap = |last: &mut f64, total: &mut f64, now: f64| {
+        let mut d = now - *last;
+        d -= (d / (2.0 * std::f64::consts::PI)).round() * 2.0 * std::f64::consts::PI;
+        *total += d;
+        *last = now;
+    };
+    let (mut started, mut drift, mut angle, mut last_angle, mut body, mut last_body) =
+        (false, 0.0f64, 0.0, 0.0, 0.0, 0.0);
+    let mut t_end = 0.0;
+    simulate(model, &undamped, &config, |s| {
+        let (qa, qb) = (s.modal[a.0][a.1], s.modal[b.0][b.1]);
+        let (va, vb) = (s.velocity[a.0][a.1], s.velocity[b.0][b.1]);
+        drift = drift.max(((qa * vb - qb * va - m) / m).abs());
+        let phi = qb.atan2(qa);
+        let body_angle = match kind {
+            // Crest position: phase of the field's first Fourier component along the body.
+            PairKind::Peristalsis => {
+                let field = &s.positions[a.0];
+                let (mut c, mut sn) = (0.0, 0.0);
+                for (j, v) in field.iter().enumerate() {
+                    let th = 2.0 * std::f64::consts::PI * j as f64 / n_a as f64;
+                    c += v * th.cos();
+                    sn += v * th.sin();
+                }
+                sn.atan2(c)
+            }
+            // Direction of the bend at the head in the y–z plane.
+            PairKind::Rolling => {
+                let head = s.positions[a.0].len() - 1;
+                s.positions[b.0][head].atan2(s.positions[a.0][head])
+            }
+        };
+        if started {
+            unwrap(&mut last_angle, &mut angle, phi);
+            unwrap(&mut last_body, &mut body, body_angle);
+        } else {
+            last_angle = phi;
+            last_body = body_angle;
+        }
+        started = true;
+        t_end = s.t;
+        Ok(())
+    })
+    .map_err(|e| BehaviourError(e.to_string()))?;
+    let body_rate = match kind {
+        PairKind::Peristalsis => body / (2.0 * std::f64::consts::PI) / t_end,
+        PairKind::Rolling => body / t_end,
+    };
+    Ok(PairOrbit {
+        kind,
+        omega,
+        momentum: m,
+        amplitude,
+        momentum_drift: drift,
+        angular_velocity: angle / t_end,
+        body_rate,
+    })
+}

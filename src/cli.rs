@@ -128,6 +128,26 @@ enum Command {
         #[arg(long, value_enum, default_value_t = ModesFormat::Text)]
         format: ModesFormat,
     },
+    /// Peristalsis or rolling: the minimum-energy orbit of a degenerate pair (seed App. I).
+    Behave {
+        /// Which pair.
+        #[arg(value_enum)]
+        kind: crate::behaviour::PairKind,
+        /// Conserved momentum M (its sign sets the direction).
+        #[arg(long, default_value_t = 0.1, allow_negative_numbers = true)]
+        momentum: f64,
+        /// Points along the body.
+        #[arg(long, default_value_t = 12)]
+        points: usize,
+        /// Periods to run.
+        #[arg(long, default_value_t = 100.0)]
+        periods: f64,
+        #[command(flatten)]
+        params: ParamArgs,
+        /// Output format.
+        #[arg(long, value_enum, default_value_t = EquationFormat::Text)]
+        format: EquationFormat,
+    },
     /// Statistical mechanics of the modes (seed App. J).
     Stats {
         #[command(subcommand)]
@@ -882,6 +902,45 @@ where
                         );
                     }
                     t
+                }
+            })
+        }
+        Some(Command::Behave {
+            kind,
+            momentum,
+            points,
+            periods,
+            params,
+            format,
+        }) => {
+            let model = Model::larva();
+            let params = load_params(params, &model)?;
+            if *points > crate::dynamics::MAX_SIM_POINTS {
+                return Err(CliError::new(
+                    2,
+                    format!("at most {} points", crate::dynamics::MAX_SIM_POINTS),
+                ));
+            }
+            let o =
+                crate::behaviour::pair_orbit(&model, &params, *points, *kind, *momentum, *periods)
+                    .map_err(|e| CliError::new(2, e.to_string()))?;
+            Ok(match format {
+                EquationFormat::Json => serde_json::to_string_pretty(&o).unwrap_or_default() + "\n",
+                _ => {
+                    let what = match kind {
+                        crate::behaviour::PairKind::Peristalsis => format!(
+                            "the compression wave travels {:.9} body lengths per unit time",
+                            o.body_rate
+                        ),
+                        crate::behaviour::PairKind::Rolling => format!(
+                            "the C-bend at the head turns at {:.9} rad per unit time",
+                            o.body_rate
+                        ),
+                    };
+                    format!(
+                        "{:?} on N = {points}: pair frequency ω = {:.9}, M = {momentum}\n  minimum-energy orbit A* = √(|M|/ω) = {:.9}\n  phase advances at {:.9} (ω·sign M); M conserved to {:.1e} relative over {periods} periods\n  {what}\n",
+                        kind, o.omega, o.amplitude, o.angular_velocity, o.momentum_drift
+                    )
                 }
             })
         }

@@ -102,6 +102,8 @@ pub struct Sample {
     pub positions: Vec<Vec<f64>>,
     /// Per field: the modal coordinates Qᵢ.
     pub modal: Vec<Vec<f64>>,
+    /// Per field: the modal velocities Q̇ᵢ.
+    pub velocity: Vec<Vec<f64>>,
 }
 
 /// One damped oscillator with its forcing.
@@ -380,6 +382,7 @@ fn sample(
     let mut energy = 0.0;
     let mut positions = Vec::new();
     let mut modal = Vec::new();
+    let mut velocity = Vec::new();
     for (f, field) in fields.iter().enumerate() {
         let shapes = field
             .spectrum
@@ -401,12 +404,14 @@ fn sample(
                 .collect(),
         );
         modal.push(q);
+        velocity.push(state[f].iter().map(|x| x[1]).collect());
     }
     Sample {
         t,
         energy,
         positions,
         modal,
+        velocity,
     }
 }
 

@@ -247,3 +247,44 @@ fn at_zero_momentum_the_modal_coordinates_follow_the_conditioned_density() {
     let once = sample_pair(omega, beta, 0.0, 1000, 11).unwrap();
     assert_eq!(again.amplitude, once.amplitude);
 }
+
+use theory_search::behaviour::{pair_orbit, PairKind};
+use theory_search::modal::{field_modes, Params};
+use theory_search::model::Model;
+
+#[test]
+fn peristalsis_is_a_travelling_wave_with_conserved_momentum() {
+    let model = Model::larva();
+    let params = Params::default();
+    for m in [0.3, -0.3] {
+        let o = pair_orbit(&model, &params, 12, PairKind::Peristalsis, m, 200.0).unwrap();
+        assert!(o.momentum_drift < 1e-10, "M drift {}", o.momentum_drift);
+        assert!((o.amplitude - (0.3 / o.omega).sqrt()).abs() < 1e-15);
+        assert!(
+            (o.angular_velocity - o.omega * m.signum()).abs() < 1e-9 * o.omega,
+            "{}",
+            o.angular_velocity
+        );
+        // The crest goes once round the (periodic) body per period, forwards or backwards.
+        let per_period = o.body_rate * 2.0 * std::f64::consts::PI / o.omega;
+        assert!((per_period.abs() - 1.0).abs() < 1e-9, "{per_period}");
+    }
+}
+
+#[test]
+fn rolling_turns_at_the_first_bending_frequency() {
+    let model = Model::larva();
+    let params = Params::default();
+    let o = pair_orbit(&model, &params, 12, PairKind::Rolling, 0.05, 50.0).unwrap();
+    let modes = field_modes(&model, 4, 12, &params, None, false).unwrap();
+    let first_bending = modes[2].modes[2].frequency;
+    assert!((o.omega - first_bending).abs() < 1e-15);
+    assert!(o.momentum_drift < 1e-10);
+    // The C-bend's direction at the head turns at the first bending frequency.
+    assert!(
+        (o.body_rate - first_bending).abs() < 1e-9 * first_bending,
+        "{} vs {first_bending}",
+        o.body_rate
+    );
+    assert!(pair_orbit(&model, &params, 12, PairKind::Rolling, 0.0, 5.0).is_err());
+}

@@ -479,3 +479,23 @@ fn stats_equipartition_command() {
         "positive",
     );
 }
+
+#[test]
+fn behave_command() {
+    let (code, out, err) = run(&[
+        "behave",
+        "rolling",
+        "--momentum",
+        "0.1",
+        "--periods",
+        "20",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["kind"], "rolling");
+    assert!((v["body_rate"].as_f64().unwrap() - v["omega"].as_f64().unwrap()).abs() < 1e-9);
+    assert_clean_error(&["behave", "peristalsis", "--momentum", "0"], "M = 0");
+    assert_clean_error(&["behave", "swimming"], "swimming");
+}
