@@ -714,3 +714,111 @@ pub fn pair_orbit(
         body_rate,
     })
 }
+
+/// A constant generalised force on one mode (rearing: first dorsoventral bending mode; hunching:
+/// first axial mode), started from rest.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct StepResponse {
+    /// Field id.
+    pub field: String,
+    /// Mode index.
+    pub mode: usize,
+    /// The force.
+    pub force: f64,
+    /// The shifted equilibrium Q* = F/ωᵢ².
+    pub equilibrium: f64,
+    /// The equilibrium shape Q*·vᵢ at each point.
+    pub shape: Vec<f64>,
+    /// (t, Qᵢ(t)) of the transient.
+    pub transient: Vec<(f64, f64)>,
+    /// Largest deviation of the transient from the analytic step response.
+    pub max_error: f64,
+}
+
+/// The analytic response of Q̈ + 2ζωQ̇ + ω²Q = F from rest: Q*(1 − e^{−ζωt}(cos ω_d t +
+/// ζω/ω_d sin ω_d t)) (underdamped; the critical and overdamped forms likewise).
+pub fn analytic_step(omega: f64, zeta: f64, force: f64, t: f64) -> f64 {
+    let q = force / (omega * omega);
+    let g = zeta * omega;
+    if zeta < 1.0 {
+        let wd = omega * (1.0 - zeta * zeta).sqrt();
+        q * (1.0 - (-g * t).exp() * ((wd * t).cos() + g / wd * (wd * t).sin()))
+    } else if zeta == 1.0 {
+        q * (1.0 - (-omega * t).exp() * (1.0 + omega * t))
+    } else {
+        let r = omega * (zeta * zeta - 1.0).sqrt();
+        let (s1, s2) = (-g + r, -g - r);
+        q * (1.0 + (s2 * (s1 * t).exp() - s1 * (s2 * t).exp()) / (s1 - s2))
+    }
+}
+
+/// Apply `force` to the first non-zero mode of `field` and follow it for `duration`.
+pub fn step_response(
+    model: &crate::model::Model,
+    params: &crate::modal::Params,
+    points: usize,
+    field: &str,
+    force: f64,
+    duration: f64,
+) -> Result<StepResponse, BehaviourError> {
+    use crate::dynamics::{simulate, Config, Forcing};
+    use crate::modal::field_modes;
+    let force = finite("the force", force)?;
+    let duration = positive("the duration", duration)?;
+    let index = model
+        .fields
+        .iter()
+        .position(|f| f.id == field)
+        .ok_or_else(|| BehaviourError(format!("unknown field {field:?}")))?;
+    let modes = field_modes(model, 4, points, params, None, true)
+        .map_err(|e| BehaviourError(e.to_string()))?;
+    let f = &modes[index];
+    let mode = f.spectrum.nullity;
+    let m = &f.modes[mode];
+    let (omega, zeta) = (m.frequency, m.damping_ratio);
+    let steps = 400u64;
+    let config = Config {
+        points,
+        order: 4,
+        dt: duration / steps as f64,
+        steps,
+        every: 1,
+        temperature: 0.0,
+        seed: 0,
+        initial: Vec::new(),
+        forcing: vec![Forcing {
+            field: field.to_string(),
+            mode,
+            constant: force,
+            amplitude: 0.0,
+            frequency: 0.0,
+            phase: 0.0,
+        }],
+    };
+    let mut transient = Vec::new();
+    let mut max_error = 0.0f64;
+    simulate(model, params, &config, |s| {
+        let q = s.modal[index][mode];
+        max_error = max_error.max((q - analytic_step(omega, zeta, force, s.t)).abs());
+        transient.push((s.t, q));
+        Ok(())
+    })
+    .map_err(|e| BehaviourError(e.to_string()))?;
+    let equilibrium = force / (omega * omega);
+    let shapes = f
+        .spectrum
+        .shapes
+        .as_ref()
+        .ok_or_else(|| BehaviourError("no shapes".into()))?;
+    Ok(StepResponse {
+        field: field.to_string(),
+        mode,
+        force,
+        equilibrium,
+        shape: (0..shapes.nrows())
+            .map(|j| equilibrium * shapes[(j, mode)])
+            .collect(),
+        transient,
+        max_error,
+    })
+}

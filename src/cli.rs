@@ -128,11 +128,18 @@ enum Command {
         #[arg(long, value_enum, default_value_t = ModesFormat::Text)]
         format: ModesFormat,
     },
-    /// Peristalsis or rolling: the minimum-energy orbit of a degenerate pair (seed App. I).
+    /// Peristalsis or rolling (the minimum-energy orbit of a degenerate pair, seed App. I), or
+    /// rearing or hunching (a constant force on the first dorsoventral or axial mode, §3.3.2).
     Behave {
-        /// Which pair.
+        /// Which behaviour.
         #[arg(value_enum)]
-        kind: crate::behaviour::PairKind,
+        kind: BehaveKind,
+        /// The constant modal force (rearing, hunching).
+        #[arg(long, default_value_t = 0.02, allow_negative_numbers = true)]
+        force: f64,
+        /// How long to follow the transient (rearing, hunching).
+        #[arg(long, default_value_t = 2000.0)]
+        duration: f64,
         /// Conserved momentum M (its sign sets the direction).
         #[arg(long, default_value_t = 0.1, allow_negative_numbers = true)]
         momentum: f64,
@@ -240,6 +247,15 @@ enum EquationFormat {
     Text,
     Latex,
     Json,
+}
+
+/// The behaviours of `behave`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum BehaveKind {
+    Peristalsis,
+    Rolling,
+    Rearing,
+    Hunching,
 }
 
 /// Output formats of `modes`.
@@ -507,6 +523,30 @@ fn operators_command(
         }
         OperatorFormat::Text => operators_text(&ops, &model, points),
     })
+}
+
+fn step_text(
+    kind: BehaveKind,
+    field: &str,
+    force: f64,
+    r: &crate::behaviour::StepResponse,
+    format: EquationFormat,
+) -> String {
+    if format == EquationFormat::Json {
+        return serde_json::to_string_pretty(r).unwrap_or_default() + "\n";
+    }
+    let shape: Vec<String> = r.shape.iter().map(|v| format!("{v:.5}")).collect();
+    let mut t = format!(
+        "{kind:?}: force {force} on mode {} of {field}; equilibrium Q* = F/ω² = {:.9}\n  shifted shape: {}\n  transient agrees with the analytic step response to {:.1e}\n  t, Q(t):\n",
+        r.mode,
+        r.equilibrium,
+        shape.join(" "),
+        r.max_error
+    );
+    for (tt, q) in r.transient.iter().step_by(40) {
+        t += &format!("  {tt:>10.2}  {q:.9}\n");
+    }
+    t
 }
 
 /// The most numbers `--shapes` prints.
@@ -907,6 +947,8 @@ where
         }
         Some(Command::Behave {
             kind,
+            force,
+            duration,
             momentum,
             points,
             periods,
@@ -921,13 +963,29 @@ where
                     format!("at most {} points", crate::dynamics::MAX_SIM_POINTS),
                 ));
             }
+            let pair = match kind {
+                BehaveKind::Peristalsis => crate::behaviour::PairKind::Peristalsis,
+                BehaveKind::Rolling => crate::behaviour::PairKind::Rolling,
+                BehaveKind::Rearing | BehaveKind::Hunching => {
+                    let field = if *kind == BehaveKind::Rearing {
+                        "z"
+                    } else {
+                        "x"
+                    };
+                    let r = crate::behaviour::step_response(
+                        &model, &params, *points, field, *force, *duration,
+                    )
+                    .map_err(|e| CliError::new(2, e.to_string()))?;
+                    return write_out(out, &step_text(*kind, field, *force, &r, *format));
+                }
+            };
             let o =
-                crate::behaviour::pair_orbit(&model, &params, *points, *kind, *momentum, *periods)
+                crate::behaviour::pair_orbit(&model, &params, *points, pair, *momentum, *periods)
                     .map_err(|e| CliError::new(2, e.to_string()))?;
             Ok(match format {
                 EquationFormat::Json => serde_json::to_string_pretty(&o).unwrap_or_default() + "\n",
                 _ => {
-                    let what = match kind {
+                    let what = match pair {
                         crate::behaviour::PairKind::Peristalsis => format!(
                             "the compression wave travels {:.9} body lengths per unit time",
                             o.body_rate

@@ -288,3 +288,37 @@ fn rolling_turns_at_the_first_bending_frequency() {
     );
     assert!(pair_orbit(&model, &params, 12, PairKind::Rolling, 0.0, 5.0).is_err());
 }
+
+use theory_search::behaviour::{analytic_step, step_response};
+
+#[test]
+fn rearing_and_hunching_settle_on_the_shifted_equilibrium() {
+    let model = Model::larva();
+    // The first bending mode decays at ζ₁ω₁ = ζ_b·ω_b·λ₁ ≈ 0.0024 per unit time at ζ_b = 0.1:
+    // run for 20 000 units (about 50 decay times).
+    for (field, zeta) in [("z", 0.1), ("z", 0.3), ("x", 0.1)] {
+        let mut params = Params::default();
+        let scale = if field == "x" { "s" } else { "b" };
+        params.set(&format!("zeta_{scale}"), zeta).unwrap();
+        let r = step_response(&model, &params, 12, field, 0.02, 20_000.0).unwrap();
+        // The exact propagator reproduces the analytic step response.
+        let scale_q = r.equilibrium.abs();
+        assert!(
+            r.max_error < 1e-10 * scale_q.max(1e-300),
+            "{field}: {}",
+            r.max_error
+        );
+        // After many damping times it sits at Q* = F/ω², in the mode's shape.
+        let last = r.transient.last().unwrap().1;
+        assert!(
+            (last - r.equilibrium).abs() < 1e-3 * scale_q,
+            "{field}: {last} vs {}",
+            r.equilibrium
+        );
+    }
+    // The three regimes of the analytic form meet continuously at critical damping.
+    let (w, f, t) = (0.7, 0.3, 2.5);
+    let crit = analytic_step(w, 1.0, f, t);
+    assert!((analytic_step(w, 1.0 - 1e-7, f, t) - crit).abs() < 1e-6);
+    assert!((analytic_step(w, 1.0 + 1e-7, f, t) - crit).abs() < 1e-6);
+}

@@ -499,3 +499,24 @@ fn behave_command() {
     assert_clean_error(&["behave", "peristalsis", "--momentum", "0"], "M = 0");
     assert_clean_error(&["behave", "swimming"], "swimming");
 }
+
+#[test]
+fn behave_rearing_and_hunching() {
+    let (code, out, err) = run(&[
+        "behave",
+        "rearing",
+        "--duration",
+        "20000",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["field"], "z");
+    assert!(v["max_error"].as_f64().unwrap() < 1e-12);
+    let (code, out, _) = run(&["behave", "hunching"]);
+    assert_eq!(code, 0);
+    assert!(out.starts_with("Hunching: force 0.02 on mode 1 of x"));
+    assert_clean_error(&["behave", "rearing", "--force", "nan"], "finite");
+    assert_clean_error(&["behave", "rearing", "--duration", "0"], "positive");
+}
