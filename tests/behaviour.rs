@@ -322,3 +322,43 @@ fn rearing_and_hunching_settle_on_the_shifted_equilibrium() {
     assert!((analytic_step(w, 1.0 - 1e-7, f, t) - crit).abs() < 1e-6);
     assert!((analytic_step(w, 1.0 + 1e-7, f, t) - crit).abs() < 1e-6);
 }
+
+use theory_search::behaviour::{explore, fit_beta};
+
+#[test]
+fn unbiased_exploration_matches_equipartition_and_the_linear_bend() {
+    let model = Model::larva();
+    let params = Params::default();
+    // Small amplitude (large β): the 3-point bend is Gaussian with the linearised variance.
+    let e = explore(&model, &params, 12, 1e5, 200_000, 9).unwrap();
+    assert!(
+        (e.bend_sd / e.bend_sd_linear - 1.0).abs() < 0.01,
+        "{} vs {}",
+        e.bend_sd,
+        e.bend_sd_linear
+    );
+    let d = ks(e.bend.clone(), |x| {
+        0.5 * (1.0 + libm::erf(x / (e.bend_sd_linear * 2f64.sqrt())))
+    });
+    assert!(d < 1.95 / (e.bend.len() as f64).sqrt(), "bend KS D = {d}");
+    for (v, t) in e.modal_variance.iter().zip(&e.theory_variance) {
+        assert!((v / t - 1.0).abs() < 0.02, "{v} vs {t}");
+    }
+    assert!(
+        (e.fitted_beta / 1e5 - 1.0).abs() < 0.02,
+        "{}",
+        e.fitted_beta
+    );
+    // At large amplitude the bend saturates below the linear prediction.
+    let hot = explore(&model, &params, 12, 1.0, 50_000, 9).unwrap();
+    assert!(hot.bend_sd < hot.bend_sd_linear);
+}
+
+#[test]
+fn beta_is_recovered_exactly_from_exact_variances() {
+    let c = [3.0, 1.0, 0.25, 0.1];
+    let v: Vec<f64> = c.iter().map(|ci| ci / 7.5).collect();
+    assert!((fit_beta(&v, &c).unwrap() - 7.5).abs() < 1e-12);
+    assert!(fit_beta(&[1.0], &[1.0, 2.0]).is_err());
+    assert!(fit_beta(&[-1.0], &[1.0]).is_err());
+}

@@ -520,3 +520,19 @@ fn behave_rearing_and_hunching() {
     assert_clean_error(&["behave", "rearing", "--force", "nan"], "finite");
     assert_clean_error(&["behave", "rearing", "--duration", "0"], "positive");
 }
+
+#[test]
+fn stats_explore_command() {
+    let (code, out, err) = run(&["stats", "explore", "--samples", "20000", "--format", "json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let (sd, lin) = (
+        v["bend_sd"].as_f64().unwrap(),
+        v["bend_sd_linear"].as_f64().unwrap(),
+    );
+    assert!((sd / lin - 1.0).abs() < 0.05, "{sd} vs {lin}");
+    let (_, csv, _) = run(&["stats", "explore", "--samples", "10", "--format", "csv"]);
+    assert_eq!(csv.lines().count(), 11);
+    assert_clean_error(&["stats", "explore", "--beta", "0"], "positive");
+    assert_clean_error(&["stats", "explore", "--samples", "0"], "samples");
+}
