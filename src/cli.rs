@@ -545,6 +545,19 @@ fn operators_command(
     })
 }
 
+/// The embedded larva with the given scales, for a run on `points` points.
+fn larva_run(params: &ParamArgs, points: usize) -> Result<(Model, Params), CliError> {
+    let model = Model::larva();
+    let params = load_params(params, &model)?;
+    if points > crate::dynamics::MAX_SIM_POINTS {
+        return Err(CliError::new(
+            2,
+            format!("at most {} points", crate::dynamics::MAX_SIM_POINTS),
+        ));
+    }
+    Ok((model, params))
+}
+
 fn step_text(
     kind: BehaveKind,
     field: &str,
@@ -927,14 +940,7 @@ where
                     format,
                 },
         }) => {
-            let model = Model::larva();
-            let params = load_params(params, &model)?;
-            if *points > crate::dynamics::MAX_SIM_POINTS {
-                return Err(CliError::new(
-                    2,
-                    format!("at most {} points", crate::dynamics::MAX_SIM_POINTS),
-                ));
-            }
+            let (model, params) = larva_run(params, *points)?;
             let c = crate::behaviour::equipartition_from_dynamics(
                 &model,
                 &params,
@@ -975,14 +981,7 @@ where
             params,
             format,
         }) => {
-            let model = Model::larva();
-            let params = load_params(params, &model)?;
-            if *points > crate::dynamics::MAX_SIM_POINTS {
-                return Err(CliError::new(
-                    2,
-                    format!("at most {} points", crate::dynamics::MAX_SIM_POINTS),
-                ));
-            }
+            let (model, params) = larva_run(params, *points)?;
             let pair = match kind {
                 BehaveKind::Peristalsis => crate::behaviour::PairKind::Peristalsis,
                 BehaveKind::Rolling => crate::behaviour::PairKind::Rolling,
@@ -1033,14 +1032,7 @@ where
                     format,
                 },
         }) => {
-            let model = Model::larva();
-            let params = load_params(params, &model)?;
-            if *points > crate::dynamics::MAX_SIM_POINTS {
-                return Err(CliError::new(
-                    2,
-                    format!("at most {} points", crate::dynamics::MAX_SIM_POINTS),
-                ));
-            }
+            let (model, params) = larva_run(params, *points)?;
             let e = crate::behaviour::explore(&model, &params, *points, *beta, *samples, *seed)
                 .map_err(|e| CliError::new(2, e.to_string()))?;
             Ok(match format {
