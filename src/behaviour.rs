@@ -33,6 +33,34 @@ fn positive(name: &str, v: f64) -> Result<f64, BehaviourError> {
     }
 }
 
+/// The index of field `id` in `model`.
+fn field_index(model: &crate::model::Model, id: &str) -> Result<usize, BehaviourError> {
+    model.fields.iter().position(|f| f.id == id).ok_or_else(|| {
+        BehaviourError(format!(
+            "unknown field {id:?} (the model has {})",
+            model
+                .fields
+                .iter()
+                .map(|f| f.id.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ))
+    })
+}
+
+/// The index of field `id` and the modes (with shapes) of every field at order 4.
+fn field_and_modes(
+    model: &crate::model::Model,
+    params: &crate::modal::Params,
+    points: usize,
+    id: &str,
+) -> Result<(usize, Vec<crate::modal::FieldModes>), BehaviourError> {
+    let index = field_index(model, id)?;
+    let modes = crate::modal::field_modes(model, 4, points, params, None, true)
+        .map_err(|e| BehaviourError(e.to_string()))?;
+    Ok((index, modes))
+}
+
 /// Forward and backward frequencies of the self-interacting axial pair.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Asymmetry {
@@ -463,14 +491,7 @@ pub fn equipartition_from_dynamics(
     seed: u64,
 ) -> Result<EquipartitionCheck, BehaviourError> {
     use crate::dynamics::{simulate, Config};
-    use crate::modal::field_modes;
-    let index = model
-        .fields
-        .iter()
-        .position(|f| f.id == field)
-        .ok_or_else(|| BehaviourError(format!("unknown field {field:?}")))?;
-    let modes = field_modes(model, 4, points, params, None, true)
-        .map_err(|e| BehaviourError(e.to_string()))?;
+    let (index, modes) = field_and_modes(model, params, points, field)?;
     let f = &modes[index];
     let n = f.spectrum.size;
     let config = Config {
@@ -598,13 +619,7 @@ pub fn pair_orbit(
     }
     let modes = field_modes(model, 4, points, &undamped, None, true)
         .map_err(|e| BehaviourError(e.to_string()))?;
-    let index = |id: &str| {
-        model
-            .fields
-            .iter()
-            .position(|f| f.id == id)
-            .ok_or_else(|| BehaviourError(format!("the model has no field {id:?}")))
-    };
+    let index = |id: &str| field_index(model, id);
     // (field index, mode) of the two members of the pair.
     let (a, b) = match kind {
         PairKind::Peristalsis => {
@@ -762,16 +777,9 @@ pub fn step_response(
     duration: f64,
 ) -> Result<StepResponse, BehaviourError> {
     use crate::dynamics::{simulate, Config, Forcing};
-    use crate::modal::field_modes;
     let force = finite("the force", force)?;
     let duration = positive("the duration", duration)?;
-    let index = model
-        .fields
-        .iter()
-        .position(|f| f.id == field)
-        .ok_or_else(|| BehaviourError(format!("unknown field {field:?}")))?;
-    let modes = field_modes(model, 4, points, params, None, true)
-        .map_err(|e| BehaviourError(e.to_string()))?;
+    let (index, modes) = field_and_modes(model, params, points, field)?;
     let f = &modes[index];
     let mode = f.spectrum.nullity;
     let m = &f.modes[mode];
@@ -879,13 +887,7 @@ pub fn explore(
     if !(1..=10_000_000).contains(&samples) {
         return Err(BehaviourError("samples must be between 1 and 10⁷".into()));
     }
-    let y = model
-        .fields
-        .iter()
-        .position(|f| f.id == "y")
-        .ok_or_else(|| BehaviourError("the model has no field y".into()))?;
-    let modes = crate::modal::field_modes(model, 4, points, params, None, true)
-        .map_err(|e| BehaviourError(e.to_string()))?;
+    let (y, modes) = field_and_modes(model, params, points, "y")?;
     let f = &modes[y];
     let shapes = f
         .spectrum
