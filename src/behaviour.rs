@@ -10,6 +10,9 @@
 //!   det M = 1; the motion is stable when |tr M| ≤ 2. The first instability tongue sits at
 //!   ω = 2λ, between ω/λ = 2√(1 − ε) and 2√(1 + ε) for small ε.
 
+mod righting;
+pub use righting::{decay_rate, self_righting, Righting, RightingFrame, RightingSettings};
+
 /// A bad parameter of a behaviour model.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error("{0}")]
@@ -590,6 +593,10 @@ pub struct PairOrbit {
     /// Mean rate at which the wave crest (peristalsis) or the bend direction at the head
     /// (rolling) moves, in body lengths or radians per unit time.
     pub body_rate: f64,
+    /// (t, Q_a, Q_b) over the first period.
+    pub trajectory: Vec<(f64, f64, f64)>,
+    /// The body at eight instants of the first period: (t, field a, field b) at each point.
+    pub postures: Vec<(f64, Vec<f64>, Vec<f64>)>,
 }
 
 /// Run the minimum-energy orbit of `kind` for `periods` periods, undamped.
@@ -680,8 +687,17 @@ pub fn pair_orbit(
     let (mut started, mut drift, mut angle, mut last_angle, mut body, mut last_body) =
         (false, 0.0f64, 0.0, 0.0, 0.0, 0.0);
     let mut t_end = 0.0;
+    let (mut trajectory, mut postures) = (Vec::new(), Vec::new());
+    let mut step = 0u64;
     simulate(model, &undamped, &config, |s| {
         let (qa, qb) = (s.modal[a.0][a.1], s.modal[b.0][b.1]);
+        if step <= steps_per_period {
+            trajectory.push((s.t, qa, qb));
+            if step % (steps_per_period / 8) == 0 && step < steps_per_period {
+                postures.push((s.t, s.positions[a.0].clone(), s.positions[b.0].clone()));
+            }
+        }
+        step += 1;
         let (va, vb) = (s.velocity[a.0][a.1], s.velocity[b.0][b.1]);
         drift = drift.max(((qa * vb - qb * va - m) / m).abs());
         let phi = qb.atan2(qa);
@@ -727,6 +743,8 @@ pub fn pair_orbit(
         momentum_drift: drift,
         angular_velocity: angle / t_end,
         body_rate,
+        trajectory,
+        postures,
     })
 }
 

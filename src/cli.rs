@@ -149,11 +149,24 @@ enum Command {
         /// Periods to run.
         #[arg(long, default_value_t = 100.0)]
         periods: f64,
+        /// Tolerance δ in radians for mouth-hook attachment and alignment (self-righting).
+        #[arg(long, default_value_t = 0.01)]
+        tolerance: f64,
+        /// Damping ratio ζ₁ of the first torsional mode (self-righting; default 1, critical,
+        /// unless `--param zeta_t=…` is given).
+        #[arg(long, value_name = "ZETA")]
+        mode_damping: Option<f64>,
+        /// Initial orientation of the body in radians (self-righting; π is upside down).
+        #[arg(long, default_value_t = std::f64::consts::PI, allow_negative_numbers = true)]
+        theta0: f64,
+        /// Also run these first-mode damping ratios and tabulate their righting times.
+        #[arg(long, value_delimiter = ',', value_name = "ZETA,…")]
+        sweep: Vec<f64>,
         #[command(flatten)]
         params: ParamArgs,
-        /// Output format.
-        #[arg(long, value_enum, default_value_t = EquationFormat::Text)]
-        format: EquationFormat,
+        /// Output format (csv: the time series).
+        #[arg(long, value_enum, default_value_t = BehaveFormat::Text)]
+        format: BehaveFormat,
     },
     /// Statistical mechanics of the modes (seed App. J).
     Stats {
@@ -276,6 +289,15 @@ enum BehaveKind {
     Rolling,
     Rearing,
     Hunching,
+    SelfRighting,
+}
+
+/// Output formats of `behave` (csv: the time series).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum BehaveFormat {
+    Text,
+    Json,
+    Csv,
 }
 
 /// Output formats of `modes`.
@@ -563,10 +585,18 @@ fn step_text(
     field: &str,
     force: f64,
     r: &crate::behaviour::StepResponse,
-    format: EquationFormat,
+    format: BehaveFormat,
 ) -> String {
-    if format == EquationFormat::Json {
-        return serde_json::to_string_pretty(r).unwrap_or_default() + "\n";
+    match format {
+        BehaveFormat::Json => return serde_json::to_string_pretty(r).unwrap_or_default() + "\n",
+        BehaveFormat::Csv => {
+            let mut t = String::from("t,q\n");
+            for (tt, q) in &r.transient {
+                t += &format!("{tt},{q}\n");
+            }
+            return t;
+        }
+        BehaveFormat::Text => {}
     }
     let shape: Vec<String> = r.shape.iter().map(|v| format!("{v:.5}")).collect();
     let mut t = format!(
@@ -580,6 +610,109 @@ fn step_text(
         t += &format!("  {tt:>10.2}  {q:.9}\n");
     }
     t
+}
+
+/// The self-righting report, with an optional sweep over the first mode's damping ratio.
+fn righting_text(
+    model: &Model,
+    params: &Params,
+    settings: &crate::behaviour::RightingSettings,
+    sweep: &[f64],
+    format: BehaveFormat,
+) -> Result<String, CliError> {
+    use crate::behaviour::self_righting;
+    let fail = |e: crate::behaviour::BehaviourError| CliError::new(2, e.to_string());
+    let r = self_righting(model, params, settings).map_err(fail)?;
+    let mut rows = Vec::new();
+    for &z in sweep {
+        let s = crate::behaviour::RightingSettings {
+            mode_damping: Some(z),
+            frames_per_stage: 1,
+            ..settings.clone()
+        };
+        let x = self_righting(model, params, &s).map_err(fail)?;
+        rows.push(serde_json::json!({
+            "mode_damping": x.damping_ratio, "attachment_time": x.attachment_time,
+            "righting_time": x.righting_time, "overshoot": x.overshoot, "decay_rate": x.decay_rate,
+        }));
+    }
+    Ok(match format {
+        BehaveFormat::Json => {
+            let mut v = serde_json::to_value(&r).unwrap_or_default();
+            if !rows.is_empty() {
+                v["sweep"] = serde_json::Value::Array(rows);
+            }
+            serde_json::to_string_pretty(&v).unwrap_or_default() + "\n"
+        }
+        BehaveFormat::Csv => {
+            let mut t = String::from("t,torque,mode,mean_rotation");
+            for j in 0..r.points {
+                t += &format!(",theta_{j}");
+            }
+            t += "\n";
+            for f in &r.frames {
+                let angles: Vec<String> = f.angles.iter().map(|a| a.to_string()).collect();
+                t += &format!(
+                    "{},{},{},{},{}\n",
+                    f.t,
+                    f.torque,
+                    f.mode,
+                    f.mean_rotation,
+                    angles.join(",")
+                );
+            }
+            t
+        }
+        BehaveFormat::Text => {
+            let regime = if r.damping_ratio < 1.0 {
+                "underdamped"
+            } else if r.damping_ratio == 1.0 {
+                "critical"
+            } else {
+                "overdamped"
+            };
+            let mut t = format!(
+                "Self-righting on N = {}: first torsional mode ω₁ = {:.9}, ζ₁ = {} ({regime}), a = v₁(head) = {:.9}\n\
+                 \x20 stage 1: constant torque Q = −ω₁²θ₀/a = {:.9} on Θ₁ from θ₀ = {:.6}\n\
+                 \x20   the head follows Eq. 20 to {:.1e}; the mean rotation moves by {:.1e}\n\
+                 \x20   mouth hooks attach at t = {:.4} (head within δ = {} rad)\n\
+                 \x20 stage 2: torque released, Θ₁ relaxes (overshoot {:.4} of Θ₁(t_a), decay rate {:.6})\n\
+                 \x20   body aligned within δ at t = {:.4}\n\
+                 \x20 alignment time per segment (0 = tail … {} = head):\n",
+                r.points,
+                r.frequency,
+                r.damping_ratio,
+                r.head_coefficient,
+                r.torque,
+                r.theta0,
+                r.head_error,
+                r.rotation_before_attachment,
+                r.attachment_time,
+                r.tolerance,
+                r.overshoot,
+                r.decay_rate,
+                r.righting_time,
+                r.points - 1,
+            );
+            for (j, a) in r.alignment_times.iter().enumerate() {
+                t += &format!("  {j:>6}  {a:.4}\n");
+            }
+            if !rows.is_empty() {
+                t += "  sweep of ζ₁:\n      ζ₁   attach   righted  overshoot  decay rate\n";
+                for v in &rows {
+                    t += &format!(
+                        "  {:>6.3}  {:>7.3}  {:>8.3}  {:>9.4}  {:>10.6}\n",
+                        v["mode_damping"].as_f64().unwrap_or(f64::NAN),
+                        v["attachment_time"].as_f64().unwrap_or(f64::NAN),
+                        v["righting_time"].as_f64().unwrap_or(f64::NAN),
+                        v["overshoot"].as_f64().unwrap_or(f64::NAN),
+                        v["decay_rate"].as_f64().unwrap_or(f64::NAN),
+                    );
+                }
+            }
+            t
+        }
+    })
 }
 
 /// The most numbers `--shapes` prints.
@@ -978,10 +1111,14 @@ where
             momentum,
             points,
             periods,
-            params,
+            tolerance,
+            mode_damping,
+            theta0,
+            sweep,
+            params: param_args,
             format,
         }) => {
-            let (model, params) = larva_run(params, *points)?;
+            let (model, params) = larva_run(param_args, *points)?;
             let pair = match kind {
                 BehaveKind::Peristalsis => crate::behaviour::PairKind::Peristalsis,
                 BehaveKind::Rolling => crate::behaviour::PairKind::Rolling,
@@ -997,13 +1134,36 @@ where
                     .map_err(|e| CliError::new(2, e.to_string()))?;
                     return write_out(out, &step_text(*kind, field, *force, &r, *format));
                 }
+                BehaveKind::SelfRighting => {
+                    let explicit = param_args
+                        .params
+                        .iter()
+                        .any(|p| p.trim().starts_with("zeta_t"))
+                        || param_args.params_file.is_some();
+                    let settings = crate::behaviour::RightingSettings {
+                        points: *points,
+                        theta0: *theta0,
+                        tolerance: *tolerance,
+                        mode_damping: mode_damping.or(if explicit { None } else { Some(1.0) }),
+                        ..Default::default()
+                    };
+                    let text = righting_text(&model, &params, &settings, sweep, *format)?;
+                    return write_out(out, &text);
+                }
             };
             let o =
                 crate::behaviour::pair_orbit(&model, &params, *points, pair, *momentum, *periods)
                     .map_err(|e| CliError::new(2, e.to_string()))?;
             Ok(match format {
-                EquationFormat::Json => serde_json::to_string_pretty(&o).unwrap_or_default() + "\n",
-                _ => {
+                BehaveFormat::Json => serde_json::to_string_pretty(&o).unwrap_or_default() + "\n",
+                BehaveFormat::Csv => {
+                    let mut t = String::from("t,q_a,q_b\n");
+                    for (tt, a, b) in &o.trajectory {
+                        t += &format!("{tt},{a},{b}\n");
+                    }
+                    t
+                }
+                BehaveFormat::Text => {
                     let what = match pair {
                         crate::behaviour::PairKind::Peristalsis => format!(
                             "the compression wave travels {:.9} body lengths per unit time",

@@ -243,7 +243,11 @@ fn check_config(c: &Config) -> Result<(), DynamicsError> {
     Ok(())
 }
 
-/// Run `config` on `model` with `params`, calling `sink` at every reported instant.
+/// What a sink returns to end a run early without an error.
+pub const STOP: &str = "stop";
+
+/// Run `config` on `model` with `params`, calling `sink` at every reported instant (a sink
+/// returning `Err(STOP)` ends the run there, successfully).
 pub fn simulate(
     model: &Model,
     params: &Params,
@@ -333,9 +337,15 @@ pub fn simulate(
                 s.energy
             )));
         }
-        sink(&s).map_err(DynamicsError::Invalid)
+        match sink(&s) {
+            Err(m) if m == STOP => Ok(false),
+            Err(m) => Err(DynamicsError::Invalid(m)),
+            Ok(()) => Ok(true),
+        }
     };
-    report(&state, 0.0, &mut sink)?;
+    if !report(&state, 0.0, &mut sink)? {
+        return Ok(());
+    }
     for n in 1..=config.steps {
         let t = n as f64 * h;
         if noisy {
@@ -359,7 +369,9 @@ pub fn simulate(
                     }
                 }
             }
-            report(&state, t, &mut sink)?;
+            if !report(&state, t, &mut sink)? {
+                return Ok(());
+            }
         }
     }
     Ok(())

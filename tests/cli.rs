@@ -508,6 +508,49 @@ fn behave_rearing_and_hunching() {
 }
 
 #[test]
+fn behave_self_righting() {
+    let (code, out, err) = run(&[
+        "behave",
+        "self-righting",
+        "--sweep",
+        "1,2",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["damping_ratio"], 1.0);
+    let times = v["alignment_times"].as_array().unwrap();
+    assert_eq!(times.len(), 12);
+    assert_eq!(times[11], v["attachment_time"]);
+    let sweep = v["sweep"].as_array().unwrap();
+    assert!(sweep[0]["righting_time"].as_f64() < sweep[1]["righting_time"].as_f64());
+    // The model's own ζ_t when it is given explicitly.
+    let (_, out, _) = run(&[
+        "behave",
+        "self-righting",
+        "--param",
+        "zeta_t=2",
+        "--format",
+        "json",
+    ]);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let lambda1 = 2.0 - 2.0 * (std::f64::consts::PI / 12.0).cos();
+    assert!((v["damping_ratio"].as_f64().unwrap() - 2.0 * lambda1.sqrt()).abs() < 1e-12);
+    let (code, out, _) = run(&["behave", "self-righting", "--format", "csv"]);
+    assert_eq!(code, 0);
+    let header = out.lines().next().unwrap();
+    assert!(header.starts_with("t,torque,mode,mean_rotation,theta_0,"));
+    assert_eq!(header.split(',').count(), 16);
+    assert_clean_error(&["behave", "self-righting", "--tolerance", "0"], "positive");
+    assert_clean_error(
+        &["behave", "self-righting", "--mode-damping", "nan"],
+        "finite",
+    );
+    assert_clean_error(&["behave", "self-righting", "--points", "1"], "points");
+}
+
+#[test]
 fn stats_explore_command() {
     let (code, out, err) = run(&["stats", "explore", "--samples", "20000", "--format", "json"]);
     assert_eq!(code, 0, "{err}");
