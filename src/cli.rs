@@ -173,6 +173,27 @@ enum Command {
         #[command(subcommand)]
         what: StatsCommand,
     },
+    /// Write the SVG figures (mode shapes, spectrum, self-righting, peristalsis, rolling, free
+    /// energy, 3-point bend, Mathieu chart) of the embedded larva into a directory.
+    Figures {
+        /// Directory to write into (created if missing).
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+        /// Only this figure (e.g. `mode_shapes.svg`).
+        #[arg(long, value_name = "NAME")]
+        only: Option<String>,
+        /// Points along the body.
+        #[arg(long, default_value_t = 12)]
+        points: usize,
+        /// Samples of the sampled figures.
+        #[arg(long, default_value_t = 100_000)]
+        samples: usize,
+        /// Seed of the sampled figures.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        #[command(flatten)]
+        params: ParamArgs,
+    },
     /// Count the candidate terms of each density at every order up to a maximum.
     Count {
         /// Candidate terms: pure powers or every monomial.
@@ -612,6 +633,41 @@ fn step_text(
     t
 }
 
+/// Write the figures, with a progress bar on a terminal (indicatif hides it when stderr is not
+/// one).
+fn figures_command(
+    dir: &std::path::Path,
+    only: Option<&str>,
+    model: &Model,
+    params: &Params,
+    settings: &crate::figures::FigureSettings,
+) -> Result<Vec<PathBuf>, CliError> {
+    use crate::figures::{figure, write_all, FIGURES};
+    let fail = |e: crate::figures::FigureError| {
+        let code = if e.0.starts_with("cannot") { 1 } else { 2 };
+        CliError::new(code, e.0)
+    };
+    if let Some(name) = only {
+        let svg = figure(name, model, params, settings).map_err(fail)?;
+        std::fs::create_dir_all(dir)
+            .map_err(|e| CliError::new(1, format!("cannot create {}: {e}", dir.display())))?;
+        let path = dir.join(name);
+        std::fs::write(&path, svg)
+            .map_err(|e| CliError::new(1, format!("cannot write {}: {e}", path.display())))?;
+        return Ok(vec![path]);
+    }
+    let bar = indicatif::ProgressBar::with_draw_target(
+        Some(FIGURES.len() as u64),
+        indicatif::ProgressDrawTarget::stderr(),
+    );
+    let written = write_all(dir, model, params, settings, |name| {
+        bar.set_message(name.to_string());
+        bar.inc(1);
+    });
+    bar.finish_and_clear();
+    written.map_err(fail)
+}
+
 /// The self-righting report, with an optional sweep over the first mode's damping ratio.
 fn righting_text(
     model: &Model,
@@ -1019,6 +1075,27 @@ where
                     t
                 }
             })
+        }
+        Some(Command::Figures {
+            out: dir,
+            only,
+            points,
+            samples,
+            seed,
+            params,
+        }) => {
+            let (model, params) = larva_run(params, *points)?;
+            let settings = crate::figures::FigureSettings {
+                points: *points,
+                seed: *seed,
+                samples: *samples,
+            };
+            let written = figures_command(dir, only.as_deref(), &model, &params, &settings)?;
+            let mut t = String::new();
+            for p in written {
+                t += &format!("wrote {}\n", p.display());
+            }
+            Ok(t)
         }
         Some(Command::Stats {
             what:

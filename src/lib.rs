@@ -16,6 +16,7 @@ pub mod discretise;
 pub mod dynamics;
 pub mod enumerate;
 pub mod equations;
+pub mod figures;
 pub mod generated;
 pub mod interaction;
 pub mod modal;

@@ -1,0 +1,734 @@
+//! SVG figures of the modes and the behaviour models (the seed's Figs. 2, 3, 6, 7, 8 and the
+//! Mathieu chart of App. D), drawn with plotters' SVG backend.
+//!
+//! Text goes into the SVG as `<text>` elements, so no font library is needed to write a figure
+//! (plotters' own font features stay off). Every figure is computed here from the library, never
+//! read from a file; all quantities are dimensionless (time in units of the field's 1/ω, the
+//! default scales ω = 1, ζ = 0.1 unless `params` says otherwise) and each axis says so.
+
+use std::path::{Path, PathBuf};
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use crate::behaviour::{self, PairKind, RightingSettings};
+use crate::modal::{field_modes, Params};
+use crate::model::Model;
+
+/// Why a figure could not be made.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct FigureError(pub String);
+
+fn err(e: impl std::fmt::Display) -> FigureError {
+    FigureError(e.to_string())
+}
+
+/// Settings shared by the figures.
+#[derive(Debug, Clone)]
+pub struct FigureSettings {
+    /// Points along the body.
+    pub points: usize,
+    /// Seed of the sampled figures.
+    pub seed: u64,
+    /// Samples of the sampled figures (pair density, 3-point bend).
+    pub samples: usize,
+}
+
+impl Default for FigureSettings {
+    fn default() -> Self {
+        FigureSettings {
+            points: 12,
+            seed: 1,
+            samples: 100_000,
+        }
+    }
+}
+
+/// The figures, by file name, in the order they are made.
+pub const FIGURES: [&str; 8] = [
+    "mode_shapes.svg",
+    "spectrum.svg",
+    "self_righting.svg",
+    "peristalsis.svg",
+    "rolling.svg",
+    "free_energy.svg",
+    "bend_angle.svg",
+    "mathieu.svg",
+];
+
+type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
+
+/// How a series is drawn.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Mark {
+    Line,
+    Dashed,
+    Dots,
+    /// Histogram bars of the given width; points are (left edge, height).
+    Bars(f64),
+}
+
+struct Series {
+    name: String,
+    points: Vec<(f64, f64)>,
+    mark: Mark,
+}
+
+fn series(name: impl Into<String>, points: Vec<(f64, f64)>, mark: Mark) -> Series {
+    Series {
+        name: name.into(),
+        points,
+        mark,
+    }
+}
+
+struct Panel<'a> {
+    title: &'a str,
+    x: &'a str,
+    y: &'a str,
+    series: Vec<Series>,
+    /// Vertical marker lines (x, label).
+    markers: Vec<(f64, String)>,
+    /// Force the y range to include 0.
+    zero: bool,
+}
+
+fn panel<'a>(title: &'a str, x: &'a str, y: &'a str, series: Vec<Series>) -> Panel<'a> {
+    Panel {
+        title,
+        x,
+        y,
+        series,
+        markers: Vec::new(),
+        zero: false,
+    }
+}
+
+/// The padded range of `values` (never empty).
+fn range(values: impl Iterator<Item = f64>, zero: bool) -> std::ops::Range<f64> {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in values.filter(|v| v.is_finite()) {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if zero {
+        lo = lo.min(0.0);
+        hi = hi.max(0.0);
+    }
+    if !lo.is_finite() {
+        return 0.0..1.0;
+    }
+    let pad = if hi > lo {
+        0.05 * (hi - lo)
+    } else {
+        0.5 * lo.abs().max(1.0)
+    };
+    (lo - pad)..(hi + pad)
+}
+
+fn color(i: usize) -> RGBColor {
+    const COLORS: [RGBColor; 8] = [
+        RGBColor(31, 119, 180),
+        RGBColor(214, 39, 40),
+        RGBColor(44, 160, 44),
+        RGBColor(255, 127, 14),
+        RGBColor(148, 103, 189),
+        RGBColor(140, 86, 75),
+        RGBColor(227, 119, 194),
+        RGBColor(127, 127, 127),
+    ];
+    COLORS[i % COLORS.len()]
+}
+
+/// Draw one panel: axes with labels, its series and a legend.
+fn draw(area: &Area, p: &Panel) -> Result<(), FigureError> {
+    let xs = p.series.iter().flat_map(|s| {
+        s.points.iter().flat_map(move |q| match s.mark {
+            Mark::Bars(w) => vec![q.0, q.0 + w],
+            _ => vec![q.0],
+        })
+    });
+    let xr = range(xs.chain(p.markers.iter().map(|m| m.0)), false);
+    let bars = p.series.iter().any(|s| matches!(s.mark, Mark::Bars(_)));
+    let yr = range(
+        p.series.iter().flat_map(|s| s.points.iter().map(|q| q.1)),
+        p.zero || bars,
+    );
+    let mut chart = ChartBuilder::on(area)
+        .caption(p.title, ("sans-serif", 16))
+        .margin(8)
+        .x_label_area_size(36)
+        .y_label_area_size(56)
+        .build_cartesian_2d(xr, yr.clone())
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc(p.x)
+        .y_desc(p.y)
+        .light_line_style(WHITE)
+        .draw()
+        .map_err(err)?;
+    for (i, s) in p.series.iter().enumerate() {
+        let c = color(i);
+        let legend = move |(x, y): (i32, i32)| PathElement::new(vec![(x, y), (x + 16, y)], c);
+        let drawn =
+            match s.mark {
+                Mark::Line => chart
+                    .draw_series(LineSeries::new(s.points.clone(), c.stroke_width(2)))
+                    .map_err(err)?,
+                Mark::Dashed => chart
+                    .draw_series(DashedLineSeries::new(
+                        s.points.clone(),
+                        6,
+                        4,
+                        c.stroke_width(2),
+                    ))
+                    .map_err(err)?,
+                Mark::Dots => chart
+                    .draw_series(s.points.iter().map(|&q| Circle::new(q, 3, c.filled())))
+                    .map_err(err)?,
+                Mark::Bars(w) => chart
+                    .draw_series(s.points.iter().map(|&(x, h)| {
+                        Rectangle::new([(x, 0.0), (x + w, h)], c.mix(0.45).filled())
+                    }))
+                    .map_err(err)?,
+            };
+        if !s.name.is_empty() {
+            drawn.label(s.name.as_str()).legend(legend);
+        }
+    }
+    for (x, label) in &p.markers {
+        chart
+            .draw_series(LineSeries::new(
+                vec![(*x, yr.start), (*x, yr.end)],
+                BLUE.mix(0.6),
+            ))
+            .map_err(err)?
+            .label(label.as_str())
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLUE.mix(0.6)));
+    }
+    if p.series.iter().any(|s| !s.name.is_empty()) || !p.markers.is_empty() {
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK.mix(0.4))
+            .label_font(("sans-serif", 11))
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()
+            .map_err(err)?;
+    }
+    Ok(())
+}
+
+/// Render panels in a grid of `rows × cols` under a title, returning the SVG text.
+fn render(
+    title: &str,
+    size: (u32, u32),
+    grid: (usize, usize),
+    panels: &[Panel],
+) -> Result<String, FigureError> {
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let root = root.titled(title, ("sans-serif", 20)).map_err(err)?;
+        for (area, p) in root.split_evenly(grid).iter().zip(panels) {
+            draw(area, p)?;
+        }
+        root.present().map_err(err)?;
+    }
+    Ok(svg)
+}
+
+/// Curves of `f` on `n + 1` points of [a, b].
+fn curve(a: f64, b: f64, n: usize, f: impl Fn(f64) -> f64) -> Vec<(f64, f64)> {
+    (0..=n)
+        .map(|i| {
+            let x = a + (b - a) * i as f64 / n as f64;
+            (x, f(x))
+        })
+        .collect()
+}
+
+/// A normalised histogram of `values` on `bins` bins: (left edges, density), width.
+fn histogram(values: &[f64], bins: usize) -> (Vec<(f64, f64)>, f64) {
+    let r = range(values.iter().cloned(), false);
+    let w = (r.end - r.start) / bins as f64;
+    let mut counts = vec![0usize; bins];
+    for v in values.iter().filter(|v| v.is_finite()) {
+        let k = (((v - r.start) / w) as usize).min(bins - 1);
+        counts[k] += 1;
+    }
+    let total = values.len().max(1) as f64 * w;
+    let pts = counts
+        .iter()
+        .enumerate()
+        .map(|(k, &c)| (r.start + k as f64 * w, c as f64 / total))
+        .collect();
+    (pts, w)
+}
+
+fn bh(e: behaviour::BehaviourError) -> FigureError {
+    FigureError(e.to_string())
+}
+
+/// Fig. 2A: the first four non-zero mode shapes of every field.
+fn mode_shapes(model: &Model, params: &Params, n: usize) -> Result<String, FigureError> {
+    let fields = field_modes(model, 4, n, params, None, true).map_err(err)?;
+    let titles: Vec<String> = fields
+        .iter()
+        .map(|f| {
+            format!(
+                "{} ({}, {:?} ends)",
+                f.field.symbol, f.field.meaning, f.field.boundary
+            )
+            .to_lowercase()
+        })
+        .collect();
+    let mut panels = Vec::new();
+    for (f, title) in fields.iter().zip(&titles) {
+        let shapes = f.spectrum.shapes.as_ref().ok_or_else(|| err("no shapes"))?;
+        let first = f.spectrum.nullity;
+        let series = (first..(first + 4).min(shapes.ncols()))
+            .map(|i| {
+                let pts = (0..shapes.nrows())
+                    .map(|j| (j as f64, shapes[(j, i)]))
+                    .collect();
+                self::series(format!("mode {i}"), pts, Mark::Line)
+            })
+            .collect();
+        panels.push(panel(
+            title,
+            "segment j (0 = tail)",
+            "vᵢ(j), unit norm",
+            series,
+        ));
+    }
+    let rows = fields.len().div_ceil(2);
+    render(
+        &format!("Mode shapes on N = {n} points (seed Fig. 2A)"),
+        (1000, 380 * rows as u32),
+        (rows, 2),
+        &panels,
+    )
+}
+
+/// Fig. 2B–C: eigenvalues and equipartition variance shares.
+fn spectrum(model: &Model, params: &Params, n: usize) -> Result<String, FigureError> {
+    let fields = field_modes(model, 4, n, params, None, true).map_err(err)?;
+    let nonzero = |f: &crate::modal::FieldModes| -> Vec<(usize, f64, f64)> {
+        f.modes
+            .iter()
+            .filter(|m| m.eigenvalue > 0.0 && m.zero_mode.is_none())
+            .map(|m| (m.index, m.eigenvalue, m.variance_share))
+            .collect()
+    };
+    let eig = fields
+        .iter()
+        .map(|f| {
+            let pts = nonzero(f)
+                .iter()
+                .map(|&(i, l, _)| (i as f64, l.log10()))
+                .collect();
+            series(f.field.symbol.clone(), pts, Mark::Dots)
+        })
+        .collect();
+    let share = fields
+        .iter()
+        .map(|f| {
+            let mut acc = 0.0;
+            let pts = nonzero(f)
+                .iter()
+                .map(|&(i, _, s)| {
+                    acc += s;
+                    (i as f64, 100.0 * acc)
+                })
+                .collect();
+            series(f.field.symbol.clone(), pts, Mark::Line)
+        })
+        .collect();
+    let mut right = panel(
+        "cumulative variance share at equipartition",
+        "mode index i",
+        "Σ share (%)",
+        share,
+    );
+    right.zero = true;
+    render(
+        &format!("Eigenvalues and variance shares, N = {n} (seed Fig. 2B–C)"),
+        (1000, 420),
+        (1, 2),
+        &[
+            panel(
+                "eigenvalues λᵢ of each operator",
+                "mode index i",
+                "log₁₀ λᵢ",
+                eig,
+            ),
+            right,
+        ],
+    )
+}
+
+/// Fig. 3: the two stages of self-righting.
+fn self_righting(model: &Model, params: &Params, n: usize) -> Result<String, FigureError> {
+    let settings = RightingSettings {
+        points: n,
+        ..Default::default()
+    };
+    let r = behaviour::self_righting(model, params, &settings).map_err(bh)?;
+    let pick = |g: &dyn Fn(&behaviour::RightingFrame) -> f64| -> Vec<(f64, f64)> {
+        r.frames.iter().map(|f| (f.t, g(f))).collect()
+    };
+    let attach = vec![(r.attachment_time, "mouth hooks attach".to_string())];
+    let t = "time t (1/ω_t)";
+    let mut panels = vec![
+        panel(
+            "generalised torque on the first torsional mode",
+            t,
+            "Q",
+            vec![series("", pick(&|f| f.torque), Mark::Line)],
+        ),
+        panel(
+            "first twisting mode",
+            t,
+            "Θ₁",
+            vec![series("", pick(&|f| f.mode), Mark::Line)],
+        ),
+        panel(
+            "mean rotation of the segments",
+            t,
+            "mean θ (rad)",
+            vec![series("", pick(&|f| f.mean_rotation), Mark::Line)],
+        ),
+    ];
+    let segments = (0..n)
+        .filter(|j| n <= 8 || j % (n / 6).max(1) == 0 || *j == n - 1)
+        .map(|j| {
+            let name = if j == n - 1 {
+                "head".to_string()
+            } else if j == 0 {
+                "tail".to_string()
+            } else {
+                format!("segment {j}")
+            };
+            series(name, pick(&|f| f.angles[j]), Mark::Line)
+        })
+        .collect();
+    panels.push(panel("rotation of each segment", t, "θⱼ (rad)", segments));
+    let align = r
+        .alignment_times
+        .iter()
+        .enumerate()
+        .map(|(j, &a)| (j as f64, a))
+        .collect();
+    panels.push(panel(
+        "time to align within δ = 0.01 rad",
+        "segment j (0 = tail)",
+        "alignment time (1/ω_t)",
+        vec![series("", align, Mark::Dots)],
+    ));
+    let (mut attach_at, mut righted_at) = (Vec::new(), Vec::new());
+    for (z, _) in curve(0.3, 3.0, 27, |z| z) {
+        let s = RightingSettings {
+            mode_damping: Some(z),
+            frames_per_stage: 1,
+            ..settings.clone()
+        };
+        let x = behaviour::self_righting(model, params, &s).map_err(bh)?;
+        attach_at.push((z, x.attachment_time));
+        righted_at.push((z, x.righting_time));
+    }
+    let mut sweep = panel(
+        "righting time against the first mode's damping",
+        "damping ratio ζ₁",
+        "time (1/ω_t)",
+        vec![
+            series("body aligned", righted_at, Mark::Line),
+            series("hooks attach", attach_at, Mark::Dashed),
+        ],
+    );
+    sweep.markers = vec![(1.0, "critical damping".into())];
+    sweep.zero = true;
+    panels.push(sweep);
+    for p in panels.iter_mut().take(4) {
+        p.markers = attach.clone();
+        p.zero = true;
+    }
+    panels[4].zero = true;
+    render(
+        &format!(
+            "Self-righting, N = {n}, ζ₁ = {} (seed Fig. 3); attach at {:.1}, righted at {:.1}",
+            r.damping_ratio, r.attachment_time, r.righting_time
+        ),
+        (1000, 1050),
+        (3, 2),
+        &panels,
+    )
+}
+
+/// Figs. 6–7: a degenerate pair's minimum-energy orbit, the body it moves, and its densities.
+fn pair(
+    model: &Model,
+    params: &Params,
+    n: usize,
+    kind: PairKind,
+    settings: &FigureSettings,
+) -> Result<String, FigureError> {
+    let m = 0.1;
+    let o = behaviour::pair_orbit(model, params, n, kind, m, 2.0).map_err(bh)?;
+    let orbit: Vec<(f64, f64)> = o.trajectory.iter().map(|&(_, a, b)| (a, b)).collect();
+    let postures = o
+        .postures
+        .iter()
+        .map(|(t, a, b)| {
+            let pts = match kind {
+                PairKind::Peristalsis => {
+                    a.iter().enumerate().map(|(j, v)| (j as f64, *v)).collect()
+                }
+                PairKind::Rolling => a.iter().zip(b).map(|(y, z)| (*y, *z)).collect(),
+            };
+            series(format!("t = {t:.2}"), pts, Mark::Line)
+        })
+        .collect();
+    // p(A) ∝ exp(−β(M²/A² + ω²A²)/2) on A > 0, normalised by quadrature.
+    let beta: f64 = 100.0;
+    let w = o.omega;
+    let amax = (0.4 / w).sqrt() + 5.0 / (w * beta.sqrt());
+    let mut dens = Vec::new();
+    for (k, mm) in [0.0, 0.05, 0.1, 0.2].iter().enumerate() {
+        let g = |a: f64| {
+            if a <= 0.0 {
+                0.0
+            } else {
+                (-0.5 * beta * (mm * mm / (a * a) + w * w * a * a) + beta * mm * w).exp()
+            }
+        };
+        let z = behaviour::integrate(&g, 0.0, amax * 2.0, 1e-12);
+        dens.push(series(
+            format!("M = {mm}"),
+            curve(0.0, amax, 200, |a| g(a) / z),
+            if k == 2 { Mark::Line } else { Mark::Dashed },
+        ));
+    }
+    let s = behaviour::sample_pair(w, beta, m, settings.samples, settings.seed).map_err(bh)?;
+    let (hist, bw) = histogram(&s.amplitude, 40);
+    dens.push(series(format!("Metropolis, M = {m}"), hist, Mark::Bars(bw)));
+    let (what, pfield, title) = match kind {
+        PairKind::Peristalsis => (
+            "Peristalsis",
+            "axial displacement x",
+            "travelling compression wave",
+        ),
+        PairKind::Rolling => (
+            "Rolling",
+            "dorsoventral z",
+            "midline seen along the axis: a C-bend turning",
+        ),
+    };
+    let px = match kind {
+        PairKind::Peristalsis => "segment j (0 = tail)",
+        PairKind::Rolling => "mediolateral y",
+    };
+    let mut orbit_panel = panel(
+        "minimum-energy orbit A* = √(|M|/ω)",
+        "Q_a",
+        "Q_b",
+        vec![series("", orbit, Mark::Line)],
+    );
+    orbit_panel.zero = true;
+    let mut dens_panel = panel("amplitude density at β = 100", "amplitude A", "p(A)", dens);
+    dens_panel.zero = true;
+    render(
+        &format!(
+            "{what}: pair frequency ω = {:.4}, M = {m}, N = {n} (seed Figs. 6–7)",
+            o.omega
+        ),
+        (1200, 420),
+        (1, 3),
+        &[orbit_panel, panel(title, px, pfield, postures), dens_panel],
+    )
+}
+
+/// Fig. 8A: the free energy of a pair across M = 0.
+fn free_energy(model: &Model, params: &Params, n: usize) -> Result<String, FigureError> {
+    let o = behaviour::pair_orbit(model, params, n, PairKind::Peristalsis, 0.1, 1.0).map_err(bh)?;
+    let mut lines = Vec::new();
+    for beta in [1.0, 3.0, 10.0] {
+        let mut pts = Vec::new();
+        for (m, _) in curve(-1.0, 1.0, 200, |m| m) {
+            pts.push((
+                m,
+                behaviour::pair_statistics(o.omega, beta, m)
+                    .map_err(bh)?
+                    .free_energy,
+            ));
+        }
+        lines.push(series(format!("β = {beta}"), pts, Mark::Line));
+    }
+    render(
+        &format!(
+            "Free energy of the first axial pair, ω = {:.4} (seed Fig. 8A)",
+            o.omega
+        ),
+        (700, 480),
+        (1, 1),
+        &[panel(
+            "F(M) = ln(βω/2π²)/β + |M|ω: a kink at M = 0",
+            "conserved momentum M",
+            "free energy F",
+            lines,
+        )],
+    )
+}
+
+/// Fig. 8D: the 3-point bend angle of unbiased exploration against its linearised Gaussian.
+fn bend_angle(
+    model: &Model,
+    params: &Params,
+    n: usize,
+    settings: &FigureSettings,
+) -> Result<String, FigureError> {
+    let beta = 10_000.0;
+    let e =
+        behaviour::explore(model, params, n, beta, settings.samples, settings.seed).map_err(bh)?;
+    let deg: Vec<f64> = e.bend.iter().map(|b| b.to_degrees()).collect();
+    let (hist, w) = histogram(&deg, 60);
+    let sd = e.bend_sd_linear.to_degrees();
+    let lim = 4.0 * sd;
+    let gauss = curve(-lim, lim, 200, |x| {
+        (-0.5 * (x / sd).powi(2)).exp() / (sd * (2.0 * std::f64::consts::PI).sqrt())
+    });
+    render(
+        &format!("3-point body bend in unbiased exploration, β = {beta}, N = {n} (seed Fig. 8D)"),
+        (700, 480),
+        (1, 1),
+        &[panel(
+            "tail–midpoint–head turning angle",
+            "bend angle (degrees)",
+            "density (1/degree)",
+            vec![
+                series(
+                    format!("{} sampled postures", e.bend.len()),
+                    hist,
+                    Mark::Bars(w),
+                ),
+                series("linearised Gaussian", gauss, Mark::Line),
+            ],
+        )],
+    )
+}
+
+/// App. D: the Mathieu stability chart with the first tongue's small-ε edges.
+fn mathieu() -> Result<String, FigureError> {
+    let (nx, ny, emax) = (161usize, 61usize, 0.6);
+    let (lo, hi) = (0.5, 4.5);
+    let chart_points = behaviour::stability_chart(1.0, (lo, hi), emax, (nx, ny)).map_err(bh)?;
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (800, 520)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(
+                "Mathieu stability: Φ̈ + λ²[1 − 2ε cos ωt]Φ = 0 (seed App. D)",
+                ("sans-serif", 18),
+            )
+            .margin(10)
+            .x_label_area_size(40)
+            .y_label_area_size(50)
+            .build_cartesian_2d(lo..hi, 0.0..emax)
+            .map_err(err)?;
+        chart
+            .configure_mesh()
+            .x_desc("drive frequency ω/λ")
+            .y_desc("modulation depth ε")
+            .light_line_style(WHITE)
+            .draw()
+            .map_err(err)?;
+        let (dx, dy) = ((hi - lo) / (nx - 1) as f64, emax / (ny - 1) as f64);
+        chart
+            .draw_series(chart_points.iter().filter(|p| !p.stable).map(|p| {
+                let (x, y) = (p.frequency_ratio, p.epsilon);
+                Rectangle::new(
+                    [(x - dx / 2.0, y - dy / 2.0), (x + dx / 2.0, y + dy / 2.0)],
+                    RGBColor(214, 39, 40).mix(0.5).filled(),
+                )
+            }))
+            .map_err(err)?
+            .label("unstable (|tr M| > 2)")
+            .legend(|(x, y)| {
+                Rectangle::new(
+                    [(x, y - 5), (x + 16, y + 5)],
+                    RGBColor(214, 39, 40).mix(0.5).filled(),
+                )
+            });
+        for (sign, name) in [(-1.0, "2√(1 − ε)"), (1.0, "2√(1 + ε)")] {
+            chart
+                .draw_series(LineSeries::new(
+                    curve(0.0, emax, 100, |e| e)
+                        .into_iter()
+                        .map(|(e, _)| (2.0 * (1.0 + sign * e).sqrt(), e)),
+                    BLACK.stroke_width(2),
+                ))
+                .map_err(err)?
+                .label(format!("first tongue edge {name}"))
+                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLACK));
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK.mix(0.4))
+            .position(SeriesLabelPosition::UpperLeft)
+            .draw()
+            .map_err(err)?;
+        root.present().map_err(err)?;
+    }
+    Ok(svg)
+}
+
+/// Make figure `name` (one of [`FIGURES`]) as SVG text.
+pub fn figure(
+    name: &str,
+    model: &Model,
+    params: &Params,
+    settings: &FigureSettings,
+) -> Result<String, FigureError> {
+    let n = settings.points;
+    match name {
+        "mode_shapes.svg" => mode_shapes(model, params, n),
+        "spectrum.svg" => spectrum(model, params, n),
+        "self_righting.svg" => self_righting(model, params, n),
+        "peristalsis.svg" => pair(model, params, n, PairKind::Peristalsis, settings),
+        "rolling.svg" => pair(model, params, n, PairKind::Rolling, settings),
+        "free_energy.svg" => free_energy(model, params, n),
+        "bend_angle.svg" => bend_angle(model, params, n, settings),
+        "mathieu.svg" => mathieu(),
+        _ => Err(FigureError(format!(
+            "unknown figure {name:?} (figures: {})",
+            FIGURES.join(", ")
+        ))),
+    }
+}
+
+/// Write every figure into `dir` (created if missing), calling `progress` before each one.
+pub fn write_all(
+    dir: &Path,
+    model: &Model,
+    params: &Params,
+    settings: &FigureSettings,
+    mut progress: impl FnMut(&str),
+) -> Result<Vec<PathBuf>, FigureError> {
+    std::fs::create_dir_all(dir)
+        .map_err(|e| FigureError(format!("cannot create {}: {e}", dir.display())))?;
+    let mut written = Vec::new();
+    for name in FIGURES {
+        progress(name);
+        let svg = figure(name, model, params, settings)?;
+        let path = dir.join(name);
+        std::fs::write(&path, svg)
+            .map_err(|e| FigureError(format!("cannot write {}: {e}", path.display())))?;
+        written.push(path);
+    }
+    Ok(written)
+}

@@ -1,0 +1,133 @@
+//! The SVG figures: every one renders from the library, carries labelled axes and its data, and
+//! the command stays quiet when its output is piped.
+
+use std::process::Command;
+
+use theory_search::figures::{figure, FigureSettings, FIGURES};
+use theory_search::modal::Params;
+use theory_search::model::Model;
+
+fn settings() -> FigureSettings {
+    FigureSettings {
+        samples: 20_000,
+        ..FigureSettings::default()
+    }
+}
+
+#[test]
+fn every_figure_renders_with_axes_and_data() {
+    let model = Model::larva();
+    for name in FIGURES {
+        let svg = figure(name, &model, &Params::default(), &settings()).unwrap();
+        assert!(svg.starts_with("<svg"), "{name}");
+        assert!(svg.trim_end().ends_with("</svg>"), "{name}");
+        let drawn = svg.matches("<polyline").count()
+            + svg.matches("<rect").count()
+            + svg.matches("<circle").count();
+        assert!(drawn > 20, "{name}: {drawn} elements");
+        assert!(svg.matches("<text").count() > 10, "{name}: no labels");
+        assert!(!svg.contains("NaN"), "{name} has NaN coordinates");
+    }
+}
+
+#[test]
+fn figures_carry_their_axis_units() {
+    let model = Model::larva();
+    let p = Params::default();
+    let s = settings();
+    let has = |name: &str, label: &str| {
+        let svg = figure(name, &model, &p, &s).unwrap();
+        assert!(svg.contains(label), "{name} lacks {label:?}");
+    };
+    has("self_righting.svg", "time t (1/ω_t)");
+    has("self_righting.svg", "damping ratio ζ₁");
+    has("mode_shapes.svg", "segment j (0 = tail)");
+    has("mathieu.svg", "drive frequency ω/λ");
+    has("bend_angle.svg", "bend angle (degrees)");
+    has("free_energy.svg", "conserved momentum M");
+}
+
+/// The mode-shape figure draws the solver's shapes: one polyline of N points per mode.
+#[test]
+fn mode_shapes_draw_one_line_per_mode_of_n_points() {
+    for n in [8usize, 15] {
+        let s = FigureSettings {
+            points: n,
+            ..settings()
+        };
+        let svg = figure("mode_shapes.svg", &Model::larva(), &Params::default(), &s).unwrap();
+        let lines: Vec<&str> = svg
+            .split("<polyline")
+            .skip(1)
+            .filter_map(|p| p.split("points=\"").nth(1))
+            .map(|p| p.split('"').next().unwrap())
+            .collect();
+        // x is periodic on N − 1 distinct points; the others on N.
+        let full = lines
+            .iter()
+            .filter(|l| l.split_whitespace().count() == n)
+            .count();
+        let periodic = lines
+            .iter()
+            .filter(|l| l.split_whitespace().count() == n - 1)
+            .count();
+        assert_eq!((periodic, full), (4, 12), "N = {n}");
+    }
+}
+
+#[test]
+fn unknown_figure_is_an_error() {
+    let e = figure("nope.svg", &Model::larva(), &Params::default(), &settings()).unwrap_err();
+    assert!(e.to_string().contains("mode_shapes.svg"));
+}
+
+#[test]
+fn the_command_writes_quietly_and_fails_cleanly() {
+    let dir = std::env::temp_dir().join(format!("theory-search-figures-{}", std::process::id()));
+    let out = Command::new(env!("CARGO_BIN_EXE_theory-search"))
+        .args(["figures", "--samples", "5000", "--out"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for name in FIGURES {
+        assert!(dir.join(name).is_file(), "{name}");
+    }
+    // A file where the directory should be.
+    let file = dir.join("mode_shapes.svg");
+    let out = Command::new(env!("CARGO_BIN_EXE_theory-search"))
+        .args(["figures", "--out"])
+        .arg(&file)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.starts_with("error: cannot create"), "{err}");
+    let out = Command::new(env!("CARGO_BIN_EXE_theory-search"))
+        .args(["figures", "--only", "x.svg", "--out"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The README shows `tables/figures/self_righting.svg`: it must be what the engine draws now.
+#[test]
+fn readme_figure_is_fresh() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let svg = figure(
+        "self_righting.svg",
+        &Model::larva(),
+        &Params::default(),
+        &FigureSettings::default(),
+    )
+    .unwrap();
+    let path = root.join("tables/figures/self_righting.svg");
+    theory_search::codegen::ensure_file_contents(&path, &svg).unwrap();
+}
