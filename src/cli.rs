@@ -101,8 +101,8 @@ enum Command {
         #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
         omega: f64,
         /// Output format.
-        #[arg(long, value_enum, default_value_t = EquationFormat::Text)]
-        format: EquationFormat,
+        #[arg(long, value_enum, default_value_t = BehaveFormat::Text)]
+        format: BehaveFormat,
     },
     /// Floquet stability chart of the Mathieu equation Φ̈ + λ²[1 − 2ε cos ωt]Φ = 0 (seed App. D).
     Mathieu {
@@ -260,9 +260,9 @@ enum StatsCommand {
         seed: u64,
         #[command(flatten)]
         params: ParamArgs,
-        /// Output format.
-        #[arg(long, value_enum, default_value_t = EquationFormat::Text)]
-        format: EquationFormat,
+        /// Output format (csv: one row per sample, or per mode).
+        #[arg(long, value_enum, default_value_t = BehaveFormat::Text)]
+        format: BehaveFormat,
     },
     /// A degenerate pair at fixed momentum M: Z, F, A*, ⟨A⟩; with --samples also a Metropolis run.
     Pair {
@@ -281,9 +281,9 @@ enum StatsCommand {
         /// Seed of the sampler.
         #[arg(long, default_value_t = 1)]
         seed: u64,
-        /// Output format.
-        #[arg(long, value_enum, default_value_t = EquationFormat::Text)]
-        format: EquationFormat,
+        /// Output format (csv: one row per sample, or per mode).
+        #[arg(long, value_enum, default_value_t = BehaveFormat::Text)]
+        format: BehaveFormat,
     },
 }
 
@@ -611,11 +611,7 @@ fn step_text(
     match format {
         BehaveFormat::Json => return serde_json::to_string_pretty(r).unwrap_or_default() + "\n",
         BehaveFormat::Csv => {
-            let mut t = String::from("t,q\n");
-            for (tt, q) in &r.transient {
-                t += &format!("{tt},{q}\n");
-            }
-            return t;
+            return csv(&["t", "q"], r.transient.iter().map(|&(t, q)| vec![t, q]));
         }
         BehaveFormat::Text => {}
     }
@@ -629,6 +625,16 @@ fn step_text(
     );
     for (tt, q) in r.transient.iter().step_by(40) {
         t += &format!("  {tt:>10.2}  {q:.9}\n");
+    }
+    t
+}
+
+/// A CSV table of numbers under `header`.
+fn csv(header: &[&str], rows: impl IntoIterator<Item = Vec<f64>>) -> String {
+    let mut t = header.join(",") + "\n";
+    for r in rows {
+        let cells: Vec<String> = r.iter().map(|v| v.to_string()).collect();
+        t += &(cells.join(",") + "\n");
     }
     t
 }
@@ -1027,8 +1033,12 @@ where
             let a = crate::behaviour::asymmetry(*coupling, *amplitude, *omega)
                 .map_err(|e| CliError::new(2, e.to_string()))?;
             Ok(match format {
-                EquationFormat::Json => serde_json::to_string_pretty(&a).unwrap_or_default() + "\n",
-                _ => format!(
+                BehaveFormat::Json => serde_json::to_string_pretty(&a).unwrap_or_default() + "\n",
+                BehaveFormat::Csv => csv(
+                    &["forward", "backward", "ratio", "simulated_forward", "simulated_backward"],
+                    [vec![a.forward, a.backward, a.ratio, a.simulated_forward, a.simulated_backward]],
+                ),
+                BehaveFormat::Text => format!(
                     "ω_s² + cA²ω_s − ω² = 0 with c = {coupling}, A = {amplitude}, ω = {omega}\n  forward  ω₊ = {:.12}  (simulated {:.12})\n  backward ω₋ = {:.12}  (simulated {:.12})\n  |ω₋/ω₊| = {:.12}\n",
                     a.forward, a.simulated_forward, a.backward, a.simulated_backward, a.ratio
                 ),
@@ -1115,7 +1125,28 @@ where
                 .transpose()
                 .map_err(|e| CliError::new(2, e.to_string()))?;
             Ok(match format {
-                EquationFormat::Json => {
+                BehaveFormat::Csv => match &sampled {
+                    Some(s) => csv(
+                        &["amplitude", "phase", "momentum_a"],
+                        (0..s.amplitude.len())
+                            .map(|i| vec![s.amplitude[i], s.phase[i], s.momentum[i]]),
+                    ),
+                    None => csv(
+                        &[
+                            "partition_function",
+                            "free_energy",
+                            "amplitude_at_minimum",
+                            "mean_amplitude",
+                        ],
+                        [vec![
+                            stats.partition_function,
+                            stats.free_energy,
+                            stats.amplitude_at_minimum,
+                            stats.mean_amplitude,
+                        ]],
+                    ),
+                },
+                BehaveFormat::Json => {
                     let mut v = serde_json::to_value(stats).unwrap_or_default();
                     if let Some(s) = &sampled {
                         v["samples"] = serde_json::to_value(s).unwrap_or_default();
@@ -1162,8 +1193,24 @@ where
             )
             .map_err(|e| CliError::new(2, e.to_string()))?;
             Ok(match format {
-                EquationFormat::Json => serde_json::to_string_pretty(&c).unwrap_or_default() + "\n",
-                _ => {
+                BehaveFormat::Json => serde_json::to_string_pretty(&c).unwrap_or_default() + "\n",
+                BehaveFormat::Csv => csv(
+                    &[
+                        "k",
+                        "pca_variance_share",
+                        "theory_variance_share",
+                        "overlap",
+                    ],
+                    (0..c.overlap.len()).map(|k| {
+                        vec![
+                            (k + 1) as f64,
+                            c.pca_variance_share[k],
+                            c.theory_variance_share[k],
+                            c.overlap[k],
+                        ]
+                    }),
+                ),
+                BehaveFormat::Text => {
                     let mut t = format!(
                         "PCA of {} simulated postures of {} (N = {points}, kT = {temperature}) beside its non-zero modes\n   k   PCA share   equipartition   |cos(PC, mode)|\n",
                         c.frames, c.field
@@ -1233,13 +1280,10 @@ where
                     .map_err(|e| CliError::new(2, e.to_string()))?;
             Ok(match format {
                 BehaveFormat::Json => serde_json::to_string_pretty(&o).unwrap_or_default() + "\n",
-                BehaveFormat::Csv => {
-                    let mut t = String::from("t,q_a,q_b\n");
-                    for (tt, a, b) in &o.trajectory {
-                        t += &format!("{tt},{a},{b}\n");
-                    }
-                    t
-                }
+                BehaveFormat::Csv => csv(
+                    &["t", "q_a", "q_b"],
+                    o.trajectory.iter().map(|&(t, a, b)| vec![t, a, b]),
+                ),
                 BehaveFormat::Text => {
                     let what = match pair {
                         crate::behaviour::PairKind::Peristalsis => format!(

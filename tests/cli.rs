@@ -565,3 +565,75 @@ fn stats_explore_command() {
     assert_clean_error(&["stats", "explore", "--beta", "0"], "positive");
     assert_clean_error(&["stats", "explore", "--samples", "0"], "samples");
 }
+
+/// Every behaviour and statistics command has a CSV form with a header and numeric rows.
+#[test]
+fn behaviour_commands_write_csv() {
+    let cases: [(&[&str], &str, usize); 7] = [
+        (
+            &["asymmetry", "--coupling", "-0.5"],
+            "forward,backward,ratio",
+            1,
+        ),
+        (
+            &[
+                "stats",
+                "pair",
+                "--omega",
+                "1",
+                "--beta",
+                "2",
+                "--momentum",
+                "0.3",
+            ],
+            "partition_function,",
+            1,
+        ),
+        (
+            &[
+                "stats",
+                "pair",
+                "--omega",
+                "1",
+                "--beta",
+                "2",
+                "--momentum",
+                "0.3",
+                "--samples",
+                "50",
+            ],
+            "amplitude,phase,momentum_a",
+            50,
+        ),
+        (
+            &["stats", "equipartition", "--steps", "2000"],
+            "k,pca_variance_share",
+            10,
+        ),
+        (&["behave", "hunching", "--duration", "100"], "t,q", 401),
+        (&["behave", "rolling", "--periods", "2"], "t,q_a,q_b", 201),
+        (
+            &["behave", "self-righting"],
+            "t,torque,mode,mean_rotation,theta_0",
+            0,
+        ),
+    ];
+    for (args, header, rows) in cases {
+        let mut all = args.to_vec();
+        all.extend(["--format", "csv"]);
+        let (code, out, err) = run(&all);
+        assert_eq!(code, 0, "{all:?}: {err}");
+        let mut lines = out.lines();
+        assert!(lines.next().unwrap().starts_with(header), "{all:?}");
+        let body: Vec<&str> = lines.collect();
+        if rows > 0 {
+            assert_eq!(body.len(), rows, "{all:?}");
+        }
+        for l in body {
+            for cell in l.split(',') {
+                let v: f64 = cell.parse().unwrap_or_else(|_| panic!("{all:?}: {l}"));
+                assert!(v.is_finite(), "{all:?}: {l}");
+            }
+        }
+    }
+}
