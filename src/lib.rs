@@ -17,6 +17,7 @@ pub mod dynamics;
 pub mod enumerate;
 pub mod equations;
 pub mod figures;
+pub mod fit;
 pub mod generated;
 pub mod interaction;
 pub mod modal;

@@ -1,0 +1,760 @@
+//! Fit the theory to tracked data (seed §2.3.4–2.4, Fig. 2): modal projection, PCA, spectra,
+//! and the frequency and temperature scales.
+//!
+//! **Input.** One frame per line, numbers separated by commas or white space; blank lines, `#`
+//! comments and one header line (a first line that does not start with a number) are skipped.
+//! * `midline`: `t x₁ y₁ … x_K y_K`, K ≥ 5 points from tail to head, as trackers write them;
+//! * `lengths`: `t ℓ₁ … ℓ_K`, K ≥ 3 segment lengths around the body (axial data).
+//!
+//! Every frame must have the first frame's width, finite numbers, and time that increases by
+//! one sampling interval (the first frame gap, within 1 %). Anything else is an error naming
+//! the line: a missing frame is an error, not a silent gap in the spectra. The file is
+//! streamed. Memory is O(N² + W·N) for N model points and a Welch window of W frames, whatever
+//! the number of frames.
+//!
+//! **Observation map.** A field's operator is D = SᵀS, where S holds its difference stencils
+//! ([`crate::discretise::stencil_rows`]). The data observe S·q, not q:
+//! * the turning angles between segments of a midline resampled to N points equally spaced in
+//!   arc length are, to first order, the second differences of the transverse displacement in
+//!   units of the spacing, that is S·y for D4 (free, k = 2);
+//! * the relative segment strains ℓⱼ/ℓ̄ − 1 are the periodic first differences S·x for D2,c
+//!   (N = K + 1 points, head and tail one point).
+//!
+//! Angles and strains drop translation and rotation (the zero modes), as the seed does. The modal
+//! coordinates are the least-squares solution of S·q = o: Qᵢ = (S vᵢ)·o / λᵢ for each non-zero
+//! mode, because the S vᵢ are orthogonal with |S vᵢ|² = λᵢ.
+//!
+//! **PCA and overlaps.** The PCA is taken of the postures with the zero modes removed, q⊥ = Σ Qᵢvᵢ.
+//! That is the angle space measured with the body's own metric (SSᵀ)⁻¹. Its covariance matrix is
+//! the covariance of the Qᵢ. Its eigendecomposition is the SVD of the centred data
+//! (V and σ²/(n − 1)), accumulated in one pass. `overlap[i][j]` = |cos| between principal component
+//! i and mode shape j. In the plain Euclidean angle space, equipartition gives an *isotropic*
+//! covariance S D⁺ Sᵀ/β ∝ I, so principal components there are undetermined at equilibrium. The
+//! plain angle-space shares are reported beside it (`angle_pca_variance_share`) for comparison
+//! with the seed's eigenmaggots.
+//!
+//! **Spectra and fits.** Welch's method: Hann window of W frames, half overlap, each segment
+//! mean-removed, one-sided density. For each mode it reports the peak (parabolic interpolation
+//! of the largest bin above zero frequency) and the centroid ∫fP/∫P. The measured angular
+//! frequencies mᵢ = 2πfᵢ of the first modes fit the single scale ω of ωᵢ = ω√λᵢ by least squares:
+//! ω = Σmᵢ√λᵢ / Σλᵢ. With ω fixed, equipartition Var Qᵢ = 1/(βω²λᵢ) gives β by maximum likelihood
+//! over the same modes: β = m / Σᵢ ω²λᵢ Var Qᵢ.
+
+use std::collections::VecDeque;
+use std::io::BufRead;
+use std::sync::Arc;
+
+use rustfft::num_complex::Complex;
+use rustfft::{Fft, FftPlanner};
+
+use crate::modal::{field_modes, Params};
+use crate::model::Model;
+
+/// What the columns after time hold.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum InputKind {
+    /// `x₁ y₁ … x_K y_K`: midline points, tail to head.
+    Midline,
+    /// `ℓ₁ … ℓ_K`: segment lengths around the body.
+    Lengths,
+}
+
+/// How a mode's frequency is read off its spectrum.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Estimator {
+    /// The strongest peak (rhythmic behaviour).
+    Peak,
+    /// The spectral centroid (aperiodic behaviour).
+    Centroid,
+}
+
+/// Settings of a fit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FitSettings {
+    /// Input columns.
+    pub kind: InputKind,
+    /// Field of the model the data observe (`y` for midlines, `x` for lengths by default).
+    pub field: String,
+    /// Model points N for midlines (lengths use K + 1).
+    pub points: usize,
+    /// Welch window W in frames.
+    pub window: usize,
+    /// Frequency estimator.
+    pub estimator: Estimator,
+    /// Non-zero modes used to fit ω and β.
+    pub fit_modes: usize,
+    /// Fix ω instead of fitting it.
+    pub omega: Option<f64>,
+}
+
+impl FitSettings {
+    /// Defaults for `kind`: field y on 12 points (midline) or x (lengths), W = 256, the first
+    /// four modes, the peak estimator.
+    pub fn new(kind: InputKind) -> Self {
+        FitSettings {
+            kind,
+            field: match kind {
+                InputKind::Midline => "y".into(),
+                InputKind::Lengths => "x".into(),
+            },
+            points: 12,
+            window: 256,
+            estimator: Estimator::Peak,
+            fit_modes: 4,
+            omega: None,
+        }
+    }
+}
+
+/// Why a fit cannot be made.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum FitError {
+    /// The input could not be read.
+    #[error("cannot read the input: {0}")]
+    Io(String),
+    /// A line is malformed.
+    #[error("line {line}: {why}")]
+    Line {
+        /// 1-based line number.
+        line: usize,
+        /// What is wrong.
+        why: String,
+    },
+    /// A setting or the data as a whole is unusable.
+    #[error("{0}")]
+    Invalid(String),
+}
+
+/// One mode's fit.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ModeFit {
+    /// Mode index (zero modes included).
+    pub index: usize,
+    /// λᵢ.
+    pub eigenvalue: f64,
+    /// Variance of Qᵢ.
+    pub variance: f64,
+    /// Peak frequency (cycles per time unit).
+    pub peak_frequency: f64,
+    /// Spectral centroid (cycles per time unit).
+    pub centroid_frequency: f64,
+    /// Measured angular frequency used in the fit, 2π × the chosen estimate.
+    pub angular_frequency: f64,
+    /// The fitted theory's ω√λᵢ.
+    pub theory_angular_frequency: f64,
+}
+
+/// The result of a fit. The JSON contract's keys come first.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct FitReport {
+    /// Frames read.
+    pub frames: usize,
+    /// Points (midline) or segments (lengths) per frame in the input.
+    pub points: usize,
+    /// PCA variance shares, descending, over the non-zero modes.
+    pub pca_variance_share: Vec<f64>,
+    /// Equipartition shares λᵢ⁻¹/Σλⱼ⁻¹, ascending λ.
+    pub theory_variance_share: Vec<f64>,
+    /// |cos| between principal component i and non-zero mode shape j.
+    pub overlap: Vec<Vec<f64>>,
+    /// The fitted (or fixed) frequency scale.
+    pub omega: f64,
+    /// The fitted inverse temperature, lengths in units of the spacing.
+    pub beta: f64,
+    /// Input kind.
+    pub kind: InputKind,
+    /// Observed field.
+    pub field: String,
+    /// Model points N.
+    pub model_points: usize,
+    /// Sampling interval.
+    pub sample_interval: f64,
+    /// Welch window used (frames) and segments averaged.
+    pub welch: (usize, usize),
+    /// Variance shares of the PCA of the plain angles (or strains).
+    pub angle_pca_variance_share: Vec<f64>,
+    /// Per non-zero mode.
+    pub modes: Vec<ModeFit>,
+    /// Modes used for ω and β.
+    pub fitted_modes: usize,
+    /// Frequencies of the spectra (cycles per time unit).
+    #[serde(skip)]
+    pub frequencies: Vec<f64>,
+    /// Welch PSD of each non-zero modal coordinate.
+    #[serde(skip)]
+    pub psd: Vec<Vec<f64>>,
+    /// Principal components as columns over the mode shapes: `components[i][j]` = component of
+    /// PC i along mode j.
+    #[serde(skip)]
+    pub components: Vec<Vec<f64>>,
+    /// The non-zero mode shapes on the model's points, `shapes[j][p]`.
+    #[serde(skip)]
+    pub shapes: Vec<Vec<f64>>,
+}
+
+/// Streams frames out of text.
+struct FrameReader<R> {
+    lines: std::io::Lines<R>,
+    line: usize,
+    width: Option<usize>,
+    seen_data: bool,
+    last_t: Option<f64>,
+    dt: Option<f64>,
+}
+
+impl<R: BufRead> FrameReader<R> {
+    fn new(reader: R) -> Self {
+        FrameReader {
+            lines: reader.lines(),
+            line: 0,
+            width: None,
+            seen_data: false,
+            last_t: None,
+            dt: None,
+        }
+    }
+
+    /// The next frame: (t, values after t).
+    fn next_frame(&mut self) -> Result<Option<(f64, Vec<f64>)>, FitError> {
+        loop {
+            let Some(text) = self.lines.next() else {
+                return Ok(None);
+            };
+            self.line += 1;
+            let text = text.map_err(|e| FitError::Io(e.to_string()))?;
+            let text = text.trim();
+            if text.is_empty() || text.starts_with('#') {
+                continue;
+            }
+            let cells: Vec<&str> = if text.contains(',') {
+                text.split(',').map(str::trim).collect()
+            } else {
+                text.split_whitespace().collect()
+            };
+            let first_is_number = cells[0].parse::<f64>().is_ok();
+            if !self.seen_data && !first_is_number && self.line_is_header() {
+                continue;
+            }
+            self.seen_data = true;
+            let bad = |why: String| FitError::Line {
+                line: self.line,
+                why,
+            };
+            let mut values = Vec::with_capacity(cells.len());
+            for (c, cell) in cells.iter().enumerate() {
+                let v: f64 = cell
+                    .parse()
+                    .map_err(|_| bad(format!("column {}: {cell:?} is not a number", c + 1)))?;
+                if !v.is_finite() {
+                    return Err(bad(format!(
+                        "column {}: {cell} (missing or non-finite values are not accepted)",
+                        c + 1
+                    )));
+                }
+                values.push(v);
+            }
+            match self.width {
+                None => self.width = Some(values.len()),
+                Some(w) if w != values.len() => {
+                    return Err(bad(format!(
+                        "{} columns where the first frame had {w}",
+                        values.len()
+                    )))
+                }
+                _ => {}
+            }
+            let t = values.remove(0);
+            if let Some(last) = self.last_t {
+                let gap = t - last;
+                if gap <= 0.0 {
+                    return Err(bad(format!("time {t} does not increase (previous {last})")));
+                }
+                match self.dt {
+                    None => self.dt = Some(gap),
+                    Some(dt) if (gap - dt).abs() > 0.01 * dt => {
+                        return Err(bad(format!(
+                            "time step {gap} after t = {last} differs from the sampling interval {dt}{}",
+                            if gap > 1.5 * dt { " (missing frames?)" } else { "" }
+                        )))
+                    }
+                    _ => {}
+                }
+            }
+            self.last_t = Some(t);
+            return Ok(Some((t, values)));
+        }
+    }
+
+    /// Only the first non-comment line may be a header.
+    fn line_is_header(&self) -> bool {
+        self.width.is_none()
+    }
+}
+
+/// Hann-windowed Welch averaging over a stream of vectors.
+struct Welch {
+    window: Vec<f64>,
+    buffer: VecDeque<Vec<f64>>,
+    acc: Vec<Vec<f64>>,
+    segments: usize,
+    since: usize,
+    fft: Arc<dyn Fft<f64>>,
+}
+
+impl Welch {
+    fn new(len: usize, channels: usize) -> Self {
+        let window = (0..len)
+            .map(|i| 0.5 - 0.5 * (2.0 * std::f64::consts::PI * i as f64 / len as f64).cos())
+            .collect();
+        Welch {
+            window,
+            buffer: VecDeque::with_capacity(len),
+            acc: vec![vec![0.0; len / 2 + 1]; channels],
+            segments: 0,
+            since: 0,
+            fft: FftPlanner::new().plan_fft_forward(len),
+        }
+    }
+
+    fn push(&mut self, v: Vec<f64>) {
+        let len = self.window.len();
+        if self.buffer.len() == len {
+            self.buffer.pop_front();
+        }
+        self.buffer.push_back(v);
+        self.since += 1;
+        if self.buffer.len() == len && (self.segments == 0 || self.since >= len / 2) {
+            self.segment();
+        }
+    }
+
+    fn segment(&mut self) {
+        self.since = 0;
+        self.segments += 1;
+        let len = self.window.len();
+        let mut data = vec![Complex::new(0.0, 0.0); len];
+        for (c, acc) in self.acc.iter_mut().enumerate() {
+            let mean = self.buffer.iter().map(|v| v[c]).sum::<f64>() / len as f64;
+            for (i, v) in self.buffer.iter().enumerate() {
+                data[i] = Complex::new((v[c] - mean) * self.window[i], 0.0);
+            }
+            self.fft.process(&mut data);
+            for (k, a) in acc.iter_mut().enumerate() {
+                *a += data[k].norm_sqr();
+            }
+        }
+    }
+
+    /// One-sided density (per cycle per time unit) at sampling rate `fs`.
+    fn finish(self, fs: f64) -> (Vec<f64>, Vec<Vec<f64>>, usize) {
+        let len = self.window.len();
+        let norm = fs * self.window.iter().map(|w| w * w).sum::<f64>() * self.segments as f64;
+        let freqs = (0..=len / 2).map(|k| k as f64 * fs / len as f64).collect();
+        let psd = self
+            .acc
+            .into_iter()
+            .map(|acc| {
+                acc.iter()
+                    .enumerate()
+                    .map(|(k, a)| {
+                        let twice = k != 0 && !(len % 2 == 0 && k == len / 2);
+                        a / norm * if twice { 2.0 } else { 1.0 }
+                    })
+                    .collect()
+            })
+            .collect();
+        (freqs, psd, self.segments)
+    }
+}
+
+/// Peak (with parabolic refinement) and centroid of a one-sided spectrum, above zero frequency.
+pub fn spectral_peak_and_centroid(freqs: &[f64], psd: &[f64]) -> (f64, f64) {
+    let df = if freqs.len() > 1 {
+        freqs[1] - freqs[0]
+    } else {
+        0.0
+    };
+    let k = (1..psd.len())
+        .max_by(|&a, &b| psd[a].total_cmp(&psd[b]))
+        .unwrap_or(0);
+    let mut peak = freqs.get(k).copied().unwrap_or(0.0);
+    if k >= 1 && k + 1 < psd.len() {
+        let (a, b, c) = (psd[k - 1], psd[k], psd[k + 1]);
+        let den = a - 2.0 * b + c;
+        // Refine only a true local maximum; the vertex then lies within half a bin.
+        if b >= a && b >= c && den < 0.0 {
+            peak += (0.5 * (a - c) / den).clamp(-0.5, 0.5) * df;
+        }
+    }
+    let (num, den) = freqs
+        .iter()
+        .zip(psd)
+        .skip(1)
+        .fold((0.0, 0.0), |(n, d), (f, p)| (n + f * p, d + p));
+    (peak, if den > 0.0 { num / den } else { 0.0 })
+}
+
+/// Resample a polyline to `n` points equally spaced in arc length.
+fn resample(points: &[(f64, f64)], n: usize) -> Result<Vec<(f64, f64)>, String> {
+    let mut cum = vec![0.0];
+    for w in points.windows(2) {
+        let d = ((w[1].0 - w[0].0).powi(2) + (w[1].1 - w[0].1).powi(2)).sqrt();
+        cum.push(cum.last().unwrap_or(&0.0) + d);
+    }
+    let total = *cum.last().unwrap_or(&0.0);
+    if total <= 0.0 {
+        return Err("the midline has zero length".into());
+    }
+    let mut out = Vec::with_capacity(n);
+    let mut seg = 0;
+    for i in 0..n {
+        let s = total * i as f64 / (n - 1) as f64;
+        while seg + 2 < cum.len() && cum[seg + 1] < s {
+            seg += 1;
+        }
+        let len = cum[seg + 1] - cum[seg];
+        let u = if len > 0.0 {
+            ((s - cum[seg]) / len).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let (a, b) = (points[seg], points[seg + 1]);
+        out.push((a.0 + u * (b.0 - a.0), a.1 + u * (b.1 - a.1)));
+    }
+    Ok(out)
+}
+
+/// Turning angles between consecutive segments of a polyline (radians, in (−π, π]).
+pub fn turning_angles(points: &[(f64, f64)]) -> Result<Vec<f64>, String> {
+    let seg: Vec<(f64, f64)> = points
+        .windows(2)
+        .map(|w| (w[1].0 - w[0].0, w[1].1 - w[0].1))
+        .collect();
+    if seg.iter().any(|s| s.0 == 0.0 && s.1 == 0.0) {
+        return Err("two consecutive midline points coincide".into());
+    }
+    Ok(seg
+        .windows(2)
+        .map(|w| {
+            let cross = w[0].0 * w[1].1 - w[0].1 * w[1].0;
+            let dot = w[0].0 * w[1].0 + w[0].1 * w[1].1;
+            cross.atan2(dot)
+        })
+        .collect())
+}
+
+/// The observation o of one frame: turning angles (midline) or strains (lengths).
+fn observe(kind: InputKind, values: &[f64], n: usize) -> Result<Vec<f64>, String> {
+    match kind {
+        InputKind::Midline => {
+            let pts: Vec<(f64, f64)> = values.chunks(2).map(|c| (c[0], c[1])).collect();
+            let pts = if pts.len() == n {
+                pts
+            } else {
+                resample(&pts, n)?
+            };
+            turning_angles(&pts)
+        }
+        InputKind::Lengths => {
+            let mean = values.iter().sum::<f64>() / values.len() as f64;
+            if values.iter().any(|&l| l <= 0.0) {
+                return Err("segment lengths must be positive".into());
+            }
+            Ok(values.iter().map(|l| l / mean - 1.0).collect())
+        }
+    }
+}
+
+/// Run the fit on the frames in `reader`.
+pub fn fit(
+    reader: impl BufRead,
+    model: &Model,
+    params: &Params,
+    settings: &FitSettings,
+) -> Result<FitReport, FitError> {
+    let invalid = |s: String| FitError::Invalid(s);
+    if settings.window < 8 {
+        return Err(invalid(format!(
+            "the Welch window must be at least 8 frames, not {}",
+            settings.window
+        )));
+    }
+    if settings.fit_modes == 0 {
+        return Err(invalid("fit at least one mode".into()));
+    }
+    if let Some(w) = settings.omega {
+        if !(w.is_finite() && w > 0.0) {
+            return Err(invalid(format!("ω must be a positive number, not {w}")));
+        }
+    }
+    let mut frames = FrameReader::new(reader);
+    let Some((t0, first)) = frames.next_frame()? else {
+        return Err(invalid("the input has no frames".into()));
+    };
+    let (k_in, n) = match settings.kind {
+        InputKind::Midline => {
+            if first.len() % 2 != 0 {
+                return Err(FitError::Line {
+                    line: frames.line,
+                    why: format!(
+                        "a midline frame is t then x y pairs: {} values after t is odd",
+                        first.len()
+                    ),
+                });
+            }
+            (first.len() / 2, settings.points)
+        }
+        InputKind::Lengths => (first.len(), first.len() + 1),
+    };
+    let min_k = if settings.kind == InputKind::Midline {
+        5
+    } else {
+        3
+    };
+    if k_in < min_k {
+        return Err(FitError::Line {
+            line: frames.line,
+            why: format!("{k_in} points per frame; at least {min_k} are needed"),
+        });
+    }
+    let field_index = model
+        .fields
+        .iter()
+        .position(|f| f.id == settings.field)
+        .ok_or_else(|| invalid(format!("the model has no field {:?}", settings.field)))?;
+    let all = field_modes(model, 4, n, params, None, true).map_err(|e| invalid(e.to_string()))?;
+    let fm = &all[field_index];
+    let shapes = fm
+        .spectrum
+        .shapes
+        .as_ref()
+        .ok_or_else(|| invalid("no mode shapes".into()))?;
+    let rows = crate::discretise::stencil_rows(fm.k, fm.field.boundary, n)
+        .map_err(|e| invalid(e.to_string()))?;
+    let expected = match settings.kind {
+        InputKind::Midline => n - 2,
+        InputKind::Lengths => k_in,
+    };
+    if rows.len() != expected {
+        return Err(invalid(format!(
+            "field {} ({:?}, k = {}) has {} difference rows on {n} points, but the {} give {expected} observations",
+            fm.field.id,
+            fm.field.boundary,
+            fm.k,
+            rows.len(),
+            match settings.kind {
+                InputKind::Midline => "turning angles",
+                InputKind::Lengths => "segment strains",
+            }
+        )));
+    }
+    let first_mode = fm.spectrum.nullity;
+    let size = fm.spectrum.size;
+    let m = size - first_mode;
+    if m == 0 {
+        return Err(invalid("the field has no non-zero modes".into()));
+    }
+    // Sᵥ[j] = S vⱼ / λⱼ for each non-zero mode: Qⱼ = Sᵥ[j]·o.
+    let lambdas: Vec<f64> = fm.spectrum.eigenvalues[first_mode..].to_vec();
+    let projector: Vec<Vec<f64>> = (0..m)
+        .map(|j| {
+            let col = first_mode + j;
+            rows.iter()
+                .map(|r| {
+                    r.iter()
+                        .map(|&(i, w)| w as f64 * shapes[(i, col)])
+                        .sum::<f64>()
+                        / lambdas[j]
+                })
+                .collect()
+        })
+        .collect();
+    let window = settings.window;
+    let mut welch = Welch::new(window, m);
+    let mut early: Vec<Vec<f64>> = Vec::new();
+    let mut mean = vec![0.0; m];
+    let mut comoment = vec![vec![0.0; m]; m];
+    let mut count = 0usize;
+    let mut t_last = t0;
+    let mut pending = Some(first);
+    let mut line = frames.line;
+    loop {
+        let values = match pending.take() {
+            Some(v) => v,
+            None => match frames.next_frame()? {
+                Some((t, v)) => {
+                    t_last = t;
+                    line = frames.line;
+                    v
+                }
+                None => break,
+            },
+        };
+        let o = observe(settings.kind, &values, n).map_err(|why| FitError::Line { line, why })?;
+        let q: Vec<f64> = projector
+            .iter()
+            .map(|p| p.iter().zip(&o).map(|(a, b)| a * b).sum())
+            .collect();
+        count += 1;
+        let delta: Vec<f64> = q.iter().zip(&mean).map(|(a, b)| a - b).collect();
+        for (mu, d) in mean.iter_mut().zip(&delta) {
+            *mu += d / count as f64;
+        }
+        for i in 0..m {
+            for j in 0..m {
+                comoment[i][j] += delta[i] * (q[j] - mean[j]);
+            }
+        }
+        if count <= window {
+            early.push(q.clone());
+        }
+        welch.push(q);
+    }
+    if count < 8 {
+        return Err(invalid(format!(
+            "{count} frames; at least 8 are needed for variances and spectra"
+        )));
+    }
+    let interval = (t_last - t0) / (count - 1) as f64;
+    // Fewer frames than the window: one segment over all of them.
+    if welch.segments == 0 {
+        welch = Welch::new(count, m);
+        for q in early {
+            welch.push(q);
+        }
+    }
+    let used_window = welch.window.len();
+    let (frequencies, psd, segments) = welch.finish(1.0 / interval);
+    let cov: Vec<Vec<f64>> = comoment
+        .iter()
+        .map(|r| r.iter().map(|c| c / (count - 1) as f64).collect())
+        .collect();
+
+    // PCA in the body metric: eigen of cov(Q), descending.
+    let (pca_share, components) = descending_eigen(&cov);
+    // Plain angle-space covariance S V cov(Q) Vᵀ Sᵀ with (S vⱼ) = λⱼ·projector[j].
+    let obs = projector[0].len();
+    let angle_cov: Vec<Vec<f64>> = (0..obs)
+        .map(|a| {
+            (0..obs)
+                .map(|b| {
+                    let mut s = 0.0;
+                    for i in 0..m {
+                        for j in 0..m {
+                            s += lambdas[i]
+                                * projector[i][a]
+                                * cov[i][j]
+                                * lambdas[j]
+                                * projector[j][b];
+                        }
+                    }
+                    s
+                })
+                .collect()
+        })
+        .collect();
+    let (angle_share, _) = descending_eigen(&angle_cov);
+    let inv: f64 = lambdas.iter().map(|l| 1.0 / l).sum();
+    let theory_share: Vec<f64> = lambdas.iter().map(|l| 1.0 / l / inv).collect();
+    let overlap: Vec<Vec<f64>> = components
+        .iter()
+        .map(|c| c.iter().map(|x| x.abs()).collect())
+        .collect();
+
+    let mut modes: Vec<ModeFit> = (0..m)
+        .map(|j| {
+            let (peak, centroid) = spectral_peak_and_centroid(&frequencies, &psd[j]);
+            let f = match settings.estimator {
+                Estimator::Peak => peak,
+                Estimator::Centroid => centroid,
+            };
+            ModeFit {
+                index: first_mode + j,
+                eigenvalue: lambdas[j],
+                variance: cov[j][j],
+                peak_frequency: peak,
+                centroid_frequency: centroid,
+                angular_frequency: 2.0 * std::f64::consts::PI * f,
+                theory_angular_frequency: 0.0,
+            }
+        })
+        .collect();
+    let used = settings.fit_modes.min(m);
+    let fitted = &modes[..used];
+    let omega = settings.omega.unwrap_or_else(|| {
+        fitted
+            .iter()
+            .map(|x| x.angular_frequency * x.eigenvalue.sqrt())
+            .sum::<f64>()
+            / fitted.iter().map(|x| x.eigenvalue).sum::<f64>()
+    });
+    if !(omega.is_finite() && omega > 0.0) {
+        return Err(invalid(
+            "no frequency could be measured (flat spectra): give --omega".into(),
+        ));
+    }
+    let spread: f64 = fitted
+        .iter()
+        .map(|x| omega * omega * x.eigenvalue * x.variance)
+        .sum();
+    if spread <= 0.0 {
+        return Err(invalid(
+            "the postures do not vary: no temperature can be fitted".into(),
+        ));
+    }
+    let beta = used as f64 / spread;
+    for x in &mut modes {
+        x.theory_angular_frequency = omega * x.eigenvalue.sqrt();
+    }
+    let shape_rows: Vec<Vec<f64>> = (0..m)
+        .map(|j| (0..size).map(|p| shapes[(p, first_mode + j)]).collect())
+        .collect();
+    Ok(FitReport {
+        frames: count,
+        points: k_in,
+        pca_variance_share: pca_share,
+        theory_variance_share: theory_share,
+        overlap,
+        omega,
+        beta,
+        kind: settings.kind,
+        field: fm.field.id.clone(),
+        model_points: n,
+        sample_interval: interval,
+        welch: (used_window, segments),
+        angle_pca_variance_share: angle_share,
+        modes,
+        fitted_modes: used,
+        frequencies,
+        psd,
+        components,
+        shapes: shape_rows,
+    })
+}
+
+/// Eigenvalue shares (descending) and eigenvectors (rows, same order) of a symmetric matrix.
+fn descending_eigen(a: &[Vec<f64>]) -> (Vec<f64>, Vec<Vec<f64>>) {
+    let n = a.len();
+    let m = nalgebra::DMatrix::from_fn(n, n, |i, j| 0.5 * (a[i][j] + a[j][i]));
+    let e = nalgebra::SymmetricEigen::new(m);
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&i, &j| e.eigenvalues[j].total_cmp(&e.eigenvalues[i]));
+    let total: f64 = e.eigenvalues.iter().map(|v| v.max(0.0)).sum();
+    let shares = order
+        .iter()
+        .map(|&i| {
+            if total > 0.0 {
+                e.eigenvalues[i].max(0.0) / total
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let vectors = order
+        .iter()
+        .map(|&i| e.eigenvectors.column(i).iter().cloned().collect())
+        .collect();
+    (shares, vectors)
+}

@@ -1,0 +1,413 @@
+//! Fitting tracked midlines: synthetic ground truth from `simulate`, written in every input
+//! format, must give back ω, β and the mode shapes.
+
+use std::fmt::Write as _;
+use std::io::Cursor;
+
+use theory_search::dynamics::{simulate, Config};
+use theory_search::fit::{fit, FitError, FitReport, FitSettings, InputKind};
+use theory_search::modal::Params;
+use theory_search::model::Model;
+
+/// Simulated larva at known scales: ω_b, ζ_b, kT, N points, `frames` frames every `dt`.
+struct Truth {
+    omega: f64,
+    zeta: f64,
+    kt: f64,
+    points: usize,
+    frames: u64,
+    dt: f64,
+    seed: u64,
+}
+
+impl Truth {
+    fn params(&self) -> Params {
+        let mut p = Params::default();
+        p.set("omega_b", self.omega).unwrap();
+        p.set("zeta_b", self.zeta).unwrap();
+        p.set("omega_s", self.omega).unwrap();
+        p.set("zeta_s", self.zeta).unwrap();
+        p
+    }
+
+    /// Every frame: t, then the y field (midline) and the x field.
+    fn run(&self, mut each: impl FnMut(f64, &[f64], &[f64])) {
+        let config = Config {
+            points: self.points,
+            order: 4,
+            dt: self.dt,
+            steps: self.frames - 1,
+            every: 1,
+            temperature: self.kt,
+            seed: self.seed,
+            initial: Vec::new(),
+            forcing: Vec::new(),
+        };
+        let model = Model::larva();
+        simulate(&model, &self.params(), &config, |s| {
+            each(s.t, &s.positions[2], &s.positions[0]);
+            Ok(())
+        })
+        .unwrap();
+    }
+
+    /// Midline text: x = j (unit spacing), y from the simulation; `sep` between columns.
+    fn midline(&self, sep: &str, header: bool) -> String {
+        let mut out = String::new();
+        if header {
+            let cols: Vec<String> = (1..=self.points)
+                .map(|j| format!("x{j}{sep}y{j}"))
+                .collect();
+            writeln!(out, "time{sep}{}", cols.join(sep)).unwrap();
+        }
+        self.run(|t, y, _| {
+            let mut line = format!("{t}");
+            for (j, v) in y.iter().enumerate() {
+                write!(line, "{sep}{j}{sep}{v}").unwrap();
+            }
+            writeln!(out, "{line}").unwrap();
+        });
+        out
+    }
+}
+
+fn larva_fit(text: &str, settings: &FitSettings) -> Result<FitReport, FitError> {
+    fit(
+        Cursor::new(text),
+        &Model::larva(),
+        &Params::default(),
+        settings,
+    )
+}
+
+fn truth() -> Truth {
+    Truth {
+        omega: 1.0,
+        zeta: 0.1,
+        kt: 1e-4,
+        points: 12,
+        frames: 60_000,
+        dt: 1.0,
+        seed: 7,
+    }
+}
+
+#[test]
+fn synthetic_midlines_give_back_omega_beta_and_shapes() {
+    let t = truth();
+    let mut settings = FitSettings::new(InputKind::Midline);
+    settings.window = 2048;
+    settings.fit_modes = 3;
+    for (sep, header) in [(",", true), (" ", false), ("\t", false)] {
+        let r = larva_fit(&t.midline(sep, header), &settings).unwrap();
+        assert_eq!((r.frames, r.points, r.model_points), (60_000, 12, 12));
+        assert!(
+            (r.omega - t.omega).abs() < 0.02 * t.omega,
+            "ω = {}",
+            r.omega
+        );
+        assert!(
+            (r.beta * t.kt - 1.0).abs() < 0.08,
+            "β = {} (true {})",
+            r.beta,
+            1.0 / t.kt
+        );
+        for k in 0..3 {
+            assert!(r.overlap[k][k] > 0.99, "PC {k}: {:?}", r.overlap[k]);
+        }
+        for (a, b) in r
+            .pca_variance_share
+            .iter()
+            .zip(&r.theory_variance_share)
+            .take(3)
+        {
+            assert!((a - b).abs() < 0.05, "{a} vs {b}");
+        }
+    }
+}
+
+#[test]
+fn other_scales_and_sampling() {
+    let t = Truth {
+        omega: 2.5,
+        zeta: 0.05,
+        kt: 1e-3,
+        points: 9,
+        frames: 40_000,
+        dt: 0.25,
+        seed: 3,
+    };
+    let mut settings = FitSettings::new(InputKind::Midline);
+    settings.points = 9;
+    settings.window = 2048;
+    settings.fit_modes = 3;
+    let r = larva_fit(&t.midline(",", false), &settings).unwrap();
+    assert!((r.sample_interval - 0.25).abs() < 1e-12);
+    assert!((r.omega / t.omega - 1.0).abs() < 0.02, "ω = {}", r.omega);
+    assert!(
+        (r.beta * t.kt - 1.0).abs() < 0.1,
+        "β kT = {}",
+        r.beta * t.kt
+    );
+    assert!(r.overlap[0][0] > 0.99 && r.overlap[1][1] > 0.99);
+    // Fixing ω leaves only β to fit.
+    settings.omega = Some(t.omega);
+    let fixed = larva_fit(&t.midline(",", false), &settings).unwrap();
+    assert_eq!(fixed.omega, t.omega);
+    assert!((fixed.beta * t.kt - 1.0).abs() < 0.1);
+}
+
+/// Angles between segments remove translation and rotation: moving every frame rigidly, each
+/// by a different amount, changes nothing.
+#[test]
+fn rigid_motions_of_each_frame_change_nothing() {
+    let mut t = truth();
+    t.frames = 3000;
+    let plain = t.midline(",", false);
+    let mut moved = String::new();
+    for (n, line) in plain.lines().enumerate() {
+        let v: Vec<f64> = line.split(',').map(|c| c.parse().unwrap()).collect();
+        let (a, dx, dy) = (
+            0.7 * n as f64,
+            3.0 * (n as f64).sin(),
+            -2.0 + 0.001 * n as f64,
+        );
+        let mut out = format!("{}", v[0]);
+        for p in v[1..].chunks(2) {
+            let (x, y) = (
+                p[0] * a.cos() - p[1] * a.sin() + dx,
+                p[0] * a.sin() + p[1] * a.cos() + dy,
+            );
+            out += &format!(",{x},{y}");
+        }
+        moved += &(out + "\n");
+    }
+    let s = FitSettings::new(InputKind::Midline);
+    let (a, b) = (
+        larva_fit(&plain, &s).unwrap(),
+        larva_fit(&moved, &s).unwrap(),
+    );
+    for (x, y) in a.modes.iter().zip(&b.modes) {
+        assert!((x.variance - y.variance).abs() <= 1e-9 * x.variance);
+    }
+    assert!((a.beta - b.beta).abs() <= 1e-6 * a.beta);
+}
+
+/// Tracker output with more points than the model: the midline is resampled by arc length.
+/// Inserting the midpoint of every segment leaves the same polyline, so the fit barely moves.
+#[test]
+fn denser_midlines_are_resampled() {
+    let mut t = truth();
+    t.frames = 20_000;
+    let plain = t.midline(" ", false);
+    let mut dense = String::new();
+    for line in plain.lines() {
+        let v: Vec<f64> = line.split(' ').map(|c| c.parse().unwrap()).collect();
+        let pts: Vec<(f64, f64)> = v[1..].chunks(2).map(|p| (p[0], p[1])).collect();
+        let mut out = format!("{}", v[0]);
+        for (i, p) in pts.iter().enumerate() {
+            out += &format!(" {} {}", p.0, p.1);
+            if let Some(q) = pts.get(i + 1) {
+                out += &format!(" {} {}", 0.5 * (p.0 + q.0), 0.5 * (p.1 + q.1));
+            }
+        }
+        dense += &(out + "\n");
+    }
+    let s = FitSettings::new(InputKind::Midline);
+    let (a, b) = (
+        larva_fit(&plain, &s).unwrap(),
+        larva_fit(&dense, &s).unwrap(),
+    );
+    assert_eq!(b.points, 23);
+    assert_eq!(b.model_points, 12);
+    for k in 0..3 {
+        assert!(b.overlap[k][k] > 0.999, "{:?}", b.overlap[k]);
+        let (x, y) = (a.modes[k].variance, b.modes[k].variance);
+        assert!((x - y).abs() < 0.01 * x, "mode {k}: {x} vs {y}");
+    }
+}
+
+/// Axial data: segment lengths around the body observe the periodic first differences.
+#[test]
+fn segment_lengths_give_back_the_axial_scales() {
+    let t = Truth {
+        omega: 1.5,
+        zeta: 0.1,
+        kt: 1e-4,
+        points: 9,
+        frames: 40_000,
+        dt: 0.5,
+        seed: 11,
+    };
+    let mut text = String::from("t,l1,l2,l3,l4,l5,l6,l7,l8\n");
+    t.run(|time, _, x| {
+        let n = x.len();
+        let lengths: Vec<String> = (0..n)
+            .map(|j| format!("{}", 1.0 + x[(j + 1) % n] - x[j]))
+            .collect();
+        text += &format!("{time},{}\n", lengths.join(","));
+    });
+    let mut s = FitSettings::new(InputKind::Lengths);
+    s.window = 2048;
+    s.fit_modes = 2;
+    let r = larva_fit(&text, &s).unwrap();
+    assert_eq!((r.points, r.model_points, r.field.as_str()), (8, 9, "x"));
+    assert!((r.omega / t.omega - 1.0).abs() < 0.02, "ω = {}", r.omega);
+    assert!(
+        (r.beta * t.kt - 1.0).abs() < 0.1,
+        "β kT = {}",
+        r.beta * t.kt
+    );
+}
+
+#[test]
+fn bad_input_names_the_line() {
+    let s = FitSettings::new(InputKind::Midline);
+    let cells = |t: f64| -> Vec<String> {
+        let mut c = vec![format!("{t}")];
+        for j in 0..6 {
+            c.push(format!("{j}"));
+            c.push(format!("{:.5}", 0.05 * (0.7 * t + j as f64).sin()));
+        }
+        c
+    };
+    let join =
+        |rows: &[Vec<String>]| -> String { rows.iter().map(|r| r.join(",") + "\n").collect() };
+    let rows: Vec<Vec<String>> = (0..20).map(|i| cells(i as f64)).collect();
+    assert!(larva_fit(&join(&rows), &s).is_ok());
+    let with = |line: usize, col: usize, v: &str| {
+        let mut r = rows.clone();
+        r[line][col] = v.to_string();
+        join(&r)
+    };
+    let good = join(&rows);
+    let cases = [
+        (with(0, 7, "NaN"), "line 1: column 8"),
+        (with(3, 7, ""), "line 4: column 8"),
+        (with(0, 2, "abc"), "not a number"),
+        (
+            format!("{good}{}\n", cells(19.0).join(",")),
+            "line 21: time 19 does not increase",
+        ),
+        (
+            format!("{good}{}\n", cells(22.0).join(",")),
+            "missing frames",
+        ),
+        (
+            format!("{good}1,2,3\n"),
+            "line 21: 3 columns where the first frame had 13",
+        ),
+        ("0,1,2,3,4,5\n".repeat(3), "odd"),
+        (
+            "0,0,0,1,0,2,0,3,0\n".to_string(),
+            "4 points per frame; at least 5",
+        ),
+        (String::new(), "no frames"),
+        ("# only a comment\nt,x1,y1\n".into(), "no frames"),
+        (join(&rows[..5]), "5 frames; at least 8"),
+        (
+            join(
+                &(0..10)
+                    .map(|i| {
+                        let mut c = cells(0.0);
+                        c[0] = format!("{i}");
+                        c
+                    })
+                    .collect::<Vec<_>>(),
+            ),
+            "do not vary",
+        ),
+    ];
+    for (text, needle) in cases {
+        let e = larva_fit(&text, &s).unwrap_err().to_string();
+        assert!(e.contains(needle), "{needle:?} not in {e:?}");
+    }
+    // Without resampling (K = N) a repeated point leaves a segment with no direction.
+    let mut twelve = s.clone();
+    twelve.points = 6;
+    assert!(larva_fit(&good, &twelve).is_ok());
+    let mut r = rows.clone();
+    r[2][3] = r[2][1].clone();
+    r[2][4] = r[2][2].clone();
+    let e = larva_fit(&join(&r), &twelve).unwrap_err().to_string();
+    assert!(
+        e.contains("line 3: two consecutive midline points coincide"),
+        "{e}"
+    );
+    let mut bad = s.clone();
+    bad.window = 2;
+    assert!(larva_fit(&good, &bad)
+        .unwrap_err()
+        .to_string()
+        .contains("window"));
+    bad = s.clone();
+    bad.omega = Some(f64::NAN);
+    assert!(larva_fit(&good, &bad).is_err());
+    bad = s.clone();
+    bad.field = "w".into();
+    assert!(larva_fit(&good, &bad)
+        .unwrap_err()
+        .to_string()
+        .contains("no field"));
+}
+
+/// A reader that makes frames on demand: a million frames go through without ever being held.
+struct Frames {
+    next: u64,
+    total: u64,
+    buf: Vec<u8>,
+    pos: usize,
+}
+
+impl std::io::Read for Frames {
+    fn read(&mut self, out: &mut [u8]) -> std::io::Result<usize> {
+        use std::io::BufRead;
+        let avail = self.fill_buf()?;
+        let n = avail.len().min(out.len());
+        out[..n].copy_from_slice(&avail[..n]);
+        self.consume(n);
+        Ok(n)
+    }
+}
+
+impl std::io::BufRead for Frames {
+    fn fill_buf(&mut self) -> std::io::Result<&[u8]> {
+        if self.pos == self.buf.len() && self.next < self.total {
+            let t = self.next as f64;
+            let mut line = format!("{t}");
+            for j in 0..12 {
+                let y =
+                    0.01 * (0.3 * t + j as f64).sin() + 0.005 * (0.11 * t * (j as f64 + 1.0)).cos();
+                line += &format!(" {j} {y}");
+            }
+            line.push('\n');
+            self.buf = line.into_bytes();
+            self.pos = 0;
+            self.next += 1;
+        }
+        Ok(&self.buf[self.pos..])
+    }
+
+    fn consume(&mut self, n: usize) {
+        self.pos += n;
+    }
+}
+
+#[test]
+fn a_million_frames_stream() {
+    let reader = Frames {
+        next: 0,
+        total: 1_000_000,
+        buf: Vec::new(),
+        pos: 0,
+    };
+    let r = fit(
+        reader,
+        &Model::larva(),
+        &Params::default(),
+        &FitSettings::new(InputKind::Midline),
+    )
+    .unwrap();
+    assert_eq!(r.frames, 1_000_000);
+    assert_eq!(r.welch.1, 2 * 1_000_000 / 256 - 1);
+}
