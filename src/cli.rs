@@ -194,6 +194,43 @@ enum Command {
         #[command(flatten)]
         params: ParamArgs,
     },
+    /// Fit the theory to tracked midlines or segment lengths: modal projection, PCA, spectra,
+    /// ω and β (seed §2.4, Fig. 2).
+    Fit {
+        /// The data file (`-` for standard input): `t x₁ y₁ … x_K y_K` or `t ℓ₁ … ℓ_K` per line.
+        #[arg(value_name = "FILE")]
+        input: PathBuf,
+        /// What the columns after time hold.
+        #[arg(long, value_enum, default_value_t = FitKind::Midline)]
+        kind: FitKind,
+        /// The model field the data observe (default: y for midlines, x for lengths).
+        #[arg(long)]
+        field: Option<String>,
+        /// Model points N for midlines (resampled by arc length when the data have another K).
+        #[arg(long, default_value_t = 12)]
+        points: usize,
+        /// Welch window in frames.
+        #[arg(long, default_value_t = 256)]
+        window: usize,
+        /// Frequency estimator: peak (rhythmic behaviour) or centroid (aperiodic).
+        #[arg(long, value_enum, default_value_t = FitEstimator::Peak)]
+        estimator: FitEstimator,
+        /// Non-zero modes used to fit ω and β.
+        #[arg(long, default_value_t = 4)]
+        fit_modes: usize,
+        /// Fix ω instead of fitting it.
+        #[arg(long)]
+        omega: Option<f64>,
+        /// Also write the fit's SVG figures into this directory.
+        #[arg(long, value_name = "DIR")]
+        figures: Option<PathBuf>,
+        /// A model file (TOML) instead of the embedded larva model.
+        #[arg(long, value_name = "FILE")]
+        model: Option<PathBuf>,
+        /// Output format (csv: one row per mode).
+        #[arg(long, value_enum, default_value_t = BehaveFormat::Text)]
+        format: BehaveFormat,
+    },
     /// Count the candidate terms of each density at every order up to a maximum.
     Count {
         /// Candidate terms: pure powers or every monomial.
@@ -311,6 +348,20 @@ enum BehaveKind {
     Rearing,
     Hunching,
     SelfRighting,
+}
+
+/// Input kinds of `fit`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum FitKind {
+    Midline,
+    Lengths,
+}
+
+/// Frequency estimators of `fit`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum FitEstimator {
+    Peak,
+    Centroid,
 }
 
 /// Output formats of `behave` (csv: the time series).
@@ -637,6 +688,108 @@ fn csv(header: &[&str], rows: impl IntoIterator<Item = Vec<f64>>) -> String {
         t += &(cells.join(",") + "\n");
     }
     t
+}
+
+/// Run the fit on a file or standard input.
+fn fit_command(
+    input: &std::path::Path,
+    model: &Model,
+    settings: &crate::fit::FitSettings,
+) -> Result<crate::fit::FitReport, CliError> {
+    use crate::fit::{fit, FitError};
+    let params = Params::default();
+    let result = if input.as_os_str() == "-" {
+        fit(std::io::stdin().lock(), model, &params, settings)
+    } else {
+        let file = std::fs::File::open(input)
+            .map_err(|e| CliError::new(1, format!("cannot open {}: {e}", input.display())))?;
+        fit(std::io::BufReader::new(file), model, &params, settings)
+    };
+    result.map_err(|e| match e {
+        FitError::Invalid(m) => CliError::new(2, m),
+        other => CliError::new(1, format!("{}: {other}", input.display())),
+    })
+}
+
+/// The fit report as text, JSON or CSV.
+fn fit_text(r: &crate::fit::FitReport, format: BehaveFormat) -> String {
+    match format {
+        BehaveFormat::Json => serde_json::to_string_pretty(r).unwrap_or_default() + "\n",
+        BehaveFormat::Csv => csv(
+            &[
+                "mode",
+                "eigenvalue",
+                "pca_share",
+                "theory_share",
+                "overlap",
+                "variance",
+                "peak_frequency",
+                "centroid_frequency",
+                "angular_frequency",
+                "theory_angular_frequency",
+            ],
+            r.modes.iter().enumerate().map(|(k, m)| {
+                vec![
+                    m.index as f64,
+                    m.eigenvalue,
+                    r.pca_variance_share[k],
+                    r.theory_variance_share[k],
+                    r.overlap[k][k],
+                    m.variance,
+                    m.peak_frequency,
+                    m.centroid_frequency,
+                    m.angular_frequency,
+                    m.theory_angular_frequency,
+                ]
+            }),
+        ),
+        BehaveFormat::Text => {
+            let what = match r.kind {
+                crate::fit::InputKind::Midline => format!("{}-point midlines", r.points),
+                crate::fit::InputKind::Lengths => format!("{} segment lengths", r.points),
+            };
+            let mut t = format!(
+                "Fit of {} frames of {what} (sampling interval {}) to field {} on N = {}\n\
+                 \x20 ω = {:.6} (least squares over modes {}–{}), β = {:.6} (lengths in units of the point spacing)\n\
+                 \x20 Welch: window {} frames, {} segments\n\
+                 \x20 mode        λ   PCA share  equipartition  |cos(PC, mode)|   peak f  centroid f   measured ω  theory ω√λ\n",
+                r.frames,
+                r.sample_interval,
+                r.field,
+                r.model_points,
+                r.omega,
+                r.modes[0].index,
+                r.modes[r.fitted_modes - 1].index,
+                r.beta,
+                r.welch.0,
+                r.welch.1,
+            );
+            for (k, m) in r.modes.iter().enumerate() {
+                t += &format!(
+                    "  {:>4} {:>8.5} {:>9.3} % {:>12.3} % {:>16.5} {:>8.5} {:>11.5} {:>12.5} {:>11.5}\n",
+                    m.index,
+                    m.eigenvalue,
+                    100.0 * r.pca_variance_share[k],
+                    100.0 * r.theory_variance_share[k],
+                    r.overlap[k][k],
+                    m.peak_frequency,
+                    m.centroid_frequency,
+                    m.angular_frequency,
+                    m.theory_angular_frequency,
+                );
+            }
+            let shares: Vec<String> = r
+                .angle_pca_variance_share
+                .iter()
+                .map(|s| format!("{:.1}", 100.0 * s))
+                .collect();
+            t += &format!(
+                "  PCA of the plain angles (%, the seed's eigenmaggots; equipartition makes them equal): {}\n",
+                shares.join(" ")
+            );
+            t
+        }
+    }
 }
 
 /// Write the figures, with a progress bar on a terminal (indicatif hides it when stderr is not
@@ -1085,6 +1238,42 @@ where
                     t
                 }
             })
+        }
+        Some(Command::Fit {
+            input,
+            kind,
+            field,
+            points,
+            window,
+            estimator,
+            fit_modes,
+            omega,
+            figures,
+            model,
+            format,
+        }) => {
+            use crate::fit::{Estimator, FitSettings, InputKind};
+            let model = load_model(model)?;
+            let mut settings = FitSettings::new(match kind {
+                FitKind::Midline => InputKind::Midline,
+                FitKind::Lengths => InputKind::Lengths,
+            });
+            if let Some(f) = field {
+                settings.field = f.clone();
+            }
+            settings.points = *points;
+            settings.window = *window;
+            settings.estimator = match estimator {
+                FitEstimator::Peak => Estimator::Peak,
+                FitEstimator::Centroid => Estimator::Centroid,
+            };
+            settings.fit_modes = *fit_modes;
+            settings.omega = *omega;
+            let report = fit_command(input, &model, &settings)?;
+            if let Some(dir) = figures {
+                crate::figures::write_fit(dir, &report).map_err(|e| CliError::new(1, e.0))?;
+            }
+            Ok(fit_text(&report, *format))
         }
         Some(Command::Figures {
             out: dir,

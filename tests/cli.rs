@@ -637,3 +637,66 @@ fn behaviour_commands_write_csv() {
         }
     }
 }
+
+#[test]
+fn fit_command() {
+    let example = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/examples/midlines.csv");
+    let (code, out, err) = run(&["fit", example, "--window", "512", "--format", "json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let keys: Vec<&str> = v.as_object().unwrap().keys().map(|k| k.as_str()).collect();
+    assert_eq!(
+        &keys[..7],
+        [
+            "frames",
+            "points",
+            "pca_variance_share",
+            "theory_variance_share",
+            "overlap",
+            "omega",
+            "beta"
+        ]
+    );
+    assert_eq!(v["frames"], 3000);
+    assert_eq!(v["points"], 12);
+    assert_eq!(v["overlap"].as_array().unwrap().len(), 10);
+    assert!(v["overlap"][0][0].as_f64().unwrap() > 0.99);
+    let (code, out, _) = run(&["fit", example, "--format", "csv"]);
+    assert_eq!(code, 0);
+    assert_eq!(out.lines().count(), 11);
+    assert!(out.starts_with("mode,eigenvalue,pca_share,theory_share,overlap"));
+    let (code, out, _) = run(&["fit", example]);
+    assert_eq!(code, 0);
+    assert!(out.starts_with("Fit of 3000 frames of 12-point midlines"));
+    // Standard input.
+    let child = Command::new(env!("CARGO_BIN_EXE_theory-search"))
+        .args(["fit", "-", "--format", "json"])
+        .stdin(std::fs::File::open(example).unwrap())
+        .output()
+        .unwrap();
+    assert!(child.status.success());
+    // Figures.
+    let dir = std::env::temp_dir().join(format!("theory-search-fit-{}", std::process::id()));
+    let (code, _, err) = run(&["fit", example, "--figures", dir.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    for name in ["fit_shapes.svg", "fit_summary.svg"] {
+        let svg = std::fs::read_to_string(dir.join(name)).unwrap();
+        assert!(svg.contains("<polyline"), "{name}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+    // Errors: files exit 1 naming the line, settings exit 2.
+    let bad = std::env::temp_dir().join(format!("theory-search-bad-{}.csv", std::process::id()));
+    std::fs::write(&bad, "0 0 0 1 0 2 0 3 0 4 0\n1 0 0 1 0 2 x 3 0 4 0\n").unwrap();
+    let (code, _, err) = run(&["fit", bad.to_str().unwrap()]);
+    assert_eq!(code, 1);
+    assert!(err.contains("line 2: column 7"), "{err}");
+    std::fs::remove_file(&bad).unwrap();
+    assert_clean_error(&["fit", "/nonexistent/m.csv"], "cannot open");
+    assert_clean_error(&["fit", example, "--window", "4"], "window");
+    assert_clean_error(&["fit", example, "--fit-modes", "0"], "at least one mode");
+    assert_clean_error(&["fit", example, "--omega", "nan"], "ω");
+    assert_clean_error(
+        &["fit", example, "--kind", "lengths"],
+        "segment lengths must be positive",
+    );
+}

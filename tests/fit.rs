@@ -411,3 +411,33 @@ fn a_million_frames_stream() {
     assert_eq!(r.frames, 1_000_000);
     assert_eq!(r.welch.1, 2 * 1_000_000 / 256 - 1);
 }
+
+/// `tables/examples/midlines.csv`, the README's worked example: 3000 frames of a simulated larva
+/// (ω_b = 1, ζ_b = 0.1, kT = 10⁻⁴, N = 12, seed 7), five decimals. Regenerated when it drifts.
+#[test]
+fn shipped_example_is_fresh_and_fits() {
+    let mut t = truth();
+    t.frames = 3000;
+    let mut text = String::from(
+        "# Simulated larva midline (theory-search tests/fit.rs): omega_b = 1, zeta_b = 0.1, kT = 1e-4, N = 12, seed 7\n",
+    );
+    let cols: Vec<String> = (1..=12).map(|j| format!("x{j},y{j}")).collect();
+    text += &format!("t,{}\n", cols.join(","));
+    t.run(|time, y, _| {
+        let cells: Vec<String> = y
+            .iter()
+            .enumerate()
+            .map(|(j, v)| format!("{j},{v:.5}"))
+            .collect();
+        text += &format!("{time},{}\n", cells.join(","));
+    });
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tables/examples/midlines.csv");
+    theory_search::codegen::ensure_file_contents(&path, &text).unwrap();
+    let mut s = FitSettings::new(InputKind::Midline);
+    s.window = 512;
+    s.fit_modes = 3;
+    let r = larva_fit(&text, &s).unwrap();
+    assert!((r.omega - 1.0).abs() < 0.05, "ω = {}", r.omega);
+    assert!(r.overlap[0][0] > 0.99);
+}
