@@ -46,10 +46,12 @@ impl Default for FigureSettings {
 }
 
 /// The figures, by file name, in the order they are made.
-pub const FIGURES: [&str; 8] = [
+pub const FIGURES: [&str; 10] = [
     "mode_shapes.svg",
     "spectrum.svg",
     "self_righting.svg",
+    "rearing_hunching.svg",
+    "asymmetry.svg",
     "peristalsis.svg",
     "rolling.svg",
     "free_energy.svg",
@@ -468,6 +470,111 @@ fn self_righting(model: &Model, params: &Params, n: usize) -> Result<String, Fig
     )
 }
 
+/// Fig. 4: a constant force on the first dorsoventral bending mode (rearing) and on the first
+/// axial mode (hunching): the transient and the shifted equilibrium shape.
+fn rearing_hunching(model: &Model, params: &Params, n: usize) -> Result<String, FigureError> {
+    let mut panels = Vec::new();
+    let labels = [
+        ("rearing", "z", "dorsoventral z"),
+        ("hunching", "x", "axial x"),
+    ];
+    let runs = labels
+        .iter()
+        .map(|(_, field, _)| behaviour::step_response(model, params, n, field, 0.02, 2000.0))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(bh)?;
+    let titles: Vec<(String, String)> = labels
+        .iter()
+        .zip(&runs)
+        .map(|((what, _, _), r)| {
+            (
+                format!("{what}: force 0.02 on mode {}", r.mode),
+                format!("{what}: shifted equilibrium Q*·vᵢ"),
+            )
+        })
+        .collect();
+    for (((_, _, axis), r), (t1, t2)) in labels.iter().zip(&runs).zip(&titles) {
+        let q = vec![
+            (0.0, r.equilibrium),
+            (r.transient.last().map_or(1.0, |x| x.0), r.equilibrium),
+        ];
+        let mut a = panel(
+            t1,
+            "time t (1/ω)",
+            "modal coordinate Q",
+            vec![
+                series("transient", r.transient.clone(), Mark::Line),
+                series("Q* = F/ωᵢ²", q, Mark::Dashed),
+            ],
+        );
+        a.zero = true;
+        let shape = r
+            .shape
+            .iter()
+            .enumerate()
+            .map(|(j, v)| (j as f64, *v))
+            .collect();
+        let mut b = panel(
+            t2,
+            "segment j (0 = tail)",
+            axis,
+            vec![series("", shape, Mark::Line)],
+        );
+        b.zero = true;
+        panels.push(a);
+        panels.push(b);
+    }
+    render(
+        &format!("Rearing and hunching, N = {n} (seed §3.3.2, Fig. 4)"),
+        (1000, 760),
+        (2, 2),
+        &panels,
+    )
+}
+
+/// App. C: forward and backward frequencies of the self-interacting axial pair against the
+/// amplitude, with the nonlinear pair's simulated frequencies.
+fn asymmetry() -> Result<String, FigureError> {
+    let c = -std::f64::consts::FRAC_1_SQRT_2;
+    let roots = |a: f64| {
+        let b = c * a * a;
+        let d = (b * b + 4.0).sqrt();
+        ((-b + d) / 2.0, (-b - d) / 2.0)
+    };
+    let mut sim = (Vec::new(), Vec::new());
+    for a in [0.25, 0.5, 0.75, 1.0, 1.25, 1.5] {
+        let x = behaviour::asymmetry(c, a, 1.0).map_err(bh)?;
+        sim.0.push((a, x.simulated_forward));
+        sim.1.push((a, x.simulated_backward));
+    }
+    let mut p = panel(
+        "roots of ω_s² + cA²ω_s − ω² = 0, c = −√2/2, ω = 1",
+        "wave amplitude A",
+        "travelling-wave frequency ω_s (units of ω)",
+        vec![
+            series(
+                "forward root",
+                curve(0.0, 1.6, 160, |a| roots(a).0),
+                Mark::Line,
+            ),
+            series(
+                "backward root",
+                curve(0.0, 1.6, 160, |a| roots(a).1),
+                Mark::Line,
+            ),
+            series("simulated forward", sim.0, Mark::Dots),
+            series("simulated backward", sim.1, Mark::Dots),
+        ],
+    );
+    p.zero = true;
+    render(
+        "Forward/backward asymmetry of the axial pair (seed App. C, corrected cA²)",
+        (760, 520),
+        (1, 1),
+        &[p],
+    )
+}
+
 /// Figs. 6–7: a degenerate pair's minimum-energy orbit, the body it moves, and its densities.
 fn pair(
     model: &Model,
@@ -699,6 +806,8 @@ pub fn figure(
         "mode_shapes.svg" => mode_shapes(model, params, n),
         "spectrum.svg" => spectrum(model, params, n),
         "self_righting.svg" => self_righting(model, params, n),
+        "rearing_hunching.svg" => rearing_hunching(model, params, n),
+        "asymmetry.svg" => asymmetry(),
         "peristalsis.svg" => pair(model, params, n, PairKind::Peristalsis, settings),
         "rolling.svg" => pair(model, params, n, PairKind::Rolling, settings),
         "free_energy.svg" => free_energy(model, params, n),
@@ -824,6 +933,26 @@ pub fn fit_figures(r: &crate::fit::FitReport) -> Result<Vec<(&'static str, Strin
         ],
     );
     freq.zero = true;
+    let ratio = |f: &dyn Fn(&crate::fit::ModeFit) -> f64| -> Vec<(f64, f64)> {
+        let first = f(&r.modes[0]);
+        (0..r.modes.len())
+            .map(|k| (idx(k), f(&r.modes[k]) / first))
+            .collect()
+    };
+    let mut ratios = panel(
+        "frequency ratios ωᵢ/ω₁ (independent of ω)",
+        "mode index i",
+        "ωᵢ / ω of the first mode",
+        vec![
+            series("measured", ratio(&|m| m.angular_frequency), Mark::Dots),
+            series(
+                "theory √(λᵢ/λ₁)",
+                ratio(&|m| m.eigenvalue.sqrt()),
+                Mark::Line,
+            ),
+        ],
+    );
+    ratios.zero = true;
     let spectra: Vec<Series> = (0..shown)
         .map(|k| {
             let pts = r
@@ -842,8 +971,8 @@ pub fn fit_figures(r: &crate::fit::FitReport) -> Result<Vec<(&'static str, Strin
             "Fit of {} frames: ω = {:.4}, β = {:.4} (seed Fig. 2)",
             r.frames, r.omega, r.beta
         ),
-        (1200, 420),
-        (1, 3),
+        (1000, 780),
+        (2, 2),
         &[
             shares,
             panel(
@@ -853,6 +982,7 @@ pub fn fit_figures(r: &crate::fit::FitReport) -> Result<Vec<(&'static str, Strin
                 spectra,
             ),
             freq,
+            ratios,
         ],
     )?;
     Ok(vec![
