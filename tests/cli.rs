@@ -569,57 +569,34 @@ fn stats_explore_command() {
 /// Every behaviour and statistics command has a CSV form with a header and numeric rows.
 #[test]
 fn behaviour_commands_write_csv() {
-    let cases: [(&[&str], &str, usize); 7] = [
+    let pair = "stats pair --omega 1 --beta 2 --momentum 0.3";
+    let cases = [
         (
-            &["asymmetry", "--coupling", "-0.5"],
+            "asymmetry --coupling -0.5".to_string(),
             "forward,backward,ratio",
             1,
         ),
+        (pair.to_string(), "partition_function,", 1),
         (
-            &[
-                "stats",
-                "pair",
-                "--omega",
-                "1",
-                "--beta",
-                "2",
-                "--momentum",
-                "0.3",
-            ],
-            "partition_function,",
-            1,
-        ),
-        (
-            &[
-                "stats",
-                "pair",
-                "--omega",
-                "1",
-                "--beta",
-                "2",
-                "--momentum",
-                "0.3",
-                "--samples",
-                "50",
-            ],
+            format!("{pair} --samples 50"),
             "amplitude,phase,momentum_a",
             50,
         ),
         (
-            &["stats", "equipartition", "--steps", "2000"],
+            "stats equipartition --steps 2000".into(),
             "k,pca_variance_share",
             10,
         ),
-        (&["behave", "hunching", "--duration", "100"], "t,q", 401),
-        (&["behave", "rolling", "--periods", "2"], "t,q_a,q_b", 201),
+        ("behave hunching --duration 100".into(), "t,q", 401),
+        ("behave rolling --periods 2".into(), "t,q_a,q_b", 201),
         (
-            &["behave", "self-righting"],
+            "behave self-righting".into(),
             "t,torque,mode,mean_rotation,theta_0",
             0,
         ),
     ];
     for (args, header, rows) in cases {
-        let mut all = args.to_vec();
+        let mut all: Vec<&str> = args.split_whitespace().collect();
         all.extend(["--format", "csv"]);
         let (code, out, err) = run(&all);
         assert_eq!(code, 0, "{all:?}: {err}");
