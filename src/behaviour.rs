@@ -11,7 +11,9 @@
 //!   ω = 2λ, between ω/λ = 2√(1 − ε) and 2√(1 + ε) for small ε.
 
 mod righting;
-pub use righting::{decay_rate, self_righting, Righting, RightingFrame, RightingSettings};
+pub use righting::{
+    decay_rate, self_righting, Attachment, Righting, RightingFrame, RightingSettings,
+};
 
 /// A bad parameter of a behaviour model.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]

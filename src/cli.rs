@@ -159,6 +159,10 @@ enum Command {
         /// Initial orientation of the body in radians (self-righting; π is upside down).
         #[arg(long, default_value_t = std::f64::consts::PI, allow_negative_numbers = true)]
         theta0: f64,
+        /// Relaxation after attachment (self-righting): the seed's two-degree-of-freedom model,
+        /// or the whole chain with the head held.
+        #[arg(long, value_enum, default_value_t = AttachmentKind::Seed)]
+        attachment: AttachmentKind,
         /// Also run these first-mode damping ratios and tabulate their righting times.
         #[arg(long, value_delimiter = ',', value_name = "ZETA,…")]
         sweep: Vec<f64>,
@@ -348,6 +352,13 @@ enum BehaveKind {
     Rearing,
     Hunching,
     SelfRighting,
+}
+
+/// Relaxation models of `behave self-righting`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum AttachmentKind {
+    Seed,
+    Pinned,
 }
 
 /// Input kinds of `fit`.
@@ -891,7 +902,7 @@ fn righting_text(
                  \x20 stage 1: constant torque Q = −ω₁²θ₀/a = {:.9} on Θ₁ from θ₀ = {:.6}\n\
                  \x20   the head follows Eq. 20 to {:.1e}; the mean rotation moves by {:.1e}\n\
                  \x20   mouth hooks attach at t = {:.4} (head within δ = {} rad)\n\
-                 \x20 stage 2: torque released, Θ₁ relaxes (overshoot {:.4} of Θ₁(t_a), decay rate {:.6})\n\
+                 \x20 stage 2 ({:?}): torque released; slowest relaxing mode ω = {:.6}, ζ = {:.4}; overshoot {:.4}\n\
                  \x20   body aligned within δ at t = {:.4}\n\
                  \x20 alignment time per segment (0 = tail … {} = head):\n",
                 r.points,
@@ -904,8 +915,10 @@ fn righting_text(
                 r.rotation_before_attachment,
                 r.attachment_time,
                 r.tolerance,
+                r.attachment,
+                r.relaxation.0,
+                r.relaxation.1,
                 r.overshoot,
-                r.decay_rate,
                 r.righting_time,
                 r.points - 1,
             );
@@ -1427,6 +1440,7 @@ where
             tolerance,
             mode_damping,
             theta0,
+            attachment,
             sweep,
             params: param_args,
             format,
@@ -1458,6 +1472,10 @@ where
                         theta0: *theta0,
                         tolerance: *tolerance,
                         mode_damping: mode_damping.or(if explicit { None } else { Some(1.0) }),
+                        attachment: match attachment {
+                            AttachmentKind::Seed => crate::behaviour::Attachment::Seed,
+                            AttachmentKind::Pinned => crate::behaviour::Attachment::Pinned,
+                        },
                         ..Default::default()
                     };
                     let text = righting_text(&model, &params, &settings, sweep, *format)?;

@@ -197,6 +197,19 @@ impl Oscillator {
     }
 }
 
+/// The free damped oscillator `Q̈ + 2γQ̇ + ω²Q = 0` carried from (Q, Q̇) over time `t`: the exact
+/// flow [`simulate`] uses, for models that assemble their own modes.
+pub fn propagate(omega: f64, gamma: f64, q: f64, p: f64, t: f64) -> (f64, f64) {
+    let osc = Oscillator {
+        omega,
+        gamma,
+        constant: 0.0,
+        drives: Vec::new(),
+    };
+    let x = osc.flow(t) * Vector2::new(q, p);
+    (x[0], x[1])
+}
+
 fn check_config(c: &Config) -> Result<(), DynamicsError> {
     let bad = |s: String| Err(DynamicsError::Invalid(s));
     if !(c.dt.is_finite() && c.dt > 0.0) {

@@ -1,7 +1,7 @@
 //! Self-righting (seed §3.3.1, App. H): twist under a constant torque on the first torsional
 //! mode, attach the mouth hooks, release, relax.
 
-use theory_search::behaviour::{decay_rate, self_righting, Righting, RightingSettings};
+use theory_search::behaviour::{decay_rate, self_righting, Attachment, Righting, RightingSettings};
 use theory_search::modal::Params;
 use theory_search::model::Model;
 
@@ -139,4 +139,122 @@ fn bad_settings_are_refused() {
     ] {
         assert!(self_righting(&model, &p, &s).is_err(), "{s:?}");
     }
+}
+
+fn pinned(mode_damping: f64, points: usize) -> Righting {
+    let settings = RightingSettings {
+        points,
+        mode_damping: Some(mode_damping),
+        attachment: Attachment::Pinned,
+        frames_per_stage: 2000,
+        ..RightingSettings::default()
+    };
+    self_righting(&Model::larva(), &Params::default(), &settings).unwrap()
+}
+
+/// With the head held, the slowest mode is the fixed–free chain's: λ = 2 − 2cos(π/(2N − 1)),
+/// about a quarter of the free chain's first eigenvalue, so half its frequency and damping ratio.
+#[test]
+fn holding_the_head_halves_the_first_frequency() {
+    for n in [8usize, 12, 30] {
+        let r = pinned(1.0, n);
+        let free = 2.0 - 2.0 * (std::f64::consts::PI / n as f64).cos();
+        let held = 2.0 - 2.0 * (std::f64::consts::PI / (2 * n - 1) as f64).cos();
+        let scale = r.frequency / free.sqrt(); // ω_t
+        assert!((r.relaxation.0 - scale * held.sqrt()).abs() < 1e-12 * scale);
+        assert!((r.relaxation.1 - (held / free).sqrt()).abs() < 1e-12);
+        assert!(r.rotation_before_attachment < 1e-12);
+        for a in &r.frames.last().unwrap().angles {
+            assert!(a.abs() <= 2.0 * r.tolerance, "N = {n}: {a}");
+        }
+    }
+    // So critical damping of the free first mode leaves the held chain underdamped: it
+    // overshoots, where the seed's two-degree-of-freedom relaxation does not.
+    assert!(pinned(1.0, 12).overshoot > 0.05);
+    assert_eq!(run(1.0, 0.01, 12).overshoot, 0.0);
+}
+
+/// The held chain's relaxation, assembled from its modes and the exact propagator, against a
+/// direct RK4 integration of ü = −ω²K′u − 2ζωK′u̇ from the same state at attachment.
+#[test]
+fn held_chain_matches_direct_integration() {
+    let r = pinned(1.0, 8);
+    let n = 8;
+    let start = r
+        .frames
+        .iter()
+        .position(|f| f.t >= r.attachment_time && f.torque == 0.0)
+        .unwrap();
+    let hold = r.frames[start].angles[n - 1];
+    // K′: D2,f on the tail's 7 points, the head's column dropped (Dirichlet at the head).
+    let k = |i: usize, j: usize| -> f64 {
+        let diag = if i == 0 { 1.0 } else { 2.0 };
+        if i == j {
+            diag
+        } else if i.abs_diff(j) == 1 {
+            -1.0
+        } else {
+            0.0
+        }
+    };
+    let free = 2.0 - 2.0 * (std::f64::consts::PI / n as f64).cos();
+    let (w, z) = (r.frequency / free.sqrt(), r.damping_ratio / free.sqrt());
+    let m = n - 1;
+    let accel = |u: &[f64], v: &[f64]| -> Vec<f64> {
+        (0..m)
+            .map(|i| {
+                -(0..m)
+                    .map(|j| k(i, j) * (w * w * u[j] + 2.0 * z * w * v[j]))
+                    .sum::<f64>()
+            })
+            .collect()
+    };
+    // Start RK4 one frame after attachment, with the velocity there by central difference of
+    // the neighbouring frames (O(h²) accurate), and march 40 frames on.
+    let f0 = &r.frames[start];
+    let f1 = &r.frames[start + 1];
+    let f2 = &r.frames[start + 2];
+    let h = f1.t - f0.t;
+    let mut u: Vec<f64> = f1.angles[..m].iter().map(|a| a - hold).collect();
+    let mut v: Vec<f64> = (0..m)
+        .map(|j| (f2.angles[j] - f0.angles[j]) / (2.0 * h))
+        .collect();
+    // March to the frame 40 strides later with RK4 on a fine step.
+    let target = &r.frames[start + 41];
+    let steps = 4000;
+    let dt = (target.t - f1.t) / steps as f64;
+    for _ in 0..steps {
+        let a1 = accel(&u, &v);
+        let (u2, v2): (Vec<f64>, Vec<f64>) = (0..m)
+            .map(|i| (u[i] + 0.5 * dt * v[i], v[i] + 0.5 * dt * a1[i]))
+            .unzip();
+        let a2 = accel(&u2, &v2);
+        let (u3, v3): (Vec<f64>, Vec<f64>) = (0..m)
+            .map(|i| (u[i] + 0.5 * dt * v2[i], v[i] + 0.5 * dt * a2[i]))
+            .unzip();
+        let a3 = accel(&u3, &v3);
+        let (u4, v4): (Vec<f64>, Vec<f64>) = (0..m)
+            .map(|i| (u[i] + dt * v3[i], v[i] + dt * a3[i]))
+            .unzip();
+        let a4 = accel(&u4, &v4);
+        for i in 0..m {
+            u[i] += dt / 6.0 * (v[i] + 2.0 * v2[i] + 2.0 * v3[i] + v4[i]);
+            v[i] += dt / 6.0 * (a1[i] + 2.0 * a2[i] + 2.0 * a3[i] + a4[i]);
+        }
+    }
+    let scale = target
+        .angles
+        .iter()
+        .map(|a| (a - hold).abs())
+        .fold(0.0, f64::max);
+    for (j, (uj, a)) in u.iter().zip(&target.angles).enumerate() {
+        // The central-difference start velocity limits agreement to O(h²).
+        let err = (uj - (a - hold)).abs();
+        assert!(
+            err < 1e-4 * scale.max(1e-3),
+            "point {j}: {uj} vs {}",
+            a - hold
+        );
+    }
+    assert_eq!(target.angles[n - 1], hold);
 }

@@ -44,6 +44,18 @@ pub struct RightingSettings {
     pub max_periods: f64,
     /// Frames kept per stage for the output (every step is still checked).
     pub frames_per_stage: usize,
+    /// How the body relaxes once the head is held.
+    pub attachment: Attachment,
+}
+
+/// The relaxation after the mouth hooks attach.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Attachment {
+    /// The seed's App. H: the free first mode relaxes, the overall rotation keeps the head put.
+    Seed,
+    /// The whole chain with the head held fixed (D2,f without the head's row and column).
+    Pinned,
 }
 
 impl Default for RightingSettings {
@@ -55,6 +67,7 @@ impl Default for RightingSettings {
             mode_damping: Some(1.0),
             max_periods: 1e4,
             frames_per_stage: 200,
+            attachment: Attachment::Seed,
         }
     }
 }
@@ -83,6 +96,10 @@ pub struct Righting {
     pub theta0: f64,
     /// Tolerance δ.
     pub tolerance: f64,
+    /// The relaxation model after attachment.
+    pub attachment: Attachment,
+    /// (ω, ζ) of the slowest relaxing mode after attachment.
+    pub relaxation: (f64, f64),
     /// ω₁ of the first torsional mode.
     pub frequency: f64,
     /// ζ₁ of the first torsional mode.
@@ -173,7 +190,8 @@ pub fn self_righting(
     // A stage lasts about ln(range/δ)/rate: sample that span into the frames.
     let expected = ((2.0 * theta0.abs() / tol).ln() + 3.0) / rate;
     let stride = ((expected / dt) as u64 / settings.frames_per_stage.max(1) as u64).max(1);
-    let config = |initial: Vec<Initial>, forcing: Vec<Forcing>| Config {
+    let field = modes[f].field.id.clone();
+    let stage1 = Config {
         points: n,
         order: 4,
         dt,
@@ -181,38 +199,29 @@ pub fn self_righting(
         every: 1,
         temperature: 0.0,
         seed: 0,
-        initial,
-        forcing,
-    };
-    let field = modes[f].field.id.clone();
-    let initial = |mode: usize, displacement: f64, velocity: f64| Initial {
-        field: field.clone(),
-        mode,
-        displacement,
-        velocity,
-    };
-    let run = |c: &Config, sink: &mut dyn FnMut(&crate::dynamics::Sample) -> Result<(), String>| {
-        simulate(model, &params, c, sink).map_err(|e| BehaviourError(e.to_string()))
-    };
-
-    // Stage 1: twist under the constant torque until the head is within δ.
-    let mut frames = Vec::new();
-    let mut drift = 0.0f64;
-    let mut head_error = 0.0f64;
-    let mut attached: Option<(f64, f64, f64, f64)> = None;
-    let mut step = 0u64;
-    let stage1 = config(
-        vec![initial(0, theta0 / shapes[(head, 0)], 0.0)],
-        vec![Forcing {
+        initial: vec![Initial {
             field: field.clone(),
+            mode: 0,
+            displacement: theta0 / shapes[(head, 0)],
+            velocity: 0.0,
+        }],
+        forcing: vec![Forcing {
+            field,
             mode: 1,
             constant: torque,
             amplitude: 0.0,
             frequency: 0.0,
             phase: 0.0,
         }],
-    );
-    run(&stage1, &mut |s| {
+    };
+
+    // Stage 1: twist under the constant torque until the head is within δ.
+    let mut frames = Vec::new();
+    let mut drift = 0.0f64;
+    let mut head_error = 0.0f64;
+    let mut attached: Option<(f64, Vec<f64>, Vec<f64>)> = None;
+    let mut step = 0u64;
+    simulate(model, &params, &stage1, |s| {
         let angles = &s.positions[f];
         let mean = angles.iter().sum::<f64>() / n as f64;
         drift = drift.max((mean - theta0).abs());
@@ -230,54 +239,94 @@ pub fn self_righting(
         }
         step += 1;
         if done {
-            attached = Some((s.t, angles[head], s.modal[f][1], s.velocity[f][1]));
+            let rates = (0..n)
+                .map(|j| {
+                    s.velocity[f]
+                        .iter()
+                        .enumerate()
+                        .map(|(i, p)| p * shapes[(j, i)])
+                        .sum()
+                })
+                .collect();
+            attached = Some((s.t, angles.clone(), rates));
             return Err(STOP.into());
         }
         Ok(())
-    })?;
-    let Some((ta, hold, q_a, p_a)) = attached else {
+    })
+    .map_err(|e| BehaviourError(e.to_string()))?;
+    let Some((ta, at_attach, rates)) = attached else {
         return Err(BehaviourError(format!(
             "the head did not come within {tol} rad of upright in {} periods",
             settings.max_periods
         )));
     };
+    let hold = at_attach[head];
 
-    // Stage 2: the head is held, the torque released; Θ₁ relaxes and the rest follows.
-    let reach = v1.iter().map(|v| (v - a).abs()).fold(0.0, f64::max);
+    // Stage 2: the head is held, the torque released, and the body relaxes as a sum of damped
+    // modes, each carried by the exact propagator.
+    let relax = match settings.attachment {
+        Attachment::Seed => {
+            let shape: Vec<f64> = v1.iter().map(|v| v - a).collect();
+            let q: f64 = v1.iter().zip(&at_attach).map(|(v, th)| v * th).sum();
+            let p: f64 = v1.iter().zip(&rates).map(|(v, w)| v * w).sum();
+            vec![RelaxMode {
+                omega,
+                gamma: zeta * omega,
+                shape,
+                q,
+                p,
+            }]
+        }
+        Attachment::Pinned => pinned_modes(
+            n,
+            head,
+            modes[f].omega,
+            modes[f].zeta,
+            &at_attach,
+            &rates,
+            hold,
+        )?,
+    };
+    let start: Vec<f64> = at_attach.iter().map(|th| th - hold).collect();
+    let largest = start.iter().map(|u| u.abs()).fold(0.0, f64::max);
     let mut last_out = vec![f64::NEG_INFINITY; n];
     let mut overshoot = 0.0f64;
     let mut settled = false;
-    step = 0;
-    let stage2 = config(vec![initial(1, q_a, p_a)], Vec::new());
-    run(&stage2, &mut |s| {
-        let (q, p) = (s.modal[f][1], s.velocity[f][1]);
-        let angles: Vec<f64> = v1.iter().map(|v| hold + (v - a) * q).collect();
-        for (j, th) in angles.iter().enumerate() {
-            if (th - hold).abs() > tol {
-                last_out[j] = s.t;
+    for step in 0..=max_steps {
+        let t = step as f64 * dt;
+        let mut u = vec![0.0; n];
+        let mut bound = 0.0;
+        for m in &relax {
+            let (q, p) = crate::dynamics::propagate(m.omega, m.gamma, m.q, m.p, t);
+            for (uj, s) in u.iter_mut().zip(&m.shape) {
+                *uj += q * s;
+            }
+            let reach = m.shape.iter().map(|s| s.abs()).fold(0.0, f64::max);
+            bound += reach * (p * p + m.omega * m.omega * q * q).sqrt() / m.omega;
+        }
+        for (j, uj) in u.iter().enumerate() {
+            if uj.abs() > tol {
+                last_out[j] = t;
+            }
+            if start[j] != 0.0 && largest > 0.0 {
+                overshoot = overshoot.max(-uj * start[j].signum() / largest);
             }
         }
-        if q_a != 0.0 {
-            overshoot = overshoot.max(-q / q_a);
-        }
-        let bound = reach * (p * p + omega * omega * q * q).sqrt() / omega;
         settled = bound <= tol;
         if step % stride == 0 || settled {
+            let angles: Vec<f64> = u.iter().map(|x| hold + x).collect();
             frames.push(RightingFrame {
-                t: ta + s.t,
+                t: ta + t,
                 torque: 0.0,
-                mode: q,
-                mean_rotation: hold - a * q,
+                mode: v1.iter().zip(&u).map(|(v, x)| v * x).sum(),
+                mean_rotation: angles.iter().sum::<f64>() / n as f64,
                 angles,
             });
         }
-        step += 1;
         if settled {
-            Err(STOP.into())
-        } else {
-            Ok(())
+            break;
         }
-    })?;
+    }
     if !settled {
         return Err(BehaviourError(format!(
             "the body did not align within {tol} rad in {} periods after attachment",
@@ -292,8 +341,14 @@ pub fn self_righting(
         points: n,
         theta0,
         tolerance: tol,
+        attachment: settings.attachment,
         frequency: omega,
         damping_ratio: zeta,
+        relaxation: relax
+            .iter()
+            .map(|m| (m.omega, m.gamma / m.omega))
+            .next()
+            .unwrap_or((0.0, 0.0)),
         head_coefficient: a,
         torque,
         attachment_time: ta,
@@ -305,4 +360,58 @@ pub fn self_righting(
         head_error,
         frames,
     })
+}
+
+/// One damped mode of the relaxation after attachment: its shape over all points (zero at the
+/// head) and its state at attachment.
+struct RelaxMode {
+    omega: f64,
+    gamma: f64,
+    shape: Vec<f64>,
+    q: f64,
+    p: f64,
+}
+
+/// The modes of the torsion chain with the head held: D2,f without the head's row and column,
+/// with the model's stiffness-proportional damping (γ = ζωλ), started from the state at
+/// attachment (the head stops there).
+fn pinned_modes(
+    n: usize,
+    head: usize,
+    omega: f64,
+    zeta: f64,
+    angles: &[f64],
+    rates: &[f64],
+    hold: f64,
+) -> Result<Vec<RelaxMode>, BehaviourError> {
+    use crate::model::Boundary;
+    let full = crate::discretise::operator_matrix(1, Boundary::Free, n)
+        .map_err(|e| BehaviourError(e.to_string()))?;
+    let keep: Vec<usize> = (0..n).filter(|&j| j != head).collect();
+    let k =
+        nalgebra::DMatrix::from_fn(keep.len(), keep.len(), |r, c| full[keep[r]][keep[c]] as f64);
+    let eig = nalgebra::SymmetricEigen::new(k);
+    let mut order: Vec<usize> = (0..keep.len()).collect();
+    order.sort_by(|&x, &y| eig.eigenvalues[x].total_cmp(&eig.eigenvalues[y]));
+    Ok(order
+        .into_iter()
+        .map(|m| {
+            let lambda = eig.eigenvalues[m];
+            let w = eig.eigenvectors.column(m);
+            let mut shape = vec![0.0; n];
+            let (mut q, mut p) = (0.0, 0.0);
+            for (r, &j) in keep.iter().enumerate() {
+                shape[j] = w[r];
+                q += w[r] * (angles[j] - hold);
+                p += w[r] * rates[j];
+            }
+            RelaxMode {
+                omega: omega * lambda.sqrt(),
+                gamma: zeta * omega * lambda,
+                shape,
+                q,
+                p,
+            }
+        })
+        .collect())
 }
