@@ -46,12 +46,13 @@ impl Default for FigureSettings {
 }
 
 /// The figures, by file name, in the order they are made.
-pub const FIGURES: [&str; 10] = [
+pub const FIGURES: [&str; 11] = [
     "mode_shapes.svg",
     "spectrum.svg",
     "self_righting.svg",
     "rearing_hunching.svg",
     "asymmetry.svg",
+    "equipartition.svg",
     "peristalsis.svg",
     "rolling.svg",
     "free_energy.svg",
@@ -575,6 +576,59 @@ fn asymmetry() -> Result<String, FigureError> {
     )
 }
 
+/// App. B: PCA of Langevin postures against the modes and the equipartition shares.
+fn equipartition(
+    model: &Model,
+    params: &Params,
+    n: usize,
+    settings: &FigureSettings,
+) -> Result<String, FigureError> {
+    let kt = 0.5;
+    let c =
+        behaviour::equipartition_from_dynamics(model, params, "y", n, 200_000, kt, settings.seed)
+            .map_err(bh)?;
+    let k = |v: &[f64], f: fn(f64) -> f64| -> Vec<(f64, f64)> {
+        v.iter()
+            .enumerate()
+            .map(|(i, x)| ((i + 1) as f64, f(*x)))
+            .collect()
+    };
+    let mut shares = panel(
+        "variance share of each principal component",
+        "component k (k-th non-zero mode)",
+        "log₁₀ share",
+        vec![
+            series(
+                "PCA of simulated postures",
+                k(&c.pca_variance_share, f64::log10),
+                Mark::Dots,
+            ),
+            series(
+                "equipartition λₖ⁻¹/Σλ⁻¹",
+                k(&c.theory_variance_share, f64::log10),
+                Mark::Line,
+            ),
+        ],
+    );
+    shares.zero = true;
+    let mut overlap = panel(
+        "|cos| between principal component k and mode k",
+        "component k",
+        "overlap",
+        vec![series("", k(&c.overlap, |x| x), Mark::Dots)],
+    );
+    overlap.zero = true;
+    render(
+        &format!(
+            "Equipartition from Langevin dynamics: {} postures of y, N = {n}, kT = {kt} (seed App. B)",
+            c.frames
+        ),
+        (1000, 420),
+        (1, 2),
+        &[shares, overlap],
+    )
+}
+
 /// Figs. 6–7: a degenerate pair's minimum-energy orbit, the body it moves, and its densities.
 fn pair(
     model: &Model,
@@ -808,6 +862,7 @@ pub fn figure(
         "self_righting.svg" => self_righting(model, params, n),
         "rearing_hunching.svg" => rearing_hunching(model, params, n),
         "asymmetry.svg" => asymmetry(),
+        "equipartition.svg" => equipartition(model, params, n, settings),
         "peristalsis.svg" => pair(model, params, n, PairKind::Peristalsis, settings),
         "rolling.svg" => pair(model, params, n, PairKind::Rolling, settings),
         "free_energy.svg" => free_energy(model, params, n),
