@@ -50,6 +50,12 @@ use rustfft::{Fft, FftPlanner};
 use crate::modal::{field_modes, Params};
 use crate::model::Model;
 
+/// The most model points a fit takes (every mode shape is kept).
+pub const MAX_POINTS: usize = crate::dynamics::MAX_SIM_POINTS;
+
+/// The longest Welch window, in frames.
+pub const MAX_WINDOW: usize = 1 << 20;
+
 /// What the columns after time hold.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
@@ -475,6 +481,18 @@ pub fn fit(
     settings: &FitSettings,
 ) -> Result<FitReport, FitError> {
     let invalid = |s: String| FitError::Invalid(s);
+    if settings.points > MAX_POINTS {
+        return Err(invalid(format!(
+            "at most {MAX_POINTS} model points, not {}",
+            settings.points
+        )));
+    }
+    if settings.window > MAX_WINDOW {
+        return Err(invalid(format!(
+            "the Welch window can be at most {MAX_WINDOW} frames, not {}",
+            settings.window
+        )));
+    }
     if settings.window < 8 {
         return Err(invalid(format!(
             "the Welch window must be at least 8 frames, not {}",
@@ -508,6 +526,11 @@ pub fn fit(
         }
         InputKind::Lengths => (first.len(), first.len() + 1),
     };
+    if n > MAX_POINTS {
+        return Err(invalid(format!(
+            "{k_in} segments make a ring of {n} points; at most {MAX_POINTS}"
+        )));
+    }
     let min_k = if settings.kind == InputKind::Midline {
         5
     } else {

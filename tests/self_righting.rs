@@ -136,6 +136,12 @@ fn bad_settings_are_refused() {
             points: 2,
             ..Default::default()
         },
+        // Would take longer than the period limit: refused up front, not after minutes.
+        RightingSettings {
+            tolerance: 1e-300,
+            mode_damping: Some(100.0),
+            ..Default::default()
+        },
     ] {
         assert!(self_righting(&model, &p, &s).is_err(), "{s:?}");
     }

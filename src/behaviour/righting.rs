@@ -189,6 +189,12 @@ pub fn self_righting(
     let max_steps = (settings.max_periods * 1000.0).ceil() as u64;
     // A stage lasts about ln(range/δ)/rate: sample that span into the frames.
     let expected = ((2.0 * theta0.abs() / tol).ln() + 3.0) / rate;
+    if expected > settings.max_periods * period {
+        return Err(BehaviourError(format!(
+            "righting would take about {expected:.3e} time units, more than {} periods of the first mode: raise the tolerance or bring ζ₁ nearer 1",
+            settings.max_periods
+        )));
+    }
     let stride = ((expected / dt) as u64 / settings.frames_per_stage.max(1) as u64).max(1);
     let field = modes[f].field.id.clone();
     let stage1 = Config {
