@@ -763,9 +763,9 @@ fn fit_text(r: &crate::fit::FitReport, format: BehaveFormat) -> String {
                 "Fit of {} frames of {what} (sampling interval {}) to field {} on N = {}\n\
                  \x20 ω = {:.6} (least squares over modes {}–{}), β = {:.6} (lengths in units of the point spacing)\n\
                  \x20 Welch: window {} frames, {} segments\n\
-                 \x20 mode        λ   PCA share  equipartition  |cos(PC, mode)|   peak f  centroid f   measured ω  theory ω√λ\n",
+                 \x20 mode        λ   PCA share  equipartition  overlap with mode   peak f  centroid f   measured ω  theory ω√λ\n",
                 r.frames,
-                r.sample_interval,
+                (r.sample_interval * 1e9).round() / 1e9,
                 r.field,
                 r.model_points,
                 r.omega,
@@ -777,12 +777,12 @@ fn fit_text(r: &crate::fit::FitReport, format: BehaveFormat) -> String {
             );
             for (k, m) in r.modes.iter().enumerate() {
                 t += &format!(
-                    "  {:>4} {:>8.5} {:>9.3} % {:>12.3} % {:>16.5} {:>8.5} {:>11.5} {:>12.5} {:>11.5}\n",
+                    "  {:>4} {:>8.5} {:>9.3} % {:>12.3} % {:>18.5} {:>8.5} {:>11.5} {:>12.5} {:>11.5}\n",
                     m.index,
                     m.eigenvalue,
                     100.0 * r.pca_variance_share[k],
                     100.0 * r.theory_variance_share[k],
-                    r.overlap[k][k],
+                    r.mode_overlap[k],
                     m.peak_frequency,
                     m.centroid_frequency,
                     m.angular_frequency,
@@ -794,6 +794,7 @@ fn fit_text(r: &crate::fit::FitReport, format: BehaveFormat) -> String {
                 .iter()
                 .map(|s| format!("{:.1}", 100.0 * s))
                 .collect();
+            t += "  overlap: |cos(PCₖ, vₖ)|, or the projection onto the pair's plane when λₖ is degenerate\n";
             t += &format!(
                 "  PCA of the plain angles (%, the seed's eigenmaggots; equipartition makes them equal): {}\n",
                 shares.join(" ")

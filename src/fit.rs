@@ -179,6 +179,9 @@ pub struct FitReport {
     pub sample_interval: f64,
     /// Welch window used (frames) and segments averaged.
     pub welch: (usize, usize),
+    /// For principal component k: the length of its projection onto the eigenspace of mode k
+    /// (the whole degenerate pair when λₖ is shared, so a rotated cos/sin pair still scores 1).
+    pub mode_overlap: Vec<f64>,
     /// Variance shares of the PCA of the plain angles (or strains).
     pub angle_pca_variance_share: Vec<f64>,
     /// Per non-zero mode.
@@ -685,6 +688,18 @@ pub fn fit(
         .iter()
         .map(|c| c.iter().map(|x| x.abs()).collect())
         .collect();
+    let degenerate = |i: usize, j: usize| (lambdas[i] - lambdas[j]).abs() <= 1e-9 * lambdas[i];
+    let mode_overlap: Vec<f64> = components
+        .iter()
+        .enumerate()
+        .map(|(k, c)| {
+            (0..m)
+                .filter(|&j| degenerate(k, j))
+                .map(|j| c[j] * c[j])
+                .sum::<f64>()
+                .sqrt()
+        })
+        .collect();
 
     let mut modes: Vec<ModeFit> = (0..m)
         .map(|j| {
@@ -747,6 +762,7 @@ pub fn fit(
         model_points: n,
         sample_interval: interval,
         welch: (used_window, segments),
+        mode_overlap,
         angle_pca_variance_share: angle_share,
         modes,
         fitted_modes: used,

@@ -441,3 +441,42 @@ fn shipped_example_is_fresh_and_fits() {
     assert!((r.omega - 1.0).abs() < 0.05, "ω = {}", r.omega);
     assert!(r.overlap[0][0] > 0.99);
 }
+
+/// Peristalsis-like data: a compression wave travelling round 7 segments. Its two modes form a
+/// degenerate cos/sin pair, so the principal components may be any rotation within the pair;
+/// `mode_overlap` measures them against the pair's plane, and the peak sits at the wave's
+/// frequency.
+#[test]
+fn a_travelling_wave_fills_the_first_axial_pair() {
+    let mut text = String::new();
+    for n in 0..4000 {
+        let t = 0.1 * n as f64;
+        let lengths: Vec<String> = (0..7)
+            .map(|j| {
+                let phase = 2.0 * std::f64::consts::PI * (0.8 * t - j as f64 / 7.0);
+                format!(
+                    "{}",
+                    1.0 + 0.05 * phase.sin() + 0.002 * (3.1 * phase + 0.4).cos()
+                )
+            })
+            .collect();
+        text += &format!("{t} {}\n", lengths.join(" "));
+    }
+    let mut s = FitSettings::new(InputKind::Lengths);
+    s.window = 512;
+    s.fit_modes = 2;
+    let r = larva_fit(&text, &s).unwrap();
+    assert_eq!((r.points, r.model_points), (7, 8));
+    assert!(r.pca_variance_share[0] > 0.45 && r.pca_variance_share[1] > 0.45);
+    assert!(r.mode_overlap[0] > 0.999 && r.mode_overlap[1] > 0.999);
+    for m in &r.modes[..2] {
+        assert!(
+            (m.peak_frequency - 0.8).abs() < 0.004,
+            "{}",
+            m.peak_frequency
+        );
+    }
+    // ω√λ₁ is then the wave's angular frequency.
+    let w1 = r.modes[0].theory_angular_frequency;
+    assert!((w1 - 2.0 * std::f64::consts::PI * 0.8).abs() < 0.03, "{w1}");
+}
