@@ -905,10 +905,10 @@ pub fn fit_figures(r: &crate::fit::FitReport) -> Result<Vec<(&'static str, Strin
     let titles: Vec<String> = (0..shown)
         .map(|k| {
             format!(
-                "PC {} against mode {} (|cos| = {:.4})",
+                "PC {} against mode {} (overlap {:.4})",
                 k + 1,
                 r.modes[k].index,
-                r.overlap[k][k]
+                r.mode_overlap[k]
             )
         })
         .collect();
