@@ -128,8 +128,9 @@ enum Command {
         #[arg(long, value_enum, default_value_t = ModesFormat::Text)]
         format: ModesFormat,
     },
-    /// Peristalsis or rolling (the minimum-energy orbit of a degenerate pair, seed App. I), or
-    /// rearing or hunching (a constant force on the first dorsoventral or axial mode, §3.3.2).
+    /// Peristalsis or rolling (the minimum-energy orbit of a degenerate pair, seed App. I),
+    /// rearing or hunching (a constant force on the first dorsoventral or axial mode, §3.3.2), or
+    /// self-righting (twist, mouth-hook attachment, release and relaxation, §3.3.1, App. H).
     Behave {
         /// Which behaviour.
         #[arg(value_enum)]
