@@ -229,6 +229,9 @@ enum Command {
         /// Also write the fit's SVG figures into this directory.
         #[arg(long, value_name = "DIR")]
         figures: Option<PathBuf>,
+        /// Also write every frame's modal coordinates to this CSV file (t, q_<mode>, …).
+        #[arg(long, value_name = "FILE")]
+        series: Option<PathBuf>,
         /// A model file (TOML) instead of the embedded larva model.
         #[arg(long, value_name = "FILE")]
         model: Option<PathBuf>,
@@ -702,23 +705,62 @@ fn csv(header: &[&str], rows: impl IntoIterator<Item = Vec<f64>>) -> String {
     t
 }
 
-/// Run the fit on a file or standard input.
+/// Run the fit on a file or standard input, streaming the modal series to `series` if asked.
 fn fit_command(
     input: &std::path::Path,
+    series: Option<&std::path::Path>,
     model: &Model,
     settings: &crate::fit::FitSettings,
 ) -> Result<crate::fit::FitReport, CliError> {
-    use crate::fit::{fit, FitError};
+    use crate::fit::{fit_each, FitError};
     let params = Params::default();
+    let mut sink =
+        match series {
+            None => None,
+            Some(path) => Some((
+                path,
+                std::io::BufWriter::new(std::fs::File::create(path).map_err(|e| {
+                    CliError::new(1, format!("cannot write {}: {e}", path.display()))
+                })?),
+                false,
+            )),
+        };
+    let mut each = |p: &crate::fit::Projector, t: f64, q: &[f64]| -> Result<(), String> {
+        let Some((path, out, started)) = sink.as_mut() else {
+            return Ok(());
+        };
+        let fail = |e: std::io::Error| format!("cannot write {}: {e}", path.display());
+        if !*started {
+            let names: Vec<String> = (0..q.len())
+                .map(|j| format!("q_{}", p.first_mode + j))
+                .collect();
+            writeln!(out, "t,{}", names.join(",")).map_err(fail)?;
+            *started = true;
+        }
+        let cells: Vec<String> = q.iter().map(|v| v.to_string()).collect();
+        writeln!(out, "{t},{}", cells.join(",")).map_err(fail)
+    };
     let result = if input.as_os_str() == "-" {
-        fit(std::io::stdin().lock(), model, &params, settings)
+        fit_each(std::io::stdin().lock(), model, &params, settings, &mut each)
     } else {
         let file = std::fs::File::open(input)
             .map_err(|e| CliError::new(1, format!("cannot open {}: {e}", input.display())))?;
-        fit(std::io::BufReader::new(file), model, &params, settings)
+        fit_each(
+            std::io::BufReader::new(file),
+            model,
+            &params,
+            settings,
+            &mut each,
+        )
     };
+    drop(each);
+    if let Some((path, mut out, _)) = sink {
+        out.flush()
+            .map_err(|e| CliError::new(1, format!("cannot write {}: {e}", path.display())))?;
+    }
     result.map_err(|e| match e {
         FitError::Invalid(m) => CliError::new(2, m),
+        FitError::Io(m) if m.starts_with("cannot write") => CliError::new(1, m),
         other => CliError::new(1, format!("{}: {other}", input.display())),
     })
 }
@@ -1264,6 +1306,7 @@ where
             fit_modes,
             omega,
             figures,
+            series,
             model,
             format,
         }) => {
@@ -1284,7 +1327,7 @@ where
             };
             settings.fit_modes = *fit_modes;
             settings.omega = *omega;
-            let report = fit_command(input, &model, &settings)?;
+            let report = fit_command(input, series.as_deref(), &model, &settings)?;
             if let Some(dir) = figures {
                 crate::figures::write_fit(dir, &report).map_err(|e| CliError::new(1, e.0))?;
             }

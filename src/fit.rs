@@ -476,12 +476,160 @@ fn observe(kind: InputKind, values: &[f64], n: usize) -> Result<Vec<f64>, String
     }
 }
 
+/// The map from one frame's values to the modal coordinates of the observed field's non-zero
+/// modes: Qⱼ = (S vⱼ)·o/λⱼ (see the module header).
+#[derive(Debug, Clone)]
+pub struct Projector {
+    /// Input kind.
+    pub kind: InputKind,
+    /// Points (midline) or segments (lengths) per input frame.
+    pub input_points: usize,
+    /// Model points N.
+    pub points: usize,
+    /// The observed field's id.
+    pub field: String,
+    /// Index of the first non-zero mode.
+    pub first_mode: usize,
+    /// λⱼ of the non-zero modes.
+    pub eigenvalues: Vec<f64>,
+    /// (S vⱼ)/λⱼ for each non-zero mode, over the observations.
+    pub rows: Vec<Vec<f64>>,
+    /// The non-zero mode shapes on the model's points.
+    pub shapes: Vec<Vec<f64>>,
+}
+
+impl Projector {
+    /// The projector for frames of `width` values after time.
+    pub fn new(
+        model: &Model,
+        params: &Params,
+        settings: &FitSettings,
+        width: usize,
+    ) -> Result<Projector, FitError> {
+        let invalid = |s: String| FitError::Invalid(s);
+        let line = |why: String| FitError::Line { line: 0, why };
+        let (k_in, n) = match settings.kind {
+            InputKind::Midline => {
+                if width % 2 != 0 {
+                    return Err(line(format!(
+                        "a midline frame is t then x y pairs: {width} values after t is odd"
+                    )));
+                }
+                (width / 2, settings.points)
+            }
+            InputKind::Lengths => (width, width + 1),
+        };
+        if n > MAX_POINTS {
+            return Err(invalid(format!(
+                "{k_in} segments make a ring of {n} points; at most {MAX_POINTS}"
+            )));
+        }
+        let min_k = if settings.kind == InputKind::Midline {
+            5
+        } else {
+            3
+        };
+        if k_in < min_k {
+            return Err(line(format!(
+                "{k_in} points per frame; at least {min_k} are needed"
+            )));
+        }
+        let field_index = model
+            .fields
+            .iter()
+            .position(|f| f.id == settings.field)
+            .ok_or_else(|| invalid(format!("the model has no field {:?}", settings.field)))?;
+        let all =
+            field_modes(model, 4, n, params, None, true).map_err(|e| invalid(e.to_string()))?;
+        let fm = &all[field_index];
+        let shapes = fm
+            .spectrum
+            .shapes
+            .as_ref()
+            .ok_or_else(|| invalid("no mode shapes".into()))?;
+        let rows = crate::discretise::stencil_rows(fm.k, fm.field.boundary, n)
+            .map_err(|e| invalid(e.to_string()))?;
+        let expected = match settings.kind {
+            InputKind::Midline => n - 2,
+            InputKind::Lengths => k_in,
+        };
+        if rows.len() != expected {
+            return Err(invalid(format!(
+            "field {} ({:?}, k = {}) has {} difference rows on {n} points, but the {} give {expected} observations",
+            fm.field.id,
+            fm.field.boundary,
+            fm.k,
+            rows.len(),
+            match settings.kind {
+                InputKind::Midline => "turning angles",
+                InputKind::Lengths => "segment strains",
+            }
+        )));
+        }
+        let first_mode = fm.spectrum.nullity;
+        let size = fm.spectrum.size;
+        let m = size - first_mode;
+        if m == 0 {
+            return Err(invalid("the field has no non-zero modes".into()));
+        }
+        // Sᵥ[j] = S vⱼ / λⱼ for each non-zero mode: Qⱼ = Sᵥ[j]·o.
+        let lambdas: Vec<f64> = fm.spectrum.eigenvalues[first_mode..].to_vec();
+        let projector: Vec<Vec<f64>> = (0..m)
+            .map(|j| {
+                let col = first_mode + j;
+                rows.iter()
+                    .map(|r| {
+                        r.iter()
+                            .map(|&(i, w)| w as f64 * shapes[(i, col)])
+                            .sum::<f64>()
+                            / lambdas[j]
+                    })
+                    .collect()
+            })
+            .collect();
+        Ok(Projector {
+            kind: settings.kind,
+            input_points: k_in,
+            points: n,
+            field: fm.field.id.clone(),
+            first_mode,
+            rows: projector,
+            shapes: (0..m)
+                .map(|j| (0..size).map(|p| shapes[(p, first_mode + j)]).collect())
+                .collect(),
+            eigenvalues: lambdas,
+        })
+    }
+
+    /// The modal coordinates of one frame's values.
+    pub fn modal(&self, values: &[f64]) -> Result<Vec<f64>, String> {
+        let o = observe(self.kind, values, self.points)?;
+        Ok(self
+            .rows
+            .iter()
+            .map(|p| p.iter().zip(&o).map(|(a, b)| a * b).sum())
+            .collect())
+    }
+}
+
 /// Run the fit on the frames in `reader`.
 pub fn fit(
     reader: impl BufRead,
     model: &Model,
     params: &Params,
     settings: &FitSettings,
+) -> Result<FitReport, FitError> {
+    fit_each(reader, model, params, settings, |_, _, _| Ok(()))
+}
+
+/// [`fit`], handing the projector, each frame's time and its modal coordinates to `each` as they
+/// stream past (an error from `each` ends the fit as an output error).
+pub fn fit_each(
+    reader: impl BufRead,
+    model: &Model,
+    params: &Params,
+    settings: &FitSettings,
+    mut each: impl FnMut(&Projector, f64, &[f64]) -> Result<(), String>,
 ) -> Result<FitReport, FitError> {
     let invalid = |s: String| FitError::Invalid(s);
     if settings.points > MAX_POINTS {
@@ -514,89 +662,21 @@ pub fn fit(
     let Some((t0, first)) = frames.next_frame()? else {
         return Err(invalid("the input has no frames".into()));
     };
-    let (k_in, n) = match settings.kind {
-        InputKind::Midline => {
-            if first.len() % 2 != 0 {
-                return Err(FitError::Line {
-                    line: frames.line,
-                    why: format!(
-                        "a midline frame is t then x y pairs: {} values after t is odd",
-                        first.len()
-                    ),
-                });
-            }
-            (first.len() / 2, settings.points)
-        }
-        InputKind::Lengths => (first.len(), first.len() + 1),
-    };
-    if n > MAX_POINTS {
-        return Err(invalid(format!(
-            "{k_in} segments make a ring of {n} points; at most {MAX_POINTS}"
-        )));
-    }
-    let min_k = if settings.kind == InputKind::Midline {
-        5
-    } else {
-        3
-    };
-    if k_in < min_k {
-        return Err(FitError::Line {
+    let proj = Projector::new(model, params, settings, first.len()).map_err(|e| match e {
+        FitError::Line { why, .. } => FitError::Line {
             line: frames.line,
-            why: format!("{k_in} points per frame; at least {min_k} are needed"),
-        });
-    }
-    let field_index = model
-        .fields
-        .iter()
-        .position(|f| f.id == settings.field)
-        .ok_or_else(|| invalid(format!("the model has no field {:?}", settings.field)))?;
-    let all = field_modes(model, 4, n, params, None, true).map_err(|e| invalid(e.to_string()))?;
-    let fm = &all[field_index];
-    let shapes = fm
-        .spectrum
-        .shapes
-        .as_ref()
-        .ok_or_else(|| invalid("no mode shapes".into()))?;
-    let rows = crate::discretise::stencil_rows(fm.k, fm.field.boundary, n)
-        .map_err(|e| invalid(e.to_string()))?;
-    let expected = match settings.kind {
-        InputKind::Midline => n - 2,
-        InputKind::Lengths => k_in,
-    };
-    if rows.len() != expected {
-        return Err(invalid(format!(
-            "field {} ({:?}, k = {}) has {} difference rows on {n} points, but the {} give {expected} observations",
-            fm.field.id,
-            fm.field.boundary,
-            fm.k,
-            rows.len(),
-            match settings.kind {
-                InputKind::Midline => "turning angles",
-                InputKind::Lengths => "segment strains",
-            }
-        )));
-    }
-    let first_mode = fm.spectrum.nullity;
-    let size = fm.spectrum.size;
-    let m = size - first_mode;
-    if m == 0 {
-        return Err(invalid("the field has no non-zero modes".into()));
-    }
-    // Sᵥ[j] = S vⱼ / λⱼ for each non-zero mode: Qⱼ = Sᵥ[j]·o.
-    let lambdas: Vec<f64> = fm.spectrum.eigenvalues[first_mode..].to_vec();
-    let projector: Vec<Vec<f64>> = (0..m)
-        .map(|j| {
-            let col = first_mode + j;
-            rows.iter()
-                .map(|r| {
-                    r.iter()
-                        .map(|&(i, w)| w as f64 * shapes[(i, col)])
-                        .sum::<f64>()
-                        / lambdas[j]
-                })
-                .collect()
-        })
-        .collect();
+            why,
+        },
+        other => other,
+    })?;
+    let (k_in, n, first_mode, m) = (
+        proj.input_points,
+        proj.points,
+        proj.first_mode,
+        proj.eigenvalues.len(),
+    );
+    let lambdas = proj.eigenvalues.clone();
+    let projector = &proj.rows;
     let window = settings.window;
     let mut welch = Welch::new(window, m);
     let mut early: Vec<Vec<f64>> = Vec::new();
@@ -618,11 +698,10 @@ pub fn fit(
                 None => break,
             },
         };
-        let o = observe(settings.kind, &values, n).map_err(|why| FitError::Line { line, why })?;
-        let q: Vec<f64> = projector
-            .iter()
-            .map(|p| p.iter().zip(&o).map(|(a, b)| a * b).sum())
-            .collect();
+        let q = proj
+            .modal(&values)
+            .map_err(|why| FitError::Line { line, why })?;
+        each(&proj, t_last, &q).map_err(FitError::Io)?;
         count += 1;
         let delta: Vec<f64> = q.iter().zip(&mean).map(|(a, b)| a - b).collect();
         for (mu, d) in mean.iter_mut().zip(&delta) {
@@ -746,9 +825,6 @@ pub fn fit(
     for x in &mut modes {
         x.theory_angular_frequency = omega * x.eigenvalue.sqrt();
     }
-    let shape_rows: Vec<Vec<f64>> = (0..m)
-        .map(|j| (0..size).map(|p| shapes[(p, first_mode + j)]).collect())
-        .collect();
     Ok(FitReport {
         frames: count,
         points: k_in,
@@ -758,7 +834,7 @@ pub fn fit(
         omega,
         beta,
         kind: settings.kind,
-        field: fm.field.id.clone(),
+        field: proj.field.clone(),
         model_points: n,
         sample_interval: interval,
         welch: (used_window, segments),
@@ -769,7 +845,7 @@ pub fn fit(
         frequencies,
         psd,
         components,
-        shapes: shape_rows,
+        shapes: proj.shapes.clone(),
     })
 }
 

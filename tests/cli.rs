@@ -661,6 +661,19 @@ fn fit_command() {
         assert!(svg.contains("<polyline"), "{name}");
     }
     std::fs::remove_dir_all(&dir).unwrap();
+    // The modal series, streamed.
+    let series =
+        std::env::temp_dir().join(format!("theory-search-series-{}.csv", std::process::id()));
+    let (code, _, err) = run(&["fit", example, "--series", series.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&series).unwrap();
+    assert!(text.starts_with("t,q_2,q_3,"));
+    assert_eq!(text.lines().count(), 3001);
+    std::fs::remove_file(&series).unwrap();
+    assert_clean_error(
+        &["fit", example, "--series", "/nonexistent/dir/s.csv"],
+        "cannot write",
+    );
     // Errors: files exit 1 naming the line, settings exit 2.
     let bad = std::env::temp_dir().join(format!("theory-search-bad-{}.csv", std::process::id()));
     std::fs::write(&bad, "0 0 0 1 0 2 0 3 0 4 0\n1 0 0 1 0 2 x 3 0 4 0\n").unwrap();
