@@ -753,7 +753,6 @@ fn fit_command(
             &mut each,
         )
     };
-    drop(each);
     if let Some((path, mut out, _)) = sink {
         out.flush()
             .map_err(|e| CliError::new(1, format!("cannot write {}: {e}", path.display())))?;
