@@ -669,14 +669,7 @@ pub fn fit_each(
         },
         other => other,
     })?;
-    let (k_in, n, first_mode, m) = (
-        proj.input_points,
-        proj.points,
-        proj.first_mode,
-        proj.eigenvalues.len(),
-    );
-    let lambdas = proj.eigenvalues.clone();
-    let projector = &proj.rows;
+    let m = proj.eigenvalues.len();
     let window = settings.window;
     let mut welch = Welch::new(window, m);
     let mut early: Vec<Vec<f64>> = Vec::new();
@@ -736,6 +729,59 @@ pub fn fit_each(
         .iter()
         .map(|r| r.iter().map(|c| c / (count - 1) as f64).collect())
         .collect();
+    summarise(
+        &proj,
+        settings,
+        Moments {
+            frames: count,
+            interval,
+            cov,
+        },
+        Spectra {
+            window: used_window,
+            segments,
+            frequencies,
+            psd,
+        },
+    )
+}
+
+/// What one pass over the frames accumulates.
+struct Moments {
+    frames: usize,
+    interval: f64,
+    cov: Vec<Vec<f64>>,
+}
+
+/// The Welch spectra of the modal coordinates.
+struct Spectra {
+    window: usize,
+    segments: usize,
+    frequencies: Vec<f64>,
+    psd: Vec<Vec<f64>>,
+}
+
+/// PCA, overlaps, shares, frequencies and the ω and β fits from the accumulated moments.
+fn summarise(
+    proj: &Projector,
+    settings: &FitSettings,
+    moments: Moments,
+    spectra: Spectra,
+) -> Result<FitReport, FitError> {
+    let invalid = |s: String| FitError::Invalid(s);
+    let Moments {
+        frames: count,
+        interval,
+        cov,
+    } = moments;
+    let Spectra {
+        window: used_window,
+        segments,
+        frequencies,
+        psd,
+    } = spectra;
+    let (lambdas, projector) = (&proj.eigenvalues, &proj.rows);
+    let (m, first_mode) = (lambdas.len(), proj.first_mode);
 
     // PCA in the body metric: eigen of cov(Q), descending.
     let (pca_share, components) = descending_eigen(&cov);
@@ -827,7 +873,7 @@ pub fn fit_each(
     }
     Ok(FitReport {
         frames: count,
-        points: k_in,
+        points: proj.input_points,
         pca_variance_share: pca_share,
         theory_variance_share: theory_share,
         overlap,
@@ -835,7 +881,7 @@ pub fn fit_each(
         beta,
         kind: settings.kind,
         field: proj.field.clone(),
-        model_points: n,
+        model_points: proj.points,
         sample_interval: interval,
         welch: (used_window, segments),
         mode_overlap,
