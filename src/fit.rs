@@ -515,6 +515,12 @@ impl Projector {
                         "a midline frame is t then x y pairs: {width} values after t is odd"
                     )));
                 }
+                if settings.points < 3 {
+                    return Err(invalid(format!(
+                        "a midline needs at least 3 model points for one turning angle, not {}",
+                        settings.points
+                    )));
+                }
                 (width / 2, settings.points)
             }
             InputKind::Lengths => (width, width + 1),

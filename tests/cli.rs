@@ -685,7 +685,10 @@ fn fit_command() {
     assert_clean_error(&["fit", example, "--window", "4"], "window");
     assert_clean_error(&["fit", example, "--window", "1000000000"], "at most");
     assert_clean_error(&["fit", example, "--points", "100000"], "at most 2000");
-    assert_clean_error(&["fit", example, "--points", "2"], "too few");
+    assert_clean_error(
+        &["fit", example, "--points", "2"],
+        "at least 3 model points",
+    );
     assert_clean_error(&["fit", example, "--fit-modes", "0"], "at least one mode");
     assert_clean_error(&["fit", example, "--omega", "nan"], "ω");
     assert_clean_error(
