@@ -933,15 +933,15 @@ fn righting_text(
             t
         }
         BehaveFormat::Text => {
-            let regime = if r.damping_ratio < 1.0 {
-                "underdamped"
-            } else if r.damping_ratio == 1.0 {
+            let regime = if (r.damping_ratio - 1.0).abs() <= 1e-9 {
                 "critical"
+            } else if r.damping_ratio < 1.0 {
+                "underdamped"
             } else {
                 "overdamped"
             };
             let mut t = format!(
-                "Self-righting on N = {}: first torsional mode ω₁ = {:.9}, ζ₁ = {} ({regime}), a = v₁(head) = {:.9}\n\
+                "Self-righting on N = {}: first torsional mode ω₁ = {:.9}, ζ₁ = {:.6} ({regime}), a = v₁(head) = {:.9}\n\
                  \x20 stage 1: constant torque Q = −ω₁²θ₀/a = {:.9} on Θ₁ from θ₀ = {:.6}\n\
                  \x20   the head follows Eq. 20 to {:.1e}; the mean rotation moves by {:.1e}\n\
                  \x20   mouth hooks attach at t = {:.4} (head within δ = {} rad)\n\

@@ -418,13 +418,20 @@ fn sample(
         for (x, o) in state[f].iter().zip(&osc[f]) {
             energy += 0.5 * (x[1] * x[1] + o.omega * o.omega * x[0] * x[0]);
         }
+        // Modes at rest contribute nothing: a behaviour that drives one or two modes costs O(N)
+        // per sample, not O(N²).
+        let active: Vec<(usize, f64)> = q
+            .iter()
+            .enumerate()
+            .filter(|(_, qi)| **qi != 0.0)
+            .map(|(i, qi)| (i, *qi))
+            .collect();
         positions.push(
             (0..shapes.nrows())
                 .map(|j| {
-                    q.iter()
-                        .enumerate()
-                        .map(|(i, qi)| qi * shapes[(j, i)])
-                        .sum()
+                    active
+                        .iter()
+                        .fold(0.0, |acc, &(i, qi)| acc + qi * shapes[(j, i)])
                 })
                 .collect(),
         );
