@@ -345,7 +345,10 @@ pub fn pair_statistics(
         }
     };
     let upper = (m / omega).sqrt() + 12.0 / (omega * beta.sqrt());
-    let amplitude_integral = integrate(&weight, 0.0, upper, 1e-14) * (-z).exp();
+    // A tolerance relative to the integral's size, √(π/2β)/ω: an absolute one would drive the
+    // adaptive rule to its depth limit when ω is small.
+    let scale = (pi / (2.0 * beta)).sqrt() / omega;
+    let amplitude_integral = integrate(&weight, 0.0, upper, 1e-14 * scale) * (-z).exp();
     let partition_function_quadrature = 2.0 * pi * (2.0 * pi / beta).sqrt() * amplitude_integral;
     let mean_amplitude = if m == 0.0 {
         2f64.sqrt() / (omega * (pi * beta).sqrt())
@@ -484,6 +487,9 @@ pub struct EquipartitionCheck {
     pub overlap: Vec<f64>,
 }
 
+/// The largest steps × N² that [`equipartition_from_dynamics`] takes (about a minute).
+pub const EQUIPARTITION_BUDGET: f64 = 2e10;
+
 /// Run the Langevin dynamics of `model` at temperature `kt` and compare the PCA of the postures
 /// of `field` with its modes (seed App. B: equipartition from dynamics).
 pub fn equipartition_from_dynamics(
@@ -496,6 +502,13 @@ pub fn equipartition_from_dynamics(
     seed: u64,
 ) -> Result<EquipartitionCheck, BehaviourError> {
     use crate::dynamics::{simulate, Config};
+    // Every step costs O(N²) across the four fields: refuse runs of more than about a minute.
+    let work = steps as f64 * (points as f64).powi(2);
+    if work > EQUIPARTITION_BUDGET {
+        return Err(BehaviourError(format!(
+            "{steps} steps on {points} points is {work:.1e} units of work, over the {EQUIPARTITION_BUDGET:.0e} budget (about a minute): use fewer points or steps"
+        )));
+    }
     let (index, modes) = field_and_modes(model, params, points, field)?;
     let f = &modes[index];
     let n = f.spectrum.size;

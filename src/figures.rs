@@ -433,7 +433,7 @@ fn self_righting(model: &Model, params: &Params, n: usize) -> Result<String, Fig
         vec![series("", align, Mark::Dots)],
     ));
     let (mut attach_at, mut righted_at) = (Vec::new(), Vec::new());
-    for (z, _) in curve(0.3, 3.0, 27, |z| z) {
+    for (z, _) in curve(0.3, 3.0, 18, |z| z) {
         let s = RightingSettings {
             mode_damping: Some(z),
             frames_per_stage: 1,
@@ -584,9 +584,11 @@ fn equipartition(
     settings: &FigureSettings,
 ) -> Result<String, FigureError> {
     let kt = 0.5;
-    let c =
-        behaviour::equipartition_from_dynamics(model, params, "y", n, 200_000, kt, settings.seed)
-            .map_err(bh)?;
+    // 200 000 steps, fewer on long bodies so that the figure takes seconds (the title says how
+    // many postures went in).
+    let steps = ((2e9 / (n as f64).powi(2)) as u64).clamp(1000, 200_000);
+    let c = behaviour::equipartition_from_dynamics(model, params, "y", n, steps, kt, settings.seed)
+        .map_err(bh)?;
     let k = |v: &[f64], f: fn(f64) -> f64| -> Vec<(f64, f64)> {
         v.iter()
             .enumerate()

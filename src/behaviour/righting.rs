@@ -24,7 +24,7 @@
 //! finite tolerance a slightly underdamped mode rights sooner, by ringing through δ, as in the
 //! classical settling-time problem.
 
-use super::{field_and_modes, finite, positive, BehaviourError};
+use super::{field_index, finite, positive, BehaviourError};
 use crate::dynamics::{simulate, Config, Forcing, Initial, STOP};
 use crate::modal::Params;
 use crate::model::Model;
@@ -151,7 +151,13 @@ pub fn self_righting(
     }
     let n = settings.points;
     let mut params = params.clone();
-    let (f, modes) = field_and_modes(model, &params, n, "theta")?;
+    // Only the two lowest modes of each field are needed here (simulate computes its own).
+    let lowest = |params: &Params| {
+        crate::modal::field_modes(model, 4, n, params, Some(2), true)
+            .map_err(|e| BehaviourError(e.to_string()))
+    };
+    let f = field_index(model, "theta")?;
+    let modes = lowest(&params)?;
     let scale = modes[f].field.scale.clone().unwrap_or_default();
     let first = modes[f].spectrum.nullity;
     if first != 1 || modes[f].modes.len() < 2 {
@@ -166,7 +172,7 @@ pub fn self_righting(
             .set(&format!("zeta_{scale}"), z / lambda.sqrt())
             .map_err(|e| BehaviourError(e.to_string()))?;
     }
-    let (f, modes) = field_and_modes(model, &params, n, "theta")?;
+    let modes = lowest(&params)?;
     let shapes = modes[f]
         .spectrum
         .shapes
@@ -245,10 +251,12 @@ pub fn self_righting(
         }
         step += 1;
         if done {
+            // Only modes 0 and 1 ever move in stage 1.
             let rates = (0..n)
                 .map(|j| {
                     s.velocity[f]
                         .iter()
+                        .take(shapes.ncols())
                         .enumerate()
                         .map(|(i, p)| p * shapes[(j, i)])
                         .sum()
