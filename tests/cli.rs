@@ -464,6 +464,7 @@ fn stats_equipartition_command() {
         &["stats", "equipartition", "--temperature", "0"],
         "positive",
     );
+    assert_clean_error(&["stats", "equipartition", "--points", "2000"], "budget");
 }
 
 #[test]
