@@ -226,6 +226,10 @@ enum Command {
         /// Fix ω instead of fitting it.
         #[arg(long)]
         omega: Option<f64>,
+        /// Lengths only: the number of segments around the whole body when only the first K
+        /// were measured (fits the lowest whole modes by least squares).
+        #[arg(long, value_name = "R")]
+        ring: Option<usize>,
         /// Also write the fit's SVG figures into this directory.
         #[arg(long, value_name = "DIR")]
         figures: Option<PathBuf>,
@@ -1304,6 +1308,7 @@ where
             estimator,
             fit_modes,
             omega,
+            ring,
             figures,
             series,
             model,
@@ -1326,6 +1331,10 @@ where
             };
             settings.fit_modes = *fit_modes;
             settings.omega = *omega;
+            if ring.is_some() && *kind != FitKind::Lengths {
+                return Err(CliError::new(2, "--ring applies to --kind lengths only"));
+            }
+            settings.ring = *ring;
             let report = fit_command(input, series.as_deref(), &model, &settings)?;
             if let Some(dir) = figures {
                 crate::figures::write_fit(dir, &report).map_err(|e| CliError::new(1, e.0))?;

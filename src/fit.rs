@@ -22,7 +22,14 @@
 //!
 //! Angles and strains drop translation and rotation (the zero modes), as the seed does. The modal
 //! coordinates are the least-squares solution of S·q = o: Qᵢ = (S vᵢ)·o / λᵢ for each non-zero
-//! mode, because the S vᵢ are orthogonal with |S vᵢ|² = λᵢ.
+//! mode when the observations cover the body, because the S vᵢ are orthogonal with
+//! |S vᵢ|² = λᵢ.
+//!
+//! When only the first K segments of a ring of R were measured (`ring`), the strains observe
+//! K of the R rows of S. The lowest whole modes (at most K − 1, never half a degenerate pair)
+//! are then fitted by least squares together with a constant for the unknown mean strain; the
+//! equipartition shares are renormalised over the fitted modes. Unresolved modes alias into
+//! them, so a truncated fit reads a dominant rhythm well and thermal noise poorly.
 //!
 //! **PCA and overlaps.** The PCA is taken of the postures with the zero modes removed, q⊥ = Σ Qᵢvᵢ.
 //! That is the angle space measured with the body's own metric (SSᵀ)⁻¹. Its covariance matrix is
@@ -93,6 +100,9 @@ pub struct FitSettings {
     pub fit_modes: usize,
     /// Fix ω instead of fitting it.
     pub omega: Option<f64>,
+    /// Lengths only: the segments around the whole body when only the first K were measured
+    /// (the seed's seven abdominal segments); `None` when the K segments close the ring.
+    pub ring: Option<usize>,
 }
 
 impl FitSettings {
@@ -110,6 +120,7 @@ impl FitSettings {
             estimator: Estimator::Peak,
             fit_modes: 4,
             omega: None,
+            ring: None,
         }
     }
 }
@@ -492,8 +503,11 @@ pub struct Projector {
     pub first_mode: usize,
     /// λⱼ of the non-zero modes.
     pub eigenvalues: Vec<f64>,
-    /// (S vⱼ)/λⱼ for each non-zero mode, over the observations.
+    /// The row of the least-squares solve for each fitted mode, over the observations:
+    /// (S vⱼ)/λⱼ when the observations cover the body.
     pub rows: Vec<Vec<f64>>,
+    /// (S vⱼ) over the observations, for each fitted mode.
+    pub design: Vec<Vec<f64>>,
     /// The non-zero mode shapes on the model's points.
     pub shapes: Vec<Vec<f64>>,
 }
@@ -523,7 +537,15 @@ impl Projector {
                 }
                 (width / 2, settings.points)
             }
-            InputKind::Lengths => (width, width + 1),
+            InputKind::Lengths => {
+                let ring = settings.ring.unwrap_or(width);
+                if ring < width {
+                    return Err(invalid(format!(
+                        "the ring of {ring} segments cannot hold the {width} measured ones"
+                    )));
+                }
+                (width, ring + 1)
+            }
         };
         if n > MAX_POINTS {
             return Err(invalid(format!(
@@ -557,7 +579,7 @@ impl Projector {
             .map_err(|e| invalid(e.to_string()))?;
         let expected = match settings.kind {
             InputKind::Midline => n - 2,
-            InputKind::Lengths => k_in,
+            InputKind::Lengths => n - 1,
         };
         if rows.len() != expected {
             return Err(invalid(format!(
@@ -578,21 +600,55 @@ impl Projector {
         if m == 0 {
             return Err(invalid("the field has no non-zero modes".into()));
         }
-        // Sᵥ[j] = S vⱼ / λⱼ for each non-zero mode: Qⱼ = Sᵥ[j]·o.
-        let lambdas: Vec<f64> = fm.spectrum.eigenvalues[first_mode..].to_vec();
-        let projector: Vec<Vec<f64>> = (0..m)
+        let all_lambdas: Vec<f64> = fm.spectrum.eigenvalues[first_mode..].to_vec();
+        // The observed rows of S: all of them, or the first K segments of a longer ring.
+        let observed = match settings.kind {
+            InputKind::Midline => rows.len(),
+            InputKind::Lengths => k_in,
+        };
+        let partial = observed < rows.len();
+        // A partial ring fits at most K − 1 modes (the constant takes one more unknown), never
+        // half of a degenerate pair.
+        let mut fitted = m;
+        if partial {
+            fitted = m.min(observed - 1);
+            let same = |i: usize, j: usize| {
+                (all_lambdas[i] - all_lambdas[j]).abs() <= 1e-9 * all_lambdas[i]
+            };
+            if fitted < m && fitted > 0 && same(fitted - 1, fitted) {
+                fitted -= 1;
+            }
+            if fitted == 0 {
+                return Err(invalid(format!(
+                    "{observed} measured segments of a ring of {} resolve no whole mode",
+                    rows.len()
+                )));
+            }
+        }
+        let lambdas: Vec<f64> = all_lambdas[..fitted].to_vec();
+        // design[j][i] = (S vⱼ)ᵢ over the observed rows.
+        let design: Vec<Vec<f64>> = (0..fitted)
             .map(|j| {
-                let col = first_mode + j;
-                rows.iter()
+                rows[..observed]
+                    .iter()
                     .map(|r| {
                         r.iter()
-                            .map(|&(i, w)| w as f64 * shapes[(i, col)])
+                            .map(|&(i, w)| w as f64 * shapes[(i, first_mode + j)])
                             .sum::<f64>()
-                            / lambdas[j]
                     })
                     .collect()
             })
             .collect();
+        let projector: Vec<Vec<f64>> = if partial {
+            least_squares_rows(&design)?
+        } else {
+            // The S vⱼ are orthogonal with |S vⱼ|² = λⱼ: Qⱼ = (S vⱼ)·o/λⱼ.
+            design
+                .iter()
+                .zip(&lambdas)
+                .map(|(d, l)| d.iter().map(|x| x / l).collect())
+                .collect()
+        };
         Ok(Projector {
             kind: settings.kind,
             input_points: k_in,
@@ -600,7 +656,8 @@ impl Projector {
             field: fm.field.id.clone(),
             first_mode,
             rows: projector,
-            shapes: (0..m)
+            design,
+            shapes: (0..fitted)
                 .map(|j| (0..size).map(|p| shapes[(p, first_mode + j)]).collect())
                 .collect(),
             eigenvalues: lambdas,
@@ -616,6 +673,21 @@ impl Projector {
             .map(|p| p.iter().zip(&o).map(|(a, b)| a * b).sum())
             .collect())
     }
+}
+
+/// The rows of (BᵀB)⁻¹Bᵀ for B = [design | 1], the constant absorbing the unknown mean strain of
+/// a partial ring; the constant's own row is dropped.
+fn least_squares_rows(design: &[Vec<f64>]) -> Result<Vec<Vec<f64>>, FitError> {
+    let (m, k) = (design.len(), design[0].len());
+    let b = nalgebra::DMatrix::from_fn(k, m + 1, |i, j| if j < m { design[j][i] } else { 1.0 });
+    let normal = b.transpose() * &b;
+    let chol = nalgebra::Cholesky::new(normal).ok_or_else(|| {
+        FitError::Invalid("the measured segments do not separate the fitted modes".into())
+    })?;
+    let solved = chol.solve(&b.transpose());
+    Ok((0..m)
+        .map(|j| solved.row(j).iter().cloned().collect())
+        .collect())
 }
 
 /// Run the fit on the frames in `reader`.
@@ -786,13 +858,14 @@ fn summarise(
         frequencies,
         psd,
     } = spectra;
-    let (lambdas, projector) = (&proj.eigenvalues, &proj.rows);
+    let lambdas = &proj.eigenvalues;
     let (m, first_mode) = (lambdas.len(), proj.first_mode);
 
     // PCA in the body metric: eigen of cov(Q), descending.
     let (pca_share, components) = descending_eigen(&cov);
-    // Plain angle-space covariance S V cov(Q) Vᵀ Sᵀ with (S vⱼ) = λⱼ·projector[j].
-    let obs = projector[0].len();
+    // Plain angle-space covariance (S V) cov(Q) (S V)ᵀ over the observations.
+    let design = &proj.design;
+    let obs = design[0].len();
     let angle_cov: Vec<Vec<f64>> = (0..obs)
         .map(|a| {
             (0..obs)
@@ -800,11 +873,7 @@ fn summarise(
                     let mut s = 0.0;
                     for i in 0..m {
                         for j in 0..m {
-                            s += lambdas[i]
-                                * projector[i][a]
-                                * cov[i][j]
-                                * lambdas[j]
-                                * projector[j][b];
+                            s += design[i][a] * cov[i][j] * design[j][b];
                         }
                     }
                     s

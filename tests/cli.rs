@@ -696,4 +696,5 @@ fn fit_command() {
         &["fit", example, "--kind", "lengths"],
         "segment lengths must be positive",
     );
+    assert_clean_error(&["fit", example, "--ring", "20"], "--kind lengths only");
 }
