@@ -17,8 +17,9 @@
 //! * the turning angles between segments of a midline resampled to N points equally spaced in
 //!   arc length are, to first order, the second differences of the transverse displacement in
 //!   units of the spacing, that is S·y for D4 (free, k = 2);
-//! * the relative segment strains ℓⱼ/ℓ̄ − 1 are the periodic first differences S·x for D2,c
-//!   (N = K + 1 points, head and tail one point).
+//! * the segment strains ℓⱼ/h − 1, h the first frame's mean length, are the first differences
+//!   S·x: periodic for D2,c (N = K + 1 points, head and tail one point), or of a free chain of
+//!   K + 1 points for a model whose axial field has free ends.
 //!
 //! Angles and strains drop translation and rotation (the zero modes), as the seed does. The modal
 //! coordinates are the least-squares solution of S·q = o: Qᵢ = (S vᵢ)·o / λᵢ for each non-zero
@@ -466,7 +467,12 @@ pub fn turning_angles(points: &[(f64, f64)]) -> Result<Vec<f64>, String> {
 }
 
 /// The observation o of one frame: turning angles (midline) or strains (lengths).
-fn observe(kind: InputKind, values: &[f64], n: usize) -> Result<Vec<f64>, String> {
+fn observe(
+    kind: InputKind,
+    values: &[f64],
+    n: usize,
+    reference: Option<f64>,
+) -> Result<Vec<f64>, String> {
     match kind {
         InputKind::Midline => {
             let pts: Vec<(f64, f64)> = values.chunks(2).map(|c| (c[0], c[1])).collect();
@@ -478,11 +484,11 @@ fn observe(kind: InputKind, values: &[f64], n: usize) -> Result<Vec<f64>, String
             turning_angles(&pts)
         }
         InputKind::Lengths => {
-            let mean = values.iter().sum::<f64>() / values.len() as f64;
             if values.iter().any(|&l| l <= 0.0) {
                 return Err("segment lengths must be positive".into());
             }
-            Ok(values.iter().map(|l| l / mean - 1.0).collect())
+            let h = reference.unwrap_or_else(|| values.iter().sum::<f64>() / values.len() as f64);
+            Ok(values.iter().map(|l| l / h - 1.0).collect())
         }
     }
 }
@@ -510,6 +516,10 @@ pub struct Projector {
     pub design: Vec<Vec<f64>>,
     /// The non-zero mode shapes on the model's points.
     pub shapes: Vec<Vec<f64>>,
+    /// Lengths: the rest length strains are measured against (`fit` takes the first frame's
+    /// mean). `None` divides each frame by its own mean, which is exact on a closed ring but
+    /// hides the total stretch of a free chain.
+    pub reference_length: Option<f64>,
 }
 
 impl Projector {
@@ -661,12 +671,13 @@ impl Projector {
                 .map(|j| (0..size).map(|p| shapes[(p, first_mode + j)]).collect())
                 .collect(),
             eigenvalues: lambdas,
+            reference_length: None,
         })
     }
 
     /// The modal coordinates of one frame's values.
     pub fn modal(&self, values: &[f64]) -> Result<Vec<f64>, String> {
-        let o = observe(self.kind, values, self.points)?;
+        let o = observe(self.kind, values, self.points, self.reference_length)?;
         Ok(self
             .rows
             .iter()
@@ -740,13 +751,18 @@ pub fn fit_each(
     let Some((t0, first)) = frames.next_frame()? else {
         return Err(invalid("the input has no frames".into()));
     };
-    let proj = Projector::new(model, params, settings, first.len()).map_err(|e| match e {
+    let mut proj = Projector::new(model, params, settings, first.len()).map_err(|e| match e {
         FitError::Line { why, .. } => FitError::Line {
             line: frames.line,
             why,
         },
         other => other,
     })?;
+    if settings.kind == InputKind::Lengths {
+        // A fixed rest length: a constant offset in the strains only shifts the means, which
+        // the covariance and the spectra remove.
+        proj.reference_length = Some(first.iter().sum::<f64>() / first.len() as f64);
+    }
     let m = proj.eigenvalues.len();
     let window = settings.window;
     let mut welch = Welch::new(window, m);

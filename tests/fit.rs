@@ -516,6 +516,23 @@ fn projection_recovers_modal_coordinates_at_every_size() {
             assert!((g - want).abs() < 1e-3 * amp, "N = {n}: {g} vs {want}");
         }
     }
+    // A free axial field (the worm): strains against a fixed rest length, exact.
+    let worm = Model::from_toml(include_str!("../tables/models/worm.toml")).unwrap();
+    for k in [3usize, 8, 15] {
+        let s = FitSettings::new(InputKind::Lengths);
+        let mut p = Projector::new(&worm, &params, &s, k).unwrap();
+        p.reference_length = Some(1.0);
+        assert_eq!((p.points, p.eigenvalues.len()), (k + 1, k));
+        let q: Vec<f64> = (0..k).map(|j| 0.01 * (j as f64 + 0.5).cos()).collect();
+        let x: Vec<f64> = (0..=k)
+            .map(|i| q.iter().zip(&p.shapes).map(|(qj, v)| qj * v[i]).sum())
+            .collect();
+        let lengths: Vec<f64> = (0..k).map(|i| 1.0 + x[i + 1] - x[i]).collect();
+        let got = p.modal(&lengths).unwrap();
+        for (g, want) in got.iter().zip(&q) {
+            assert!((g - want).abs() < 1e-12, "free K = {k}: {g} vs {want}");
+        }
+    }
     // Segment strains are linear in x: exact.
     for k in [3usize, 7, 16] {
         let s = FitSettings::new(InputKind::Lengths);
@@ -600,4 +617,46 @@ fn a_partial_ring_of_segments() {
         .unwrap_err()
         .to_string()
         .contains("cannot hold"));
+}
+
+/// A worm's axial field has free ends: its strains do not sum to zero, so dividing each frame by
+/// its own mean length would hide the total stretch. The fit measures strains against one rest
+/// length (the first frame's mean) and gives back the scales.
+#[test]
+fn segment_lengths_of_a_free_axial_field() {
+    let worm = Model::from_toml(include_str!("../tables/models/worm.toml")).unwrap();
+    let mut params = Params::default();
+    params.set("omega_s", 1.5).unwrap();
+    let config = Config {
+        points: 9,
+        order: 4,
+        dt: 0.5,
+        steps: 39_999,
+        every: 1,
+        temperature: 1e-4,
+        seed: 13,
+        initial: Vec::new(),
+        forcing: Vec::new(),
+    };
+    let mut text = String::new();
+    simulate(&worm, &params, &config, |smp| {
+        let x = &smp.positions[0];
+        let lengths: Vec<String> = (0..8)
+            .map(|j| format!("{}", 1.0 + x[j + 1] - x[j]))
+            .collect();
+        text += &format!("{},{}\n", smp.t, lengths.join(","));
+        Ok(())
+    })
+    .unwrap();
+    let mut s = FitSettings::new(InputKind::Lengths);
+    s.window = 2048;
+    s.fit_modes = 2;
+    let r = fit(Cursor::new(&text), &worm, &Params::default(), &s).unwrap();
+    assert_eq!((r.points, r.model_points, r.modes.len()), (8, 9, 8));
+    assert!((r.omega / 1.5 - 1.0).abs() < 0.03, "ω = {}", r.omega);
+    assert!(
+        r.mode_overlap[0] > 0.98 && r.mode_overlap[1] > 0.98,
+        "{:?}",
+        r.mode_overlap
+    );
 }
