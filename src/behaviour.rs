@@ -12,7 +12,8 @@
 
 mod righting;
 pub use righting::{
-    decay_rate, self_righting, Attachment, Righting, RightingFrame, RightingSettings,
+    decay_rate, righting_sweep, self_righting, Attachment, Righting, RightingFrame,
+    RightingSettings, SweepPoint,
 };
 
 /// A bad parameter of a behaviour model.
@@ -116,25 +117,30 @@ pub fn simulate_pair(c: f64, a: f64, omega: f64, ws: f64, periods: f64) -> f64 {
     angle / t_end
 }
 
-/// The asymmetry for coupling `c`, amplitude `a` and free frequency `omega`.
-pub fn asymmetry(c: f64, a: f64, omega: f64) -> Result<Asymmetry, BehaviourError> {
-    let c = finite("the coupling", c)?;
-    let a = positive("the amplitude", a)?;
-    let omega = positive("the frequency", omega)?;
+/// The forward (positive) and backward (negative) roots of ω_s² + cA²ω_s − ω² = 0, computed
+/// stably (their product is −ω²). `omega` must be positive.
+pub fn asymmetry_roots(c: f64, a: f64, omega: f64) -> (f64, f64) {
     let b = c * a * a;
     let root = (b * b + 4.0 * omega * omega).sqrt();
-    // Numerically stable roots of ω_s² + bω_s − ω² = 0 (product −ω²).
     let big = if b >= 0.0 {
         -(b + root) / 2.0
     } else {
         (root - b) / 2.0
     };
     let small = -omega * omega / big;
-    let (forward, backward) = if big > 0.0 {
+    if big > 0.0 {
         (big, small)
     } else {
         (small, big)
-    };
+    }
+}
+
+/// The asymmetry for coupling `c`, amplitude `a` and free frequency `omega`.
+pub fn asymmetry(c: f64, a: f64, omega: f64) -> Result<Asymmetry, BehaviourError> {
+    let c = finite("the coupling", c)?;
+    let a = positive("the amplitude", a)?;
+    let omega = positive("the frequency", omega)?;
+    let (forward, backward) = asymmetry_roots(c, a, omega);
     Ok(Asymmetry {
         forward,
         backward,
@@ -323,6 +329,17 @@ pub fn scaled_bessel_k1(z: f64) -> f64 {
     )
 }
 
+/// The unnormalised amplitude density of a pair, exp(−β(M²/A² + ω²A²)/2 + β|M|ω) for A > 0
+/// (0 otherwise): scaled by e^{β|M|ω} so that its peak, at A* = √(|M|/ω), is 1.
+pub fn pair_amplitude_weight(omega: f64, beta: f64, momentum: f64, a: f64) -> f64 {
+    let m = momentum.abs();
+    if a <= 0.0 {
+        0.0
+    } else {
+        (-0.5 * beta * (m * m / (a * a) + omega * omega * a * a) + beta * m * omega).exp()
+    }
+}
+
 /// The analytic statistics of a pair, with a quadrature check of Z.
 pub fn pair_statistics(
     omega: f64,
@@ -337,13 +354,7 @@ pub fn pair_statistics(
     let partition_function = 2.0 * pi * pi / (beta * omega) * (-z).exp();
     // Z = 2π·√(2π/β)·∫₀^∞ exp(−β(M²/A² + ω²A²)/2) dA, the last integral by quadrature. The
     // integrand peaks at A* and is negligible beyond A* + 12/(ω√β).
-    let weight = |a: f64| {
-        if a <= 0.0 {
-            0.0
-        } else {
-            (-0.5 * beta * (m * m / (a * a) + omega * omega * a * a) + z).exp()
-        }
-    };
+    let weight = |a: f64| pair_amplitude_weight(omega, beta, m, a);
     let upper = (m / omega).sqrt() + 12.0 / (omega * beta.sqrt());
     // A tolerance relative to the integral's size, √(π/2β)/ω: an absolute one would drive the
     // adaptive rule to its depth limit when ω is small.

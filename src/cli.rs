@@ -763,7 +763,7 @@ fn fit_command(
     }
     result.map_err(|e| match e {
         FitError::Invalid(m) => CliError::new(2, m),
-        FitError::Io(m) if m.starts_with("cannot write") => CliError::new(1, m),
+        FitError::Output(m) => CliError::new(1, m),
         other => CliError::new(1, format!("{}: {other}", input.display())),
     })
 }
@@ -859,25 +859,20 @@ fn figures_command(
     params: &Params,
     settings: &crate::figures::FigureSettings,
 ) -> Result<Vec<PathBuf>, CliError> {
-    use crate::figures::{figure, write_all, FIGURES};
+    use crate::figures::{write_figures, FIGURES};
     let fail = |e: crate::figures::FigureError| {
         let code = if e.0.starts_with("cannot") { 1 } else { 2 };
         CliError::new(code, e.0)
     };
-    if let Some(name) = only {
-        let svg = figure(name, model, params, settings).map_err(fail)?;
-        std::fs::create_dir_all(dir)
-            .map_err(|e| CliError::new(1, format!("cannot create {}: {e}", dir.display())))?;
-        let path = dir.join(name);
-        std::fs::write(&path, svg)
-            .map_err(|e| CliError::new(1, format!("cannot write {}: {e}", path.display())))?;
-        return Ok(vec![path]);
-    }
+    let names: Vec<&str> = match only {
+        Some(name) => vec![name],
+        None => FIGURES.to_vec(),
+    };
     let bar = indicatif::ProgressBar::with_draw_target(
-        Some(FIGURES.len() as u64),
+        Some(names.len() as u64),
         indicatif::ProgressDrawTarget::stderr(),
     );
-    let written = write_all(dir, model, params, settings, |name| {
+    let written = write_figures(dir, &names, model, params, settings, |name| {
         bar.set_message(name.to_string());
         bar.inc(1);
     });
@@ -893,48 +888,33 @@ fn righting_text(
     sweep: &[f64],
     format: BehaveFormat,
 ) -> Result<String, CliError> {
-    use crate::behaviour::self_righting;
+    use crate::behaviour::{righting_sweep, self_righting};
     let fail = |e: crate::behaviour::BehaviourError| CliError::new(2, e.to_string());
     let r = self_righting(model, params, settings).map_err(fail)?;
-    let mut rows = Vec::new();
-    for &z in sweep {
-        let s = crate::behaviour::RightingSettings {
-            mode_damping: Some(z),
-            frames_per_stage: 1,
-            ..settings.clone()
-        };
-        let x = self_righting(model, params, &s).map_err(fail)?;
-        rows.push(serde_json::json!({
-            "mode_damping": x.damping_ratio, "attachment_time": x.attachment_time,
-            "righting_time": x.righting_time, "overshoot": x.overshoot, "decay_rate": x.decay_rate,
-        }));
-    }
+    let rows = righting_sweep(model, params, settings, sweep).map_err(fail)?;
     Ok(match format {
         BehaveFormat::Json => {
             let mut v = serde_json::to_value(&r).unwrap_or_default();
             if !rows.is_empty() {
-                v["sweep"] = serde_json::Value::Array(rows);
+                v["sweep"] = serde_json::to_value(&rows).unwrap_or_default();
             }
             serde_json::to_string_pretty(&v).unwrap_or_default() + "\n"
         }
         BehaveFormat::Csv => {
-            let mut t = String::from("t,torque,mode,mean_rotation");
-            for j in 0..r.points {
-                t += &format!(",theta_{j}");
-            }
-            t += "\n";
-            for f in &r.frames {
-                let angles: Vec<String> = f.angles.iter().map(|a| a.to_string()).collect();
-                t += &format!(
-                    "{},{},{},{},{}\n",
-                    f.t,
-                    f.torque,
-                    f.mode,
-                    f.mean_rotation,
-                    angles.join(",")
-                );
-            }
-            t
+            let mut header: Vec<String> = ["t", "torque", "mode", "mean_rotation"]
+                .iter()
+                .map(|h| h.to_string())
+                .collect();
+            header.extend((0..r.points).map(|j| format!("theta_{j}")));
+            let header: Vec<&str> = header.iter().map(String::as_str).collect();
+            csv(
+                &header,
+                r.frames.iter().map(|f| {
+                    let mut row = vec![f.t, f.torque, f.mode, f.mean_rotation];
+                    row.extend(&f.angles);
+                    row
+                }),
+            )
         }
         BehaveFormat::Text => {
             let regime = if (r.damping_ratio - 1.0).abs() <= 1e-9 {
@@ -974,14 +954,14 @@ fn righting_text(
             }
             if !rows.is_empty() {
                 t += "  sweep of ζ₁:\n      ζ₁   attach   righted  overshoot  decay rate\n";
-                for v in &rows {
+                for p in &rows {
                     t += &format!(
                         "  {:>6.3}  {:>7.3}  {:>8.3}  {:>9.4}  {:>10.6}\n",
-                        v["mode_damping"].as_f64().unwrap_or(f64::NAN),
-                        v["attachment_time"].as_f64().unwrap_or(f64::NAN),
-                        v["righting_time"].as_f64().unwrap_or(f64::NAN),
-                        v["overshoot"].as_f64().unwrap_or(f64::NAN),
-                        v["decay_rate"].as_f64().unwrap_or(f64::NAN),
+                        p.mode_damping,
+                        p.attachment_time,
+                        p.righting_time,
+                        p.overshoot,
+                        p.decay_rate,
                     );
                 }
             }

@@ -432,17 +432,16 @@ fn self_righting(model: &Model, params: &Params, n: usize) -> Result<String, Fig
         "alignment time (1/ω_t)",
         vec![series("", align, Mark::Dots)],
     ));
-    let (mut attach_at, mut righted_at) = (Vec::new(), Vec::new());
-    for (z, _) in curve(0.3, 3.0, 18, |z| z) {
-        let s = RightingSettings {
-            mode_damping: Some(z),
-            frames_per_stage: 1,
-            ..settings.clone()
-        };
-        let x = behaviour::self_righting(model, params, &s).map_err(bh)?;
-        attach_at.push((z, x.attachment_time));
-        righted_at.push((z, x.righting_time));
-    }
+    let zs: Vec<f64> = curve(0.3, 3.0, 18, |z| z).iter().map(|p| p.0).collect();
+    let points = behaviour::righting_sweep(model, params, &settings, &zs).map_err(bh)?;
+    let attach_at = points
+        .iter()
+        .map(|p| (p.mode_damping, p.attachment_time))
+        .collect();
+    let righted_at = points
+        .iter()
+        .map(|p| (p.mode_damping, p.righting_time))
+        .collect();
     let mut sweep = panel(
         "righting time against the first mode's damping",
         "damping ratio ζ₁",
@@ -537,11 +536,7 @@ fn rearing_hunching(model: &Model, params: &Params, n: usize) -> Result<String, 
 /// amplitude, with the nonlinear pair's simulated frequencies.
 fn asymmetry() -> Result<String, FigureError> {
     let c = -std::f64::consts::FRAC_1_SQRT_2;
-    let roots = |a: f64| {
-        let b = c * a * a;
-        let d = (b * b + 4.0).sqrt();
-        ((-b + d) / 2.0, (-b - d) / 2.0)
-    };
+    let roots = |a: f64| behaviour::asymmetry_roots(c, a, 1.0);
     let mut sim = (Vec::new(), Vec::new());
     for a in [0.25, 0.5, 0.75, 1.0, 1.25, 1.5] {
         let x = behaviour::asymmetry(c, a, 1.0).map_err(bh)?;
@@ -661,13 +656,7 @@ fn pair(
     let amax = (0.4 / w).sqrt() + 5.0 / (w * beta.sqrt());
     let mut dens = Vec::new();
     for (k, mm) in [0.0, 0.05, 0.1, 0.2].iter().enumerate() {
-        let g = |a: f64| {
-            if a <= 0.0 {
-                0.0
-            } else {
-                (-0.5 * beta * (mm * mm / (a * a) + w * w * a * a) + beta * mm * w).exp()
-            }
-        };
+        let g = |a: f64| behaviour::pair_amplitude_weight(w, beta, *mm, a);
         let z = behaviour::integrate(&g, 0.0, amax * 2.0, 1e-12);
         dens.push(series(
             format!("M = {mm}"),
@@ -877,26 +866,42 @@ pub fn figure(
     }
 }
 
-/// Write every figure into `dir` (created if missing), calling `progress` before each one.
-pub fn write_all(
+/// Write the figures `names` (from [`FIGURES`]) into `dir` (created if missing), calling
+/// `progress` before each one. Unknown names are refused before anything is written.
+pub fn write_figures(
     dir: &Path,
+    names: &[&str],
     model: &Model,
     params: &Params,
     settings: &FigureSettings,
     mut progress: impl FnMut(&str),
 ) -> Result<Vec<PathBuf>, FigureError> {
-    std::fs::create_dir_all(dir)
-        .map_err(|e| FigureError(format!("cannot create {}: {e}", dir.display())))?;
-    let mut written = Vec::new();
-    for name in FIGURES {
-        progress(name);
-        let svg = figure(name, model, params, settings)?;
-        let path = dir.join(name);
-        std::fs::write(&path, svg)
-            .map_err(|e| FigureError(format!("cannot write {}: {e}", path.display())))?;
-        written.push(path);
+    if let Some(bad) = names.iter().find(|n| !FIGURES.contains(n)) {
+        return Err(FigureError(format!(
+            "unknown figure {bad:?} (figures: {})",
+            FIGURES.join(", ")
+        )));
     }
-    Ok(written)
+    create_dir(dir)?;
+    names
+        .iter()
+        .map(|name| {
+            progress(name);
+            write_svg(dir, name, &figure(name, model, params, settings)?)
+        })
+        .collect()
+}
+
+fn create_dir(dir: &Path) -> Result<(), FigureError> {
+    std::fs::create_dir_all(dir)
+        .map_err(|e| FigureError(format!("cannot create {}: {e}", dir.display())))
+}
+
+fn write_svg(dir: &Path, name: &str, svg: &str) -> Result<PathBuf, FigureError> {
+    let path = dir.join(name);
+    std::fs::write(&path, svg)
+        .map_err(|e| FigureError(format!("cannot write {}: {e}", path.display())))?;
+    Ok(path)
 }
 
 /// The fit's figures (Fig. 2 style): principal components against mode shapes, variance shares,
@@ -1050,14 +1055,9 @@ pub fn fit_figures(r: &crate::fit::FitReport) -> Result<Vec<(&'static str, Strin
 
 /// Write [`fit_figures`] into `dir`.
 pub fn write_fit(dir: &Path, r: &crate::fit::FitReport) -> Result<Vec<PathBuf>, FigureError> {
-    std::fs::create_dir_all(dir)
-        .map_err(|e| FigureError(format!("cannot create {}: {e}", dir.display())))?;
-    let mut written = Vec::new();
-    for (name, svg) in fit_figures(r)? {
-        let path = dir.join(name);
-        std::fs::write(&path, svg)
-            .map_err(|e| FigureError(format!("cannot write {}: {e}", path.display())))?;
-        written.push(path);
-    }
-    Ok(written)
+    create_dir(dir)?;
+    fit_figures(r)?
+        .iter()
+        .map(|(name, svg)| write_svg(dir, name, svg))
+        .collect()
 }

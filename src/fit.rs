@@ -140,6 +140,9 @@ pub enum FitError {
         /// What is wrong.
         why: String,
     },
+    /// The per-frame sink of [`fit_each`] failed.
+    #[error("{0}")]
+    Output(String),
     /// A setting or the data as a whole is unusable.
     #[error("{0}")]
     Invalid(String),
@@ -254,8 +257,9 @@ impl<R: BufRead> FrameReader<R> {
             } else {
                 text.split_whitespace().collect()
             };
-            let first_is_number = cells[0].parse::<f64>().is_ok();
-            if !self.seen_data && !first_is_number && self.line_is_header() {
+            // Only the first non-comment line may be a header.
+            if !self.seen_data && cells[0].parse::<f64>().is_err() {
+                self.seen_data = true;
                 continue;
             }
             self.seen_data = true;
@@ -306,11 +310,6 @@ impl<R: BufRead> FrameReader<R> {
             self.last_t = Some(t);
             return Ok(Some((t, values)));
         }
-    }
-
-    /// Only the first non-comment line may be a header.
-    fn line_is_header(&self) -> bool {
-        self.width.is_none()
     }
 }
 
@@ -766,7 +765,6 @@ pub fn fit_each(
     let m = proj.eigenvalues.len();
     let window = settings.window;
     let mut welch = Welch::new(window, m);
-    let mut early: Vec<Vec<f64>> = Vec::new();
     let mut mean = vec![0.0; m];
     let mut comoment = vec![vec![0.0; m]; m];
     let mut count = 0usize;
@@ -788,7 +786,7 @@ pub fn fit_each(
         let q = proj
             .modal(&values)
             .map_err(|why| FitError::Line { line, why })?;
-        each(&proj, t_last, &q).map_err(FitError::Io)?;
+        each(&proj, t_last, &q).map_err(FitError::Output)?;
         count += 1;
         let delta: Vec<f64> = q.iter().zip(&mean).map(|(a, b)| a - b).collect();
         for (mu, d) in mean.iter_mut().zip(&delta) {
@@ -799,9 +797,6 @@ pub fn fit_each(
                 comoment[i][j] += delta[i] * (q[j] - mean[j]);
             }
         }
-        if count <= window {
-            early.push(q.clone());
-        }
         welch.push(q);
     }
     if count < 8 {
@@ -810,10 +805,11 @@ pub fn fit_each(
         )));
     }
     let interval = (t_last - t0) / (count - 1) as f64;
-    // Fewer frames than the window: one segment over all of them.
+    // Fewer frames than the window: one segment over all of them (the buffer holds them all).
     if welch.segments == 0 {
+        let frames = std::mem::take(&mut welch.buffer);
         welch = Welch::new(count, m);
-        for q in early {
+        for q in frames {
             welch.push(q);
         }
     }

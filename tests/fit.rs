@@ -71,6 +71,17 @@ impl Truth {
     }
 }
 
+/// One line `t,ℓ₁,…,ℓ_K` of the first `k` segment lengths 1 + x_{j+1} − x_j of the axial field
+/// `x`, closed into a ring (`x` periodic) or not (free ends).
+fn length_row(t: f64, x: &[f64], k: usize, ring: bool) -> String {
+    let n = x.len();
+    let next = |j: usize| if ring { (j + 1) % n } else { j + 1 };
+    let cells: Vec<String> = (0..k)
+        .map(|j| format!("{}", 1.0 + x[next(j)] - x[j]))
+        .collect();
+    format!("{t},{}\n", cells.join(","))
+}
+
 fn larva_fit(text: &str, settings: &FitSettings) -> Result<FitReport, FitError> {
     fit(
         Cursor::new(text),
@@ -240,13 +251,7 @@ fn segment_lengths_give_back_the_axial_scales() {
         seed: 11,
     };
     let mut text = String::from("t,l1,l2,l3,l4,l5,l6,l7,l8\n");
-    t.run(|time, _, x| {
-        let n = x.len();
-        let lengths: Vec<String> = (0..n)
-            .map(|j| format!("{}", 1.0 + x[(j + 1) % n] - x[j]))
-            .collect();
-        text += &format!("{time},{}\n", lengths.join(","));
-    });
+    t.run(|time, _, x| text += &length_row(time, x, x.len(), true));
     let mut s = FitSettings::new(InputKind::Lengths);
     s.window = 2048;
     s.fit_modes = 2;
@@ -585,13 +590,8 @@ fn a_partial_ring_of_segments() {
     params.set("omega_s", omega).unwrap();
     let mut text = String::new();
     simulate(&Model::larva(), &params, &config, |smp| {
-        let x = &smp.positions[0];
-        let n = x.len();
-        assert_eq!(n, 10);
-        let lengths: Vec<String> = (0..7)
-            .map(|j| format!("{}", 1.0 + x[(j + 1) % n] - x[j]))
-            .collect();
-        text += &format!("{},{}\n", smp.t, lengths.join(","));
+        assert_eq!(smp.positions[0].len(), 10);
+        text += &length_row(smp.t, &smp.positions[0], 7, true);
         Ok(())
     })
     .unwrap();
@@ -640,11 +640,7 @@ fn segment_lengths_of_a_free_axial_field() {
     };
     let mut text = String::new();
     simulate(&worm, &params, &config, |smp| {
-        let x = &smp.positions[0];
-        let lengths: Vec<String> = (0..8)
-            .map(|j| format!("{}", 1.0 + x[j + 1] - x[j]))
-            .collect();
-        text += &format!("{},{}\n", smp.t, lengths.join(","));
+        text += &length_row(smp.t, &smp.positions[0], 8, false);
         Ok(())
     })
     .unwrap();

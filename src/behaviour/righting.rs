@@ -283,13 +283,7 @@ pub fn self_righting(
             let shape: Vec<f64> = v1.iter().map(|v| v - a).collect();
             let q: f64 = v1.iter().zip(&at_attach).map(|(v, th)| v * th).sum();
             let p: f64 = v1.iter().zip(&rates).map(|(v, w)| v * w).sum();
-            vec![RelaxMode {
-                omega,
-                gamma: zeta * omega,
-                shape,
-                q,
-                p,
-            }]
+            vec![RelaxMode::new(omega, zeta * omega, shape, q, p)]
         }
         Attachment::Pinned => pinned_modes(
             n,
@@ -315,8 +309,7 @@ pub fn self_righting(
             for (uj, s) in u.iter_mut().zip(&m.shape) {
                 *uj += q * s;
             }
-            let reach = m.shape.iter().map(|s| s.abs()).fold(0.0, f64::max);
-            bound += reach * (p * p + m.omega * m.omega * q * q).sqrt() / m.omega;
+            bound += m.reach * (p * p + m.omega * m.omega * q * q).sqrt() / m.omega;
         }
         for (j, uj) in u.iter().enumerate() {
             if uj.abs() > tol {
@@ -376,14 +369,72 @@ pub fn self_righting(
     })
 }
 
+/// One row of a damping sweep: [`self_righting`] at one ζ₁, without frames.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct SweepPoint {
+    /// ζ₁ of the first torsional mode.
+    pub mode_damping: f64,
+    /// When the hooks attached.
+    pub attachment_time: f64,
+    /// When the last segment aligned.
+    pub righting_time: f64,
+    /// Largest excursion past equilibrium after release (fraction).
+    pub overshoot: f64,
+    /// The first mode's slowest decay rate.
+    pub decay_rate: f64,
+}
+
+/// [`self_righting`] at each first-mode damping ratio of `dampings`, other settings as given.
+pub fn righting_sweep(
+    model: &Model,
+    params: &Params,
+    settings: &RightingSettings,
+    dampings: &[f64],
+) -> Result<Vec<SweepPoint>, BehaviourError> {
+    dampings
+        .iter()
+        .map(|&z| {
+            let s = RightingSettings {
+                mode_damping: Some(z),
+                frames_per_stage: 1,
+                ..settings.clone()
+            };
+            let r = self_righting(model, params, &s)?;
+            Ok(SweepPoint {
+                mode_damping: r.damping_ratio,
+                attachment_time: r.attachment_time,
+                righting_time: r.righting_time,
+                overshoot: r.overshoot,
+                decay_rate: r.decay_rate,
+            })
+        })
+        .collect()
+}
+
 /// One damped mode of the relaxation after attachment: its shape over all points (zero at the
 /// head) and its state at attachment.
 struct RelaxMode {
     omega: f64,
     gamma: f64,
     shape: Vec<f64>,
+    /// max |shape|: how far this mode can move any point per unit of Q.
+    reach: f64,
     q: f64,
     p: f64,
+}
+
+impl RelaxMode {
+    fn new(omega: f64, gamma: f64, shape: Vec<f64>, q: f64, p: f64) -> RelaxMode {
+        let reach = shape.iter().map(|s| s.abs()).fold(0.0, f64::max);
+        RelaxMode {
+            omega,
+            gamma,
+            shape,
+            reach,
+            q,
+            p,
+        }
+    }
 }
 
 /// The modes of the torsion chain with the head held: D2,f without the head's row and column,
@@ -419,13 +470,7 @@ fn pinned_modes(
                 q += w[r] * (angles[j] - hold);
                 p += w[r] * rates[j];
             }
-            RelaxMode {
-                omega: omega * lambda.sqrt(),
-                gamma: zeta * omega * lambda,
-                shape,
-                q,
-                p,
-            }
+            RelaxMode::new(omega * lambda.sqrt(), zeta * omega * lambda, shape, q, p)
         })
         .collect())
 }
