@@ -4,7 +4,11 @@
 //! What the modal solver needs without forming a dense N×N matrix, each O(N·p²):
 //! * [`BandedSym::count_below`]: the number of eigenvalues below σ, by Sylvester's law of inertia
 //!   (negative pivots of the LDLᵀ factorisation of A − σI);
-//! * [`BandedSym::solve_shifted`]: `(A − σI)x = b`, for inverse iteration.
+//! * [`BandedSym::solve_shifted`]: `(A − σI)x = b`, for inverse iteration;
+//! * [`BandedR`]: the upper triangular factor R of a tall banded matrix S = QR, built by Givens
+//!   row updates without forming SᵀS, so `(SᵀS)⁻¹` is applied with the conditioning of S, not
+//!   its square (what keeps the small eigenvalues of a beam accurate at large N); and the trace
+//!   of `(SᵀS)⁻¹` from the Takahashi recurrence on R, O(N·p²).
 
 /// A symmetric band matrix.
 #[derive(Debug, Clone, PartialEq)]
@@ -91,6 +95,113 @@ impl BandedSym {
     }
 }
 
+/// The upper triangular factor R (bandwidth p) of a tall matrix S with rows of width ≤ p + 1:
+/// `SᵀS = RᵀR`. Stored by bands, `r[d][i] = R[i][i + d]`.
+#[derive(Debug, Clone)]
+pub struct BandedR {
+    r: Vec<Vec<f64>>,
+}
+
+impl BandedR {
+    /// R of the rows given as (column, value) pairs, each row spanning at most p + 1 consecutive
+    /// columns of n. Givens rotations merge one row at a time: O(rows · p²).
+    pub fn from_rows<'a>(
+        n: usize,
+        p: usize,
+        rows: impl IntoIterator<Item = &'a [(usize, f64)]>,
+    ) -> BandedR {
+        let mut r: Vec<Vec<f64>> = (0..=p).map(|d| vec![0.0; n.saturating_sub(d)]).collect();
+        let mut a = vec![0.0; p + 1];
+        for row in rows {
+            let Some(start) = row.iter().map(|&(c, _)| c).min() else {
+                continue;
+            };
+            a.iter_mut().for_each(|v| *v = 0.0);
+            for &(c, v) in row {
+                a[c - start] += v;
+            }
+            // Window a[d] = row entry at column j + d; R's row j spans j…j+p.
+            for j in start..n {
+                if a.iter().all(|&v| v == 0.0) {
+                    break;
+                }
+                if a[0] != 0.0 {
+                    let rjj = r[0][j];
+                    let h = rjj.hypot(a[0]);
+                    let (c, s) = (rjj / h, a[0] / h);
+                    for d in 0..=p.min(n - 1 - j) {
+                        let (x, y) = (r[d][j], a[d]);
+                        r[d][j] = c * x + s * y;
+                        a[d] = -s * x + c * y;
+                    }
+                }
+                a.rotate_left(1);
+                a[p] = 0.0;
+            }
+        }
+        BandedR { r }
+    }
+
+    fn n(&self) -> usize {
+        self.r[0].len()
+    }
+
+    fn p(&self) -> usize {
+        self.r.len() - 1
+    }
+
+    /// Whether R is nonsingular (every diagonal entry non-zero).
+    pub fn is_regular(&self) -> bool {
+        self.r[0].iter().all(|&v| v != 0.0 && v.is_finite())
+    }
+
+    /// Solve `RᵀR x = b` in place: O(N·p).
+    pub fn solve_normal(&self, x: &mut [f64]) {
+        let (n, p) = (self.n(), self.p());
+        // Rᵀ y = b (forward).
+        for i in 0..n {
+            let mut v = x[i];
+            for d in 1..=p.min(i) {
+                v -= self.r[d][i - d] * x[i - d];
+            }
+            x[i] = v / self.r[0][i];
+        }
+        // R x = y (backward).
+        for i in (0..n).rev() {
+            let mut v = x[i];
+            for d in 1..=p.min(n - 1 - i) {
+                v -= self.r[d][i] * x[i + d];
+            }
+            x[i] = v / self.r[0][i];
+        }
+    }
+
+    /// `tr((RᵀR)⁻¹)` by the Takahashi recurrence: Z = (RᵀR)⁻¹ satisfies RZ = R⁻ᵀ (lower
+    /// triangular, diagonal 1/rᵢᵢ), which gives Z's band from the bottom row up without the rest.
+    pub fn inverse_trace(&self) -> f64 {
+        let (n, p) = (self.n(), self.p());
+        // z[d][i] = Z[i][i + d]
+        let mut z: Vec<Vec<f64>> = (0..=p).map(|d| vec![0.0; n.saturating_sub(d)]).collect();
+        let get = |z: &Vec<Vec<f64>>, i: usize, j: usize| {
+            let (i, j) = if i <= j { (i, j) } else { (j, i) };
+            z[j - i][i]
+        };
+        let mut trace = 0.0;
+        for i in (0..n).rev() {
+            let reach = p.min(n - 1 - i);
+            let rii = self.r[0][i];
+            for j in (i + 1..=i + reach).rev() {
+                let s: f64 = (1..=reach).map(|d| self.r[d][i] * get(&z, i + d, j)).sum();
+                z[j - i][i] = -s / rii;
+            }
+            let s: f64 = (1..=reach).map(|d| self.r[d][i] * z[d][i]).sum();
+            z[0][i] = (1.0 / rii - s) / rii;
+            trace += z[0][i];
+        }
+        trace
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -112,6 +223,39 @@ mod tests {
             assert_eq!(a.count_below(lam - 1e-9), j - 1);
             assert_eq!(a.count_below(lam + 1e-9), j);
         }
+    }
+
+    #[test]
+    fn qr_factor_solves_and_traces() {
+        // S: the free second difference on 7 points plus a row holding the last point.
+        let n = 7;
+        let mut rows: Vec<Vec<(usize, f64)>> = (0..n - 2)
+            .map(|p| vec![(p, 1.0), (p + 1, -2.0), (p + 2, 1.0)])
+            .collect();
+        rows.push(vec![(n - 1, 1.0)]);
+        rows.push(vec![(n - 2, 1.0)]);
+        let r = BandedR::from_rows(n, 2, rows.iter().map(|r| r.as_slice()));
+        let mut a = vec![vec![0.0; n]; n];
+        for row in &rows {
+            for &(i, x) in row {
+                for &(j, y) in row {
+                    a[i][j] += x * y;
+                }
+            }
+        }
+        // Columns of A⁻¹ by solves; their diagonal sums to the Takahashi trace.
+        let mut trace = 0.0;
+        for c in 0..n {
+            let mut e = vec![0.0; n];
+            e[c] = 1.0;
+            r.solve_normal(&mut e);
+            for (i, ai) in a.iter().enumerate() {
+                let ax: f64 = (0..n).map(|j| ai[j] * e[j]).sum();
+                assert!((ax - if i == c { 1.0 } else { 0.0 }).abs() < 1e-9);
+            }
+            trace += e[c];
+        }
+        assert!((r.inverse_trace() - trace).abs() < 1e-9 * trace);
     }
 
     #[test]

@@ -78,26 +78,37 @@ struct OperatorContext {
 }
 
 fn stencil_context(boundary: Boundary, k: u32) -> StencilContext {
-    let name = format!("{}_k{k}", boundary_name(boundary));
+    let name = format!("{}_k{k}", boundary.slug());
     let (size_expr, index_body, positions) = match boundary {
         Boundary::Periodic => ("points - 1".into(), "Some((p + j) % n)".into(), "n".into()),
-        Boundary::Free => (
-            "points".into(),
-            "debug_assert!(p + j < n); Some(p + j)".into(),
-            format!("n - {k}"),
-        ),
-        Boundary::Clamped => (
-            "points".into(),
-            format!("(p + j).checked_sub({k}).filter(|&i| i < n)"),
-            format!("n + {k}"),
-        ),
+        Boundary::Ends { .. } => {
+            // Positions p = 0…N−1−k over points p…p+k; held points are zeros, not unknowns.
+            let (tail, head) = boundary.held(k);
+            let held = tail + head;
+            let positions = match held.cmp(&(k as usize)) {
+                std::cmp::Ordering::Less => format!("n - {}", k as usize - held),
+                std::cmp::Ordering::Equal => "n".into(),
+                std::cmp::Ordering::Greater => format!("n + {}", held - k as usize),
+            };
+            let index = if held == 0 {
+                "debug_assert!(p + j < n); Some(p + j)".into()
+            } else {
+                format!("(p + j).checked_sub({tail}).filter(|&i| i < n)")
+            };
+            let size = if held == 0 {
+                "points".into()
+            } else {
+                format!("points - {held}")
+            };
+            (size, index, positions)
+        }
     };
     let w = stencil(k);
     StencilContext {
         upper: name.to_uppercase(),
         name,
         users: Vec::new(),
-        boundary: boundary_name(boundary).into(),
+        boundary: boundary_name(boundary),
         periodic: boundary == Boundary::Periodic,
         k,
         len: w.len(),
@@ -150,7 +161,7 @@ pub fn operators_source(model: &Model, order: u32) -> Result<String, String> {
     for p in plan(model, order).map_err(|e| e.to_string())? {
         let field = model.field(&p.field).ok_or("plan names a model field")?;
         let term = p.term.render(&|_| field.symbol.clone());
-        let name = format!("{}_k{}", boundary_name(p.boundary), p.k);
+        let name = format!("{}_k{}", p.boundary.slug(), p.k);
         let index = match stencils.iter().position(|s| s.name == name) {
             Some(i) => i,
             None => {
@@ -165,7 +176,7 @@ pub fn operators_source(model: &Model, order: u32) -> Result<String, String> {
             field: p.field.clone(),
             meaning: format!("{} ({}): {term}", p.field, field.meaning),
             density: p.density.key().into(),
-            boundary: boundary_name(p.boundary).into(),
+            boundary: boundary_name(p.boundary),
             periodic: p.boundary == Boundary::Periodic,
             term,
             k: p.k,

@@ -7,11 +7,14 @@
 //!
 //! * periodic: `N−1` unknowns (head and tail are one point), every position, indices mod `N−1`;
 //!   needs `N−1 ≥ k+1`.
-//! * free: `N` unknowns, only stencils inside the body (`p = 0…N−1−k`); needs `N ≥ k+1`.
-//!   Its null space is the polynomials of degree < k (k = 1: constants; k = 2: constants and
-//!   ramps, the beam's translation and rotation).
-//! * clamped: `N` unknowns, the field is zero outside the body (zero ghost points), every stencil
-//!   that touches the body; needs `N ≥ k+1`. No null space.
+//! * otherwise each end on its own, and only stencils inside the body (`p = 0…N−1−k`). A free
+//!   end holds nothing: its natural conditions (no force, no moment) come out of the variation.
+//!   A pinned end holds the value (the end point is zero and not an unknown); a clamped end
+//!   holds value and slope (the end point and its neighbour), or the value alone when k = 1.
+//!   The held points are the ghost-point rule: they enter the stencils as zeros.
+//!   The null space is the polynomials of degree < k that vanish on the held points: k − (held)
+//!   of them when positive (free–free beam: translation and rotation; pinned–free: rotation
+//!   about the pin; cantilever: none).
 //!
 //! For the larva: `D2,c` (x, periodic, k = 1), `D2,f` (θ, free, k = 1), `D4` (y, z, free, k = 2),
 //! equal to the seed's Eq. 3–5.
@@ -69,42 +72,51 @@ pub fn stencil(k: u32) -> Vec<i64> {
     w
 }
 
-/// Number of unknowns for `points` points.
-pub fn size(boundary: Boundary, points: usize) -> usize {
+/// Number of unknowns for `points` points: periodic fields tie the head to the tail, held ends
+/// drop their held points.
+pub fn size(k: u32, boundary: Boundary, points: usize) -> usize {
     match boundary {
         Boundary::Periodic => points.saturating_sub(1),
-        Boundary::Free | Boundary::Clamped => points,
+        Boundary::Ends { .. } => {
+            let (tail, head) = boundary.held(k);
+            points.saturating_sub(tail + head)
+        }
     }
 }
 
-/// The least number of points a stencil of order `k` needs.
+/// The least number of points a stencil of order `k` needs: one whole stencil and at least one
+/// unknown (two around a ring).
 pub fn min_points(boundary: Boundary, k: u32) -> usize {
     match boundary {
         Boundary::Periodic => k as usize + 2,
-        Boundary::Free | Boundary::Clamped => k as usize + 1,
+        Boundary::Ends { .. } => {
+            let (tail, head) = boundary.held(k);
+            (k as usize + 1).max(tail + head + 1)
+        }
     }
 }
 
 /// Name of a boundary condition.
-pub fn boundary_name(b: Boundary) -> &'static str {
-    match b {
-        Boundary::Periodic => "periodic",
-        Boundary::Free => "free",
-        Boundary::Clamped => "clamped",
-    }
+pub fn boundary_name(b: Boundary) -> String {
+    b.name()
 }
 
 /// The seed's name for an operator of stencil order `k` with this boundary, if it has one.
 pub fn seed_name(k: u32, boundary: Boundary) -> Option<&'static str> {
     match (k, boundary) {
         (1, Boundary::Periodic) => Some("D2,c, seed Eq. 3"),
-        (1, Boundary::Free) => Some("D2,f, seed Eq. 4"),
-        (2, Boundary::Free) => Some("D4, seed Eq. 5"),
+        (1, Boundary::FREE) => Some("D2,f, seed Eq. 4"),
+        (2, Boundary::FREE) => Some("D4, seed Eq. 5"),
         _ => None,
     }
 }
 
-/// For each stencil position, the (index, weight) pairs it touches.
+/// For each stencil position, the (unknown index, weight) pairs it touches.
+///
+/// Periodic: every position around the ring of `N − 1` unknowns. Otherwise the positions whose
+/// stencil lies inside the body (`p = 0…N−1−k`, covering points `p…p+k`): a free end adds no
+/// condition (the natural one comes out of the variation), and a held end's points are zero,
+/// so they drop out of the rows and are not unknowns.
 pub fn stencil_rows(
     k: u32,
     boundary: Boundary,
@@ -114,13 +126,12 @@ pub fn stencil_rows(
         return Err(DiscretiseError::TooFewPoints {
             points,
             k,
-            boundary: boundary_name(boundary).into(),
+            boundary: boundary_name(boundary),
             min: min_points(boundary, k),
         });
     }
     let w = stencil(k);
-    let n = size(boundary, points);
-    let k = k as usize;
+    let n = size(k, boundary, points);
     let rows = match boundary {
         Boundary::Periodic => (0..n)
             .map(|p| {
@@ -130,19 +141,20 @@ pub fn stencil_rows(
                     .collect()
             })
             .collect(),
-        Boundary::Free => (0..=n - 1 - k)
-            .map(|p| w.iter().enumerate().map(|(j, &c)| (p + j, c)).collect())
-            .collect(),
-        // Position p covers indices p−k … p; ghosts outside 0…n−1 are zero.
-        Boundary::Clamped => (0..n + k)
-            .map(|p| {
-                w.iter()
-                    .enumerate()
-                    .filter(|&(j, _)| p + j >= k && p + j - k < n)
-                    .map(|(j, &c)| (p + j - k, c))
-                    .collect()
-            })
-            .collect(),
+        Boundary::Ends { .. } => {
+            let (tail, _) = boundary.held(k);
+            (0..points - k as usize)
+                .map(|p| {
+                    w.iter()
+                        .enumerate()
+                        .filter_map(|(j, &c)| {
+                            (p + j).checked_sub(tail).filter(|&i| i < n).map(|i| (i, c))
+                        })
+                        .collect::<Vec<_>>()
+                })
+                .filter(|row| !row.is_empty())
+                .collect()
+        }
     };
     Ok(rows)
 }
@@ -153,7 +165,7 @@ pub fn operator_matrix(
     boundary: Boundary,
     points: usize,
 ) -> Result<Vec<Vec<i64>>, DiscretiseError> {
-    let n = size(boundary, points);
+    let n = size(k, boundary, points);
     let mut m = vec![vec![0i64; n]; n];
     for row in stencil_rows(k, boundary, points)? {
         for &(i, a) in &row {
@@ -279,7 +291,7 @@ pub fn operators(
                     field,
                     density: density.key().into(),
                     term: term.to_string(),
-                    boundary: boundary_name(boundary).into(),
+                    boundary: boundary_name(boundary),
                     k,
                     seed_name: seed_name(k, boundary),
                     size: matrix.len(),
@@ -303,10 +315,10 @@ mod tests {
 
     #[test]
     fn too_few_points_is_an_error() {
-        assert!(operator_matrix(2, Boundary::Free, 2).is_err());
+        assert!(operator_matrix(2, Boundary::FREE, 2).is_err());
         assert!(operator_matrix(1, Boundary::Periodic, 2).is_err());
         assert_eq!(
-            operator_matrix(1, Boundary::Free, 2).unwrap(),
+            operator_matrix(1, Boundary::FREE, 2).unwrap(),
             [[1, -1], [-1, 1]]
         );
     }

@@ -26,7 +26,7 @@ use std::f64::consts::PI;
 
 use faer::Mat;
 
-use crate::banded::BandedSym;
+use crate::banded::{BandedR, BandedSym};
 use crate::discretise::{boundary_name, min_points, size, stencil_rows};
 use crate::generated::operators::OPERATORS;
 use crate::model::Boundary;
@@ -70,6 +70,8 @@ pub enum Method {
     Characteristic,
     /// faer's dense self-adjoint eigensolver.
     Dense,
+    /// Subspace iteration on the QR factor of the stencil rows (any non-periodic operator).
+    Subspace,
 }
 
 impl Method {
@@ -79,6 +81,7 @@ impl Method {
             Method::ClosedForm => "closed form",
             Method::Characteristic => "characteristic equation",
             Method::Dense => "dense (faer)",
+            Method::Subspace => "subspace iteration (banded QR)",
         }
     }
 }
@@ -100,13 +103,50 @@ pub struct Spectrum {
     pub method: Method,
 }
 
-/// Number of structural zero modes of a k-th difference operator with this boundary.
+/// Number of structural zero modes of a k-th difference operator with this boundary: the
+/// polynomials of degree < k that vanish on the held points (constants around a ring).
 pub fn nullity(k: u32, boundary: Boundary) -> usize {
     match boundary {
         Boundary::Periodic => 1,
-        Boundary::Free => k as usize,
-        Boundary::Clamped => 0,
+        Boundary::Ends { .. } => {
+            let (tail, head) = boundary.held(k);
+            (k as usize).saturating_sub(tail + head)
+        }
     }
+}
+
+/// An orthonormal basis of the null space on the unknowns of a non-periodic operator:
+/// `Π_h (j − h) · jᵐ` over the held points h, m = 0…nullity − 1, in a centred, scaled variable.
+pub fn null_basis(k: u32, boundary: Boundary, points: usize) -> Vec<Vec<f64>> {
+    let count = nullity(k, boundary);
+    let (tail, head) = boundary.held(k);
+    let n = size(k, boundary, points);
+    let centre = (points as f64 - 1.0) / 2.0;
+    let scale = centre.max(1.0);
+    let t = |q: usize| (q as f64 - centre) / scale;
+    let held: Vec<f64> = (0..tail)
+        .chain(points.saturating_sub(head)..points)
+        .map(t)
+        .collect();
+    let mut out: Vec<Vec<f64>> = Vec::new();
+    for deg in 0..count {
+        let mut v: Vec<f64> = (0..n)
+            .map(|u| {
+                let x = t(u + tail);
+                held.iter().map(|h| x - h).product::<f64>() * x.powi(deg as i32)
+            })
+            .collect();
+        // Twice, so the basis is orthonormal to rounding.
+        for _ in 0..2 {
+            for u in &out {
+                let dot: f64 = u.iter().zip(&v).map(|(a, b)| a * b).sum();
+                v.iter_mut().zip(u).for_each(|(x, y)| *x -= dot * y);
+            }
+        }
+        normalise(&mut v);
+        out.push(v);
+    }
+    out
 }
 
 /// The operator `Σ_p w_pᵀw_p` in band storage: from the generated code when it has this
@@ -118,9 +158,10 @@ pub fn banded_operator(k: u32, boundary: Boundary, points: usize) -> Result<Band
             "a periodic operator is not banded".into(),
         ));
     }
+    let name = boundary_name(boundary);
     let generated = OPERATORS
         .iter()
-        .find(|o| o.k == k && o.boundary == boundary_name(boundary))
+        .find(|o| o.k == k && o.boundary == name)
         .and_then(|o| o.banded);
     if let Some(build) = generated {
         let b = build(points).map_err(|_| ModalError::TooFewPoints {
@@ -136,7 +177,7 @@ pub fn banded_operator(k: u32, boundary: Boundary, points: usize) -> Result<Band
         points,
         min: min_points(boundary, k),
     })?;
-    let n = size(boundary, points);
+    let n = size(k, boundary, points);
     let p = k as usize;
     let mut bands: Vec<Vec<f64>> = (0..=p).map(|d| vec![0.0; n.saturating_sub(d)]).collect();
     for row in rows {
@@ -182,24 +223,6 @@ fn columns_to_mat(cols: &[Vec<f64>], n: usize) -> Mat<f64> {
     Mat::from_fn(n, cols.len(), |i, j| cols[j][i])
 }
 
-/// Orthonormal polynomials of degree < `count` on n points (the free null space).
-fn null_shapes(count: usize, n: usize) -> Vec<Vec<f64>> {
-    let centre = (n as f64 - 1.0) / 2.0;
-    let mut out: Vec<Vec<f64>> = Vec::new();
-    for deg in 0..count {
-        let mut v: Vec<f64> = (0..n)
-            .map(|j| (j as f64 - centre).powi(deg as i32))
-            .collect();
-        for u in &out {
-            let dot: f64 = u.iter().zip(&v).map(|(a, b)| a * b).sum();
-            v.iter_mut().zip(u).for_each(|(x, y)| *x -= dot * y);
-        }
-        normalise(&mut v);
-        out.push(v);
-    }
-    out
-}
-
 /// The lowest `limit` (all if `None`) modes of the k-th difference operator with `boundary` on
 /// `points` points.
 pub fn spectrum(
@@ -219,18 +242,49 @@ pub fn spectrum(
             why: format!("the modal solver takes at most {MAX_POINTS}"),
         });
     }
-    let n = size(boundary, points);
+    let n = size(k, boundary, points);
     let count = limit.unwrap_or(n).min(n);
+    let (tail, head) = boundary.held(k);
     match (boundary, k) {
         (Boundary::Periodic, _) => Ok(periodic(k, n, count, shapes)),
-        (Boundary::Free, 1) => Ok(free_second_difference(n, count, shapes)),
-        (Boundary::Free, 2) => match d4(points, count, shapes) {
+        (_, 1) if tail + head == 0 => Ok(free_second_difference(n, count, shapes)),
+        (_, 1) => Ok(held_second_difference(points, tail, head, count, shapes)),
+        (Boundary::FREE, 2) => match d4(points, count, shapes) {
             Some(s) => Ok(s),
-            // The inertia check failed (never seen): fall back to the dense solver.
-            None => dense(k, boundary, points, count, shapes),
+            // The inertia check failed (never seen): fall back to the general method.
+            None => general(k, boundary, points, count, shapes),
         },
-        _ => dense(k, boundary, points, count, shapes),
+        _ => general(k, boundary, points, count, shapes),
     }
+}
+
+/// The wave operator (k = 1) with one or both ends held: the sine series of the string.
+/// Fixed–fixed: n = N − 2, λᵢ = 4 sin²(πi/(2(N−1))), vᵢ(d) = sin(πi·d/(N−1)); fixed–free:
+/// n = N − 1, λᵢ = 4 sin²(π(2i−1)/(2(2N−1))), vᵢ(d) = sin(π(2i−1)·d/(2N−1)), d the distance
+/// (in points) from the held end.
+fn held_second_difference(
+    points: usize,
+    tail: usize,
+    head: usize,
+    count: usize,
+    want_shapes: bool,
+) -> Spectrum {
+    let n = points - tail - head;
+    // Mode i has angle π·wave(i)/period per point.
+    let (period, wave): (f64, fn(usize) -> f64) = if tail + head == 2 {
+        (points as f64 - 1.0, |i| i as f64 + 1.0)
+    } else {
+        (2.0 * points as f64 - 1.0, |i| 2.0 * i as f64 + 1.0)
+    };
+    let lam = |i: usize| (2.0 * (PI * wave(i) / (2.0 * period)).sin()).powi(2);
+    let eigenvalues: Vec<f64> = (0..count).map(lam).collect();
+    let inverse_trace = (0..n).map(|i| 1.0 / lam(i)).sum();
+    let mut s = closed_form(n, eigenvalues, inverse_trace, want_shapes, |i, u| {
+        let d = if tail == 1 { u + 1 } else { n - u };
+        (PI * wave(i) * d as f64 / period).sin()
+    });
+    s.nullity = 0;
+    s
 }
 
 fn periodic(k: u32, n: usize, count: usize, want_shapes: bool) -> Spectrum {
@@ -402,7 +456,7 @@ fn d4(points: usize, count: usize, want_shapes: bool) -> Option<Spectrum> {
     // The band (3N numbers) only when the inertia check or the shapes need it.
     let top = eigenvalues.last().copied().filter(|&t| t > 1e-6);
     let band = if top.is_some() || want_shapes {
-        Some(banded_operator(2, Boundary::Free, points).ok()?)
+        Some(banded_operator(2, Boundary::FREE, points).ok()?)
     } else {
         None
     };
@@ -415,7 +469,8 @@ fn d4(points: usize, count: usize, want_shapes: bool) -> Option<Spectrum> {
     }
     let inverse_trace = d4_inverse_trace(points);
     let shapes = band.filter(|_| want_shapes).map(|band| {
-        let mut cols = null_shapes(count.min(2), n);
+        let mut cols = null_basis(2, Boundary::FREE, points);
+        cols.truncate(count.min(2));
         cols.extend(
             eigenvalues
                 .iter()
@@ -449,6 +504,45 @@ fn inverse_iteration(band: &BandedSym, lambda: f64) -> Vec<f64> {
     v
 }
 
+/// Operators with no closed form or characteristic equation: the structured subspace method
+/// for a few modes of a long body, faer's dense solver otherwise.
+fn general(
+    k: u32,
+    boundary: Boundary,
+    points: usize,
+    count: usize,
+    want_shapes: bool,
+) -> Result<Spectrum, ModalError> {
+    let n = size(k, boundary, points);
+    let wanted = count.saturating_sub(nullity(k, boundary));
+    let block = subspace_block(wanted);
+    if boundary != Boundary::Periodic && n > 400 && block * 3 <= n {
+        return subspace(k, boundary, points, count, want_shapes);
+    }
+    if n > MAX_DENSE {
+        return Err(ModalError::TooManyPoints {
+            points,
+            why: format!(
+                "{count} modes of a {} operator of order {k} need the dense solver, which takes at most {MAX_DENSE} unknowns; ask for at most {} modes",
+                boundary_name(boundary),
+                (n / 6).saturating_sub(2).max(1)
+            ),
+        });
+    }
+    dense(k, boundary, points, count, want_shapes)
+}
+
+/// `Σ_rows (w·v)²`: vᵀDv from the stencil rows, without D. For a smooth unit v this keeps
+/// the relative accuracy of a small eigenvalue that vᵀ(Dv) would lose to cancellation.
+fn stencil_energy(rows: &[Vec<(usize, i64)>], v: &[f64]) -> f64 {
+    rows.iter()
+        .map(|row| {
+            let d: f64 = row.iter().map(|&(i, w)| w as f64 * v[i]).sum();
+            d * d
+        })
+        .sum()
+}
+
 fn dense(
     k: u32,
     boundary: Boundary,
@@ -456,20 +550,10 @@ fn dense(
     count: usize,
     want_shapes: bool,
 ) -> Result<Spectrum, ModalError> {
-    let n = size(boundary, points);
-    if n > MAX_DENSE {
-        return Err(ModalError::TooManyPoints {
-            points,
-            why: format!(
-                "no structured solver for a {} operator of order {k}; the dense one takes at most {MAX_DENSE}",
-                boundary_name(boundary)
-            ),
-        });
-    }
+    let n = size(k, boundary, points);
     // The generated dense builder when the crate has this operator, else the exact matrix.
-    let generated = OPERATORS
-        .iter()
-        .find(|o| o.k == k && o.boundary == boundary_name(boundary));
+    let name = boundary_name(boundary);
+    let generated = OPERATORS.iter().find(|o| o.k == k && o.boundary == name);
     let rows: Vec<Vec<f64>> = match generated {
         Some(o) => (o.dense)(points).map_err(|e| ModalError::Solver(e.to_string()))?,
         None => crate::discretise::operator_matrix(k, boundary, points)
@@ -478,37 +562,214 @@ fn dense(
             .map(|r| r.into_iter().map(|v| v as f64).collect())
             .collect(),
     };
+    let stencil =
+        stencil_rows(k, boundary, points).map_err(|e| ModalError::Solver(e.to_string()))?;
     let m = Mat::<f64>::from_fn(n, n, |i, j| rows[i][j]);
     let evd = m
         .self_adjoint_eigen(faer::Side::Lower)
         .map_err(|e| ModalError::Solver(format!("{e:?}")))?;
-    let s = evd.S().column_vector();
     let null = nullity(k, boundary);
-    let all: Vec<f64> = (0..n).map(|i| if i < null { 0.0 } else { s[i] }).collect();
-    let inverse_trace = all[null..].iter().map(|l| 1.0 / l).sum();
-    let shapes = want_shapes.then(|| {
-        let u = evd.U();
-        let mut cols: Vec<Vec<f64>> = if null > 0 && boundary == Boundary::Free {
-            null_shapes(null, n)
-        } else {
-            Vec::new()
-        };
-        let start = cols.len();
-        for j in start..count {
+    let u = evd.U();
+    // Non-zero modes: eigenvalues refined as stencil energies of the eigenvectors, which gives
+    // the small ones to relative accuracy (the solver's own are accurate to ε‖D‖ absolute).
+    let mut pairs: Vec<(f64, Vec<f64>)> = (null..n)
+        .map(|j| {
             let mut v: Vec<f64> = (0..n).map(|i| u[(i, j)]).collect();
             normalise(&mut v);
-            cols.push(v);
-        }
+            (stencil_energy(&stencil, &v), v)
+        })
+        .collect();
+    pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let inverse_trace = pairs.iter().map(|(l, _)| 1.0 / l).sum();
+    let mut eigenvalues = vec![0.0; null];
+    eigenvalues.extend(pairs.iter().map(|(l, _)| *l));
+    eigenvalues.truncate(count);
+    let shapes = want_shapes.then(|| {
+        let mut cols = if boundary == Boundary::Periodic {
+            vec![vec![1.0 / (n as f64).sqrt(); n]]
+        } else {
+            null_basis(k, boundary, points)
+        };
+        cols.extend(pairs.into_iter().map(|(_, v)| v));
         cols.truncate(count);
         columns_to_mat(&cols, n)
     });
     Ok(Spectrum {
-        eigenvalues: all[..count].to_vec(),
+        eigenvalues,
         size: n,
         nullity: null,
         inverse_trace,
         shapes,
         method: Method::Dense,
+    })
+}
+
+/// Block size of the subspace method for `wanted` non-zero modes: twice as many, plus a margin,
+/// so the slowest wanted mode converges at least as (λ_K/λ_2K)^{k} per step.
+fn subspace_block(wanted: usize) -> usize {
+    2 * wanted + 6
+}
+
+fn orthonormalise(cols: &mut [Vec<f64>], against: &[Vec<f64>]) {
+    for c in 0..cols.len() {
+        // Twice is enough (Kahan–Parlett).
+        for _ in 0..2 {
+            let (done, rest) = cols.split_at_mut(c);
+            let v = &mut rest[0];
+            for u in against.iter().chain(done.iter()) {
+                let dot: f64 = u.iter().zip(v.iter()).map(|(a, b)| a * b).sum();
+                v.iter_mut().zip(u).for_each(|(x, y)| *x -= dot * y);
+            }
+        }
+        let norm = cols[c].iter().map(|x| x * x).sum::<f64>().sqrt();
+        cols[c].iter_mut().for_each(|x| *x /= norm);
+    }
+}
+
+/// The structured method for any non-periodic operator, O(N·K) memory.
+///
+/// With S the stencil rows and Z the known null basis, add one row eᵢ per null mode at spread
+/// unknowns (G) so that A = SᵀS + GᵀG is regular; then P·A⁻¹·P = D⁺ exactly (P = I − ZZᵀ: a
+/// solution x of A x = P b has G x = 0, because ZᵀGᵀG x = ZᵀPb = 0 and GZ is regular). A⁻¹ is
+/// applied through R from the Givens QR of [S; G], never through SᵀS, so its accuracy follows
+/// S's conditioning. Subspace iteration with P·A⁻¹·P and Rayleigh–Ritz on ‖S·Q‖² gives the
+/// lowest modes; tr(D⁺) = tr(A⁻¹) − Σ zᵢᵀA⁻¹zᵢ with tr(A⁻¹) by Takahashi's recurrence.
+pub fn subspace(
+    k: u32,
+    boundary: Boundary,
+    points: usize,
+    count: usize,
+    want_shapes: bool,
+) -> Result<Spectrum, ModalError> {
+    let min = min_points(boundary, k);
+    if points < min {
+        return Err(ModalError::TooFewPoints { points, min });
+    }
+    if boundary == Boundary::Periodic {
+        return Err(ModalError::Solver(
+            "a periodic operator is not banded".into(),
+        ));
+    }
+    let n = size(k, boundary, points);
+    let rows = stencil_rows(k, boundary, points).map_err(|e| ModalError::Solver(e.to_string()))?;
+    let z = null_basis(k, boundary, points);
+    let spread: Vec<usize> = (0..z.len())
+        .map(|i| ((i + 1) * n / (z.len() + 1)).min(n - 1))
+        .collect();
+    let float_rows: Vec<Vec<(usize, f64)>> = rows
+        .iter()
+        .map(|r| r.iter().map(|&(i, w)| (i, w as f64)).collect())
+        .chain(spread.iter().map(|&i| vec![(i, 1.0)]))
+        .collect();
+    let r = BandedR::from_rows(n, k as usize, float_rows.iter().map(|r| r.as_slice()));
+    if !r.is_regular() {
+        return Err(ModalError::Solver(
+            "the regularised operator is singular".into(),
+        ));
+    }
+    let project = |v: &mut Vec<f64>| {
+        for u in &z {
+            let dot: f64 = u.iter().zip(v.iter()).map(|(a, b)| a * b).sum();
+            v.iter_mut().zip(u).for_each(|(x, y)| *x -= dot * y);
+        }
+    };
+    let inverse_trace = r.inverse_trace()
+        - z.iter()
+            .map(|u| {
+                let mut y = u.clone();
+                r.solve_normal(&mut y);
+                u.iter().zip(&y).map(|(a, b)| a * b).sum::<f64>()
+            })
+            .sum::<f64>();
+    let wanted = count.saturating_sub(z.len());
+    let block = subspace_block(wanted).min(n - z.len());
+    // A deterministic start with components along every mode.
+    let mut q: Vec<Vec<f64>> = (0..block)
+        .map(|c| {
+            (0..n)
+                .map(|j| 1.0 + (((j + 1) * (c + 7919) * 104_729) % 1009) as f64 / 1009.0)
+                .collect()
+        })
+        .collect();
+    orthonormalise(&mut q, &z);
+    let mut ritz: Vec<f64> = vec![f64::INFINITY; block];
+    let mut converged = wanted == 0;
+    let mut last_change = f64::INFINITY;
+    for _ in 0..1000 {
+        if converged {
+            break;
+        }
+        for v in q.iter_mut() {
+            project(v);
+            r.solve_normal(v);
+            project(v);
+        }
+        orthonormalise(&mut q, &z);
+        // Rayleigh–Ritz on H = (SQ)ᵀ(SQ).
+        let w: Vec<Vec<f64>> = q
+            .iter()
+            .map(|v| {
+                rows.iter()
+                    .map(|row| row.iter().map(|&(i, c)| c as f64 * v[i]).sum())
+                    .collect()
+            })
+            .collect();
+        let h = Mat::<f64>::from_fn(block, block, |a, b| {
+            w[a].iter().zip(&w[b]).map(|(x, y)| x * y).sum()
+        });
+        let evd = h
+            .self_adjoint_eigen(faer::Side::Lower)
+            .map_err(|e| ModalError::Solver(format!("{e:?}")))?;
+        let g = evd.U();
+        let next: Vec<Vec<f64>> = (0..block)
+            .map(|c| {
+                let mut v = vec![0.0; n];
+                for (b, qb) in q.iter().enumerate() {
+                    let coef = g[(b, c)];
+                    v.iter_mut().zip(qb).for_each(|(x, y)| *x += coef * y);
+                }
+                v
+            })
+            .collect();
+        q = next;
+        let values: Vec<f64> = q[..wanted]
+            .iter()
+            .map(|v| stencil_energy(&rows, v))
+            .collect();
+        let change = values
+            .iter()
+            .zip(&ritz)
+            .map(|(a, b)| (a - b).abs() / a.abs())
+            .fold(0.0, f64::max);
+        // Eigenvalues converge at least 16-fold per step (the block is twice the wanted
+        // modes); a change that stops falling is rounding noise, reached at large N.
+        converged = change <= 1e-13 || (change <= 1e-7 && change > 0.5 * last_change);
+        last_change = change;
+        ritz[..wanted].copy_from_slice(&values);
+    }
+    if !converged {
+        return Err(ModalError::Solver(
+            "the subspace iteration did not converge".into(),
+        ));
+    }
+    let mut eigenvalues = vec![0.0; z.len().min(count)];
+    eigenvalues.extend_from_slice(&ritz[..wanted]);
+    let shapes = want_shapes.then(|| {
+        let mut cols: Vec<Vec<f64>> = z.clone();
+        cols.extend(q.into_iter().take(wanted).map(|mut v| {
+            normalise(&mut v);
+            v
+        }));
+        cols.truncate(count);
+        columns_to_mat(&cols, n)
+    });
+    Ok(Spectrum {
+        eigenvalues,
+        size: n,
+        nullity: z.len(),
+        inverse_trace,
+        shapes,
+        method: Method::Subspace,
     })
 }
 
@@ -534,6 +795,44 @@ pub fn beam_beta(i: usize) -> f64 {
     let g = |b: f64| b.cos() - 1.0 / b.cosh();
     let centre = (i as f64 + 0.5) * PI;
     refine(g, centre - 0.4, centre + 0.4)
+}
+
+/// The continuum limit of the i-th non-zero mode (i = 1, 2, …) of a k = 1 (string) or k = 2
+/// (Euler–Bernoulli beam) operator with these ends: βᵢL, so that λᵢ → (βᵢL/(N−1))^{2k}.
+/// Roots of the textbook characteristic equations: free–free and clamped–clamped beams
+/// cos βL·cosh βL = 1, clamped–free cos βL·cosh βL = −1, pinned–pinned sin βL = 0, pinned–free
+/// and clamped–pinned tan βL = tanh βL; strings iπ, or (i − ½)π with one end held. `None` for
+/// other k and periodic fields.
+pub fn continuum_beta(k: u32, boundary: Boundary, i: usize) -> Option<f64> {
+    use crate::model::End::{Clamped, Free, Pinned};
+    let Boundary::Ends { tail, head } = boundary else {
+        return None;
+    };
+    let x = i as f64;
+    let root = |g: &dyn Fn(f64) -> f64, centre: f64| refine(g, centre - 0.4, centre + 0.4);
+    match k {
+        1 => Some(match boundary.held(1) {
+            (1, 0) | (0, 1) => (x - 0.5) * PI,
+            _ => x * PI,
+        }),
+        2 => {
+            let mut ends = [tail, head];
+            ends.sort();
+            Some(match ends {
+                [Free, Free] | [Clamped, Clamped] => {
+                    root(&|b: f64| b.cos() - 1.0 / b.cosh(), (x + 0.5) * PI)
+                }
+                [Free, Clamped] => root(&|b: f64| b.cos() + 1.0 / b.cosh(), (x - 0.5) * PI),
+                [Pinned, Pinned] => x * PI,
+                [Free, Pinned] | [Pinned, Clamped] => {
+                    root(&|b: f64| b.sin() - b.cos() * b.tanh(), (x + 0.25) * PI)
+                }
+                // Sorted, so the reversed pairs never occur.
+                _ => return None,
+            })
+        }
+        _ => None,
+    }
 }
 
 /// The seed's Eq. 17 approximation of D4's i-th non-zero eigenvalue (i = 1, 2, …):
@@ -877,7 +1176,7 @@ pub fn field_modes(
                     && o.zeta == zeta
             })
             .map(|o| o.field.id.clone());
-        let beam = if stiff.k == 2 && stiff.boundary == Boundary::Free {
+        let beam = if stiff.k == 2 && stiff.boundary == Boundary::FREE {
             let l4 = (points as f64 - 1.0).powi(4);
             spectrum
                 .eigenvalues

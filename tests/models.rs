@@ -48,7 +48,7 @@ fn every_example_runs_through_every_stage() {
 #[test]
 fn the_worm_has_a_free_axial_field() {
     let worm = load("worm");
-    assert_eq!(worm.field("x").unwrap().boundary, Boundary::Free);
+    assert_eq!(worm.field("x").unwrap().boundary, Boundary::FREE);
     let ops = operators(&worm, 4, 12).unwrap();
     let x = &ops[0];
     assert_eq!(

@@ -80,37 +80,37 @@ fn closed_forms_agree_with_dense_at_every_size() {
         let s = spectrum(1, Boundary::Periodic, points, None, true).unwrap();
         assert_eq!(s.method, Method::ClosedForm);
         check(1, Boundary::Periodic, points, &s, 1e-12);
-        let s = spectrum(1, Boundary::Free, points, None, true).unwrap();
+        let s = spectrum(1, Boundary::FREE, points, None, true).unwrap();
         assert_eq!(s.method, Method::ClosedForm);
-        check(1, Boundary::Free, points, &s, 1e-12);
+        check(1, Boundary::FREE, points, &s, 1e-12);
     }
 }
 
 #[test]
 fn d4_characteristic_equation_agrees_with_dense() {
     for points in (3..=60).chain([101, 150, 201]) {
-        let s = spectrum(2, Boundary::Free, points, None, points <= 60).unwrap();
+        let s = spectrum(2, Boundary::FREE, points, None, points <= 60).unwrap();
         assert_eq!(s.method, Method::Characteristic, "N = {points}");
         assert_eq!(s.eigenvalues.len(), points);
-        check(2, Boundary::Free, points, &s, 1e-12);
+        check(2, Boundary::FREE, points, &s, 1e-12);
     }
 }
 
 #[test]
 fn lowest_modes_only() {
-    let all = spectrum(2, Boundary::Free, 300, None, false).unwrap();
-    let few = spectrum(2, Boundary::Free, 300, Some(7), true).unwrap();
+    let all = spectrum(2, Boundary::FREE, 300, None, false).unwrap();
+    let few = spectrum(2, Boundary::FREE, 300, Some(7), true).unwrap();
     assert_eq!(few.eigenvalues.len(), 7);
     assert_eq!(&all.eigenvalues[..7], &few.eigenvalues[..]);
     assert_eq!(all.inverse_trace, few.inverse_trace);
-    check(2, Boundary::Free, 300, &few, 1e-11);
+    check(2, Boundary::FREE, 300, &few, 1e-11);
 }
 
 #[test]
 fn other_operators_use_the_dense_solver() {
     for (k, boundary) in [
-        (3, Boundary::Free),
-        (2, Boundary::Clamped),
+        (3, Boundary::FREE),
+        (2, Boundary::CLAMPED),
         (2, Boundary::Periodic),
     ] {
         for points in [6, 13, 40] {
@@ -128,7 +128,7 @@ fn sums_of_inverse_eigenvalues_match_closed_forms() {
         let s = spectrum(1, Boundary::Periodic, points, Some(3), false).unwrap();
         assert!((s.inverse_trace - (n * n - 1.0) / 12.0).abs() < 1e-9 * n * n);
         let nf = points as f64;
-        let s = spectrum(1, Boundary::Free, points, Some(3), false).unwrap();
+        let s = spectrum(1, Boundary::FREE, points, Some(3), false).unwrap();
         assert!((s.inverse_trace - (nf * nf - 1.0) / 6.0).abs() < 1e-9 * nf * nf);
     }
 }
@@ -136,8 +136,8 @@ fn sums_of_inverse_eigenvalues_match_closed_forms() {
 #[test]
 fn too_few_points_is_an_error() {
     assert!(spectrum(1, Boundary::Periodic, 2, None, false).is_err());
-    assert!(spectrum(2, Boundary::Free, 2, None, false).is_err());
-    assert!(spectrum(1, Boundary::Free, 1, None, false).is_err());
+    assert!(spectrum(2, Boundary::FREE, 2, None, false).is_err());
+    assert!(spectrum(1, Boundary::FREE, 1, None, false).is_err());
 }
 
 /// tr((SSᵀ)⁻¹) by exact Gauss–Jordan elimination over the rationals.
@@ -199,7 +199,7 @@ fn d4_inverse_trace_polynomial_is_exact() {
     }
     // At large N it agrees with the sum over the characteristic-equation eigenvalues.
     for points in [500usize, 2000] {
-        let s = spectrum(2, Boundary::Free, points, None, false).unwrap();
+        let s = spectrum(2, Boundary::FREE, points, None, false).unwrap();
         let own: f64 = s.eigenvalues[2..].iter().map(|l| 1.0 / l).sum();
         assert!(
             (own - s.inverse_trace).abs() <= 1e-10 * own,

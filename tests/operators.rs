@@ -6,10 +6,10 @@
 #![allow(clippy::needless_range_loop)]
 
 use num_rational::Rational64;
-use theory_search::discretise::{operator_matrix, operators, stencil};
+use theory_search::discretise::{min_points, operator_matrix, operators, stencil};
 use theory_search::generated::operators::OPERATORS;
 use theory_search::generated::OperatorError;
-use theory_search::model::{Boundary, Model};
+use theory_search::model::{Boundary, End, Model};
 
 type M = Vec<Vec<i64>>;
 
@@ -75,7 +75,7 @@ fn periodic_first_difference_is_d2c_at_every_size() {
 fn free_first_difference_is_d2f_at_every_size() {
     for points in 2..=64 {
         assert_eq!(
-            operator_matrix(1, Boundary::Free, points).unwrap(),
+            operator_matrix(1, Boundary::FREE, points).unwrap(),
             seed_d2f(points),
             "N = {points}"
         );
@@ -85,12 +85,12 @@ fn free_first_difference_is_d2f_at_every_size() {
 #[test]
 fn free_second_difference_is_d4_at_every_size() {
     assert_eq!(
-        operator_matrix(2, Boundary::Free, 3).unwrap(),
+        operator_matrix(2, Boundary::FREE, 3).unwrap(),
         [[1, -2, 1], [-2, 4, -2], [1, -2, 1]]
     );
     for points in 4..=64 {
         assert_eq!(
-            operator_matrix(2, Boundary::Free, points).unwrap(),
+            operator_matrix(2, Boundary::FREE, points).unwrap(),
             seed_d4(points),
             "N = {points}"
         );
@@ -204,16 +204,42 @@ fn operators_are_symmetric_psd_with_the_expected_null_spaces() {
     let cases = [
         (1, Boundary::Periodic, 1),
         (2, Boundary::Periodic, 1),
-        (1, Boundary::Free, 1),
-        (2, Boundary::Free, 2),
-        (3, Boundary::Free, 3),
-        (1, Boundary::Clamped, 0),
-        (2, Boundary::Clamped, 0),
-        (3, Boundary::Clamped, 0),
+        (1, Boundary::FREE, 1),
+        (2, Boundary::FREE, 2),
+        (3, Boundary::FREE, 3),
+        (1, Boundary::CLAMPED, 0),
+        (2, Boundary::CLAMPED, 0),
+        (3, Boundary::CLAMPED, 0),
+        (2, Boundary::PINNED, 0),
+        (3, Boundary::PINNED, 1),
+        (
+            2,
+            Boundary::Ends {
+                tail: End::Pinned,
+                head: End::Free,
+            },
+            1,
+        ),
+        (
+            2,
+            Boundary::Ends {
+                tail: End::Free,
+                head: End::Clamped,
+            },
+            0,
+        ),
+        (
+            3,
+            Boundary::Ends {
+                tail: End::Free,
+                head: End::Clamped,
+            },
+            1,
+        ),
     ];
     let mut seed = 0x2545_F491_4F6C_DD1Du64;
     for (k, boundary, nullity) in cases {
-        for points in [k as usize + 2, 7, 12, 25] {
+        for points in [min_points(boundary, k), 7, 12, 25] {
             let m = operator_matrix(k, boundary, points).unwrap();
             let n = m.len();
             for i in 0..n {
@@ -223,7 +249,7 @@ fn operators_are_symmetric_psd_with_the_expected_null_spaces() {
             }
             assert_eq!(n - rank(&m), nullity, "k = {k}, {boundary:?}, N = {points}");
             // Polynomials of degree < nullity are the null space (free); constants (periodic).
-            for deg in 0..nullity as u32 {
+            for deg in 0..nullity as u32 * u32::from(boundary.held(k) == (0, 0)) {
                 let p: Vec<i64> = (0..n as i64).map(|i| i.pow(deg)).collect();
                 assert!(
                     times(&m, &p).iter().all(|&v| v == 0),
@@ -242,17 +268,24 @@ fn operators_are_symmetric_psd_with_the_expected_null_spaces() {
                     .collect();
                 let quad: i64 = x.iter().zip(times(&m, &x)).map(|(a, b)| a * b).sum();
                 let w = stencil(k);
-                let at = |i: i64| -> i64 {
-                    match boundary {
-                        Boundary::Periodic => x[i.rem_euclid(n as i64) as usize],
-                        _ if i < 0 || i >= n as i64 => 0,
-                        _ => x[i as usize],
-                    }
+                // The whole body: held points are zeros, the unknowns fill the rest.
+                let (tail, head) = boundary.held(k);
+                let body: Vec<i64> = match boundary {
+                    Boundary::Periodic => x.clone(),
+                    _ => (0..points)
+                        .map(|q| {
+                            if q < tail || q >= points - head {
+                                0
+                            } else {
+                                x[q - tail]
+                            }
+                        })
+                        .collect(),
                 };
+                let at = |i: i64| -> i64 { body[i.rem_euclid(body.len() as i64) as usize] };
                 let positions: Vec<i64> = match boundary {
                     Boundary::Periodic => (0..n as i64).collect(),
-                    Boundary::Free => (0..=(n as i64 - 1 - k as i64)).collect(),
-                    Boundary::Clamped => (-(k as i64)..n as i64).collect(),
+                    _ => (0..=(points as i64 - 1 - k as i64)).collect(),
                 };
                 let direct: i64 = positions
                     .iter()

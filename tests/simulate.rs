@@ -188,7 +188,7 @@ fn agrees_with_an_independent_rk4_integration() {
     assert!((ours.t - t_end).abs() < 1e-12);
     let modes = field_modes(&Model::larva(), 4, points, &params, None, true).unwrap();
     for (f, field, boundary, k, omega, zeta) in [
-        (2, "y", Boundary::Free, 2, 1.7, 0.2),
+        (2, "y", Boundary::FREE, 2, 1.7, 0.2),
         (0, "x", Boundary::Periodic, 1, 0.9, 0.05),
     ] {
         let shapes = modes[f].spectrum.shapes.as_ref().unwrap();

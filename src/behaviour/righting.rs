@@ -286,6 +286,7 @@ pub fn self_righting(
             vec![RelaxMode::new(omega, zeta * omega, shape, q, p)]
         }
         Attachment::Pinned => pinned_modes(
+            modes[f].k,
             n,
             head,
             modes[f].omega,
@@ -437,10 +438,12 @@ impl RelaxMode {
     }
 }
 
-/// The modes of the torsion chain with the head held: D2,f without the head's row and column,
-/// with the model's stiffness-proportional damping (γ = ζωλ), started from the state at
-/// attachment (the head stops there).
+/// The modes of the torsion chain with the head held: the model's operator (stencil order `k`)
+/// with the head end held and the tail free, with the model's stiffness-proportional damping
+/// (γ = ζωλ), started from the state at attachment (the head stops there).
+#[allow(clippy::too_many_arguments)]
 fn pinned_modes(
+    k: u32,
     n: usize,
     head: usize,
     omega: f64,
@@ -449,26 +452,29 @@ fn pinned_modes(
     rates: &[f64],
     hold: f64,
 ) -> Result<Vec<RelaxMode>, BehaviourError> {
-    use crate::model::Boundary;
-    let full = crate::discretise::operator_matrix(1, Boundary::Free, n)
+    use crate::model::{Boundary, End};
+    debug_assert_eq!(head, n - 1, "arc length runs from the tail to the head");
+    let held = Boundary::Ends {
+        tail: End::Free,
+        head: End::Clamped,
+    };
+    let s = crate::modal::spectrum(k, held, n, None, true)
         .map_err(|e| BehaviourError(e.to_string()))?;
-    let keep: Vec<usize> = (0..n).filter(|&j| j != head).collect();
-    let k =
-        nalgebra::DMatrix::from_fn(keep.len(), keep.len(), |r, c| full[keep[r]][keep[c]] as f64);
-    let eig = nalgebra::SymmetricEigen::new(k);
-    let mut order: Vec<usize> = (0..keep.len()).collect();
-    order.sort_by(|&x, &y| eig.eigenvalues[x].total_cmp(&eig.eigenvalues[y]));
-    Ok(order
-        .into_iter()
-        .map(|m| {
-            let lambda = eig.eigenvalues[m];
-            let w = eig.eigenvectors.column(m);
+    let shapes = s
+        .shapes
+        .ok_or_else(|| BehaviourError("no mode shapes".into()))?;
+    // Unknown u is point u: the held points are at the head.
+    Ok(s.eigenvalues
+        .iter()
+        .enumerate()
+        .map(|(m, &lambda)| {
             let mut shape = vec![0.0; n];
             let (mut q, mut p) = (0.0, 0.0);
-            for (r, &j) in keep.iter().enumerate() {
-                shape[j] = w[r];
-                q += w[r] * (angles[j] - hold);
-                p += w[r] * rates[j];
+            for u in 0..s.size {
+                let w = shapes[(u, m)];
+                shape[u] = w;
+                q += w * (angles[u] - hold);
+                p += w * rates[u];
             }
             RelaxMode::new(omega * lambda.sqrt(), zeta * omega * lambda, shape, q, p)
         })
