@@ -105,6 +105,8 @@ pub struct BandedR {
 impl BandedR {
     /// R of the rows given as (column, value) pairs, each row spanning at most p + 1 consecutive
     /// columns of n. Givens rotations merge one row at a time: O(rows · p²).
+    // j indexes every band of R at once, not one slice.
+    #[allow(clippy::needless_range_loop)]
     pub fn from_rows<'a>(
         n: usize,
         p: usize,
