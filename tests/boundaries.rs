@@ -1,4 +1,5 @@
 //! Per-end boundaries: every end combination of the string (k = 1) and the beam (k = 2) against
+#![allow(clippy::approx_constant)] // textbook values, typed as printed
 //! faer's dense solver on the exact integer matrix, the continuum limits of the textbook beams
 //! and strings, and the structured O(N)-memory method against both.
 
