@@ -302,6 +302,61 @@ pub fn operators(
         .collect()
 }
 
+/// `operators`: every operator of a model at an order on N points.
+pub struct OperatorReport<'a> {
+    /// The model (for symbols).
+    pub model: &'a Model,
+    /// The order.
+    pub order: u32,
+    /// Points along the body.
+    pub points: usize,
+    /// The operators.
+    pub operators: Vec<Operator>,
+}
+
+impl crate::report::Report for OperatorReport<'_> {
+    fn text(&self) -> String {
+        let mut out = format!(
+            "Difference operators of the {} model on N = {} points:\n",
+            self.model.name, self.points
+        );
+        for op in &self.operators {
+            let symbol = self.model.symbol(&op.field);
+            let term = op
+                .term
+                .parse::<Term>()
+                .map(|t| t.render(&|_| symbol.clone()))
+                .unwrap_or_else(|_| op.term.clone());
+            out += &format!(
+                "\n{} · {} · {term} · {} boundary · {}×{} · D = Σ (Δ{}{symbol})²{}\n",
+                op.field,
+                op.density,
+                op.boundary,
+                op.size,
+                op.size,
+                crate::term::superscript(op.k),
+                op.seed_name.map(|n| format!(" = {n}")).unwrap_or_default(),
+            );
+            let width = op
+                .matrix
+                .iter()
+                .flatten()
+                .map(|v| v.to_string().len())
+                .max()
+                .unwrap_or(1);
+            for row in &op.matrix {
+                let cells: Vec<String> = row.iter().map(|v| format!("{v:>width$}")).collect();
+                out += &format!("  {}\n", cells.join(" "));
+            }
+        }
+        out
+    }
+
+    fn json(&self) -> serde_json::Value {
+        serde_json::json!({"points": self.points, "order": self.order, "operators": self.operators})
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

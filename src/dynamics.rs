@@ -86,9 +86,12 @@ pub enum DynamicsError {
     /// The modes could not be computed.
     #[error(transparent)]
     Modes(#[from] ModesError),
-    /// A setting is out of range.
+    /// A setting is out of range, or the sink failed.
     #[error("{0}")]
     Invalid(String),
+    /// The sink's output failed (its kind tells a closed pipe).
+    #[error("cannot write: {1}")]
+    Output(std::io::ErrorKind, String),
 }
 
 /// One reported instant.
@@ -256,28 +259,63 @@ fn check_config(c: &Config) -> Result<(), DynamicsError> {
     Ok(())
 }
 
-/// What a sink returns to end a run early without an error.
-pub const STOP: &str = "stop";
+/// Why a sink ends a run early.
+#[derive(Debug)]
+pub enum Halt {
+    /// Enough: the run ends here, successfully.
+    Stop,
+    /// The sink's output failed (a closed pipe among them).
+    Io(std::io::Error),
+    /// Anything else, with its message.
+    Fail(String),
+}
+
+impl From<std::io::Error> for Halt {
+    fn from(e: std::io::Error) -> Halt {
+        Halt::Io(e)
+    }
+}
+
+impl From<String> for Halt {
+    fn from(m: String) -> Halt {
+        Halt::Fail(m)
+    }
+}
 
 /// Run `config` on `model` with `params`, calling `sink` at every reported instant (a sink
-/// returning `Err(STOP)` ends the run there, successfully).
+/// returning `Err(Halt::Stop)` ends the run there, successfully). Computes the modes; a caller
+/// that has them already calls [`run`].
 pub fn simulate(
     model: &Model,
     params: &Params,
     config: &Config,
-    mut sink: impl FnMut(&Sample) -> Result<(), String>,
+    sink: impl FnMut(&Sample) -> Result<(), Halt>,
 ) -> Result<(), DynamicsError> {
     check_config(config)?;
     let fields = field_modes(model, config.order, config.points, params, None, true)?;
+    run(&fields, config, sink)
+}
+
+/// Run `config` on modes already computed (with shapes; `config.points` and `config.order` are
+/// those the modes were computed for).
+pub fn run(
+    fields: &[FieldModes],
+    config: &Config,
+    mut sink: impl FnMut(&Sample) -> Result<(), Halt>,
+) -> Result<(), DynamicsError> {
+    check_config(config)?;
+    if let Some(f) = fields.iter().find(|f| f.spectrum.shapes.is_none()) {
+        return Err(DynamicsError::Invalid(format!(
+            "field {} has no mode shapes: compute them to simulate",
+            f.field.id
+        )));
+    }
     let locate = |field: &str, mode: usize| -> Result<(usize, usize), DynamicsError> {
         let f = fields
             .iter()
             .position(|f| f.field.id == field)
             .ok_or_else(|| {
-                DynamicsError::Invalid(format!(
-                    "unknown field {field:?} (fields: {})",
-                    ids(&fields)
-                ))
+                DynamicsError::Invalid(format!("unknown field {field:?} (fields: {})", ids(fields)))
             })?;
         if mode >= fields[f].modes.len() {
             return Err(DynamicsError::Invalid(format!(
@@ -341,8 +379,8 @@ pub fn simulate(
     let mut state = start.clone();
     let report = |state: &[Vec<Vector2<f64>>],
                   t: f64,
-                  sink: &mut dyn FnMut(&Sample) -> Result<(), String>| {
-        let s = sample(&fields, &oscillators, state, t);
+                  sink: &mut dyn FnMut(&Sample) -> Result<(), Halt>| {
+        let s = sample(fields, &oscillators, state, t);
         let finite = s.energy.is_finite() && s.positions.iter().flatten().all(|v| v.is_finite());
         if !finite {
             return Err(DynamicsError::Invalid(format!(
@@ -351,8 +389,9 @@ pub fn simulate(
             )));
         }
         match sink(&s) {
-            Err(m) if m == STOP => Ok(false),
-            Err(m) => Err(DynamicsError::Invalid(m)),
+            Err(Halt::Stop) => Ok(false),
+            Err(Halt::Io(e)) => Err(DynamicsError::Output(e.kind(), e.to_string())),
+            Err(Halt::Fail(m)) => Err(DynamicsError::Invalid(m)),
             Ok(()) => Ok(true),
         }
     };
@@ -447,9 +486,9 @@ fn sample(
     }
 }
 
-/// The CSV header matching [`csv_row`]: t, energy, each field at each point (`x_0` …), then the
-/// modal coordinates (`q_x_0` …). `ids` are the model's field ids in order.
-pub fn csv_header(ids: &[&str], s: &Sample) -> String {
+/// The CSV header matching [`sample_row`]: t, energy, each field at each point (`x_0` …),
+/// then the modal coordinates (`q_x_0` …). `ids` are the model's field ids in order.
+pub fn sample_header(ids: &[&str], s: &Sample) -> Vec<String> {
     let mut cols = vec!["t".to_string(), "energy".to_string()];
     for (id, field) in ids.iter().zip(&s.positions) {
         cols.extend((0..field.len()).map(|j| format!("{id}_{j}")));
@@ -457,14 +496,14 @@ pub fn csv_header(ids: &[&str], s: &Sample) -> String {
     for (id, field) in ids.iter().zip(&s.modal) {
         cols.extend((0..field.len()).map(|j| format!("q_{id}_{j}")));
     }
-    cols.join(",")
+    cols
 }
 
-/// One CSV row of a sample.
-pub fn csv_row(s: &Sample) -> String {
+/// One CSV record of a sample.
+pub fn sample_row(s: &Sample) -> Vec<String> {
     let mut cells = vec![s.t.to_string(), s.energy.to_string()];
     for field in s.positions.iter().chain(&s.modal) {
         cells.extend(field.iter().map(|v| v.to_string()));
     }
-    cells.join(",")
+    cells
 }

@@ -246,6 +246,63 @@ fn walk(kinds: &mut [Factor], i: usize, orders: Orders, bounds: &Bounds, out: &m
     kinds[i].power = 0;
 }
 
+/// `count`: the candidate terms of each density at orders 1 … N.
+pub struct CountReport {
+    /// The model's name.
+    pub model: String,
+    /// The basis counted.
+    pub basis: Basis,
+    /// (order, Lagrangian, Rayleigh) counts.
+    pub rows: Vec<(u32, usize, usize)>,
+}
+
+impl CountReport {
+    /// Count the candidates of `model` in `basis` at orders 1 … `max_order`.
+    pub fn new(model: &crate::model::Model, basis: Basis, max_order: u32) -> CountReport {
+        use crate::model::Density;
+        let count = |d: Density, order: u32| {
+            candidates(basis, &Bounds::for_order(model.density(d).bound, order)).len()
+        };
+        CountReport {
+            model: model.name.clone(),
+            basis,
+            rows: (1..=max_order)
+                .map(|o| {
+                    (
+                        o,
+                        count(Density::Lagrangian, o),
+                        count(Density::Rayleigh, o),
+                    )
+                })
+                .collect(),
+        }
+    }
+}
+
+impl crate::report::Report for CountReport {
+    fn text(&self) -> String {
+        let name = match self.basis {
+            Basis::Powers => "powers",
+            Basis::Monomials => "monomials",
+        };
+        let mut text = format!(
+            "order  lagrangian  rayleigh   ({name} basis, model {})\n",
+            self.model
+        );
+        for (order, l, r) in &self.rows {
+            text += &format!("{order:>5}  {l:>10}  {r:>8}\n");
+        }
+        text
+    }
+
+    fn json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "model": self.model,
+            "rows": self.rows.iter().map(|(o, l, r)| serde_json::json!({"order": o, "lagrangian": l, "rayleigh": r})).collect::<Vec<_>>(),
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

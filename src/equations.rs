@@ -282,3 +282,53 @@ pub fn json(order: u32, equations: &[Equation], notes: &[String]) -> Value {
         "notes": notes,
     })
 }
+
+/// `equations`: the equations of motion of a model at an order, with the engine's notes.
+pub struct EquationReport {
+    /// The model's name.
+    pub model: String,
+    /// The order.
+    pub order: u32,
+    /// One equation per field.
+    pub equations: Vec<Equation>,
+    /// What could not be derived, and why.
+    pub notes: Vec<String>,
+}
+
+impl EquationReport {
+    /// The equations as a LaTeX `align*` block.
+    pub fn latex(&self) -> String {
+        let lines: Vec<String> = self.equations.iter().map(|e| e.latex()).collect();
+        format!(
+            "\\begin{{align*}}\n{}\n\\end{{align*}}\n",
+            lines.join(" \\\\\n")
+        )
+    }
+}
+
+impl crate::report::Report for EquationReport {
+    fn text(&self) -> String {
+        let mut out = format!(
+            "Equations of motion of the {} model at order {} (δL/δφ = δR/δ(∂tφ)):\n",
+            self.model, self.order
+        );
+        for e in &self.equations {
+            out += &format!("  {}\n", e.text());
+        }
+        let folds: Vec<String> = self.equations.iter().flat_map(|e| e.folds()).collect();
+        if !folds.is_empty() {
+            out += &format!(
+                "Coefficients are positive free parameters; {}.\n",
+                folds.join(", ")
+            );
+        }
+        for n in &self.notes {
+            out += &format!("note: {n}\n");
+        }
+        out
+    }
+
+    fn json(&self) -> Value {
+        json(self.order, &self.equations, &self.notes)
+    }
+}

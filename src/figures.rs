@@ -12,16 +12,24 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::behaviour::{self, PairKind, RightingSettings};
-use crate::modal::{field_modes, Params};
-use crate::model::Model;
+use crate::theory::Theory;
 
 /// Why a figure could not be made.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("{0}")]
-pub struct FigureError(pub String);
+pub enum FigureError {
+    /// A setting out of range, an unknown figure, or a model that cannot make it.
+    #[error("{0}")]
+    Invalid(String),
+    /// The model lacks a field role the figure's behaviour needs.
+    #[error(transparent)]
+    Role(#[from] crate::model::RoleError),
+    /// A file or directory could not be written.
+    #[error("{0}")]
+    Io(String),
+}
 
 fn err(e: impl std::fmt::Display) -> FigureError {
-    FigureError(e.to_string())
+    FigureError::Invalid(e.to_string())
 }
 
 /// Settings shared by the figures.
@@ -273,12 +281,16 @@ fn histogram(values: &[f64], bins: usize) -> (Vec<(f64, f64)>, f64) {
 }
 
 fn bh(e: behaviour::BehaviourError) -> FigureError {
-    FigureError(e.to_string())
+    match e {
+        behaviour::BehaviourError::Role(r) => FigureError::Role(r),
+        other => err(other),
+    }
 }
 
 /// Fig. 2A: the first four non-zero mode shapes of every field.
-fn mode_shapes(model: &Model, params: &Params, n: usize) -> Result<String, FigureError> {
-    let fields = field_modes(model, 4, n, params, None, true).map_err(err)?;
+fn mode_shapes(theory: &Theory) -> Result<String, FigureError> {
+    let n = theory.points;
+    let fields = &theory.modes;
     let titles: Vec<String> = fields
         .iter()
         .map(|f| {
@@ -318,8 +330,9 @@ fn mode_shapes(model: &Model, params: &Params, n: usize) -> Result<String, Figur
 }
 
 /// Fig. 2B–C: eigenvalues and equipartition variance shares.
-fn spectrum(model: &Model, params: &Params, n: usize) -> Result<String, FigureError> {
-    let fields = field_modes(model, 4, n, params, None, true).map_err(err)?;
+fn spectrum(theory: &Theory) -> Result<String, FigureError> {
+    let n = theory.points;
+    let fields = &theory.modes;
     let nonzero = |f: &crate::modal::FieldModes| -> Vec<(usize, f64, f64)> {
         f.modes
             .iter()
@@ -375,12 +388,10 @@ fn spectrum(model: &Model, params: &Params, n: usize) -> Result<String, FigureEr
 }
 
 /// Fig. 3: the two stages of self-righting.
-fn self_righting(model: &Model, params: &Params, n: usize) -> Result<String, FigureError> {
-    let settings = RightingSettings {
-        points: n,
-        ..Default::default()
-    };
-    let r = behaviour::self_righting(model, params, &settings).map_err(bh)?;
+fn self_righting(theory: &Theory) -> Result<String, FigureError> {
+    let n = theory.points;
+    let settings = RightingSettings::default();
+    let r = behaviour::self_righting(theory, &settings).map_err(bh)?;
     let pick = |g: &dyn Fn(&behaviour::RightingFrame) -> f64| -> Vec<(f64, f64)> {
         r.frames.iter().map(|f| (f.t, g(f))).collect()
     };
@@ -426,14 +437,15 @@ fn self_righting(model: &Model, params: &Params, n: usize) -> Result<String, Fig
         .enumerate()
         .map(|(j, &a)| (j as f64, a))
         .collect();
+    let align_title = format!("time to align within δ = {} rad", settings.tolerance);
     panels.push(panel(
-        "time to align within δ = 0.01 rad",
+        &align_title,
         "segment j (0 = tail)",
         "alignment time (1/ω_t)",
         vec![series("", align, Mark::Dots)],
     ));
     let zs: Vec<f64> = curve(0.3, 3.0, 18, |z| z).iter().map(|p| p.0).collect();
-    let points = behaviour::righting_sweep(model, params, &settings, &zs).map_err(bh)?;
+    let points = behaviour::righting_sweep(theory, &settings, &zs).map_err(bh)?;
     let attach_at = points
         .iter()
         .map(|p| (p.mode_damping, p.attachment_time))
@@ -472,15 +484,20 @@ fn self_righting(model: &Model, params: &Params, n: usize) -> Result<String, Fig
 
 /// Fig. 4: a constant force on the first dorsoventral bending mode (rearing) and on the first
 /// axial mode (hunching): the transient and the shifted equilibrium shape.
-fn rearing_hunching(model: &Model, params: &Params, n: usize) -> Result<String, FigureError> {
+fn rearing_hunching(theory: &Theory) -> Result<String, FigureError> {
+    let n = theory.points;
     let mut panels = Vec::new();
-    let labels = [
-        ("rearing", "z", "dorsoventral z"),
-        ("hunching", "x", "axial x"),
-    ];
+    let field = |behaviour: &str| -> Result<(usize, String), FigureError> {
+        let i = behaviour::role_fields(&theory.model, behaviour)?[0];
+        let f = &theory.model.fields[i];
+        let role = f.role.map(|r| r.name()).unwrap_or_default();
+        Ok((i, format!("{role} {}", f.symbol)))
+    };
+    let (rear, hunch) = (field("behave rearing")?, field("behave hunching")?);
+    let labels = [("rearing", rear.0, rear.1), ("hunching", hunch.0, hunch.1)];
     let runs = labels
         .iter()
-        .map(|(_, field, _)| behaviour::step_response(model, params, n, field, 0.02, 2000.0))
+        .map(|(what, index, _)| behaviour::step_response(theory, what, *index, 0.02, 2000.0))
         .collect::<Result<Vec<_>, _>>()
         .map_err(bh)?;
     let titles: Vec<(String, String)> = labels
@@ -572,17 +589,13 @@ fn asymmetry() -> Result<String, FigureError> {
 }
 
 /// App. B: PCA of Langevin postures against the modes and the equipartition shares.
-fn equipartition(
-    model: &Model,
-    params: &Params,
-    n: usize,
-    settings: &FigureSettings,
-) -> Result<String, FigureError> {
+fn equipartition(theory: &Theory, settings: &FigureSettings) -> Result<String, FigureError> {
+    let n = theory.points;
     let kt = 0.5;
     // 200 000 steps, fewer on long bodies so that the figure takes seconds (the title says how
     // many postures went in).
     let steps = ((2e9 / (n as f64).powi(2)) as u64).clamp(1000, 200_000);
-    let c = behaviour::equipartition_from_dynamics(model, params, "y", n, steps, kt, settings.seed)
+    let c = behaviour::equipartition_from_dynamics(theory, None, steps, kt, settings.seed)
         .map_err(bh)?;
     let k = |v: &[f64], f: fn(f64) -> f64| -> Vec<(f64, f64)> {
         v.iter()
@@ -627,15 +640,10 @@ fn equipartition(
 }
 
 /// Figs. 6–7: a degenerate pair's minimum-energy orbit, the body it moves, and its densities.
-fn pair(
-    model: &Model,
-    params: &Params,
-    n: usize,
-    kind: PairKind,
-    settings: &FigureSettings,
-) -> Result<String, FigureError> {
+fn pair(theory: &Theory, kind: PairKind, settings: &FigureSettings) -> Result<String, FigureError> {
+    let n = theory.points;
     let m = 0.1;
-    let o = behaviour::pair_orbit(model, params, n, kind, m, 2.0).map_err(bh)?;
+    let o = behaviour::pair_orbit(theory, kind, m, 2.0).map_err(bh)?;
     let orbit: Vec<(f64, f64)> = o.trajectory.iter().map(|&(_, a, b)| (a, b)).collect();
     let postures = o
         .postures
@@ -704,8 +712,8 @@ fn pair(
 }
 
 /// Fig. 8A: the free energy of a pair across M = 0.
-fn free_energy(model: &Model, params: &Params, n: usize) -> Result<String, FigureError> {
-    let o = behaviour::pair_orbit(model, params, n, PairKind::Peristalsis, 0.1, 1.0).map_err(bh)?;
+fn free_energy(theory: &Theory) -> Result<String, FigureError> {
+    let o = behaviour::pair_orbit(theory, PairKind::Peristalsis, 0.1, 1.0).map_err(bh)?;
     let mut lines = Vec::new();
     for beta in [1.0, 3.0, 10.0] {
         let mut pts = Vec::new();
@@ -736,15 +744,10 @@ fn free_energy(model: &Model, params: &Params, n: usize) -> Result<String, Figur
 }
 
 /// Fig. 8D: the 3-point bend angle of unbiased exploration against its linearised Gaussian.
-fn bend_angle(
-    model: &Model,
-    params: &Params,
-    n: usize,
-    settings: &FigureSettings,
-) -> Result<String, FigureError> {
+fn bend_angle(theory: &Theory, settings: &FigureSettings) -> Result<String, FigureError> {
+    let n = theory.points;
     let beta = 10_000.0;
-    let e =
-        behaviour::explore(model, params, n, beta, settings.samples, settings.seed).map_err(bh)?;
+    let e = behaviour::explore(theory, beta, settings.samples, settings.seed).map_err(bh)?;
     let deg: Vec<f64> = e.bend.iter().map(|b| b.to_degrees()).collect();
     let (hist, w) = histogram(&deg, 60);
     let sd = e.bend_sd_linear.to_degrees();
@@ -842,65 +845,77 @@ fn mathieu() -> Result<String, FigureError> {
 /// Make figure `name` (one of [`FIGURES`]) as SVG text.
 pub fn figure(
     name: &str,
-    model: &Model,
-    params: &Params,
+    theory: &Theory,
     settings: &FigureSettings,
 ) -> Result<String, FigureError> {
-    let n = settings.points;
     match name {
-        "mode_shapes.svg" => mode_shapes(model, params, n),
-        "spectrum.svg" => spectrum(model, params, n),
-        "self_righting.svg" => self_righting(model, params, n),
-        "rearing_hunching.svg" => rearing_hunching(model, params, n),
+        "mode_shapes.svg" => mode_shapes(theory),
+        "spectrum.svg" => spectrum(theory),
+        "self_righting.svg" => self_righting(theory),
+        "rearing_hunching.svg" => rearing_hunching(theory),
         "asymmetry.svg" => asymmetry(),
-        "equipartition.svg" => equipartition(model, params, n, settings),
-        "peristalsis.svg" => pair(model, params, n, PairKind::Peristalsis, settings),
-        "rolling.svg" => pair(model, params, n, PairKind::Rolling, settings),
-        "free_energy.svg" => free_energy(model, params, n),
-        "bend_angle.svg" => bend_angle(model, params, n, settings),
+        "equipartition.svg" => equipartition(theory, settings),
+        "peristalsis.svg" => pair(theory, PairKind::Peristalsis, settings),
+        "rolling.svg" => pair(theory, PairKind::Rolling, settings),
+        "free_energy.svg" => free_energy(theory),
+        "bend_angle.svg" => bend_angle(theory, settings),
         "mathieu.svg" => mathieu(),
-        _ => Err(FigureError(format!(
+        _ => Err(FigureError::Invalid(format!(
             "unknown figure {name:?} (figures: {})",
             FIGURES.join(", ")
         ))),
     }
 }
 
+/// What [`write_figures`] did: the files written, and the figures skipped because the model
+/// lacks a role they need (with the reason).
+#[derive(Debug, Default)]
+pub struct Written {
+    /// Paths written.
+    pub written: Vec<PathBuf>,
+    /// (figure, why) of each figure the model cannot make.
+    pub skipped: Vec<(String, crate::model::RoleError)>,
+}
+
 /// Write the figures `names` (from [`FIGURES`]) into `dir` (created if missing), calling
-/// `progress` before each one. Unknown names are refused before anything is written.
+/// `progress` before each one. Unknown names are refused before anything is written. When
+/// several are asked, a figure whose behaviour needs a role the model lacks is skipped and
+/// reported; a single one asked for is an error.
 pub fn write_figures(
     dir: &Path,
     names: &[&str],
-    model: &Model,
-    params: &Params,
+    theory: &Theory,
     settings: &FigureSettings,
     mut progress: impl FnMut(&str),
-) -> Result<Vec<PathBuf>, FigureError> {
+) -> Result<Written, FigureError> {
     if let Some(bad) = names.iter().find(|n| !FIGURES.contains(n)) {
-        return Err(FigureError(format!(
+        return Err(FigureError::Invalid(format!(
             "unknown figure {bad:?} (figures: {})",
             FIGURES.join(", ")
         )));
     }
     create_dir(dir)?;
-    names
-        .iter()
-        .map(|name| {
-            progress(name);
-            write_svg(dir, name, &figure(name, model, params, settings)?)
-        })
-        .collect()
+    let mut out = Written::default();
+    for name in names {
+        progress(name);
+        match figure(name, theory, settings) {
+            Ok(svg) => out.written.push(write_svg(dir, name, &svg)?),
+            Err(FigureError::Role(r)) if names.len() > 1 => out.skipped.push((name.to_string(), r)),
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(out)
 }
 
 fn create_dir(dir: &Path) -> Result<(), FigureError> {
     std::fs::create_dir_all(dir)
-        .map_err(|e| FigureError(format!("cannot create {}: {e}", dir.display())))
+        .map_err(|e| FigureError::Io(format!("cannot create {}: {e}", dir.display())))
 }
 
 fn write_svg(dir: &Path, name: &str, svg: &str) -> Result<PathBuf, FigureError> {
     let path = dir.join(name);
     std::fs::write(&path, svg)
-        .map_err(|e| FigureError(format!("cannot write {}: {e}", path.display())))?;
+        .map_err(|e| FigureError::Io(format!("cannot write {}: {e}", path.display())))?;
     Ok(path)
 }
 

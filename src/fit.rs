@@ -57,6 +57,7 @@ use rustfft::{Fft, FftPlanner};
 
 use crate::modal::{field_modes, Params};
 use crate::model::Model;
+use crate::report::{csv_numbers, to_json, Report};
 
 /// The most model points a fit takes (every mode shape is kept).
 pub const MAX_POINTS: usize = crate::dynamics::MAX_SIM_POINTS;
@@ -89,8 +90,11 @@ pub enum Estimator {
 pub struct FitSettings {
     /// Input columns.
     pub kind: InputKind,
-    /// Field of the model the data observe (`y` for midlines, `x` for lengths by default).
-    pub field: String,
+    /// Field of the model the data observe; `None`: the lateral field for midlines, the axial
+    /// one for lengths (by role).
+    pub field: Option<String>,
+    /// Order of the theory whose operator the data are projected on.
+    pub order: u32,
     /// Model points N for midlines (lengths use K + 1).
     pub points: usize,
     /// Welch window W in frames.
@@ -107,15 +111,13 @@ pub struct FitSettings {
 }
 
 impl FitSettings {
-    /// Defaults for `kind`: field y on 12 points (midline) or x (lengths), W = 256, the first
-    /// four modes, the peak estimator.
+    /// Defaults for `kind`: the lateral field on 12 points (midline) or the axial one (lengths),
+    /// order 4, W = 256, the first four modes, the peak estimator.
     pub fn new(kind: InputKind) -> Self {
         FitSettings {
             kind,
-            field: match kind {
-                InputKind::Midline => "y".into(),
-                InputKind::Lengths => "x".into(),
-            },
+            field: None,
+            order: 4,
             points: 12,
             window: 256,
             estimator: Estimator::Peak,
@@ -571,14 +573,32 @@ impl Projector {
                 "{k_in} points per frame; at least {min_k} are needed"
             )));
         }
-        let field_index = model
-            .fields
-            .iter()
-            .position(|f| f.id == settings.field)
-            .ok_or_else(|| invalid(format!("the model has no field {:?}", settings.field)))?;
-        let all =
-            field_modes(model, 4, n, params, None, true).map_err(|e| invalid(e.to_string()))?;
-        let fm = &all[field_index];
+        let field_index = match &settings.field {
+            Some(id) => model
+                .fields
+                .iter()
+                .position(|f| &f.id == id)
+                .ok_or_else(|| invalid(format!("the model has no field {id:?}")))?,
+            None => {
+                let behaviour = match settings.kind {
+                    InputKind::Midline => "fit (midlines)",
+                    InputKind::Lengths => "fit (lengths)",
+                };
+                crate::behaviour::role_fields(model, behaviour)
+                    .map_err(|e| invalid(e.to_string()))?[0]
+            }
+        };
+        // Only the observed field's modes: another field's limits must not refuse this fit.
+        let all = field_modes(
+            &model.only(field_index),
+            settings.order,
+            n,
+            params,
+            None,
+            true,
+        )
+        .map_err(|e| invalid(e.to_string()))?;
+        let fm = &all[0];
         let shapes = fm
             .spectrum
             .shapes
@@ -604,8 +624,10 @@ impl Projector {
         )));
         }
         let first_mode = fm.spectrum.nullity;
-        let size = fm.spectrum.size;
-        let m = size - first_mode;
+        // Stencil rows index the unknowns; shapes are on the body, after the held tail points.
+        let held = fm.spectrum.held.0;
+        let size = shapes.nrows();
+        let m = fm.spectrum.size - first_mode;
         if m == 0 {
             return Err(invalid("the field has no non-zero modes".into()));
         }
@@ -642,7 +664,7 @@ impl Projector {
                     .iter()
                     .map(|r| {
                         r.iter()
-                            .map(|&(i, w)| w as f64 * shapes[(i, first_mode + j)])
+                            .map(|&(i, w)| w as f64 * shapes[(i + held, first_mode + j)])
                             .sum::<f64>()
                     })
                     .collect()
@@ -1005,4 +1027,93 @@ fn descending_eigen(a: &[Vec<f64>]) -> (Vec<f64>, Vec<Vec<f64>>) {
         .map(|&i| e.eigenvectors.column(i).iter().cloned().collect())
         .collect();
     (shares, vectors)
+}
+
+impl Report for FitReport {
+    fn json(&self) -> serde_json::Value {
+        to_json(self)
+    }
+
+    fn csv(&self) -> Option<String> {
+        let r = self;
+        Some(csv_numbers(
+            &[
+                "mode",
+                "eigenvalue",
+                "pca_share",
+                "theory_share",
+                "overlap",
+                "variance",
+                "peak_frequency",
+                "centroid_frequency",
+                "angular_frequency",
+                "theory_angular_frequency",
+            ],
+            r.modes.iter().enumerate().map(|(k, m)| {
+                vec![
+                    m.index as f64,
+                    m.eigenvalue,
+                    r.pca_variance_share[k],
+                    r.theory_variance_share[k],
+                    r.overlap[k][k],
+                    m.variance,
+                    m.peak_frequency,
+                    m.centroid_frequency,
+                    m.angular_frequency,
+                    m.theory_angular_frequency,
+                ]
+            }),
+        ))
+    }
+
+    fn text(&self) -> String {
+        let r = self;
+        {
+            let what = match r.kind {
+                InputKind::Midline => format!("{}-point midlines", r.points),
+                InputKind::Lengths => format!("{} segment lengths", r.points),
+            };
+            let mut t = format!(
+                "Fit of {} frames of {what} (sampling interval {}) to field {} on N = {}\n\
+                 \x20 ω = {:.6} (least squares over modes {}–{}), β = {:.6} (lengths in units of the point spacing)\n\
+                 \x20 Welch: window {} frames, {} segments\n\
+                 \x20 mode        λ   PCA share  equipartition  overlap with mode   peak f  centroid f   measured ω  theory ω√λ\n",
+                r.frames,
+                (r.sample_interval * 1e9).round() / 1e9,
+                r.field,
+                r.model_points,
+                r.omega,
+                r.modes[0].index,
+                r.modes[r.fitted_modes - 1].index,
+                r.beta,
+                r.welch.0,
+                r.welch.1,
+            );
+            for (k, m) in r.modes.iter().enumerate() {
+                t += &format!(
+                    "  {:>4} {:>8.5} {:>9.3} % {:>12.3} % {:>18.5} {:>8.5} {:>11.5} {:>12.5} {:>11.5}\n",
+                    m.index,
+                    m.eigenvalue,
+                    100.0 * r.pca_variance_share[k],
+                    100.0 * r.theory_variance_share[k],
+                    r.mode_overlap[k],
+                    m.peak_frequency,
+                    m.centroid_frequency,
+                    m.angular_frequency,
+                    m.theory_angular_frequency,
+                );
+            }
+            let shares: Vec<String> = r
+                .angle_pca_variance_share
+                .iter()
+                .map(|s| format!("{:.1}", 100.0 * s))
+                .collect();
+            t += "  overlap: |cos(PCₖ, vₖ)|, or the projection onto the pair's plane when λₖ is degenerate\n";
+            t += &format!(
+                "  PCA of the plain angles (%, the seed's eigenmaggots; equipartition makes them equal): {}\n",
+                shares.join(" ")
+            );
+            t
+        }
+    }
 }

@@ -24,6 +24,8 @@ pub mod modal;
 pub mod model;
 pub mod parts;
 pub mod reduce;
+pub mod report;
 pub mod rules;
 pub mod table;
 pub mod term;
+pub mod theory;

@@ -7,8 +7,8 @@ fn main() -> ExitCode {
     match theory_search::cli::run(std::env::args_os(), &mut stdout) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {}", e.message);
-            ExitCode::from(e.code)
+            eprintln!("error: {e}");
+            ExitCode::from(e.exit_code())
         }
     }
 }

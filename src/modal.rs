@@ -97,10 +97,32 @@ pub struct Spectrum {
     pub nullity: usize,
     /// Σ 1/λ over all non-zero modes.
     pub inverse_trace: f64,
-    /// Unit-norm shapes as columns (size × count), when asked for.
+    /// Unit-norm shapes as columns (body points × count), when asked for. Rows are the body's
+    /// points (N − 1 around a ring): the unknowns, with zeros at held points.
     pub shapes: Option<Mat<f64>>,
     /// How it was computed.
     pub method: Method,
+    /// Held points at (tail, head): the unknowns are rows `held.0 … held.0 + size − 1`.
+    pub held: (usize, usize),
+}
+
+impl Spectrum {
+    /// Shapes from the unknowns onto the body: zero rows for the held points.
+    fn embed(mut self, held: (usize, usize)) -> Spectrum {
+        self.held = held;
+        if held != (0, 0) {
+            self.shapes = self.shapes.map(|m| {
+                Mat::from_fn(held.0 + m.nrows() + held.1, m.ncols(), |i, j| {
+                    if i < held.0 || i >= held.0 + m.nrows() {
+                        0.0
+                    } else {
+                        m[(i - held.0, j)]
+                    }
+                })
+            });
+        }
+        self
+    }
 }
 
 /// Number of structural zero modes of a k-th difference operator with this boundary: the
@@ -245,7 +267,7 @@ pub fn spectrum(
     let n = size(k, boundary, points);
     let count = limit.unwrap_or(n).min(n);
     let (tail, head) = boundary.held(k);
-    match (boundary, k) {
+    let s = match (boundary, k) {
         (Boundary::Periodic, _) => Ok(periodic(k, n, count, shapes)),
         (_, 1) if tail + head == 0 => Ok(free_second_difference(n, count, shapes)),
         (_, 1) => Ok(held_second_difference(points, tail, head, count, shapes)),
@@ -255,7 +277,8 @@ pub fn spectrum(
             None => general(k, boundary, points, count, shapes),
         },
         _ => general(k, boundary, points, count, shapes),
-    }
+    }?;
+    Ok(s.embed((tail, head)))
 }
 
 /// The wave operator (k = 1) with one or both ends held: the sine series of the string.
@@ -344,6 +367,7 @@ fn closed_form(
         inverse_trace,
         shapes,
         method: Method::ClosedForm,
+        held: (0, 0),
     }
 }
 
@@ -486,6 +510,7 @@ fn d4(points: usize, count: usize, want_shapes: bool) -> Option<Spectrum> {
         inverse_trace,
         shapes,
         method: Method::Characteristic,
+        held: (0, 0),
     })
 }
 
@@ -517,7 +542,7 @@ fn general(
     let wanted = count.saturating_sub(nullity(k, boundary));
     let block = subspace_block(wanted);
     if boundary != Boundary::Periodic && n > 400 && block * 3 <= n {
-        return subspace(k, boundary, points, count, want_shapes);
+        return subspace_on_unknowns(k, boundary, points, count, want_shapes);
     }
     if n > MAX_DENSE {
         return Err(ModalError::TooManyPoints {
@@ -601,6 +626,7 @@ fn dense(
         inverse_trace,
         shapes,
         method: Method::Dense,
+        held: (0, 0),
     })
 }
 
@@ -635,6 +661,16 @@ fn orthonormalise(cols: &mut [Vec<f64>], against: &[Vec<f64>]) {
 /// S's conditioning. Subspace iteration with P·A⁻¹·P and Rayleigh–Ritz on ‖S·Q‖² gives the
 /// lowest modes; tr(D⁺) = tr(A⁻¹) − Σ zᵢᵀA⁻¹zᵢ with tr(A⁻¹) by Takahashi's recurrence.
 pub fn subspace(
+    k: u32,
+    boundary: Boundary,
+    points: usize,
+    count: usize,
+    want_shapes: bool,
+) -> Result<Spectrum, ModalError> {
+    subspace_on_unknowns(k, boundary, points, count, want_shapes).map(|s| s.embed(boundary.held(k)))
+}
+
+fn subspace_on_unknowns(
     k: u32,
     boundary: Boundary,
     points: usize,
@@ -770,6 +806,7 @@ pub fn subspace(
         inverse_trace,
         shapes,
         method: Method::Subspace,
+        held: (0, 0),
     })
 }
 
@@ -944,6 +981,11 @@ impl Params {
         Ok(())
     }
 
+    /// The value set for `name` (`omega_s`, `zeta_b`, …), if any.
+    pub fn get(&self, name: &str) -> Option<f64> {
+        self.values.get(name).copied()
+    }
+
     /// ω for a scale suffix.
     pub fn omega(&self, scale: &str) -> f64 {
         *self
@@ -1078,6 +1120,69 @@ pub enum ModesError {
     },
 }
 
+/// Frequencies, damping ratios, regimes and variance shares of a spectrum at scales ω, ζ.
+fn physical_modes(
+    spectrum: &Spectrum,
+    field: &crate::model::Field,
+    omega: f64,
+    zeta: f64,
+) -> Vec<Mode> {
+    let mut cumulative = 0.0;
+    spectrum
+        .eigenvalues
+        .iter()
+        .enumerate()
+        .map(|(i, &lam)| {
+            let zero = i < spectrum.nullity;
+            let (frequency, ratio) = (omega * lam.sqrt(), zeta * lam.sqrt());
+            let regime = if zero {
+                Regime::Free
+            } else if (ratio - 1.0).abs() <= 1e-12 {
+                Regime::Critical
+            } else if ratio < 1.0 {
+                Regime::Underdamped
+            } else {
+                Regime::Overdamped
+            };
+            let share = if zero {
+                0.0
+            } else {
+                1.0 / lam / spectrum.inverse_trace
+            };
+            cumulative += share;
+            Mode {
+                index: i,
+                eigenvalue: lam,
+                frequency,
+                damping_ratio: ratio,
+                damped_frequency: (regime == Regime::Underdamped)
+                    .then(|| frequency * (1.0 - ratio * ratio).sqrt()),
+                regime,
+                variance_share: share,
+                cumulative_share: cumulative,
+                zero_mode: zero.then(|| {
+                    field
+                        .zero_modes
+                        .get(i)
+                        .cloned()
+                        .unwrap_or_else(|| format!("zero mode {i}"))
+                }),
+            }
+        })
+        .collect()
+}
+
+impl FieldModes {
+    /// The same modes with the damping scale ζ (ζᵢ = ζ√λᵢ), without solving again.
+    pub fn with_zeta(&self, zeta: f64) -> FieldModes {
+        FieldModes {
+            zeta,
+            modes: physical_modes(&self.spectrum, &self.field, self.omega, zeta),
+            ..self.clone()
+        }
+    }
+}
+
 /// The modes of every field of `model` at `order` on `points` points.
 pub fn field_modes(
     model: &crate::model::Model,
@@ -1124,49 +1229,7 @@ pub fn field_modes(
             })?;
         let (omega, zeta) = (params.omega(field.scale()), params.zeta(field.scale()));
         let zeta = if damping.is_empty() { 0.0 } else { zeta };
-        let mut cumulative = 0.0;
-        let modes = spectrum
-            .eigenvalues
-            .iter()
-            .enumerate()
-            .map(|(i, &lam)| {
-                let zero = i < spectrum.nullity;
-                let (frequency, ratio) = (omega * lam.sqrt(), zeta * lam.sqrt());
-                let regime = if zero {
-                    Regime::Free
-                } else if (ratio - 1.0).abs() <= 1e-12 {
-                    Regime::Critical
-                } else if ratio < 1.0 {
-                    Regime::Underdamped
-                } else {
-                    Regime::Overdamped
-                };
-                let share = if zero {
-                    0.0
-                } else {
-                    1.0 / lam / spectrum.inverse_trace
-                };
-                cumulative += share;
-                Mode {
-                    index: i,
-                    eigenvalue: lam,
-                    frequency,
-                    damping_ratio: ratio,
-                    damped_frequency: (regime == Regime::Underdamped)
-                        .then(|| frequency * (1.0 - ratio * ratio).sqrt()),
-                    regime,
-                    variance_share: share,
-                    cumulative_share: cumulative,
-                    zero_mode: zero.then(|| {
-                        field
-                            .zero_modes
-                            .get(i)
-                            .cloned()
-                            .unwrap_or_else(|| format!("null mode of degree {i}"))
-                    }),
-                }
-            })
-            .collect();
+        let modes = physical_modes(&spectrum, field, omega, zeta);
         let same_frequencies_as = out
             .iter()
             .find(|o| {

@@ -200,6 +200,58 @@ impl fmt::Display for Boundary {
     }
 }
 
+/// What a field is on the body: behaviours ask the model for roles, never for field ids.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Role {
+    /// Stretch and compression along the midline.
+    Axial,
+    /// Twist about the midline.
+    Torsion,
+    /// Bending in the plane of the substrate (left–right; what a camera above sees).
+    Lateral,
+    /// Bending out of that plane (up–down).
+    Dorsoventral,
+}
+
+impl Role {
+    /// Every role.
+    pub const ALL: [Role; 4] = [
+        Role::Axial,
+        Role::Torsion,
+        Role::Lateral,
+        Role::Dorsoventral,
+    ];
+
+    /// Lower-case name, as in model files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Role::Axial => "axial",
+            Role::Torsion => "torsion",
+            Role::Lateral => "lateral",
+            Role::Dorsoventral => "dorsoventral",
+        }
+    }
+}
+
+impl fmt::Display for Role {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A command asked the model for a role it does not have.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{command} needs a {role} field, and model {model:?} has none (give one field role = \"{role}\")")]
+pub struct RoleError {
+    /// The command or behaviour.
+    pub command: String,
+    /// The missing role.
+    pub role: Role,
+    /// The model's name.
+    pub model: String,
+}
+
 /// One scalar field on the midline.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -212,6 +264,9 @@ pub struct Field {
     pub meaning: String,
     /// Boundary condition at head and tail.
     pub boundary: Boundary,
+    /// What the field is (axial, torsion, lateral, dorsoventral); behaviours find fields by it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub role: Option<Role>,
     /// Which frequency and damping scale the field uses (`s` → ω_s, ζ_s). Defaults to the id.
     #[serde(default)]
     pub scale: Option<String>,
@@ -358,6 +413,31 @@ impl Model {
         self.fields.iter().find(|f| f.id == id)
     }
 
+    /// The index of the field with `role`, or an error naming the role and the `command` that
+    /// needs it.
+    pub fn role_index(&self, role: Role, command: &str) -> Result<usize, RoleError> {
+        self.fields
+            .iter()
+            .position(|f| f.role == Some(role))
+            .ok_or_else(|| RoleError {
+                command: command.to_string(),
+                role,
+                model: self.name.clone(),
+            })
+    }
+
+    /// The model reduced to field `index` alone (its requirements kept): what one field's
+    /// operator and modes need, without the other fields' limits.
+    pub fn only(&self, index: usize) -> Model {
+        let mut m = self.clone();
+        let id = m.fields[index].id.clone();
+        m.fields = vec![m.fields[index].clone()];
+        for spec in [&mut m.lagrangian, &mut m.rayleigh] {
+            spec.requirements.retain(|k, _| *k == id);
+        }
+        m
+    }
+
     /// The symbol of the field with this id (empty if there is none).
     pub fn symbol(&self, id: &str) -> String {
         self.field(id).map(|f| f.symbol.clone()).unwrap_or_default()
@@ -405,6 +485,14 @@ impl Model {
             }
             if self.fields[..i].iter().any(|g| g.id == f.id) {
                 return Err(invalid(format!("field id {:?} is declared twice", f.id)));
+            }
+            if let Some(role) = f.role {
+                if let Some(g) = self.fields[..i].iter().find(|g| g.role == Some(role)) {
+                    return Err(invalid(format!(
+                        "fields {:?} and {:?} both have role {role}: a role names one field",
+                        g.id, f.id
+                    )));
+                }
             }
         }
         for density in Density::ALL {

@@ -599,46 +599,85 @@ pub fn modes_json(points: usize, modes: &[crate::modal::FieldModes]) -> Value {
     json!({"points": points, "fields": fields})
 }
 
-/// One CSV row per mode (and, with shapes, the shape's components as `v0 … v(n−1)`).
+/// One CSV row per mode (and, with shapes, the shape's components on the body's points as
+/// `v0 … v(n−1)`), written with the `csv` crate (zero-mode names come from the model file).
 pub fn modes_csv(modes: &[crate::modal::FieldModes], shapes: bool) -> String {
-    let mut out = String::from(
-        "field,index,eigenvalue,frequency,damping_ratio,damped_frequency,regime,variance_share,cumulative_share,zero_mode",
-    );
-    let width = modes.iter().map(|f| f.spectrum.size).max().unwrap_or(0);
+    let mut header: Vec<String> = [
+        "field",
+        "index",
+        "eigenvalue",
+        "frequency",
+        "damping_ratio",
+        "damped_frequency",
+        "regime",
+        "variance_share",
+        "cumulative_share",
+        "zero_mode",
+    ]
+    .iter()
+    .map(|h| h.to_string())
+    .collect();
+    let width = modes
+        .iter()
+        .filter_map(|f| f.spectrum.shapes.as_ref().map(|s| s.nrows()))
+        .max()
+        .unwrap_or(0);
     if shapes {
-        for i in 0..width {
-            out += &format!(",v{i}");
-        }
+        header.extend((0..width).map(|i| format!("v{i}")));
     }
-    out.push('\n');
-    for f in modes {
-        for m in &f.modes {
-            out += &format!(
-                "{},{},{},{},{},{},{},{},{},{}",
-                f.field.id,
-                m.index,
-                m.eigenvalue,
-                m.frequency,
-                m.damping_ratio,
+    let rows = modes.iter().flat_map(|f| {
+        f.modes.iter().map(move |m| {
+            let mut row = vec![
+                f.field.id.clone(),
+                m.index.to_string(),
+                m.eigenvalue.to_string(),
+                m.frequency.to_string(),
+                m.damping_ratio.to_string(),
                 m.damped_frequency
                     .map(|v| v.to_string())
                     .unwrap_or_default(),
-                m.regime.name(),
-                m.variance_share,
-                m.cumulative_share,
-                m.zero_mode.clone().unwrap_or_default()
-            );
+                m.regime.name().to_string(),
+                m.variance_share.to_string(),
+                m.cumulative_share.to_string(),
+                m.zero_mode.clone().unwrap_or_default(),
+            ];
             if let Some(s) = f.spectrum.shapes.as_ref().filter(|_| shapes) {
-                for i in 0..width {
-                    out += &if i < s.nrows() {
-                        format!(",{}", s[(i, m.index)])
+                row.extend((0..width).map(|i| {
+                    if i < s.nrows() {
+                        s[(i, m.index)].to_string()
                     } else {
-                        ",".to_string()
-                    };
-                }
+                        String::new()
+                    }
+                }));
             }
-            out.push('\n');
-        }
+            row
+        })
+    });
+    crate::report::csv_table(&header, rows)
+}
+
+/// `modes`: every field's modes on N points, with shapes when asked.
+pub struct ModesReport<'a> {
+    /// The model.
+    pub model: &'a Model,
+    /// Points along the body.
+    pub points: usize,
+    /// The modes of each field.
+    pub modes: &'a [crate::modal::FieldModes],
+    /// Whether the shapes go into the CSV.
+    pub shapes: bool,
+}
+
+impl crate::report::Report for ModesReport<'_> {
+    fn text(&self) -> String {
+        modes_text(self.model, self.points, self.modes)
     }
-    out
+
+    fn json(&self) -> Value {
+        modes_json(self.points, self.modes)
+    }
+
+    fn csv(&self) -> Option<String> {
+        Some(modes_csv(self.modes, self.shapes))
+    }
 }

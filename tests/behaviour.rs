@@ -251,13 +251,21 @@ fn at_zero_momentum_the_modal_coordinates_follow_the_conditioned_density() {
 use theory_search::behaviour::{pair_orbit, PairKind};
 use theory_search::modal::{field_modes, Params};
 use theory_search::model::Model;
+use theory_search::theory::Theory;
+
+/// The embedded larva on `points` points with `params`.
+fn larva(points: usize, params: &Params) -> Theory {
+    Theory::new(Model::larva(), 4, points, params.clone()).unwrap()
+}
 
 #[test]
 fn peristalsis_is_a_travelling_wave_with_conserved_momentum() {
     let model = Model::larva();
     let params = Params::default();
-    for m in [0.3, -0.3] {
-        let o = pair_orbit(&model, &params, 12, PairKind::Peristalsis, m, 200.0).unwrap();
+    let _ = model;
+    let theory = larva(12, &params);
+    for m in [0.3f64, -0.3] {
+        let o = pair_orbit(&theory, PairKind::Peristalsis, m, 200.0).unwrap();
         assert!(o.momentum_drift < 1e-10, "M drift {}", o.momentum_drift);
         assert!((o.amplitude - (0.3 / o.omega).sqrt()).abs() < 1e-15);
         assert!(
@@ -275,7 +283,8 @@ fn peristalsis_is_a_travelling_wave_with_conserved_momentum() {
 fn rolling_turns_at_the_first_bending_frequency() {
     let model = Model::larva();
     let params = Params::default();
-    let o = pair_orbit(&model, &params, 12, PairKind::Rolling, 0.05, 50.0).unwrap();
+    let theory = larva(12, &params);
+    let o = pair_orbit(&theory, PairKind::Rolling, 0.05, 50.0).unwrap();
     let modes = field_modes(&model, 4, 12, &params, None, false).unwrap();
     let first_bending = modes[2].modes[2].frequency;
     assert!((o.omega - first_bending).abs() < 1e-15);
@@ -286,7 +295,7 @@ fn rolling_turns_at_the_first_bending_frequency() {
         "{} vs {first_bending}",
         o.body_rate
     );
-    assert!(pair_orbit(&model, &params, 12, PairKind::Rolling, 0.0, 5.0).is_err());
+    assert!(pair_orbit(&theory, PairKind::Rolling, 0.0, 5.0).is_err());
 }
 
 use theory_search::behaviour::{analytic_step, step_response};
@@ -300,7 +309,9 @@ fn rearing_and_hunching_settle_on_the_shifted_equilibrium() {
         let mut params = Params::default();
         let scale = if field == "x" { "s" } else { "b" };
         params.set(&format!("zeta_{scale}"), zeta).unwrap();
-        let r = step_response(&model, &params, 12, field, 0.02, 20_000.0).unwrap();
+        let theory = Theory::new(model.clone(), 4, 12, params).unwrap();
+        let index = model.fields.iter().position(|f| f.id == field).unwrap();
+        let r = step_response(&theory, "step", index, 0.02, 20_000.0).unwrap();
         // The exact propagator reproduces the analytic step response.
         let scale_q = r.equilibrium.abs();
         assert!(
@@ -330,7 +341,9 @@ fn unbiased_exploration_matches_equipartition_and_the_linear_bend() {
     let model = Model::larva();
     let params = Params::default();
     // Small amplitude (large β): the 3-point bend is Gaussian with the linearised variance.
-    let e = explore(&model, &params, 12, 1e5, 200_000, 9).unwrap();
+    let _ = model;
+    let theory = larva(12, &params);
+    let e = explore(&theory, 1e5, 200_000, 9).unwrap();
     assert!(
         (e.bend_sd / e.bend_sd_linear - 1.0).abs() < 0.01,
         "{} vs {}",
@@ -350,7 +363,7 @@ fn unbiased_exploration_matches_equipartition_and_the_linear_bend() {
         e.fitted_beta
     );
     // At large amplitude the bend saturates below the linear prediction.
-    let hot = explore(&model, &params, 12, 1.0, 50_000, 9).unwrap();
+    let hot = explore(&theory, 1.0, 50_000, 9).unwrap();
     assert!(hot.bend_sd < hot.bend_sd_linear);
 }
 

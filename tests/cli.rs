@@ -459,7 +459,7 @@ fn stats_equipartition_command() {
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["pca_variance_share"].as_array().unwrap().len(), 4);
     assert!(v["overlap"][0].as_f64().unwrap() > 0.99);
-    assert_clean_error(&["stats", "equipartition", "--field", "w"], "unknown field");
+    assert_clean_error(&["stats", "equipartition", "--field", "w"], "no field");
     assert_clean_error(
         &["stats", "equipartition", "--temperature", "0"],
         "positive",

@@ -6,6 +6,11 @@ use std::process::Command;
 use theory_search::figures::{figure, FigureSettings, FIGURES};
 use theory_search::modal::Params;
 use theory_search::model::Model;
+use theory_search::theory::Theory;
+
+fn larva(points: usize) -> Theory {
+    Theory::new(Model::larva(), 4, points, Params::default()).unwrap()
+}
 
 fn settings() -> FigureSettings {
     FigureSettings {
@@ -16,9 +21,8 @@ fn settings() -> FigureSettings {
 
 #[test]
 fn every_figure_renders_with_axes_and_data() {
-    let model = Model::larva();
     for name in FIGURES {
-        let svg = figure(name, &model, &Params::default(), &settings()).unwrap();
+        let svg = figure(name, &larva(settings().points), &settings()).unwrap();
         assert!(svg.starts_with("<svg"), "{name}");
         assert!(svg.trim_end().ends_with("</svg>"), "{name}");
         let drawn = svg.matches("<polyline").count()
@@ -32,11 +36,9 @@ fn every_figure_renders_with_axes_and_data() {
 
 #[test]
 fn figures_carry_their_axis_units() {
-    let model = Model::larva();
-    let p = Params::default();
     let s = settings();
     let has = |name: &str, label: &str| {
-        let svg = figure(name, &model, &p, &s).unwrap();
+        let svg = figure(name, &larva(s.points), &s).unwrap();
         assert!(svg.contains(label), "{name} lacks {label:?}");
     };
     has("self_righting.svg", "time t (1/ω_t)");
@@ -55,7 +57,7 @@ fn mode_shapes_draw_one_line_per_mode_of_n_points() {
             points: n,
             ..settings()
         };
-        let svg = figure("mode_shapes.svg", &Model::larva(), &Params::default(), &s).unwrap();
+        let svg = figure("mode_shapes.svg", &larva(s.points), &s).unwrap();
         let lines: Vec<&str> = svg
             .split("<polyline")
             .skip(1)
@@ -77,7 +79,7 @@ fn mode_shapes_draw_one_line_per_mode_of_n_points() {
 
 #[test]
 fn unknown_figure_is_an_error() {
-    let e = figure("nope.svg", &Model::larva(), &Params::default(), &settings()).unwrap_err();
+    let e = figure("nope.svg", &larva(12), &settings()).unwrap_err();
     assert!(e.to_string().contains("mode_shapes.svg"));
 }
 
@@ -121,13 +123,7 @@ fn the_command_writes_quietly_and_fails_cleanly() {
 #[test]
 fn readme_figure_is_fresh() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let svg = figure(
-        "self_righting.svg",
-        &Model::larva(),
-        &Params::default(),
-        &FigureSettings::default(),
-    )
-    .unwrap();
+    let svg = figure("self_righting.svg", &larva(12), &FigureSettings::default()).unwrap();
     let path = root.join("tables/figures/self_righting.svg");
     theory_search::codegen::ensure_file_contents(&path, &svg).unwrap();
 }

@@ -349,7 +349,7 @@ fn bad_input_names_the_line() {
     bad.omega = Some(f64::NAN);
     assert!(larva_fit(&good, &bad).is_err());
     bad = s.clone();
-    bad.field = "w".into();
+    bad.field = Some("w".into());
     assert!(larva_fit(&good, &bad)
         .unwrap_err()
         .to_string()

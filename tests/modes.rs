@@ -49,8 +49,10 @@ fn check(k: u32, boundary: Boundary, points: usize, s: &Spectrum, tol: f64) {
             s.inverse_trace
         );
     }
-    if let Some(v) = &s.shapes {
+    if let Some(body) = &s.shapes {
+        // Shapes live on the body; the operator acts on the unknowns after the held tail.
         let n = m.len();
+        let v = body.subrows(s.held.0, n);
         for c in 0..v.ncols() {
             let lam = s.eigenvalues[c];
             for i in 0..n {

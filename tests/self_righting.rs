@@ -4,15 +4,19 @@
 use theory_search::behaviour::{decay_rate, self_righting, Attachment, Righting, RightingSettings};
 use theory_search::modal::Params;
 use theory_search::model::Model;
+use theory_search::theory::Theory;
+
+fn larva(points: usize) -> Theory {
+    Theory::new(Model::larva(), 4, points, Params::default()).unwrap()
+}
 
 fn run(mode_damping: f64, tolerance: f64, points: usize) -> Righting {
     let settings = RightingSettings {
-        points,
         tolerance,
         mode_damping: Some(mode_damping),
         ..RightingSettings::default()
     };
-    self_righting(&Model::larva(), &Params::default(), &settings).unwrap()
+    self_righting(&larva(points), &settings).unwrap()
 }
 
 #[test]
@@ -109,8 +113,9 @@ fn underdamped_rights_sooner_at_finite_tolerance() {
 
 #[test]
 fn bad_settings_are_refused() {
-    let model = Model::larva();
-    let p = Params::default();
+    let theory = larva(12);
+    // Too few points for a body at all.
+    assert!(Theory::new(Model::larva(), 4, 2, Params::default()).is_err());
     for s in [
         RightingSettings {
             tolerance: 0.0,
@@ -132,10 +137,6 @@ fn bad_settings_are_refused() {
             mode_damping: Some(0.0),
             ..Default::default()
         },
-        RightingSettings {
-            points: 2,
-            ..Default::default()
-        },
         // Would take longer than the period limit: refused up front, not after minutes.
         RightingSettings {
             tolerance: 1e-300,
@@ -143,19 +144,18 @@ fn bad_settings_are_refused() {
             ..Default::default()
         },
     ] {
-        assert!(self_righting(&model, &p, &s).is_err(), "{s:?}");
+        assert!(self_righting(&theory, &s).is_err(), "{s:?}");
     }
 }
 
 fn pinned(mode_damping: f64, points: usize) -> Righting {
     let settings = RightingSettings {
-        points,
         mode_damping: Some(mode_damping),
         attachment: Attachment::Pinned,
         frames_per_stage: 2000,
         ..RightingSettings::default()
     };
-    self_righting(&Model::larva(), &Params::default(), &settings).unwrap()
+    self_righting(&larva(points), &settings).unwrap()
 }
 
 /// With the head held, the slowest mode is the fixed–free chain's: λ = 2 − 2cos(π/(2N − 1)),

@@ -338,16 +338,12 @@ fn principal_components_of_simulated_postures_are_the_modes() {
     // units simulated give ~13 000 independent postures: ~1.2 % error on each variance.
     let mut params = Params::default();
     params.set("zeta_b", 1.0).unwrap();
-    let check = theory_search::behaviour::equipartition_from_dynamics(
-        &Model::larva(),
-        &params,
-        "y",
-        8,
-        300_000,
-        0.5,
-        3,
-    )
-    .unwrap();
+    let theory = theory_search::theory::Theory::new(Model::larva(), 4, 8, params).unwrap();
+    // The lateral field by role (y in the larva).
+    let check =
+        theory_search::behaviour::equipartition_from_dynamics(&theory, None, 300_000, 0.5, 3)
+            .unwrap();
+    assert_eq!(check.field, "y");
     for k in 0..3 {
         assert!(
             check.overlap[k] > 0.99,

@@ -1,6 +1,6 @@
 //! Self-righting (seed §3.3.1, App. H): the two-stage model of Fig. 3.
 //!
-//! The torsion field θ (free ends, operator D2,f) starts inverted and at rest: every segment at
+//! The torsion field θ (the model's `torsion` role, free ends) starts inverted and at rest: every segment at
 //! θ₀ (π by default), which is the zero mode alone. Arc length runs from the tail (point 0) to
 //! the head (point N − 1).
 //! 1. **Twist.** A constant generalised force Q = −ω₁²θ₀/a on the first torsional mode, with
@@ -24,16 +24,14 @@
 //! finite tolerance a slightly underdamped mode rights sooner, by ringing through δ, as in the
 //! classical settling-time problem.
 
-use super::{field_index, finite, positive, BehaviourError};
-use crate::dynamics::{simulate, Config, Forcing, Initial, STOP};
-use crate::modal::Params;
-use crate::model::Model;
+use super::{finite, positive, role_fields, BehaviourError};
+use crate::dynamics::{run, Config, Forcing, Halt, Initial};
+use crate::report::{csv_numbers, to_json, Report};
+use crate::theory::Theory;
 
 /// Settings of a self-righting run.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RightingSettings {
-    /// Points along the body.
-    pub points: usize,
     /// Initial orientation of every segment (π: upside down).
     pub theta0: f64,
     /// Tolerance δ (radians) for attachment and alignment.
@@ -61,7 +59,6 @@ pub enum Attachment {
 impl Default for RightingSettings {
     fn default() -> Self {
         RightingSettings {
-            points: 12,
             theta0: std::f64::consts::PI,
             tolerance: 0.01,
             mode_damping: Some(1.0),
@@ -135,57 +132,50 @@ pub fn decay_rate(omega: f64, zeta: f64) -> f64 {
     }
 }
 
-/// Run the two-stage self-righting model on the torsion field `theta` of `model`.
+/// Run the two-stage self-righting model on the torsion field of `theory`.
 pub fn self_righting(
-    model: &Model,
-    params: &Params,
+    theory: &Theory,
     settings: &RightingSettings,
 ) -> Result<Righting, BehaviourError> {
     let theta0 = finite("the initial orientation", settings.theta0)?;
     let tol = positive("the tolerance", settings.tolerance)?;
     positive("the period limit", settings.max_periods)?;
     if theta0.abs() <= tol {
-        return Err(BehaviourError(format!(
+        return Err(BehaviourError::new(format!(
             "the body starts within the tolerance ({theta0} rad): nothing to right"
         )));
     }
-    let n = settings.points;
-    let mut params = params.clone();
-    // Only the two lowest modes of each field are needed here (simulate computes its own).
-    let lowest = |params: &Params| {
-        crate::modal::field_modes(model, 4, n, params, Some(2), true)
-            .map_err(|e| BehaviourError(e.to_string()))
+    let n = theory.points;
+    let f = role_fields(&theory.model, "behave self-righting")?[0];
+    let torsion = &theory.modes[f];
+    if torsion.spectrum.nullity != 1 || torsion.modes.len() < 2 {
+        return Err(BehaviourError::new(format!(
+            "self-righting needs a torsion field with one zero mode (free at both ends); {} is {}",
+            torsion.field.id, torsion.field.boundary
+        )));
+    }
+    // ζ₁ = ζ√λ₁: the damping scale that gives the asked first-mode ratio, without solving again.
+    let torsion = match settings.mode_damping {
+        Some(z) => {
+            let z = finite("the first mode's damping ratio", z)?;
+            torsion.with_zeta(z / torsion.modes[1].eigenvalue.sqrt())
+        }
+        None => torsion.clone(),
     };
-    let f = field_index(model, "theta")?;
-    let modes = lowest(&params)?;
-    let scale = modes[f].field.scale.clone().unwrap_or_default();
-    let first = modes[f].spectrum.nullity;
-    if first != 1 || modes[f].modes.len() < 2 {
-        return Err(BehaviourError(
-            "self-righting needs a torsion field with one zero mode (free boundary)".into(),
-        ));
-    }
-    if let Some(z) = settings.mode_damping {
-        let z = finite("the first mode's damping ratio", z)?;
-        let lambda = modes[f].modes[1].eigenvalue;
-        params
-            .set(&format!("zeta_{scale}"), z / lambda.sqrt())
-            .map_err(|e| BehaviourError(e.to_string()))?;
-    }
-    let modes = lowest(&params)?;
-    let shapes = modes[f]
+    let modes = std::slice::from_ref(&torsion);
+    let shapes = torsion
         .spectrum
         .shapes
         .clone()
-        .ok_or_else(|| BehaviourError("no mode shapes".into()))?;
+        .ok_or_else(|| BehaviourError::new("no mode shapes"))?;
     let head = n - 1;
     let v1: Vec<f64> = (0..n).map(|j| shapes[(j, 1)]).collect();
     let a = v1[head];
-    let m1 = &modes[f].modes[1];
+    let m1 = &torsion.modes[1];
     let (omega, zeta) = (m1.frequency, m1.damping_ratio);
     if zeta == 0.0 {
-        return Err(BehaviourError(
-            "an undamped first mode never settles: give ζ_t > 0".into(),
+        return Err(BehaviourError::new(
+            "an undamped first mode never settles: give ζ_t > 0",
         ));
     }
     let torque = -omega * omega * theta0 / a;
@@ -196,16 +186,16 @@ pub fn self_righting(
     // A stage lasts about ln(range/δ)/rate: sample that span into the frames.
     let expected = ((2.0 * theta0.abs() / tol).ln() + 3.0) / rate;
     if expected > settings.max_periods * period {
-        return Err(BehaviourError(format!(
+        return Err(BehaviourError::new(format!(
             "righting would take about {expected:.3e} time units, more than {} periods of the first mode: raise the tolerance or bring ζ₁ nearer 1",
             settings.max_periods
         )));
     }
     let stride = ((expected / dt) as u64 / settings.frames_per_stage.max(1) as u64).max(1);
-    let field = modes[f].field.id.clone();
+    let field = torsion.field.id.clone();
     let stage1 = Config {
         points: n,
-        order: 4,
+        order: theory.order,
         dt,
         steps: max_steps,
         every: 1,
@@ -233,8 +223,8 @@ pub fn self_righting(
     let mut head_error = 0.0f64;
     let mut attached: Option<(f64, Vec<f64>, Vec<f64>)> = None;
     let mut step = 0u64;
-    simulate(model, &params, &stage1, |s| {
-        let angles = &s.positions[f];
+    run(modes, &stage1, |s| {
+        let angles = &s.positions[0];
         let mean = angles.iter().sum::<f64>() / n as f64;
         drift = drift.max((mean - theta0).abs());
         let expected = theta0 * (1.0 - super::analytic_step(omega, zeta, omega * omega, s.t));
@@ -244,7 +234,7 @@ pub fn self_righting(
             frames.push(RightingFrame {
                 t: s.t,
                 torque,
-                mode: s.modal[f][1],
+                mode: s.modal[0][1],
                 mean_rotation: mean,
                 angles: angles.clone(),
             });
@@ -254,7 +244,7 @@ pub fn self_righting(
             // Only modes 0 and 1 ever move in stage 1.
             let rates = (0..n)
                 .map(|j| {
-                    s.velocity[f]
+                    s.velocity[0]
                         .iter()
                         .take(shapes.ncols())
                         .enumerate()
@@ -263,13 +253,13 @@ pub fn self_righting(
                 })
                 .collect();
             attached = Some((s.t, angles.clone(), rates));
-            return Err(STOP.into());
+            return Err(Halt::Stop);
         }
         Ok(())
     })
-    .map_err(|e| BehaviourError(e.to_string()))?;
+    .map_err(|e| BehaviourError::new(e.to_string()))?;
     let Some((ta, at_attach, rates)) = attached else {
-        return Err(BehaviourError(format!(
+        return Err(BehaviourError::new(format!(
             "the head did not come within {tol} rad of upright in {} periods",
             settings.max_periods
         )));
@@ -286,11 +276,11 @@ pub fn self_righting(
             vec![RelaxMode::new(omega, zeta * omega, shape, q, p)]
         }
         Attachment::Pinned => pinned_modes(
-            modes[f].k,
+            torsion.k,
             n,
             head,
-            modes[f].omega,
-            modes[f].zeta,
+            torsion.omega,
+            torsion.zeta,
             &at_attach,
             &rates,
             hold,
@@ -336,7 +326,7 @@ pub fn self_righting(
         }
     }
     if !settled {
-        return Err(BehaviourError(format!(
+        return Err(BehaviourError::new(format!(
             "the body did not align within {tol} rad in {} periods after attachment",
             settings.max_periods
         )));
@@ -387,8 +377,7 @@ pub struct SweepPoint {
 
 /// [`self_righting`] at each first-mode damping ratio of `dampings`, other settings as given.
 pub fn righting_sweep(
-    model: &Model,
-    params: &Params,
+    theory: &Theory,
     settings: &RightingSettings,
     dampings: &[f64],
 ) -> Result<Vec<SweepPoint>, BehaviourError> {
@@ -400,7 +389,7 @@ pub fn righting_sweep(
                 frames_per_stage: 1,
                 ..settings.clone()
             };
-            let r = self_righting(model, params, &s)?;
+            let r = self_righting(theory, &s)?;
             Ok(SweepPoint {
                 mode_damping: r.damping_ratio,
                 attachment_time: r.attachment_time,
@@ -410,6 +399,91 @@ pub fn righting_sweep(
             })
         })
         .collect()
+}
+
+/// `behave self-righting`: one run and an optional sweep over ζ₁.
+#[derive(Debug, Clone)]
+pub struct RightingReport {
+    /// The run.
+    pub righting: Righting,
+    /// The sweep (empty when none was asked).
+    pub sweep: Vec<SweepPoint>,
+}
+
+impl Report for RightingReport {
+    fn text(&self) -> String {
+        let r = &self.righting;
+        let regime = if (r.damping_ratio - 1.0).abs() <= 1e-9 {
+            "critical"
+        } else if r.damping_ratio < 1.0 {
+            "underdamped"
+        } else {
+            "overdamped"
+        };
+        let mut t = format!(
+            "Self-righting on N = {}: first torsional mode ω₁ = {:.9}, ζ₁ = {:.6} ({regime}), a = v₁(head) = {:.9}\n\
+             \x20 stage 1: constant torque Q = −ω₁²θ₀/a = {:.9} on Θ₁ from θ₀ = {:.6}\n\
+             \x20   the head follows Eq. 20 to {:.1e}; the mean rotation moves by {:.1e}\n\
+             \x20   mouth hooks attach at t = {:.4} (head within δ = {} rad)\n\
+             \x20 stage 2 ({:?}): torque released; slowest relaxing mode ω = {:.6}, ζ = {:.4}; overshoot {:.4}\n\
+             \x20   body aligned within δ at t = {:.4}\n\
+             \x20 alignment time per segment (0 = tail … {} = head):\n",
+            r.points,
+            r.frequency,
+            r.damping_ratio,
+            r.head_coefficient,
+            r.torque,
+            r.theta0,
+            r.head_error,
+            r.rotation_before_attachment,
+            r.attachment_time,
+            r.tolerance,
+            r.attachment,
+            r.relaxation.0,
+            r.relaxation.1,
+            r.overshoot,
+            r.righting_time,
+            r.points - 1,
+        );
+        for (j, a) in r.alignment_times.iter().enumerate() {
+            t += &format!("  {j:>6}  {a:.4}\n");
+        }
+        if !self.sweep.is_empty() {
+            t += "  sweep of ζ₁:\n      ζ₁   attach   righted  overshoot  decay rate\n";
+            for p in &self.sweep {
+                t += &format!(
+                    "  {:>6.3}  {:>7.3}  {:>8.3}  {:>9.4}  {:>10.6}\n",
+                    p.mode_damping, p.attachment_time, p.righting_time, p.overshoot, p.decay_rate,
+                );
+            }
+        }
+        t
+    }
+
+    fn json(&self) -> serde_json::Value {
+        let mut v = to_json(&self.righting);
+        if !self.sweep.is_empty() {
+            v["sweep"] = to_json(&self.sweep);
+        }
+        v
+    }
+
+    fn csv(&self) -> Option<String> {
+        let r = &self.righting;
+        let mut header: Vec<String> = ["t", "torque", "mode", "mean_rotation"]
+            .iter()
+            .map(|h| h.to_string())
+            .collect();
+        header.extend((0..r.points).map(|j| format!("theta_{j}")));
+        Some(csv_numbers(
+            &header,
+            r.frames.iter().map(|f| {
+                let mut row = vec![f.t, f.torque, f.mode, f.mean_rotation];
+                row.extend(&f.angles);
+                row
+            }),
+        ))
+    }
 }
 
 /// One damped mode of the relaxation after attachment: its shape over all points (zero at the
@@ -459,10 +533,10 @@ fn pinned_modes(
         head: End::Clamped,
     };
     let s = crate::modal::spectrum(k, held, n, None, true)
-        .map_err(|e| BehaviourError(e.to_string()))?;
+        .map_err(|e| BehaviourError::new(e.to_string()))?;
     let shapes = s
         .shapes
-        .ok_or_else(|| BehaviourError("no mode shapes".into()))?;
+        .ok_or_else(|| BehaviourError::new("no mode shapes"))?;
     // Unknown u is point u: the held points are at the head.
     Ok(s.eigenvalues
         .iter()

@@ -1,0 +1,169 @@
+//! Equipartition from dynamics (seed App. B): a Langevin run's principal components beside the
+//! modes of one field.
+
+use super::{positive, role_fields, BehaviourError};
+use crate::report::{csv_numbers, to_json, Report};
+use crate::theory::Theory;
+
+/// Principal components of simulated postures of one field beside its modes.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct EquipartitionCheck {
+    /// Field id.
+    pub field: String,
+    /// Points along the body.
+    pub points: usize,
+    /// Thermal energy kT of the run.
+    pub temperature: f64,
+    /// Postures used.
+    pub frames: usize,
+    /// Variance share of each principal component (descending), over the non-zero modes.
+    pub pca_variance_share: Vec<f64>,
+    /// Equipartition share λᵢ⁻¹/Σλⱼ⁻¹ of the non-zero modes (ascending λ).
+    pub theory_variance_share: Vec<f64>,
+    /// |cos| between principal component k and the k-th non-zero mode shape.
+    pub overlap: Vec<f64>,
+}
+
+/// The largest steps × N² that [`equipartition_from_dynamics`] takes (about a minute).
+pub const EQUIPARTITION_BUDGET: f64 = 2e10;
+
+/// Run the Langevin dynamics of the theory at temperature `kt` and compare the PCA of the
+/// postures of field `index` (the lateral field by default) with its modes (seed App. B:
+/// equipartition from dynamics). Only that field is simulated: the others do not couple.
+pub fn equipartition_from_dynamics(
+    theory: &Theory,
+    index: Option<usize>,
+    steps: u64,
+    kt: f64,
+    seed: u64,
+) -> Result<EquipartitionCheck, BehaviourError> {
+    use crate::dynamics::{run, Config};
+    let points = theory.points;
+    // Every step costs O(N²) across the four fields: refuse runs of more than about a minute.
+    let work = steps as f64 * (points as f64).powi(2);
+    if work > EQUIPARTITION_BUDGET {
+        return Err(BehaviourError::new(format!(
+            "{steps} steps on {points} points is {work:.1e} units of work, over the {EQUIPARTITION_BUDGET:.0e} budget (about a minute): use fewer points or steps"
+        )));
+    }
+    let index = match index {
+        Some(i) => i,
+        None => role_fields(&theory.model, "stats equipartition")?[0],
+    };
+    let f = &theory.modes[index];
+    // Postures live on the body's points (held points stay at zero).
+    let n = f
+        .spectrum
+        .shapes
+        .as_ref()
+        .map_or(f.spectrum.size, |s| s.nrows());
+    let config = Config {
+        points,
+        order: theory.order,
+        dt: 0.5,
+        steps,
+        every: 1,
+        temperature: positive("kT", kt)?,
+        seed,
+        initial: Vec::new(),
+        forcing: Vec::new(),
+    };
+    // Accumulate the covariance of the postures after a burn-in of a tenth of the run.
+    let burn = steps / 10;
+    let (mut sum, mut outer, mut frames) = (vec![0.0; n], vec![vec![0.0; n]; n], 0usize);
+    run(std::slice::from_ref(f), &config, |s| {
+        if (s.t / config.dt).round() as u64 > burn {
+            let q = &s.positions[0];
+            for i in 0..n {
+                sum[i] += q[i];
+                for j in 0..n {
+                    outer[i][j] += q[i] * q[j];
+                }
+            }
+            frames += 1;
+        }
+        Ok(())
+    })?;
+    let fr = frames as f64;
+    let cov =
+        faer::Mat::<f64>::from_fn(n, n, |i, j| outer[i][j] / fr - sum[i] * sum[j] / (fr * fr));
+    let evd = cov
+        .self_adjoint_eigen(faer::Side::Lower)
+        .map_err(|e| BehaviourError::new(format!("{e:?}")))?;
+    let s = evd.S().column_vector();
+    let u = evd.U();
+    let nonzero = f.spectrum.size - f.spectrum.nullity;
+    // Principal components by descending variance; the zero modes carry none.
+    let order: Vec<usize> = (0..n).rev().take(nonzero).collect();
+    let total: f64 = order.iter().map(|&k| s[k].max(0.0)).sum();
+    let shapes = f
+        .spectrum
+        .shapes
+        .as_ref()
+        .ok_or_else(|| BehaviourError::new("no shapes"))?;
+    let overlap = order
+        .iter()
+        .enumerate()
+        .map(|(rank, &k)| {
+            let mode = f.spectrum.nullity + rank;
+            (0..n)
+                .map(|i| u[(i, k)] * shapes[(i, mode)])
+                .sum::<f64>()
+                .abs()
+        })
+        .collect();
+    Ok(EquipartitionCheck {
+        field: f.field.id.clone(),
+        points,
+        temperature: kt,
+        frames,
+        pca_variance_share: order.iter().map(|&k| s[k].max(0.0) / total).collect(),
+        theory_variance_share: f.modes[f.spectrum.nullity..]
+            .iter()
+            .map(|m| m.variance_share)
+            .collect(),
+        overlap,
+    })
+}
+
+impl Report for EquipartitionCheck {
+    fn text(&self) -> String {
+        let mut t = format!(
+            "PCA of {} simulated postures of {} (N = {}, kT = {}) beside its non-zero modes\n   k   PCA share   equipartition   |cos(PC, mode)|\n",
+            self.frames, self.field, self.points, self.temperature
+        );
+        for k in 0..self.overlap.len() {
+            t += &format!(
+                "  {:>2}   {:>8.4} %   {:>10.4} %   {:>10.5}\n",
+                k + 1,
+                100.0 * self.pca_variance_share[k],
+                100.0 * self.theory_variance_share[k],
+                self.overlap[k]
+            );
+        }
+        t
+    }
+
+    fn json(&self) -> serde_json::Value {
+        to_json(self)
+    }
+
+    fn csv(&self) -> Option<String> {
+        Some(csv_numbers(
+            &[
+                "k",
+                "pca_variance_share",
+                "theory_variance_share",
+                "overlap",
+            ],
+            (0..self.overlap.len()).map(|k| {
+                vec![
+                    (k + 1) as f64,
+                    self.pca_variance_share[k],
+                    self.theory_variance_share[k],
+                    self.overlap[k],
+                ]
+            }),
+        ))
+    }
+}

@@ -1,0 +1,111 @@
+//! Behaviour models of the seed built on the modes, one file each:
+//!
+//! * [`asymmetry`]: forward/backward waves of the self-interacting axial pair (App. C);
+//! * [`mathieu`]: axial–transverse parametric resonance, the Floquet chart (App. D);
+//! * [`pair`]: statistics of a degenerate pair at fixed momentum (App. J);
+//! * [`orbit`]: peristalsis and rolling, minimum-energy orbits of a degenerate pair (App. I);
+//! * [`step`]: rearing and hunching, a constant force on one mode (§3.3.2);
+//! * [`explore`]: unbiased exploration, Gaussian postures and the 3-point bend (§3.3.4);
+//! * [`equipartition`]: a Langevin run's PCA beside the modes (App. B);
+//! * [`righting`]: self-righting (§3.3.1, App. H).
+//!
+//! A behaviour finds its fields by role ([`ROLE_NEEDS`] says which), never by id, and borrows
+//! the modes of one [`Theory`](crate::theory::Theory).
+
+pub mod asymmetry;
+pub mod equipartition;
+pub mod explore;
+pub mod mathieu;
+mod numerics;
+pub mod orbit;
+pub mod pair;
+mod righting;
+pub mod step;
+
+pub use asymmetry::{asymmetry, asymmetry_roots, simulate_pair, Asymmetry};
+pub use equipartition::{equipartition_from_dynamics, EquipartitionCheck, EQUIPARTITION_BUDGET};
+pub use explore::{explore, fit_beta, Exploration};
+pub use mathieu::{
+    chart, floquet, mathieu_monodromy, stability_chart, FloquetPoint, StabilityChart,
+};
+pub use numerics::{rk4_step, PhaseUnwrap};
+pub use orbit::{pair_orbit, PairKind, PairOrbit};
+pub use pair::{
+    integrate, pair_amplitude_weight, pair_statistics, sample_pair, scaled_bessel_k1, PairReport,
+    PairSamples, PairStatistics,
+};
+pub use righting::{
+    decay_rate, righting_sweep, self_righting, Attachment, Righting, RightingFrame, RightingReport,
+    RightingSettings, SweepPoint,
+};
+pub use step::{analytic_step, step_response, StepResponse};
+
+use crate::model::{Model, Role, RoleError};
+
+/// Why a behaviour cannot run.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum BehaviourError {
+    /// A parameter out of range, or a run that cannot be done.
+    #[error("{0}")]
+    Invalid(String),
+    /// The model lacks a field role the behaviour needs.
+    #[error(transparent)]
+    Role(#[from] RoleError),
+    /// The modes or the dynamics failed.
+    #[error(transparent)]
+    Dynamics(#[from] crate::dynamics::DynamicsError),
+}
+
+impl BehaviourError {
+    fn new(why: impl Into<String>) -> BehaviourError {
+        BehaviourError::Invalid(why.into())
+    }
+}
+
+/// The field roles each behaviour needs, in the order it uses them: data, so a model that
+/// lacks one is told which role and which command, and `--help` can list them.
+pub const ROLE_NEEDS: &[(&str, &[Role])] = &[
+    ("asymmetry", &[Role::Axial]),
+    ("behave peristalsis", &[Role::Axial]),
+    ("behave rolling", &[Role::Lateral, Role::Dorsoventral]),
+    ("behave rearing", &[Role::Dorsoventral]),
+    ("behave hunching", &[Role::Axial]),
+    ("behave self-righting", &[Role::Torsion]),
+    ("stats explore", &[Role::Lateral]),
+    ("stats equipartition", &[Role::Lateral]),
+    ("fit (midlines)", &[Role::Lateral]),
+    ("fit (lengths)", &[Role::Axial]),
+];
+
+/// The field indices `behaviour` needs in `model`, in [`ROLE_NEEDS`] order.
+pub fn role_fields(model: &Model, behaviour: &str) -> Result<Vec<usize>, RoleError> {
+    let roles = ROLE_NEEDS
+        .iter()
+        .find(|(name, _)| *name == behaviour)
+        .map(|(_, roles)| *roles)
+        .unwrap_or(&[]);
+    roles
+        .iter()
+        .map(|&r| model.role_index(r, behaviour))
+        .collect()
+}
+
+fn finite(name: &str, v: f64) -> Result<f64, BehaviourError> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(BehaviourError::new(format!(
+            "{name} must be a finite number, not {v}"
+        )))
+    }
+}
+
+fn positive(name: &str, v: f64) -> Result<f64, BehaviourError> {
+    if finite(name, v)? > 0.0 {
+        Ok(v)
+    } else {
+        Err(BehaviourError::new(format!(
+            "{name} must be positive, not {v}"
+        )))
+    }
+}

@@ -1,0 +1,42 @@
+//! Numerics the behaviour models share: one classical Runge–Kutta step and one phase unwrapper.
+
+use std::f64::consts::PI;
+
+/// One classical fourth-order Runge–Kutta step of `y' = f(t, y)` from `(t, y)` over `h`.
+pub fn rk4_step<const D: usize>(
+    f: impl Fn(f64, [f64; D]) -> [f64; D],
+    t: f64,
+    y: [f64; D],
+    h: f64,
+) -> [f64; D] {
+    let k1 = f(t, y);
+    let k2 = f(t + h / 2.0, std::array::from_fn(|i| y[i] + h / 2.0 * k1[i]));
+    let k3 = f(t + h / 2.0, std::array::from_fn(|i| y[i] + h / 2.0 * k2[i]));
+    let k4 = f(t + h, std::array::from_fn(|i| y[i] + h * k3[i]));
+    std::array::from_fn(|i| y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]))
+}
+
+/// The running total of an angle sampled often enough that it moves by less than π per sample.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct PhaseUnwrap {
+    last: Option<f64>,
+    total: f64,
+}
+
+impl PhaseUnwrap {
+    /// Add the next sample of the wrapped angle; returns the unwrapped change since the first.
+    pub fn push(&mut self, angle: f64) -> f64 {
+        if let Some(last) = self.last {
+            let mut d = angle - last;
+            d -= (d / (2.0 * PI)).round() * 2.0 * PI;
+            self.total += d;
+        }
+        self.last = Some(angle);
+        self.total
+    }
+
+    /// The unwrapped change so far.
+    pub fn total(&self) -> f64 {
+        self.total
+    }
+}

@@ -1,0 +1,157 @@
+//! `theory-search fit`: the theory fitted to tracked midlines or segment lengths.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use super::{emit, CliError, ModelArgs};
+use crate::fit::{fit_each, Estimator, FitError, FitReport, FitSettings, InputKind, Projector};
+use crate::modal::Params;
+use crate::model::Model;
+use crate::report::Output;
+
+/// Arguments of `fit`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// The data file (`-` for standard input): `t x₁ y₁ … x_K y_K` or `t ℓ₁ … ℓ_K` per line.
+    #[arg(value_name = "FILE")]
+    input: PathBuf,
+    /// What the columns after time hold.
+    #[arg(long, value_enum, default_value_t = FitKind::Midline)]
+    kind: FitKind,
+    /// The model field the data observe (default: the lateral field for midlines, the axial
+    /// one for lengths).
+    #[arg(long)]
+    field: Option<String>,
+    /// Model points N for midlines (resampled by arc length when the data have another K).
+    #[arg(long, default_value_t = 12)]
+    points: usize,
+    /// Welch window in frames.
+    #[arg(long, default_value_t = 256)]
+    window: usize,
+    /// Frequency estimator: peak (rhythmic behaviour) or centroid (aperiodic).
+    #[arg(long, value_enum, default_value_t = FitEstimator::Peak)]
+    estimator: FitEstimator,
+    /// Non-zero modes used to fit ω and β.
+    #[arg(long, default_value_t = 4)]
+    fit_modes: usize,
+    /// Fix ω instead of fitting it.
+    #[arg(long)]
+    omega: Option<f64>,
+    /// Lengths only: the number of segments around the whole body when only the first K
+    /// were measured (fits the lowest whole modes by least squares).
+    #[arg(long, value_name = "R")]
+    ring: Option<usize>,
+    /// Also write the fit's SVG figures into this directory.
+    #[arg(long, value_name = "DIR")]
+    figures: Option<PathBuf>,
+    /// Also write every frame's modal coordinates to this CSV file (t, q_<mode>, …).
+    #[arg(long, value_name = "FILE")]
+    series: Option<PathBuf>,
+    #[command(flatten)]
+    model: ModelArgs,
+    /// Output format (csv: one row per mode).
+    #[arg(long, value_enum, default_value_t = Output::Text)]
+    format: Output,
+}
+
+/// Input kinds of `fit`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum FitKind {
+    Midline,
+    Lengths,
+}
+
+/// Frequency estimators of `fit`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum FitEstimator {
+    Peak,
+    Centroid,
+}
+
+/// Fit and print.
+pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
+    let model = args.model.load()?;
+    let mut settings = FitSettings::new(match args.kind {
+        FitKind::Midline => InputKind::Midline,
+        FitKind::Lengths => InputKind::Lengths,
+    });
+    settings.field = args.field.clone();
+    settings.order = args.model.order;
+    settings.points = args.points;
+    settings.window = args.window;
+    settings.estimator = match args.estimator {
+        FitEstimator::Peak => Estimator::Peak,
+        FitEstimator::Centroid => Estimator::Centroid,
+    };
+    settings.fit_modes = args.fit_modes;
+    settings.omega = args.omega;
+    if args.ring.is_some() && args.kind != FitKind::Lengths {
+        return Err(CliError::Usage(
+            "--ring applies to --kind lengths only".into(),
+        ));
+    }
+    settings.ring = args.ring;
+    let report = fit_input(&args.input, args.series.as_deref(), &model, &settings)?;
+    if let Some(dir) = &args.figures {
+        crate::figures::write_fit(dir, &report).map_err(|e| CliError::Output(e.to_string()))?;
+    }
+    emit(out, &report, args.format)
+}
+
+/// Run the fit on a file or standard input, streaming the modal series to `series` if asked
+/// (written with the `csv` crate).
+fn fit_input(
+    input: &Path,
+    series: Option<&Path>,
+    model: &Model,
+    settings: &FitSettings,
+) -> Result<FitReport, CliError> {
+    let params = Params::default();
+    let mut sink = match series {
+        None => None,
+        Some(path) => Some((
+            path,
+            csv::Writer::from_path(path)
+                .map_err(|e| CliError::Output(format!("cannot write {}: {e}", path.display())))?,
+            false,
+        )),
+    };
+    let mut each = |p: &Projector, t: f64, q: &[f64]| -> Result<(), String> {
+        let Some((path, out, started)) = sink.as_mut() else {
+            return Ok(());
+        };
+        let fail = |e: csv::Error| format!("cannot write {}: {e}", path.display());
+        if !*started {
+            let mut names = vec!["t".to_string()];
+            names.extend((0..q.len()).map(|j| format!("q_{}", p.first_mode + j)));
+            out.write_record(&names).map_err(fail)?;
+            *started = true;
+        }
+        let cells = std::iter::once(t)
+            .chain(q.iter().copied())
+            .map(|v| v.to_string());
+        out.write_record(cells).map_err(fail)
+    };
+    let result = if input.as_os_str() == "-" {
+        fit_each(std::io::stdin().lock(), model, &params, settings, &mut each)
+    } else {
+        let file = std::fs::File::open(input)
+            .map_err(|e| CliError::Input(format!("cannot open {}: {e}", input.display())))?;
+        fit_each(
+            std::io::BufReader::new(file),
+            model,
+            &params,
+            settings,
+            &mut each,
+        )
+    };
+    if let Some((path, mut out, _)) = sink {
+        out.flush()
+            .map_err(|e| CliError::Output(format!("cannot write {}: {e}", path.display())))?;
+    }
+    result.map_err(|e| match e {
+        FitError::Invalid(m) => CliError::Usage(m),
+        FitError::Output(m) => CliError::Output(m),
+        other => CliError::Input(format!("{}: {other}", input.display())),
+    })
+}

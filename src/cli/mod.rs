@@ -1,0 +1,317 @@
+//! The command line: a thin layer over the library. One module per subcommand owns its
+//! arguments and a short `run`; results format themselves ([`crate::report::Report`]).
+//!
+//! Every failure is one line on stderr (`error: …`) and a non-zero exit, chosen by the kind of
+//! [`CliError`]: 2 for bad usage or values, 1 for files that cannot be read or written.
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand};
+
+use crate::enumerate::MAX_ORDER;
+use crate::modal::Params;
+use crate::model::{Model, RoleError};
+use crate::report::{render, Output, Report};
+use crate::theory::Theory;
+
+mod asymmetry;
+mod behave;
+mod count;
+mod emit;
+mod equations;
+mod figures;
+mod fit;
+mod interactions;
+mod mathieu;
+mod modes;
+mod operators;
+mod parts;
+mod rules;
+mod simulate;
+mod stats;
+mod table;
+
+/// Derive the physics of a soft slender body from symmetry alone.
+///
+/// With no subcommand, prints the candidate-term tables (the seed's Table 1 and its Rayleigh
+/// twin) and the surviving densities of the embedded Drosophila larva model. Every command
+/// that depends on the body takes `--model FILE` (another body) and `--order N`.
+#[derive(Debug, Parser)]
+#[command(
+    name = "theory-search",
+    version,
+    args_conflicts_with_subcommands = true
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+    #[command(flatten)]
+    table: table::Args,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Print the candidate tables and surviving densities (the default command).
+    Table(table::Args),
+    /// Derive the continuum equations of motion from the surviving densities.
+    Equations(equations::Args),
+    /// Print the difference operators the surviving terms give on N points.
+    Operators(operators::Args),
+    /// Modes of every field: eigenvalues, frequencies, damping ratios, variance shares.
+    Modes(modes::Args),
+    /// Integrate the dissipative Hamilton's equations mode by mode (exact propagators); CSV out.
+    Simulate(simulate::Args),
+    /// The interaction table: which terms could couple each pair of fields, and whether any
+    /// survives at long wavelengths.
+    Interactions(interactions::Args),
+    /// Reduce each field's admitted monomials modulo total derivatives: the independent terms
+    /// and the relations used.
+    Parts(parts::Args),
+    /// Forward/backward wave frequencies of the self-interacting axial pair (seed App. C).
+    Asymmetry(asymmetry::Args),
+    /// Floquet stability chart of the Mathieu equation Φ̈ + λ²[1 − 2ε cos ωt]Φ = 0 (seed App. D).
+    Mathieu(mathieu::Args),
+    /// Peristalsis or rolling (the minimum-energy orbit of a degenerate pair, seed App. I),
+    /// rearing or hunching (a constant force on the first dorsoventral or axial mode, §3.3.2), or
+    /// self-righting (twist, mouth-hook attachment, release and relaxation, §3.3.1, App. H).
+    Behave(behave::Args),
+    /// Statistical mechanics of the modes (seed App. J).
+    Stats(stats::Args),
+    /// Write the SVG figures (mode shapes, spectrum, self-righting, rearing and hunching,
+    /// asymmetry, equipartition, peristalsis, rolling, free energy, 3-point bend, Mathieu
+    /// chart) of a body into a directory.
+    Figures(figures::Args),
+    /// Fit the theory to tracked midlines or segment lengths: modal projection, PCA, spectra,
+    /// ω and β (seed §2.4, Fig. 2).
+    Fit(fit::Args),
+    /// Count the candidate terms of each density at every order up to a maximum.
+    Count(count::Args),
+    /// List the rules the engine knows; with --model, what each field requires and what each
+    /// rule strikes out at --order.
+    Rules(rules::Args),
+    /// Regenerate every generated file (src/generated/, tables/) under a directory.
+    Emit(emit::Args),
+}
+
+/// Why a command failed; the kind decides the exit code, never the message text.
+#[derive(Debug, thiserror::Error)]
+pub enum CliError {
+    /// Bad arguments or values, or a computation the input cannot support (exit 2).
+    #[error("{0}")]
+    Usage(String),
+    /// The model lacks a field role the command needs (exit 2).
+    #[error(transparent)]
+    Role(#[from] RoleError),
+    /// A file that cannot be read, or a model file that is invalid (exit 1).
+    #[error("{0}")]
+    Input(String),
+    /// Output that cannot be written (exit 1).
+    #[error("{0}")]
+    Output(String),
+}
+
+impl CliError {
+    /// The process exit code.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            CliError::Usage(_) | CliError::Role(_) => 2,
+            CliError::Input(_) | CliError::Output(_) => 1,
+        }
+    }
+
+    /// A usage error from any displayable library error.
+    fn usage(e: impl std::fmt::Display) -> CliError {
+        CliError::Usage(e.to_string())
+    }
+}
+
+impl From<crate::behaviour::BehaviourError> for CliError {
+    fn from(e: crate::behaviour::BehaviourError) -> CliError {
+        match e {
+            crate::behaviour::BehaviourError::Role(r) => CliError::Role(r),
+            other => CliError::usage(other),
+        }
+    }
+}
+
+/// Which model, at which order.
+#[derive(Debug, Args)]
+struct ModelArgs {
+    /// Order of the expansion: candidates have δ ≤ N and ε ≤ N, and τ+σ ≤ N (Lagrangian) or
+    /// τ ≤ N and σ ≤ N (Rayleigh). From 1 to 32.
+    #[arg(long, short, default_value_t = 4, value_name = "N",
+          value_parser = clap::value_parser!(u32).range(1..=MAX_ORDER as i64))]
+    order: u32,
+    /// A model file (TOML) instead of the embedded larva model.
+    #[arg(long, value_name = "FILE")]
+    model: Option<PathBuf>,
+}
+
+impl ModelArgs {
+    fn load(&self) -> Result<Model, CliError> {
+        load_model(&self.model)
+    }
+}
+
+/// Scales of the frequencies and damping.
+#[derive(Debug, Args)]
+struct ParamArgs {
+    /// Set a scale, e.g. `--param omega_b=2.5 --param zeta_s=0.3` (defaults: ω = 1, ζ = 0.1).
+    #[arg(long = "param", value_name = "NAME=VALUE")]
+    params: Vec<String>,
+    /// Read scales from a TOML file of `omega_s = 1.0` lines (before any --param).
+    #[arg(long = "params", value_name = "FILE")]
+    params_file: Option<PathBuf>,
+}
+
+impl ParamArgs {
+    /// Whether a damping scale was given for `scale` (by --param or a file).
+    fn sets_zeta(&self, params: &Params, scale: &str) -> bool {
+        self.params_file.is_some() || params.get(&format!("zeta_{scale}")).is_some()
+    }
+}
+
+/// A body to run behaviours on: model, order, points and scales, turned into one [`Theory`].
+#[derive(Debug, Args)]
+struct BodyArgs {
+    #[command(flatten)]
+    model: ModelArgs,
+    /// Points along the body.
+    #[arg(long, default_value_t = 12)]
+    points: usize,
+    #[command(flatten)]
+    params: ParamArgs,
+}
+
+impl BodyArgs {
+    /// The theory of this body (every field's modes, once).
+    fn theory(&self) -> Result<Theory, CliError> {
+        let model = self.model.load()?;
+        let params = load_params(&self.params, &model)?;
+        if self.points > crate::dynamics::MAX_SIM_POINTS {
+            return Err(CliError::Usage(format!(
+                "at most {} points",
+                crate::dynamics::MAX_SIM_POINTS
+            )));
+        }
+        Theory::new(model, self.model.order, self.points, params).map_err(CliError::usage)
+    }
+}
+
+fn load_model(path: &Option<PathBuf>) -> Result<Model, CliError> {
+    match path {
+        None => Ok(Model::larva()),
+        Some(p) => {
+            let text = std::fs::read_to_string(p)
+                .map_err(|e| CliError::Input(format!("cannot read {}: {e}", p.display())))?;
+            Model::from_toml(&text).map_err(|e| {
+                CliError::Input(format!("{}: {}", p.display(), one_line(&e.to_string())))
+            })
+        }
+    }
+}
+
+/// Fold a multi-line message (TOML errors quote the offending line) onto one line.
+fn one_line(s: &str) -> String {
+    s.split('\n')
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && l.chars().any(|c| c.is_alphanumeric()))
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+fn load_params(args: &ParamArgs, model: &Model) -> Result<Params, CliError> {
+    let mut params = Params::default();
+    if let Some(path) = &args.params_file {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| CliError::Input(format!("cannot read {}: {e}", path.display())))?;
+        params
+            .set_from_toml(&text)
+            .map_err(|e| CliError::Usage(format!("{}: {e}", path.display())))?;
+    }
+    for p in &args.params {
+        params.set_assignment(p).map_err(CliError::usage)?;
+    }
+    let scales: Vec<&str> = model.fields.iter().map(|f| f.scale()).collect();
+    if let Some(name) = params.unused(&scales).first() {
+        let mut distinct: Vec<&str> = Vec::new();
+        for s in &scales {
+            if !distinct.contains(s) {
+                distinct.push(s);
+            }
+        }
+        return Err(CliError::Usage(format!(
+            "parameter {name}: no field of the {} model uses it (scales: {})",
+            model.name,
+            distinct.join(", ")
+        )));
+    }
+    Ok(params)
+}
+
+/// Write a result in `format`.
+fn emit(out: &mut dyn Write, report: &dyn Report, format: Output) -> Result<(), CliError> {
+    let text = render(report, format).map_err(CliError::Usage)?;
+    write_out(out, &text)
+}
+
+/// Write `text`; a closed pipe (`| head`) is not an error.
+fn write_out(out: &mut dyn Write, text: &str) -> Result<(), CliError> {
+    match out.write_all(text.as_bytes()).and_then(|_| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(CliError::Output(format!("cannot write output: {e}")))
+        }
+        _ => Ok(()),
+    }
+}
+
+/// Parse `args` (program name first), run, and write the output to `out`.
+pub fn run<I, T>(args: I, out: &mut dyn Write) -> Result<(), CliError>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    let cli = match Cli::try_parse_from(args) {
+        Ok(cli) => cli,
+        Err(e) => {
+            use clap::error::ErrorKind;
+            let rendered = e.render().to_string();
+            return match e.kind() {
+                ErrorKind::DisplayHelp
+                | ErrorKind::DisplayVersion
+                | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => write_out(out, &rendered),
+                _ => {
+                    // Clap's message runs up to the first blank line; keep it, on one line.
+                    let head: Vec<&str> = rendered
+                        .lines()
+                        .take_while(|l| !l.trim().is_empty())
+                        .map(str::trim)
+                        .collect();
+                    let joined = head.join(" ");
+                    let msg = joined.strip_prefix("error: ").unwrap_or(&joined);
+                    Err(CliError::Usage(format!("{msg} (see --help)")))
+                }
+            };
+        }
+    };
+    match &cli.command {
+        None => table::run(&cli.table, out),
+        Some(Command::Table(a)) => table::run(a, out),
+        Some(Command::Equations(a)) => equations::run(a, out),
+        Some(Command::Operators(a)) => operators::run(a, out),
+        Some(Command::Modes(a)) => modes::run(a, out),
+        Some(Command::Simulate(a)) => simulate::run(a, out),
+        Some(Command::Interactions(a)) => interactions::run(a, out),
+        Some(Command::Parts(a)) => parts::run(a, out),
+        Some(Command::Asymmetry(a)) => asymmetry::run(a, out),
+        Some(Command::Mathieu(a)) => mathieu::run(a, out),
+        Some(Command::Behave(a)) => behave::run(a, out),
+        Some(Command::Stats(a)) => stats::run(a, out),
+        Some(Command::Figures(a)) => figures::run(a, out),
+        Some(Command::Fit(a)) => fit::run(a, out),
+        Some(Command::Count(a)) => count::run(a, out),
+        Some(Command::Rules(a)) => rules::run(a, out),
+        Some(Command::Emit(a)) => emit::run(a, out),
+    }
+}

@@ -1,0 +1,64 @@
+//! `theory-search modes`: every field's modes on N points.
+
+use std::io::Write;
+
+use super::{emit, load_params, CliError, ModelArgs, ParamArgs};
+use crate::modal::field_modes;
+use crate::report::Output;
+use crate::table::ModesReport;
+
+/// The most numbers `--shapes` prints.
+const MAX_SHAPE_VALUES: usize = 20_000_000;
+
+/// Arguments of `modes`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Number of points along the body (the seed uses 12), up to 10 000 000.
+    #[arg(long, short, value_name = "N",
+          value_parser = clap::value_parser!(u64).range(1..=crate::modal::MAX_POINTS as u64))]
+    points: u64,
+    /// Report only the lowest K modes of each field (shares stay exact over all modes).
+    #[arg(long = "modes", value_name = "K",
+          value_parser = clap::value_parser!(u64).range(1..))]
+    limit: Option<u64>,
+    /// Also print the mode shapes on the body's points (unit norm, zero at held points, first
+    /// significant component positive).
+    #[arg(long)]
+    shapes: bool,
+    #[command(flatten)]
+    params: ParamArgs,
+    #[command(flatten)]
+    model: ModelArgs,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Output::Text)]
+    format: Output,
+}
+
+/// Compute and print the modes.
+pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
+    let model = args.model.load()?;
+    let params = load_params(&args.params, &model)?;
+    let points = args.points as usize;
+    let limit = args.limit.map(|k| k as usize);
+    if args.shapes && points.saturating_mul(limit.unwrap_or(points)) > MAX_SHAPE_VALUES {
+        return Err(CliError::Usage(format!(
+            "--shapes at {points} points would print more than {MAX_SHAPE_VALUES} numbers; add --modes K"
+        )));
+    }
+    let modes = field_modes(
+        &model,
+        args.model.order,
+        points,
+        &params,
+        limit,
+        args.shapes,
+    )
+    .map_err(CliError::usage)?;
+    let r = ModesReport {
+        model: &model,
+        points,
+        modes: &modes,
+        shapes: args.shapes,
+    };
+    emit(out, &r, args.format)
+}

@@ -1,0 +1,50 @@
+//! `theory-search operators`: the difference operators on N points.
+
+use std::io::Write;
+
+use super::{write_out, CliError, ModelArgs};
+use crate::discretise::{operators, OperatorReport};
+use crate::report::Report;
+
+/// The most points `operators` prints as dense matrices.
+pub const MAX_PRINT_POINTS: usize = 2000;
+
+/// Arguments of `operators`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Number of points along the body (the seed uses 12). Dense matrices are printed up to
+    /// 2000 points.
+    #[arg(long, short, value_name = "N",
+          value_parser = clap::value_parser!(u64).range(1..=MAX_PRINT_POINTS as u64))]
+    points: u64,
+    #[command(flatten)]
+    model: ModelArgs,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = OperatorFormat::Text)]
+    format: OperatorFormat,
+}
+
+/// Output formats of `operators`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum OperatorFormat {
+    Text,
+    Json,
+}
+
+/// Print the operators.
+pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
+    let model = args.model.load()?;
+    let points = args.points as usize;
+    let r = OperatorReport {
+        model: &model,
+        order: args.model.order,
+        points,
+        operators: operators(&model, args.model.order, points).map_err(CliError::usage)?,
+    };
+    let text = match args.format {
+        OperatorFormat::Text => r.text(),
+        // Compact: dense matrices at N = 2000 are large.
+        OperatorFormat::Json => serde_json::to_string(&r.json()).unwrap_or_default() + "\n",
+    };
+    write_out(out, &text)
+}

@@ -1,0 +1,178 @@
+//! `theory-search simulate`: the modal dynamics, streamed as CSV.
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use super::{load_params, CliError, ModelArgs, ParamArgs};
+use crate::dynamics::{
+    sample_header, sample_row, simulate, Config, DynamicsError, Forcing, Halt, Initial,
+};
+
+/// Arguments of `simulate`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Number of points along the body (the seed uses 12), up to 2000.
+    #[arg(long, short, value_name = "N",
+          value_parser = clap::value_parser!(u64).range(1..=crate::dynamics::MAX_SIM_POINTS as u64))]
+    points: u64,
+    /// Time step.
+    #[arg(long, default_value_t = 0.01)]
+    dt: f64,
+    /// Number of steps.
+    #[arg(long, default_value_t = 1000)]
+    steps: u64,
+    /// Write a row every K steps (the initial state is always written).
+    #[arg(long, default_value_t = 1, value_name = "K")]
+    every: u64,
+    /// Initial modal state FIELD:MODE=Q[,Q̇], e.g. `theta:1=3.14` or `y:2=0,0.5` (repeatable).
+    #[arg(long = "initial", value_name = "FIELD:MODE=Q[,V]")]
+    initial: Vec<String>,
+    /// Constant modal force FIELD:MODE=F (repeatable).
+    #[arg(long = "force", value_name = "FIELD:MODE=F")]
+    force: Vec<String>,
+    /// Sinusoidal modal force FIELD:MODE=F0,OMEGA[,PHASE]: F0·cos(OMEGA·t + PHASE) (repeatable).
+    #[arg(long = "drive", value_name = "FIELD:MODE=F0,OMEGA[,PHASE]")]
+    drive: Vec<String>,
+    /// Thermal energy kT of the Langevin noise (0: none).
+    #[arg(long, default_value_t = 0.0)]
+    temperature: f64,
+    /// Seed of the noise (same seed, same run).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Write the CSV here instead of standard output.
+    #[arg(long, value_name = "FILE")]
+    out: Option<PathBuf>,
+    #[command(flatten)]
+    params: ParamArgs,
+    #[command(flatten)]
+    model: ModelArgs,
+}
+
+/// `FIELD:MODE=values`: the field, the mode and the comma-separated numbers, with `counts` the
+/// numbers of values allowed.
+fn modal_assignment(
+    text: &str,
+    what: &str,
+    counts: std::ops::RangeInclusive<usize>,
+    hint: &str,
+) -> Result<(String, usize, Vec<f64>), CliError> {
+    let bad = |why: &str| CliError::Usage(format!("{what} {text:?}: {why}"));
+    let (target, values) = text
+        .split_once('=')
+        .ok_or_else(|| bad("expected FIELD:MODE=VALUE"))?;
+    let (field, mode) = target
+        .split_once(':')
+        .ok_or_else(|| bad("expected FIELD:MODE before '='"))?;
+    let mode: usize = mode
+        .trim()
+        .parse()
+        .map_err(|_| bad("the mode must be a whole number"))?;
+    let values = values
+        .split(',')
+        .map(|v| v.trim().parse::<f64>())
+        .collect::<Result<Vec<f64>, _>>()
+        .map_err(|_| bad("values must be numbers"))?;
+    if values.iter().any(|v| !v.is_finite()) {
+        return Err(bad("values must be finite"));
+    }
+    if !counts.contains(&values.len()) {
+        return Err(bad(hint));
+    }
+    Ok((field.trim().to_string(), mode, values))
+}
+
+/// The initial state and forces the arguments give.
+fn state(args: &Args) -> Result<(Vec<Initial>, Vec<Forcing>), CliError> {
+    let mut initial = Vec::new();
+    for text in &args.initial {
+        let (field, mode, v) = modal_assignment(text, "--initial", 1..=2, "give Q or Q,V")?;
+        initial.push(Initial {
+            field,
+            mode,
+            displacement: v[0],
+            velocity: v.get(1).copied().unwrap_or(0.0),
+        });
+    }
+    let mut forcing = Vec::new();
+    for text in &args.force {
+        let (field, mode, v) = modal_assignment(text, "--force", 1..=1, "give one value")?;
+        forcing.push(Forcing {
+            field,
+            mode,
+            constant: v[0],
+            amplitude: 0.0,
+            frequency: 0.0,
+            phase: 0.0,
+        });
+    }
+    for text in &args.drive {
+        let (field, mode, v) =
+            modal_assignment(text, "--drive", 2..=3, "give F0,OMEGA or F0,OMEGA,PHASE")?;
+        forcing.push(Forcing {
+            field,
+            mode,
+            constant: 0.0,
+            amplitude: v[0],
+            frequency: v[1],
+            phase: v.get(2).copied().unwrap_or(0.0),
+        });
+    }
+    Ok((initial, forcing))
+}
+
+/// Run and stream the CSV.
+pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
+    let model = args.model.load()?;
+    let params = load_params(&args.params, &model)?;
+    let (initial, forcing) = state(args)?;
+    let config = Config {
+        points: args.points as usize,
+        order: args.model.order,
+        dt: args.dt,
+        steps: args.steps,
+        every: args.every,
+        temperature: args.temperature,
+        seed: args.seed,
+        initial,
+        forcing,
+    };
+    let mut file;
+    let sink: &mut dyn Write = match &args.out {
+        Some(path) => {
+            file =
+                std::io::BufWriter::new(std::fs::File::create(path).map_err(|e| {
+                    CliError::Output(format!("cannot create {}: {e}", path.display()))
+                })?);
+            &mut file
+        }
+        None => out,
+    };
+    let ids: Vec<&str> = model.fields.iter().map(|f| f.id.as_str()).collect();
+    let mut csv = csv::Writer::from_writer(sink);
+    let mut first = true;
+    let csv_error = |e: csv::Error| match e.into_kind() {
+        csv::ErrorKind::Io(io) => Halt::Io(io),
+        other => Halt::Fail(format!("{other:?}")),
+    };
+    let result = simulate(&model, &params, &config, |s| {
+        if first {
+            csv.write_record(sample_header(&ids, s))
+                .map_err(csv_error)?;
+            first = false;
+        }
+        csv.write_record(sample_row(s)).map_err(csv_error)
+    });
+    let flushed = csv.flush();
+    match result {
+        // A closed pipe (`| head`) ends the run quietly.
+        Err(DynamicsError::Output(std::io::ErrorKind::BrokenPipe, _)) => Ok(()),
+        Err(e @ DynamicsError::Output(..)) => Err(CliError::Output(e.to_string())),
+        Err(e) => Err(CliError::usage(e)),
+        Ok(()) => match flushed {
+            Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+                Err(CliError::Output(format!("cannot write: {e}")))
+            }
+            _ => Ok(()),
+        },
+    }
+}

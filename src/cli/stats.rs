@@ -1,0 +1,144 @@
+//! `theory-search stats`: statistical mechanics of the modes.
+
+use std::io::Write;
+
+use super::asymmetry::body_pair_frequency;
+use super::{emit, BodyArgs, CliError, ModelArgs, ParamArgs};
+use crate::behaviour::{equipartition_from_dynamics, explore, PairReport};
+use crate::report::Output;
+
+/// Arguments of `stats`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(subcommand)]
+    what: StatsCommand,
+}
+
+#[derive(Debug, clap::Subcommand)]
+enum StatsCommand {
+    /// Unbiased exploration: Gaussian planar postures of the lateral field, the 3-point bend
+    /// distribution, β refitted.
+    Explore {
+        /// Inverse temperature β (in units where ω_b = 1 and the body length is 1).
+        #[arg(long, default_value_t = 10_000.0, allow_negative_numbers = true)]
+        beta: f64,
+        /// Postures to sample.
+        #[arg(long, default_value_t = 100_000)]
+        samples: usize,
+        /// Seed.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        #[command(flatten)]
+        body: BodyArgs,
+        /// Output format (csv: one bend angle per sample).
+        #[arg(long, value_enum, default_value_t = Output::Text)]
+        format: Output,
+    },
+    /// Langevin run, PCA of one field's postures, and the modes beside it (seed App. B).
+    Equipartition {
+        /// The field (id); default: the model's lateral field.
+        #[arg(long)]
+        field: Option<String>,
+        /// Time steps of 0.5 (a tenth are burn-in).
+        #[arg(long, default_value_t = 200_000)]
+        steps: u64,
+        /// Thermal energy kT.
+        #[arg(long, default_value_t = 0.5, allow_negative_numbers = true)]
+        temperature: f64,
+        /// Seed of the noise.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        #[command(flatten)]
+        body: BodyArgs,
+        /// Output format (csv: one row per mode).
+        #[arg(long, value_enum, default_value_t = Output::Text)]
+        format: Output,
+    },
+    /// A degenerate pair at fixed momentum M: Z, F, A*, ⟨A⟩; with --samples also a Metropolis run.
+    Pair {
+        /// The pair's frequency ω. Default: with --model or --points, that body's first axial
+        /// pair; otherwise 1.
+        #[arg(long, allow_negative_numbers = true)]
+        omega: Option<f64>,
+        /// Inverse temperature β.
+        #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+        beta: f64,
+        /// Conserved momentum M.
+        #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+        momentum: f64,
+        /// Draw this many Metropolis samples.
+        #[arg(long)]
+        samples: Option<usize>,
+        /// Seed of the sampler.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        #[command(flatten)]
+        model: ModelArgs,
+        /// Points along the body whose axial pair sets ω.
+        #[arg(long)]
+        points: Option<usize>,
+        #[command(flatten)]
+        params: ParamArgs,
+        /// Output format (csv: one row per sample, or the statistics).
+        #[arg(long, value_enum, default_value_t = Output::Text)]
+        format: Output,
+    },
+}
+
+/// Run one statistic.
+pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
+    match &args.what {
+        StatsCommand::Explore {
+            beta,
+            samples,
+            seed,
+            body,
+            format,
+        } => {
+            let e = explore(&body.theory()?, *beta, *samples, *seed)?;
+            emit(out, &e, *format)
+        }
+        StatsCommand::Equipartition {
+            field,
+            steps,
+            temperature,
+            seed,
+            body,
+            format,
+        } => {
+            let theory = body.theory()?;
+            let index = match field {
+                None => None,
+                Some(id) => Some(
+                    theory
+                        .model
+                        .fields
+                        .iter()
+                        .position(|f| &f.id == id)
+                        .ok_or_else(|| CliError::Usage(format!("the model has no field {id:?}")))?,
+                ),
+            };
+            let c = equipartition_from_dynamics(&theory, index, *steps, *temperature, *seed)?;
+            emit(out, &c, *format)
+        }
+        StatsCommand::Pair {
+            omega,
+            beta,
+            momentum,
+            samples,
+            seed,
+            model,
+            points,
+            params,
+            format,
+        } => {
+            let omega = match omega {
+                Some(w) => *w,
+                None => body_pair_frequency(model, *points, params, "behave peristalsis")?
+                    .unwrap_or(1.0),
+            };
+            let r = PairReport::new(omega, *beta, *momentum, *samples, *seed)?;
+            emit(out, &r, *format)
+        }
+    }
+}
