@@ -20,9 +20,10 @@ pub enum FigureError {
     /// A setting out of range, an unknown figure, or a model that cannot make it.
     #[error("{0}")]
     Invalid(String),
-    /// The model lacks a field role the figure's behaviour needs.
-    #[error(transparent)]
-    Role(#[from] crate::model::RoleError),
+    /// The body cannot make this figure: it lacks a field role or the structure the figure's
+    /// behaviour needs.
+    #[error("{0}")]
+    Body(String),
     /// A file or directory could not be written.
     #[error("{0}")]
     Io(String),
@@ -282,7 +283,9 @@ fn histogram(values: &[f64], bins: usize) -> (Vec<(f64, f64)>, f64) {
 
 fn bh(e: behaviour::BehaviourError) -> FigureError {
     match e {
-        behaviour::BehaviourError::Role(r) => FigureError::Role(r),
+        e @ (behaviour::BehaviourError::Role(_) | behaviour::BehaviourError::Body(_)) => {
+            FigureError::Body(e.to_string())
+        }
         other => err(other),
     }
 }
@@ -488,7 +491,8 @@ fn rearing_hunching(theory: &Theory) -> Result<String, FigureError> {
     let n = theory.points;
     let mut panels = Vec::new();
     let field = |behaviour: &str| -> Result<(usize, String), FigureError> {
-        let i = behaviour::role_fields(&theory.model, behaviour)?[0];
+        let i = behaviour::role_fields(&theory.model, behaviour)
+            .map_err(|e| FigureError::Body(e.to_string()))?[0];
         let f = &theory.model.fields[i];
         let role = f.role.map(|r| r.name()).unwrap_or_default();
         Ok((i, format!("{role} {}", f.symbol)))
@@ -873,14 +877,14 @@ pub fn figure(
 pub struct Written {
     /// Paths written.
     pub written: Vec<PathBuf>,
-    /// (figure, why) of each figure the model cannot make.
-    pub skipped: Vec<(String, crate::model::RoleError)>,
+    /// (figure, why) of each figure the body cannot make.
+    pub skipped: Vec<(String, String)>,
 }
 
 /// Write the figures `names` (from [`FIGURES`]) into `dir` (created if missing), calling
 /// `progress` before each one. Unknown names are refused before anything is written. When
-/// several are asked, a figure whose behaviour needs a role the model lacks is skipped and
-/// reported; a single one asked for is an error.
+/// several are asked, a figure the body cannot make (a missing role, no degenerate pair, …) is
+/// skipped and reported; a single one asked for is an error.
 pub fn write_figures(
     dir: &Path,
     names: &[&str],
@@ -900,7 +904,9 @@ pub fn write_figures(
         progress(name);
         match figure(name, theory, settings) {
             Ok(svg) => out.written.push(write_svg(dir, name, &svg)?),
-            Err(FigureError::Role(r)) if names.len() > 1 => out.skipped.push((name.to_string(), r)),
+            Err(FigureError::Body(why)) if names.len() > 1 => {
+                out.skipped.push((name.to_string(), why))
+            }
             Err(e) => return Err(e),
         }
     }

@@ -1060,15 +1060,16 @@ pub struct Mode {
     pub zero_mode: Option<String>,
 }
 
-/// D4's i-th non-zero eigenvalue beside the seed's Eq. 17 and the continuum beam limit.
+/// A beam's i-th non-zero eigenvalue beside its continuum limit (and, free–free, the seed's
+/// Eq. 17).
 #[derive(Debug, Clone)]
 pub struct BeamComparison {
     /// Mode index (ascending, zero modes included).
     pub index: usize,
     /// The numerical eigenvalue.
     pub eigenvalue: f64,
-    /// 16 sin⁴(πi/(2(N−1))).
-    pub seed_eq17: f64,
+    /// 16 sin⁴(πi/(2(N−1))): the seed's Eq. 17, for the free–free beam only.
+    pub seed_eq17: Option<f64>,
     /// (βᵢL)⁴/(N−1)⁴.
     pub continuum: f64,
 }
@@ -1092,7 +1093,7 @@ pub struct FieldModes {
     pub degenerate_pairs: Vec<(usize, usize)>,
     /// An earlier field with the same operator and scales, hence the same frequencies.
     pub same_frequencies_as: Option<String>,
-    /// D4 only: numerics beside Eq. 17 and the continuum limit.
+    /// Beams (k = 2, any ends): numerics beside the continuum limit (and Eq. 17 when free).
     pub beam: Vec<BeamComparison>,
 }
 
@@ -1239,22 +1240,27 @@ pub fn field_modes(
                     && o.zeta == zeta
             })
             .map(|o| o.field.id.clone());
-        let beam = if stiff.k == 2 && stiff.boundary == Boundary::FREE {
-            let l4 = (points as f64 - 1.0).powi(4);
-            spectrum
-                .eigenvalues
-                .iter()
-                .enumerate()
-                .skip(2)
-                .map(|(i, &lam)| BeamComparison {
-                    index: i,
-                    eigenvalue: lam,
-                    seed_eq17: seed_eq17(i - 1, points),
-                    continuum: beam_beta(i - 1).powi(4) / l4,
-                })
-                .collect()
-        } else {
-            Vec::new()
+        let beam = match stiff.boundary {
+            Boundary::Ends { .. } if stiff.k == 2 => {
+                let l4 = (points as f64 - 1.0).powi(4);
+                let free = stiff.boundary == Boundary::FREE;
+                spectrum
+                    .eigenvalues
+                    .iter()
+                    .enumerate()
+                    .skip(spectrum.nullity)
+                    .filter_map(|(i, &lam)| {
+                        let order = i - spectrum.nullity + 1;
+                        Some(BeamComparison {
+                            index: i,
+                            eigenvalue: lam,
+                            seed_eq17: free.then(|| seed_eq17(order, points)),
+                            continuum: continuum_beta(2, stiff.boundary, order)?.powi(4) / l4,
+                        })
+                    })
+                    .collect()
+            }
+            _ => Vec::new(),
         };
         out.push(FieldModes {
             degenerate_pairs: degenerate_pairs(&spectrum.eigenvalues, spectrum.nullity, 1e-9),

@@ -468,6 +468,7 @@ pub fn modes_text(model: &Model, points: usize, modes: &[crate::modal::FieldMode
             num(sp.inverse_trace),
         );
         let beam = !f.beam.is_empty();
+        let eq17 = f.beam.iter().any(|b| b.seed_eq17.is_some());
         let mut header: Vec<String> = [
             "i",
             "λᵢ",
@@ -480,8 +481,11 @@ pub fn modes_text(model: &Model, points: usize, modes: &[crate::modal::FieldMode
         ]
         .map(String::from)
         .to_vec();
+        if eq17 {
+            header.extend(["Eq. 17", "off"].map(String::from));
+        }
         if beam {
-            header.extend(["Eq. 17", "off", "beam limit", "off"].map(String::from));
+            header.extend(["beam limit", "off"].map(String::from));
         }
         let rows: Vec<Vec<String>> = f
             .modes
@@ -511,14 +515,15 @@ pub fn modes_text(model: &Model, points: usize, modes: &[crate::modal::FieldMode
                                     format!("{r:+.1e} %")
                                 }
                             };
-                            row.extend([
-                                num(b.seed_eq17),
-                                off(b.seed_eq17),
-                                num(b.continuum),
-                                off(b.continuum),
-                            ]);
+                            if let Some(e) = b.seed_eq17 {
+                                row.extend([num(e), off(e)]);
+                            }
+                            row.extend([num(b.continuum), off(b.continuum)]);
                         }
-                        None => row.extend(["", "", "", ""].map(String::from)),
+                        None => {
+                            let blanks = if eq17 { 4 } else { 2 };
+                            row.extend(std::iter::repeat_n(String::new(), blanks));
+                        }
                     }
                 }
                 row
@@ -536,9 +541,16 @@ pub fn modes_text(model: &Model, points: usize, modes: &[crate::modal::FieldMode
         if let Some(other) = &f.same_frequencies_as {
             out += &format!("  same operator and scales as {other}: identical frequencies\n");
         }
-        if beam {
+        if eq17 {
+            // Eq. 17's limit (iπ)⁴ against the beam's (β₁L)⁴, for the first mode.
+            let gap = 100.0 * ((std::f64::consts::PI / crate::modal::beam_beta(1)).powi(4) - 1.0);
             out += "  Eq. 17 is the seed's 16 sin⁴(πi/(2(N−1))); the beam limit is (βᵢL)⁴/(N−1)⁴ with cos βL cosh βL = 1.\n";
-            out += "  As N grows the numerics converge to the beam limit; Eq. 17 tends to (iπ)⁴/(N−1)⁴ and stays off\n  (−80.5 % for the first mode): the seed's claim that it becomes exact is false.\n";
+            out += &format!("  As N grows the numerics converge to the beam limit; Eq. 17 tends to (iπ)⁴/(N−1)⁴ and stays off\n  ({gap:+.1} % for the first mode): the seed's claim that it becomes exact is false.\n").replace('-', "−");
+        } else if beam {
+            out += &format!(
+                "  The beam limit is (βᵢL)⁴/(N−1)⁴ of the continuous Euler–Bernoulli beam with these ends ({}).\n",
+                crate::discretise::boundary_name(f.field.boundary)
+            );
         }
         if let Some(v) = &sp.shapes {
             out += "  shapes (columns = modes):\n";

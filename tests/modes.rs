@@ -318,7 +318,7 @@ fn d4_converges_to_the_beam_not_to_eq_17() {
         let b = modes[2].beam[0].clone();
         (
             (b.continuum - b.eigenvalue) / b.eigenvalue,
-            (b.seed_eq17 - b.eigenvalue) / b.eigenvalue,
+            (b.seed_eq17.unwrap() - b.eigenvalue) / b.eigenvalue,
         )
     };
     let (beam_small, _) = first(12);

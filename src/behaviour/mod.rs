@@ -51,6 +51,10 @@ pub enum BehaviourError {
     /// The model lacks a field role the behaviour needs.
     #[error(transparent)]
     Role(#[from] RoleError),
+    /// The body has the role but not the structure the behaviour needs (a degenerate pair, a
+    /// free torsion field).
+    #[error("{0}")]
+    Body(String),
     /// The modes or the dynamics failed.
     #[error(transparent)]
     Dynamics(#[from] crate::dynamics::DynamicsError),
@@ -67,6 +71,7 @@ impl BehaviourError {
 pub const ROLE_NEEDS: &[(&str, &[Role])] = &[
     ("asymmetry", &[Role::Axial]),
     ("behave peristalsis", &[Role::Axial]),
+    ("stats pair", &[Role::Axial]),
     ("behave rolling", &[Role::Lateral, Role::Dorsoventral]),
     ("behave rearing", &[Role::Dorsoventral]),
     ("behave hunching", &[Role::Axial]),

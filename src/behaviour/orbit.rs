@@ -67,7 +67,7 @@ pub fn pair_orbit(
         PairKind::Peristalsis => {
             let x = role_fields(model, "behave peristalsis")?[0];
             let (i, j) = *modes[x].degenerate_pairs.first().ok_or_else(|| {
-                BehaviourError::new(format!(
+                BehaviourError::Body(format!(
                     "the axial field {} has no degenerate pair (peristalsis needs a periodic axial field)",
                     model.fields[x].id
                 ))
@@ -85,7 +85,10 @@ pub fn pair_orbit(
     };
     let omega = modes[a.0].modes[a.1].frequency;
     if (modes[b.0].modes[b.1].frequency - omega).abs() > 1e-9 * omega {
-        return Err(BehaviourError::new("the two modes are not degenerate"));
+        return Err(BehaviourError::Body(
+            "the first lateral and dorsoventral modes are not degenerate, so they cannot roll"
+                .into(),
+        ));
     }
     let amplitude = (m.abs() / omega).sqrt();
     let id = |f: usize| model.fields[f].id.clone();

@@ -149,7 +149,7 @@ pub fn self_righting(
     let f = role_fields(&theory.model, "behave self-righting")?[0];
     let torsion = &theory.modes[f];
     if torsion.spectrum.nullity != 1 || torsion.modes.len() < 2 {
-        return Err(BehaviourError::new(format!(
+        return Err(BehaviourError::Body(format!(
             "self-righting needs a torsion field with one zero mode (free at both ends); {} is {}",
             torsion.field.id, torsion.field.boundary
         )));

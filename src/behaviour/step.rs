@@ -62,7 +62,7 @@ pub fn step_response(
         .ok_or_else(|| BehaviourError::new(format!("no field {index}")))?;
     let field = f.field.id.as_str();
     if f.spectrum.nullity >= f.modes.len() {
-        return Err(BehaviourError::new(format!(
+        return Err(BehaviourError::Body(format!(
             "field {field} has no non-zero mode to force"
         )));
     }

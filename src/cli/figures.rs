@@ -56,7 +56,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     bar.finish_and_clear();
     let written = written.map_err(|e| match e {
         FigureError::Io(m) => CliError::Output(m),
-        FigureError::Role(r) => CliError::Role(r),
+        FigureError::Body(m) => CliError::Usage(m),
         FigureError::Invalid(m) => CliError::Usage(m),
     })?;
     let mut t = String::new();

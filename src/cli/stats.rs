@@ -134,8 +134,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
         } => {
             let omega = match omega {
                 Some(w) => *w,
-                None => body_pair_frequency(model, *points, params, "behave peristalsis")?
-                    .unwrap_or(1.0),
+                None => body_pair_frequency(model, *points, params, "stats pair")?.unwrap_or(1.0),
             };
             let r = PairReport::new(omega, *beta, *momentum, *samples, *seed)?;
             emit(out, &r, *format)
