@@ -296,20 +296,12 @@ pub fn simulate(
     run(&fields, config, sink)
 }
 
-/// Run `config` on modes already computed (with shapes; `config.points` and `config.order` are
-/// those the modes were computed for).
-pub fn run(
+/// The damped, forced oscillator of every mode and its initial state, from `config`.
+#[allow(clippy::type_complexity)]
+fn oscillators(
     fields: &[FieldModes],
     config: &Config,
-    mut sink: impl FnMut(&Sample) -> Result<(), Halt>,
-) -> Result<(), DynamicsError> {
-    check_config(config)?;
-    if let Some(f) = fields.iter().find(|f| f.spectrum.shapes.is_none()) {
-        return Err(DynamicsError::Invalid(format!(
-            "field {} has no mode shapes: compute them to simulate",
-            f.field.id
-        )));
-    }
+) -> Result<(Vec<Vec<Oscillator>>, Vec<Vec<Vector2<f64>>>), DynamicsError> {
     let locate = |field: &str, mode: usize| -> Result<(usize, usize), DynamicsError> {
         let f = fields
             .iter()
@@ -365,6 +357,24 @@ pub fn run(
         let (f, m) = locate(&i.field, i.mode)?;
         start[f][m] = Vector2::new(i.displacement, i.velocity);
     }
+    Ok((oscillators, start))
+}
+
+/// Run `config` on modes already computed (with shapes; `config.points` and `config.order` are
+/// those the modes were computed for).
+pub fn run(
+    fields: &[FieldModes],
+    config: &Config,
+    mut sink: impl FnMut(&Sample) -> Result<(), Halt>,
+) -> Result<(), DynamicsError> {
+    check_config(config)?;
+    if let Some(f) = fields.iter().find(|f| f.spectrum.shapes.is_none()) {
+        return Err(DynamicsError::Invalid(format!(
+            "field {} has no mode shapes: compute them to simulate",
+            f.field.id
+        )));
+    }
+    let (oscillators, start) = oscillators(fields, config)?;
     let noisy = config.temperature > 0.0;
     let h = config.dt;
     let factors: Vec<Vec<Matrix2<f64>>> = oscillators

@@ -925,9 +925,8 @@ fn write_svg(dir: &Path, name: &str, svg: &str) -> Result<PathBuf, FigureError> 
     Ok(path)
 }
 
-/// The fit's figures (Fig. 2 style): principal components against mode shapes, variance shares,
-/// spectra, and measured against fitted modal frequencies.
-pub fn fit_figures(r: &crate::fit::FitReport) -> Result<Vec<(&'static str, String)>, FigureError> {
+/// The fit's principal components against the mode shapes (Fig. 2A style).
+fn fit_shapes(r: &crate::fit::FitReport) -> Result<String, FigureError> {
     let shown = r.modes.len().min(4);
     let mut shape_panels = Vec::new();
     let titles: Vec<String> = (0..shown)
@@ -964,7 +963,7 @@ pub fn fit_figures(r: &crate::fit::FitReport) -> Result<Vec<(&'static str, Strin
             ],
         ));
     }
-    let shapes = render(
+    render(
         &format!(
             "Principal components of {} frames against the theory's modes",
             r.frames
@@ -972,7 +971,14 @@ pub fn fit_figures(r: &crate::fit::FitReport) -> Result<Vec<(&'static str, Strin
         (1000, 760),
         (2, 2),
         &shape_panels,
-    )?;
+    )
+}
+
+/// The fit's figures (Fig. 2 style): principal components against mode shapes, variance shares,
+/// spectra, and measured against fitted modal frequencies.
+pub fn fit_figures(r: &crate::fit::FitReport) -> Result<Vec<(&'static str, String)>, FigureError> {
+    let shown = r.modes.len().min(4);
+    let shapes = fit_shapes(r)?;
     let idx = |k: usize| r.modes[k].index as f64;
     let share = |v: &[f64]| -> Vec<(f64, f64)> {
         v.iter()

@@ -117,7 +117,7 @@ impl FitSettings {
         FitSettings {
             kind,
             field: None,
-            order: 4,
+            order: crate::model::DEFAULT_ORDER,
             points: 12,
             window: 256,
             estimator: Estimator::Peak,
@@ -532,62 +532,8 @@ impl Projector {
         width: usize,
     ) -> Result<Projector, FitError> {
         let invalid = |s: String| FitError::Invalid(s);
-        let line = |why: String| FitError::Line { line: 0, why };
-        let (k_in, n) = match settings.kind {
-            InputKind::Midline => {
-                if width % 2 != 0 {
-                    return Err(line(format!(
-                        "a midline frame is t then x y pairs: {width} values after t is odd"
-                    )));
-                }
-                if settings.points < 3 {
-                    return Err(invalid(format!(
-                        "a midline needs at least 3 model points for one turning angle, not {}",
-                        settings.points
-                    )));
-                }
-                (width / 2, settings.points)
-            }
-            InputKind::Lengths => {
-                let ring = settings.ring.unwrap_or(width);
-                if ring < width {
-                    return Err(invalid(format!(
-                        "the ring of {ring} segments cannot hold the {width} measured ones"
-                    )));
-                }
-                (width, ring + 1)
-            }
-        };
-        if n > MAX_POINTS {
-            return Err(invalid(format!(
-                "{k_in} segments make a ring of {n} points; at most {MAX_POINTS}"
-            )));
-        }
-        let min_k = if settings.kind == InputKind::Midline {
-            5
-        } else {
-            3
-        };
-        if k_in < min_k {
-            return Err(line(format!(
-                "{k_in} points per frame; at least {min_k} are needed"
-            )));
-        }
-        let field_index = match &settings.field {
-            Some(id) => model
-                .fields
-                .iter()
-                .position(|f| &f.id == id)
-                .ok_or_else(|| invalid(format!("the model has no field {id:?}")))?,
-            None => {
-                let behaviour = match settings.kind {
-                    InputKind::Midline => "fit (midlines)",
-                    InputKind::Lengths => "fit (lengths)",
-                };
-                crate::behaviour::role_fields(model, behaviour)
-                    .map_err(|e| invalid(e.to_string()))?[0]
-            }
-        };
+        let (k_in, n) = dimensions(settings, width)?;
+        let field_index = observed_field(model, settings)?;
         // Only the observed field's modes: another field's limits must not refuse this fit.
         let all = field_modes(
             &model.only(field_index),
@@ -707,6 +653,72 @@ impl Projector {
     }
 }
 
+/// Values per frame → (measured points or segments K, model points N), checked.
+fn dimensions(settings: &FitSettings, width: usize) -> Result<(usize, usize), FitError> {
+    let invalid = |s: String| FitError::Invalid(s);
+    let line = |why: String| FitError::Line { line: 0, why };
+    let (k_in, n) = match settings.kind {
+        InputKind::Midline => {
+            if width % 2 != 0 {
+                return Err(line(format!(
+                    "a midline frame is t then x y pairs: {width} values after t is odd"
+                )));
+            }
+            if settings.points < 3 {
+                return Err(invalid(format!(
+                    "a midline needs at least 3 model points for one turning angle, not {}",
+                    settings.points
+                )));
+            }
+            (width / 2, settings.points)
+        }
+        InputKind::Lengths => {
+            let ring = settings.ring.unwrap_or(width);
+            if ring < width {
+                return Err(invalid(format!(
+                    "the ring of {ring} segments cannot hold the {width} measured ones"
+                )));
+            }
+            (width, ring + 1)
+        }
+    };
+    if n > MAX_POINTS {
+        return Err(invalid(format!(
+            "{k_in} segments make a ring of {n} points; at most {MAX_POINTS}"
+        )));
+    }
+    let min_k = if settings.kind == InputKind::Midline {
+        5
+    } else {
+        3
+    };
+    if k_in < min_k {
+        return Err(line(format!(
+            "{k_in} points per frame; at least {min_k} are needed"
+        )));
+    }
+    Ok((k_in, n))
+}
+
+/// The model field the data observe: `--field`, or the role the input kind implies.
+fn observed_field(model: &Model, settings: &FitSettings) -> Result<usize, FitError> {
+    let invalid = |s: String| FitError::Invalid(s);
+    Ok(match &settings.field {
+        Some(id) => model
+            .fields
+            .iter()
+            .position(|f| &f.id == id)
+            .ok_or_else(|| invalid(format!("the model has no field {id:?}")))?,
+        None => {
+            let behaviour = match settings.kind {
+                InputKind::Midline => "fit (midlines)",
+                InputKind::Lengths => "fit (lengths)",
+            };
+            crate::behaviour::role_fields(model, behaviour).map_err(|e| invalid(e.to_string()))?[0]
+        }
+    })
+}
+
 /// The rows of (BᵀB)⁻¹Bᵀ for B = [design | 1], the constant absorbing the unknown mean strain of
 /// a partial ring; the constant's own row is dropped.
 fn least_squares_rows(design: &[Vec<f64>]) -> Result<Vec<Vec<f64>>, FitError> {
@@ -741,33 +753,8 @@ pub fn fit_each(
     settings: &FitSettings,
     mut each: impl FnMut(&Projector, f64, &[f64]) -> Result<(), String>,
 ) -> Result<FitReport, FitError> {
+    check_settings(settings)?;
     let invalid = |s: String| FitError::Invalid(s);
-    if settings.points > MAX_POINTS {
-        return Err(invalid(format!(
-            "at most {MAX_POINTS} model points, not {}",
-            settings.points
-        )));
-    }
-    if settings.window > MAX_WINDOW {
-        return Err(invalid(format!(
-            "the Welch window can be at most {MAX_WINDOW} frames, not {}",
-            settings.window
-        )));
-    }
-    if settings.window < 8 {
-        return Err(invalid(format!(
-            "the Welch window must be at least 8 frames, not {}",
-            settings.window
-        )));
-    }
-    if settings.fit_modes == 0 {
-        return Err(invalid("fit at least one mode".into()));
-    }
-    if let Some(w) = settings.omega {
-        if !(w.is_finite() && w > 0.0) {
-            return Err(invalid(format!("ω must be a positive number, not {w}")));
-        }
-    }
     let mut frames = FrameReader::new(reader);
     let Some((t0, first)) = frames.next_frame()? else {
         return Err(invalid("the input has no frames".into()));
@@ -858,6 +845,38 @@ pub fn fit_each(
     )
 }
 
+/// The settings' limits, checked before any data are read.
+fn check_settings(settings: &FitSettings) -> Result<(), FitError> {
+    let invalid = |s: String| FitError::Invalid(s);
+    if settings.points > MAX_POINTS {
+        return Err(invalid(format!(
+            "at most {MAX_POINTS} model points, not {}",
+            settings.points
+        )));
+    }
+    if settings.window > MAX_WINDOW {
+        return Err(invalid(format!(
+            "the Welch window can be at most {MAX_WINDOW} frames, not {}",
+            settings.window
+        )));
+    }
+    if settings.window < 8 {
+        return Err(invalid(format!(
+            "the Welch window must be at least 8 frames, not {}",
+            settings.window
+        )));
+    }
+    if settings.fit_modes == 0 {
+        return Err(invalid("fit at least one mode".into()));
+    }
+    if let Some(w) = settings.omega {
+        if !(w.is_finite() && w > 0.0) {
+            return Err(invalid(format!("ω must be a positive number, not {w}")));
+        }
+    }
+    Ok(())
+}
+
 /// What one pass over the frames accumulates.
 struct Moments {
     frames: usize,
@@ -897,44 +916,14 @@ fn summarise(
 
     // PCA in the body metric: eigen of cov(Q), descending.
     let (pca_share, components) = descending_eigen(&cov);
-    // Plain angle-space covariance (S V) cov(Q) (S V)ᵀ over the observations.
-    let design = &proj.design;
-    let obs = design[0].len();
-    let angle_cov: Vec<Vec<f64>> = (0..obs)
-        .map(|a| {
-            (0..obs)
-                .map(|b| {
-                    let mut s = 0.0;
-                    for i in 0..m {
-                        for j in 0..m {
-                            s += design[i][a] * cov[i][j] * design[j][b];
-                        }
-                    }
-                    s
-                })
-                .collect()
-        })
-        .collect();
-    let (angle_share, _) = descending_eigen(&angle_cov);
+    let (angle_share, _) = descending_eigen(&angle_covariance(&proj.design, &cov));
     let inv: f64 = lambdas.iter().map(|l| 1.0 / l).sum();
     let theory_share: Vec<f64> = lambdas.iter().map(|l| 1.0 / l / inv).collect();
     let overlap: Vec<Vec<f64>> = components
         .iter()
         .map(|c| c.iter().map(|x| x.abs()).collect())
         .collect();
-    let degenerate = |i: usize, j: usize| (lambdas[i] - lambdas[j]).abs() <= 1e-9 * lambdas[i];
-    let mode_overlap: Vec<f64> = components
-        .iter()
-        .enumerate()
-        .map(|(k, c)| {
-            (0..m)
-                .filter(|&j| degenerate(k, j))
-                .map(|j| c[j] * c[j])
-                .sum::<f64>()
-                .sqrt()
-        })
-        .collect();
-
+    let mode_overlap = pair_overlaps(lambdas, &components);
     let mut modes: Vec<ModeFit> = (0..m)
         .map(|j| {
             let (peak, centroid) = spectral_peak_and_centroid(&frequencies, &psd[j]);
@@ -1002,6 +991,44 @@ fn summarise(
         components,
         shapes: proj.shapes.clone(),
     })
+}
+
+/// Plain angle-space covariance (S V) cov(Q) (S V)ᵀ over the observations, `design[i]` = S vᵢ.
+fn angle_covariance(design: &[Vec<f64>], cov: &[Vec<f64>]) -> Vec<Vec<f64>> {
+    let m = design.len();
+    let obs = design[0].len();
+    (0..obs)
+        .map(|a| {
+            (0..obs)
+                .map(|b| {
+                    let mut s = 0.0;
+                    for i in 0..m {
+                        for j in 0..m {
+                            s += design[i][a] * cov[i][j] * design[j][b];
+                        }
+                    }
+                    s
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// Each principal component's overlap with its mode, or with the plane of its degenerate pair.
+fn pair_overlaps(lambdas: &[f64], components: &[Vec<f64>]) -> Vec<f64> {
+    let m = lambdas.len();
+    let degenerate = |i: usize, j: usize| (lambdas[i] - lambdas[j]).abs() <= 1e-9 * lambdas[i];
+    components
+        .iter()
+        .enumerate()
+        .map(|(k, c)| {
+            (0..m)
+                .filter(|&j| degenerate(k, j))
+                .map(|j| c[j] * c[j])
+                .sum::<f64>()
+                .sqrt()
+        })
+        .collect()
 }
 
 /// Eigenvalue shares (descending) and eigenvectors (rows, same order) of a symmetric matrix.

@@ -670,6 +670,66 @@ pub fn subspace(
     subspace_on_unknowns(k, boundary, points, count, want_shapes).map(|s| s.embed(boundary.held(k)))
 }
 
+/// R of [S; G]: the stencil rows and one row eᵢ per null mode, at spread unknowns.
+fn regularised_factor(
+    rows: &[Vec<(usize, i64)>],
+    z: &[Vec<f64>],
+    n: usize,
+    k: u32,
+) -> Result<BandedR, ModalError> {
+    let spread: Vec<usize> = (0..z.len())
+        .map(|i| ((i + 1) * n / (z.len() + 1)).min(n - 1))
+        .collect();
+    let float_rows: Vec<Vec<(usize, f64)>> = rows
+        .iter()
+        .map(|r| r.iter().map(|&(i, w)| (i, w as f64)).collect())
+        .chain(spread.iter().map(|&i| vec![(i, 1.0)]))
+        .collect();
+    let r = BandedR::from_rows(n, k as usize, float_rows.iter().map(|r| r.as_slice()));
+    if r.is_regular() {
+        Ok(r)
+    } else {
+        Err(ModalError::Solver(
+            "the regularised operator is singular".into(),
+        ))
+    }
+}
+
+/// One Rayleigh–Ritz step on the orthonormal block `q`: the eigenvectors of H = (SQ)ᵀ(SQ)
+/// rotate the block, ascending.
+fn rayleigh_ritz(
+    rows: &[Vec<(usize, i64)>],
+    q: Vec<Vec<f64>>,
+    n: usize,
+) -> Result<Vec<Vec<f64>>, ModalError> {
+    let block = q.len();
+    let w: Vec<Vec<f64>> = q
+        .iter()
+        .map(|v| {
+            rows.iter()
+                .map(|row| row.iter().map(|&(i, c)| c as f64 * v[i]).sum())
+                .collect()
+        })
+        .collect();
+    let h = Mat::<f64>::from_fn(block, block, |a, b| {
+        w[a].iter().zip(&w[b]).map(|(x, y)| x * y).sum()
+    });
+    let evd = h
+        .self_adjoint_eigen(faer::Side::Lower)
+        .map_err(|e| ModalError::Solver(format!("{e:?}")))?;
+    let g = evd.U();
+    Ok((0..block)
+        .map(|c| {
+            let mut v = vec![0.0; n];
+            for (b, qb) in q.iter().enumerate() {
+                let coef = g[(b, c)];
+                v.iter_mut().zip(qb).for_each(|(x, y)| *x += coef * y);
+            }
+            v
+        })
+        .collect())
+}
+
 fn subspace_on_unknowns(
     k: u32,
     boundary: Boundary,
@@ -689,20 +749,7 @@ fn subspace_on_unknowns(
     let n = size(k, boundary, points);
     let rows = stencil_rows(k, boundary, points).map_err(|e| ModalError::Solver(e.to_string()))?;
     let z = null_basis(k, boundary, points);
-    let spread: Vec<usize> = (0..z.len())
-        .map(|i| ((i + 1) * n / (z.len() + 1)).min(n - 1))
-        .collect();
-    let float_rows: Vec<Vec<(usize, f64)>> = rows
-        .iter()
-        .map(|r| r.iter().map(|&(i, w)| (i, w as f64)).collect())
-        .chain(spread.iter().map(|&i| vec![(i, 1.0)]))
-        .collect();
-    let r = BandedR::from_rows(n, k as usize, float_rows.iter().map(|r| r.as_slice()));
-    if !r.is_regular() {
-        return Err(ModalError::Solver(
-            "the regularised operator is singular".into(),
-        ));
-    }
+    let r = regularised_factor(&rows, &z, n, k)?;
     let project = |v: &mut Vec<f64>| {
         for u in &z {
             let dot: f64 = u.iter().zip(v.iter()).map(|(a, b)| a * b).sum();
@@ -741,33 +788,7 @@ fn subspace_on_unknowns(
             project(v);
         }
         orthonormalise(&mut q, &z);
-        // Rayleigh–Ritz on H = (SQ)ᵀ(SQ).
-        let w: Vec<Vec<f64>> = q
-            .iter()
-            .map(|v| {
-                rows.iter()
-                    .map(|row| row.iter().map(|&(i, c)| c as f64 * v[i]).sum())
-                    .collect()
-            })
-            .collect();
-        let h = Mat::<f64>::from_fn(block, block, |a, b| {
-            w[a].iter().zip(&w[b]).map(|(x, y)| x * y).sum()
-        });
-        let evd = h
-            .self_adjoint_eigen(faer::Side::Lower)
-            .map_err(|e| ModalError::Solver(format!("{e:?}")))?;
-        let g = evd.U();
-        let next: Vec<Vec<f64>> = (0..block)
-            .map(|c| {
-                let mut v = vec![0.0; n];
-                for (b, qb) in q.iter().enumerate() {
-                    let coef = g[(b, c)];
-                    v.iter_mut().zip(qb).for_each(|(x, y)| *x += coef * y);
-                }
-                v
-            })
-            .collect();
-        q = next;
+        q = rayleigh_ritz(&rows, q, n)?;
         let values: Vec<f64> = q[..wanted]
             .iter()
             .map(|v| stencil_energy(&rows, v))

@@ -382,6 +382,9 @@ pub enum ModelError {
 
 const LARVA: &str = include_str!("../tables/models/larva.toml");
 
+/// The default order of the expansion: the seed's Table 1 (N = 4).
+pub const DEFAULT_ORDER: u32 = 4;
+
 impl Model {
     /// The embedded Drosophila larva model.
     pub fn larva() -> Model {

@@ -43,6 +43,52 @@ pub struct PairOrbit {
     pub postures: Vec<(f64, Vec<f64>, Vec<f64>)>,
 }
 
+/// (field index, mode) of the two members of the pair.
+type Member = (usize, usize);
+
+fn members(
+    theory: &Theory,
+    modes: &[crate::modal::FieldModes],
+    kind: PairKind,
+) -> Result<(Member, Member), BehaviourError> {
+    let model = &theory.model;
+    Ok(match kind {
+        PairKind::Peristalsis => {
+            let x = role_fields(model, "behave peristalsis")?[0];
+            let (i, j) = *modes[x].degenerate_pairs.first().ok_or_else(|| {
+                BehaviourError::Body(format!(
+                    "the axial field {} has no degenerate pair (peristalsis needs a periodic axial field)",
+                    model.fields[x].id
+                ))
+            })?;
+            ((x, i), (x, j))
+        }
+        PairKind::Rolling => {
+            let f = role_fields(model, "behave rolling")?;
+            let (y, z) = (f[0], f[1]);
+            (
+                (y, modes[y].spectrum.nullity),
+                (z, modes[z].spectrum.nullity),
+            )
+        }
+    })
+}
+
+/// Where the bend direction is read: where mode `mode` moves most, from the head down (the
+/// head of a free body, the tail of one held at the head).
+fn watch_point(field: &crate::modal::FieldModes, mode: usize) -> usize {
+    match field.spectrum.shapes.as_ref() {
+        Some(v) => (0..v.nrows()).rev().fold(v.nrows() - 1, |best, r| {
+            if v[(r, mode)].abs() > v[(best, mode)].abs() * (1.0 + 1e-9) {
+                r
+            } else {
+                best
+            }
+        }),
+        None => 0,
+    }
+}
+
 /// Run the minimum-energy orbit of `kind` for `periods` periods, undamped.
 pub fn pair_orbit(
     theory: &Theory,
@@ -62,27 +108,7 @@ pub fn pair_orbit(
     // The undamped dynamics: the orbit is a statement about the conservative pair.
     let undamped = theory.undamped();
     let modes = &undamped.modes;
-    // (field index, mode) of the two members of the pair.
-    let (a, b) = match kind {
-        PairKind::Peristalsis => {
-            let x = role_fields(model, "behave peristalsis")?[0];
-            let (i, j) = *modes[x].degenerate_pairs.first().ok_or_else(|| {
-                BehaviourError::Body(format!(
-                    "the axial field {} has no degenerate pair (peristalsis needs a periodic axial field)",
-                    model.fields[x].id
-                ))
-            })?;
-            ((x, i), (x, j))
-        }
-        PairKind::Rolling => {
-            let f = role_fields(model, "behave rolling")?;
-            let (y, z) = (f[0], f[1]);
-            (
-                (y, modes[y].spectrum.nullity),
-                (z, modes[z].spectrum.nullity),
-            )
-        }
-    };
+    let (a, b) = members(theory, modes, kind)?;
     let omega = modes[a.0].modes[a.1].frequency;
     if (modes[b.0].modes[b.1].frequency - omega).abs() > 1e-9 * omega {
         return Err(BehaviourError::Body(
@@ -125,18 +151,7 @@ pub fn pair_orbit(
     let mut t_end = 0.0;
     let (mut trajectory, mut postures) = (Vec::new(), Vec::new());
     let mut step = 0u64;
-    // The bend direction is read where the first lateral mode moves most, from the head down
-    // (the head of a free body, the tail of one held at the head).
-    let watch = match modes[a.0].spectrum.shapes.as_ref() {
-        Some(v) => (0..v.nrows()).rev().fold(v.nrows() - 1, |best, r| {
-            if v[(r, a.1)].abs() > v[(best, a.1)].abs() * (1.0 + 1e-9) {
-                r
-            } else {
-                best
-            }
-        }),
-        None => 0,
-    };
+    let watch = watch_point(&modes[a.0], a.1);
     run(modes, &config, |s| {
         let (qa, qb) = (s.modal[a.0][a.1], s.modal[b.0][b.1]);
         if step <= steps_per_period {

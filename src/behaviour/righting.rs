@@ -146,22 +146,7 @@ pub fn self_righting(
         )));
     }
     let n = theory.points;
-    let f = role_fields(&theory.model, "behave self-righting")?[0];
-    let torsion = &theory.modes[f];
-    if torsion.spectrum.nullity != 1 || torsion.modes.len() < 2 {
-        return Err(BehaviourError::Body(format!(
-            "self-righting needs a torsion field with one zero mode (free at both ends); {} is {}",
-            torsion.field.id, torsion.field.boundary
-        )));
-    }
-    // ζ₁ = ζ√λ₁: the damping scale that gives the asked first-mode ratio, without solving again.
-    let torsion = match settings.mode_damping {
-        Some(z) => {
-            let z = finite("the first mode's damping ratio", z)?;
-            torsion.with_zeta(z / torsion.modes[1].eigenvalue.sqrt())
-        }
-        None => torsion.clone(),
-    };
+    let torsion = torsion_modes(theory, settings)?;
     let modes = std::slice::from_ref(&torsion);
     let shapes = torsion
         .spectrum
@@ -192,10 +177,148 @@ pub fn self_righting(
         )));
     }
     let stride = ((expected / dt) as u64 / settings.frames_per_stage.max(1) as u64).max(1);
-    let field = torsion.field.id.clone();
+    let plan = Plan {
+        order: theory.order,
+        n,
+        head,
+        theta0,
+        tol,
+        omega,
+        zeta,
+        torque,
+        dt,
+        stride,
+        max_steps,
+        max_periods: settings.max_periods,
+    };
+    let mut frames = Vec::new();
+    let twisted = twist(&plan, modes, &shapes, &mut frames)?;
+    let (drift, head_error, ta) = (twisted.drift, twisted.head_error, twisted.time);
+    let (at_attach, rates) = (twisted.angles, twisted.rates);
+    let hold = at_attach[head];
+
+    // Stage 2: the head is held, the torque released, and the body relaxes as a sum of damped
+    // modes, each carried by the exact propagator.
+    let relax = match settings.attachment {
+        Attachment::Seed => {
+            let shape: Vec<f64> = v1.iter().map(|v| v - a).collect();
+            let q: f64 = v1.iter().zip(&at_attach).map(|(v, th)| v * th).sum();
+            let p: f64 = v1.iter().zip(&rates).map(|(v, w)| v * w).sum();
+            vec![RelaxMode::new(omega, zeta * omega, shape, q, p)]
+        }
+        Attachment::Pinned => pinned_modes(
+            torsion.k,
+            n,
+            head,
+            torsion.omega,
+            torsion.zeta,
+            &at_attach,
+            &rates,
+            hold,
+        )?,
+    };
+    let (last_out, overshoot) = release(&plan, &relax, &at_attach, &v1, ta, &mut frames)?;
+    let alignment_times: Vec<f64> = last_out
+        .iter()
+        .map(|&t| if t.is_finite() { ta + t + dt } else { ta })
+        .collect();
+    Ok(Righting {
+        points: n,
+        theta0,
+        tolerance: tol,
+        attachment: settings.attachment,
+        frequency: omega,
+        damping_ratio: zeta,
+        relaxation: relax
+            .iter()
+            .map(|m| (m.omega, m.gamma / m.omega))
+            .next()
+            .unwrap_or((0.0, 0.0)),
+        head_coefficient: a,
+        torque,
+        attachment_time: ta,
+        righting_time: alignment_times.iter().cloned().fold(ta, f64::max),
+        alignment_times,
+        rotation_before_attachment: drift,
+        overshoot,
+        decay_rate: rate,
+        head_error,
+        frames,
+    })
+}
+
+/// The torsion field's modes, checked for one zero mode, with the damping scale that gives the
+/// asked first-mode ratio ζ₁ = ζ√λ₁ (without solving again).
+fn torsion_modes(
+    theory: &Theory,
+    settings: &RightingSettings,
+) -> Result<crate::modal::FieldModes, BehaviourError> {
+    let f = role_fields(&theory.model, "behave self-righting")?[0];
+    let torsion = &theory.modes[f];
+    if torsion.spectrum.nullity != 1 || torsion.modes.len() < 2 {
+        return Err(BehaviourError::Body(format!(
+            "self-righting needs a torsion field with one zero mode (free at both ends); {} is {}",
+            torsion.field.id, torsion.field.boundary
+        )));
+    }
+    Ok(match settings.mode_damping {
+        Some(z) => {
+            let z = finite("the first mode's damping ratio", z)?;
+            torsion.with_zeta(z / torsion.modes[1].eigenvalue.sqrt())
+        }
+        None => torsion.clone(),
+    })
+}
+
+/// What both stages share.
+struct Plan {
+    order: u32,
+    n: usize,
+    head: usize,
+    theta0: f64,
+    tol: f64,
+    omega: f64,
+    zeta: f64,
+    torque: f64,
+    dt: f64,
+    stride: u64,
+    max_steps: u64,
+    max_periods: f64,
+}
+
+/// The state when the hooks attach, and what stage 1 measured.
+struct Twisted {
+    time: f64,
+    angles: Vec<f64>,
+    rates: Vec<f64>,
+    drift: f64,
+    head_error: f64,
+}
+
+/// Stage 1: twist under the constant torque until the head is within δ.
+fn twist(
+    plan: &Plan,
+    modes: &[crate::modal::FieldModes],
+    shapes: &faer::Mat<f64>,
+    frames: &mut Vec<RightingFrame>,
+) -> Result<Twisted, BehaviourError> {
+    let Plan {
+        n,
+        head,
+        theta0,
+        tol,
+        omega,
+        zeta,
+        torque,
+        dt,
+        stride,
+        max_steps,
+        ..
+    } = *plan;
+    let field = modes[0].field.id.clone();
     let stage1 = Config {
         points: n,
-        order: theory.order,
+        order: plan.order,
         dt,
         steps: max_steps,
         every: 1,
@@ -217,8 +340,6 @@ pub fn self_righting(
         }],
     };
 
-    // Stage 1: twist under the constant torque until the head is within δ.
-    let mut frames = Vec::new();
     let mut drift = 0.0f64;
     let mut head_error = 0.0f64;
     let mut attached: Option<(f64, Vec<f64>, Vec<f64>)> = None;
@@ -261,31 +382,39 @@ pub fn self_righting(
     let Some((ta, at_attach, rates)) = attached else {
         return Err(BehaviourError::new(format!(
             "the head did not come within {tol} rad of upright in {} periods",
-            settings.max_periods
+            plan.max_periods
         )));
     };
-    let hold = at_attach[head];
+    Ok(Twisted {
+        time: ta,
+        angles: at_attach,
+        rates,
+        drift,
+        head_error,
+    })
+}
 
-    // Stage 2: the head is held, the torque released, and the body relaxes as a sum of damped
-    // modes, each carried by the exact propagator.
-    let relax = match settings.attachment {
-        Attachment::Seed => {
-            let shape: Vec<f64> = v1.iter().map(|v| v - a).collect();
-            let q: f64 = v1.iter().zip(&at_attach).map(|(v, th)| v * th).sum();
-            let p: f64 = v1.iter().zip(&rates).map(|(v, w)| v * w).sum();
-            vec![RelaxMode::new(omega, zeta * omega, shape, q, p)]
-        }
-        Attachment::Pinned => pinned_modes(
-            torsion.k,
-            n,
-            head,
-            torsion.omega,
-            torsion.zeta,
-            &at_attach,
-            &rates,
-            hold,
-        )?,
-    };
+/// Stage 2: the head is held, the torque released, and the body relaxes as a sum of damped
+/// modes, each carried by the exact propagator. Returns when each point last left δ, and the
+/// overshoot.
+fn release(
+    plan: &Plan,
+    relax: &[RelaxMode],
+    at_attach: &[f64],
+    v1: &[f64],
+    ta: f64,
+    frames: &mut Vec<RightingFrame>,
+) -> Result<(Vec<f64>, f64), BehaviourError> {
+    let Plan {
+        n,
+        head,
+        tol,
+        dt,
+        stride,
+        max_steps,
+        ..
+    } = *plan;
+    let hold = at_attach[head];
     let start: Vec<f64> = at_attach.iter().map(|th| th - hold).collect();
     let largest = start.iter().map(|u| u.abs()).fold(0.0, f64::max);
     let mut last_out = vec![f64::NEG_INFINITY; n];
@@ -295,7 +424,7 @@ pub fn self_righting(
         let t = step as f64 * dt;
         let mut u = vec![0.0; n];
         let mut bound = 0.0;
-        for m in &relax {
+        for m in relax {
             let (q, p) = crate::dynamics::propagate(m.omega, m.gamma, m.q, m.p, t);
             for (uj, s) in u.iter_mut().zip(&m.shape) {
                 *uj += q * s;
@@ -328,36 +457,10 @@ pub fn self_righting(
     if !settled {
         return Err(BehaviourError::new(format!(
             "the body did not align within {tol} rad in {} periods after attachment",
-            settings.max_periods
+            plan.max_periods
         )));
     }
-    let alignment_times: Vec<f64> = last_out
-        .iter()
-        .map(|&t| if t.is_finite() { ta + t + dt } else { ta })
-        .collect();
-    Ok(Righting {
-        points: n,
-        theta0,
-        tolerance: tol,
-        attachment: settings.attachment,
-        frequency: omega,
-        damping_ratio: zeta,
-        relaxation: relax
-            .iter()
-            .map(|m| (m.omega, m.gamma / m.omega))
-            .next()
-            .unwrap_or((0.0, 0.0)),
-        head_coefficient: a,
-        torque,
-        attachment_time: ta,
-        righting_time: alignment_times.iter().cloned().fold(ta, f64::max),
-        alignment_times,
-        rotation_before_attachment: drift,
-        overshoot,
-        decay_rate: rate,
-        head_error,
-        frames,
-    })
+    Ok((last_out, overshoot))
 }
 
 /// One row of a damping sweep: [`self_righting`] at one ζ₁, without frames.

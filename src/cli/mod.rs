@@ -140,7 +140,7 @@ impl From<crate::behaviour::BehaviourError> for CliError {
 struct ModelArgs {
     /// Order of the expansion: candidates have δ ≤ N and ε ≤ N, and τ+σ ≤ N (Lagrangian) or
     /// τ ≤ N and σ ≤ N (Rayleigh). From 1 to 32.
-    #[arg(long, short, default_value_t = 4, value_name = "N",
+    #[arg(long, short, default_value_t = crate::model::DEFAULT_ORDER, value_name = "N",
           value_parser = clap::value_parser!(u32).range(1..=MAX_ORDER as i64))]
     order: u32,
     /// A model file (TOML) instead of the embedded larva model.

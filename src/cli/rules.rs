@@ -24,7 +24,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     let mut text = crate::codegen::rules_markdown();
     if args.model.is_some() || args.order.is_some() {
         let model = load_model(&args.model)?;
-        let order = args.order.unwrap_or(4);
+        let order = args.order.unwrap_or(crate::model::DEFAULT_ORDER);
         text += &crate::rules::requirements_markdown(&model, order).map_err(CliError::usage)?;
     }
     write_out(out, &text)
