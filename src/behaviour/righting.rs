@@ -302,19 +302,18 @@ fn twist(
     shapes: &faer::Mat<f64>,
     frames: &mut Vec<RightingFrame>,
 ) -> Result<Twisted, BehaviourError> {
-    let Plan {
-        n,
-        head,
-        theta0,
-        tol,
-        omega,
-        zeta,
-        torque,
-        dt,
-        stride,
-        max_steps,
-        ..
-    } = *plan;
+    let (n, head, theta0, tol, omega, zeta, torque, dt, stride, max_steps) = (
+        plan.n,
+        plan.head,
+        plan.theta0,
+        plan.tol,
+        plan.omega,
+        plan.zeta,
+        plan.torque,
+        plan.dt,
+        plan.stride,
+        plan.max_steps,
+    );
     let field = modes[0].field.id.clone();
     let stage1 = Config {
         points: n,
@@ -405,15 +404,14 @@ fn release(
     ta: f64,
     frames: &mut Vec<RightingFrame>,
 ) -> Result<(Vec<f64>, f64), BehaviourError> {
-    let Plan {
-        n,
-        head,
-        tol,
-        dt,
-        stride,
-        max_steps,
-        ..
-    } = *plan;
+    let (n, head, tol, dt, stride, max_steps) = (
+        plan.n,
+        plan.head,
+        plan.tol,
+        plan.dt,
+        plan.stride,
+        plan.max_steps,
+    );
     let hold = at_attach[head];
     let start: Vec<f64> = at_attach.iter().map(|th| th - hold).collect();
     let largest = start.iter().map(|u| u.abs()).fold(0.0, f64::max);

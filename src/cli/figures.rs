@@ -3,7 +3,7 @@
 use std::io::Write;
 use std::path::PathBuf;
 
-use super::{write_out, BodyArgs, CliError};
+use super::{write_out, BodyArgs, CliError, SampleArgs};
 use crate::figures::{write_figures, FigureError, FigureSettings, FIGURES};
 
 /// Arguments of `figures`.
@@ -15,12 +15,9 @@ pub struct Args {
     /// Only this figure (e.g. `mode_shapes.svg`; the `.svg` may be left off).
     #[arg(long, value_name = "NAME")]
     only: Option<String>,
-    /// Samples of the sampled figures.
-    #[arg(long, default_value_t = 100_000)]
-    samples: usize,
-    /// Seed of the sampled figures.
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
+    /// Draws of the sampled figures (pair density, 3-point bend).
+    #[command(flatten)]
+    sample: SampleArgs,
     #[command(flatten)]
     body: BodyArgs,
 }
@@ -31,8 +28,8 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     let theory = args.body.theory()?;
     let settings = FigureSettings {
         points: args.body.points,
-        seed: args.seed,
-        samples: args.samples,
+        seed: args.sample.seed,
+        samples: args.sample.samples,
     };
     let only = args.only.as_ref().map(|name| {
         if name.ends_with(".svg") {

@@ -199,6 +199,59 @@ impl BodyArgs {
     }
 }
 
+/// Draws of a sampled result: how many, and the seed (same seed, same draws).
+#[derive(Debug, Args)]
+struct SampleArgs {
+    /// Samples to draw.
+    #[arg(long, default_value_t = 100_000)]
+    samples: usize,
+    /// Seed of the sampler.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+}
+
+/// The frequency ω of a degenerate pair: given, or the first axial pair of a named body.
+#[derive(Debug, Args)]
+struct PairArgs {
+    /// The pair's frequency ω. Default: with --model or --points, the frequency of that body's
+    /// first axial pair; otherwise 1 (the unit of frequency).
+    #[arg(long, allow_negative_numbers = true)]
+    omega: Option<f64>,
+    #[command(flatten)]
+    model: ModelArgs,
+    /// Points along the body whose axial pair sets ω (default 12 with --model).
+    #[arg(long)]
+    points: Option<usize>,
+    #[command(flatten)]
+    params: ParamArgs,
+}
+
+impl PairArgs {
+    /// ω for `behaviour` (which names the role it needs in errors).
+    fn omega(&self, behaviour: &str) -> Result<f64, CliError> {
+        if let Some(w) = self.omega {
+            return Ok(w);
+        }
+        if self.model.model.is_none() && self.points.is_none() {
+            return Ok(1.0);
+        }
+        let model = self.model.load()?;
+        let params = load_params(&self.params, &model)?;
+        let points = self.points.unwrap_or(12);
+        let theory =
+            Theory::new(model, self.model.order, points, params).map_err(CliError::usage)?;
+        let f = crate::behaviour::role_fields(&theory.model, behaviour)?[0];
+        let fm = &theory.modes[f];
+        let (i, _) = *fm.degenerate_pairs.first().ok_or_else(|| {
+            CliError::Usage(format!(
+                "{behaviour}: the axial field {} of model {:?} has no degenerate pair (give --omega)",
+                fm.field.id, theory.model.name
+            ))
+        })?;
+        Ok(fm.modes[i].frequency)
+    }
+}
+
 fn load_model(path: &Option<PathBuf>) -> Result<Model, CliError> {
     match path {
         None => Ok(Model::larva()),

@@ -2,8 +2,7 @@
 
 use std::io::Write;
 
-use super::asymmetry::body_pair_frequency;
-use super::{emit, BodyArgs, CliError, ModelArgs, ParamArgs};
+use super::{emit, BodyArgs, CliError, PairArgs, SampleArgs};
 use crate::behaviour::{equipartition_from_dynamics, explore, PairReport};
 use crate::report::Output;
 
@@ -22,12 +21,8 @@ enum StatsCommand {
         /// Inverse temperature β (in units where ω_b = 1 and the body length is 1).
         #[arg(long, default_value_t = 10_000.0, allow_negative_numbers = true)]
         beta: f64,
-        /// Postures to sample.
-        #[arg(long, default_value_t = 100_000)]
-        samples: usize,
-        /// Seed.
-        #[arg(long, default_value_t = 1)]
-        seed: u64,
+        #[command(flatten)]
+        sample: SampleArgs,
         #[command(flatten)]
         body: BodyArgs,
         /// Output format (csv: one bend angle per sample).
@@ -56,10 +51,6 @@ enum StatsCommand {
     },
     /// A degenerate pair at fixed momentum M: Z, F, A*, ⟨A⟩; with --samples also a Metropolis run.
     Pair {
-        /// The pair's frequency ω. Default: with --model or --points, that body's first axial
-        /// pair; otherwise 1.
-        #[arg(long, allow_negative_numbers = true)]
-        omega: Option<f64>,
         /// Inverse temperature β.
         #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
         beta: f64,
@@ -73,12 +64,7 @@ enum StatsCommand {
         #[arg(long, default_value_t = 1)]
         seed: u64,
         #[command(flatten)]
-        model: ModelArgs,
-        /// Points along the body whose axial pair sets ω.
-        #[arg(long)]
-        points: Option<usize>,
-        #[command(flatten)]
-        params: ParamArgs,
+        pair: PairArgs,
         /// Output format (csv: one row per sample, or the statistics).
         #[arg(long, value_enum, default_value_t = Output::Text)]
         format: Output,
@@ -90,12 +76,11 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     match &args.what {
         StatsCommand::Explore {
             beta,
-            samples,
-            seed,
+            sample,
             body,
             format,
         } => {
-            let e = explore(&body.theory()?, *beta, *samples, *seed)?;
+            let e = explore(&body.theory()?, *beta, sample.samples, sample.seed)?;
             emit(out, &e, *format)
         }
         StatsCommand::Equipartition {
@@ -122,20 +107,14 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
             emit(out, &c, *format)
         }
         StatsCommand::Pair {
-            omega,
             beta,
             momentum,
             samples,
             seed,
-            model,
-            points,
-            params,
+            pair,
             format,
         } => {
-            let omega = match omega {
-                Some(w) => *w,
-                None => body_pair_frequency(model, *points, params, "stats pair")?.unwrap_or(1.0),
-            };
+            let omega = pair.omega("stats pair")?;
             let r = PairReport::new(omega, *beta, *momentum, *samples, *seed)?;
             emit(out, &r, *format)
         }
