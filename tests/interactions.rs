@@ -89,19 +89,47 @@ fn without_kin_a_mixed_coupling_would_survive() {
 
 #[test]
 fn couplings_of_three_fields_need_higher_orders() {
-    // Under REF every field needs an even power, so a three-field term has ε ≥ 6.
+    // Under REF every field needs an even power, so a three-field term has ε ≥ 6: at order 4
+    // there is no three-field candidate at all, at order 6 there are some, all at ε = 6.
+    let i4 = interactions(&Model::larva(), Density::Lagrangian, 4).unwrap();
+    let triples4: Vec<_> = i4
+        .couplings
+        .iter()
+        .filter(|c| c.fields.len() == 3)
+        .collect();
+    assert_eq!(
+        triples4.len(),
+        4,
+        "every triple of the four fields is listed"
+    );
+    assert!(triples4
+        .iter()
+        .all(|c| c.rows.is_empty() && c.admitted.is_empty()));
     let i = interactions(&Model::larva(), Density::Lagrangian, 6).unwrap();
     let triple = i
         .couplings
         .iter()
         .find(|c| c.fields == ["x", "theta", "y"])
         .unwrap();
-    assert!(triple.admitted.iter().all(|t| t.orders().epsilon >= 6));
+    // Real candidates, not an empty list: (∂tφ, ∂sφ)-pairs of each field, 3³ of them.
+    assert_eq!(triple.rows.len(), 27);
+    assert!(triple.rows.iter().all(|r| r.term.orders().epsilon == 6));
+    // None survives: y's rotation symmetry strikes every (∂s y)² and the standard kinetic
+    // term every other product carrying (∂t y)² or ∂t y·∂s y; each rejection names its rule.
+    for r in &triple.rows {
+        assert!(!r.admitted(), "{} admitted", r.term);
+        let failed: Vec<&str> = r
+            .verdicts
+            .iter()
+            .filter(|v| !v.verdict.passed())
+            .map(|v| v.rule)
+            .collect();
+        assert!(
+            failed.iter().any(|c| ["ROT", "KIN", "REF"].contains(c)),
+            "{}: {failed:?}",
+            r.term
+        );
+    }
+    assert!(triple.admitted.is_empty());
     assert!(i.is_free());
-    let i4 = interactions(&Model::larva(), Density::Lagrangian, 4).unwrap();
-    assert!(i4
-        .couplings
-        .iter()
-        .filter(|c| c.fields.len() > 2)
-        .all(|c| c.admitted.is_empty()));
 }
