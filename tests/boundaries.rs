@@ -243,3 +243,38 @@ fn the_structured_method_agrees_with_dense_and_holds_long_bodies() {
         assert!((got / want - 1.0).abs() < 1e-4, "{got} vs {want}");
     }
 }
+
+#[test]
+fn the_trace_of_the_pseudo_inverse_is_an_exact_polynomial_in_n() {
+    use theory_search::modal::trace_polynomial;
+    for k in [1u32, 2, 3] {
+        for b in all_ends() {
+            for points in [25usize, 47] {
+                // k = 1 and 2 always give one; k = 3 with natural conditions at an end carries
+                // boundary layers that decay geometrically in N, so none is claimed there.
+                let Some(got) = trace_polynomial(k, b, points) else {
+                    assert_eq!(k, 3, "{b} k={k}: no polynomial found");
+                    continue;
+                };
+                let want: f64 = dense_oracle(k, b, points)
+                    .iter()
+                    .filter(|l| l.abs() > 1e-9)
+                    .map(|l| 1.0 / l)
+                    .sum();
+                // The dense sum is itself only good to about ε·cond.
+                assert!(
+                    (got / want - 1.0).abs() < 1e-7,
+                    "{b} k={k} N={points}: {got} vs {want}"
+                );
+            }
+        }
+    }
+    // The cantilever's is N⁴/12 to leading order: Σ(βᵢL)⁻⁴ = 1/12 for the clamped–free beam.
+    let cantilever = Boundary::Ends {
+        tail: End::Free,
+        head: End::Clamped,
+    };
+    let n = 1e6;
+    let t = trace_polynomial(2, cantilever, 1_000_000).unwrap();
+    assert!((t / (n * n * n * n / 12.0) - 1.0).abs() < 1e-5, "{t}");
+}
