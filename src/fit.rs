@@ -1033,25 +1033,12 @@ fn pair_overlaps(lambdas: &[f64], components: &[Vec<f64>]) -> Vec<f64> {
 
 /// Eigenvalue shares (descending) and eigenvectors (rows, same order) of a symmetric matrix.
 fn descending_eigen(a: &[Vec<f64>]) -> (Vec<f64>, Vec<Vec<f64>>) {
-    let n = a.len();
-    let m = nalgebra::DMatrix::from_fn(n, n, |i, j| 0.5 * (a[i][j] + a[j][i]));
-    let e = nalgebra::SymmetricEigen::new(m);
-    let mut order: Vec<usize> = (0..n).collect();
-    order.sort_by(|&i, &j| e.eigenvalues[j].total_cmp(&e.eigenvalues[i]));
-    let total: f64 = e.eigenvalues.iter().map(|v| v.max(0.0)).sum();
-    let shares = order
+    let (values, vectors) = crate::behaviour::principal_components(a)
+        .unwrap_or_else(|_| (vec![0.0; a.len()], vec![vec![0.0; a.len()]; a.len()]));
+    let total: f64 = values.iter().map(|v| v.max(0.0)).sum();
+    let shares = values
         .iter()
-        .map(|&i| {
-            if total > 0.0 {
-                e.eigenvalues[i].max(0.0) / total
-            } else {
-                0.0
-            }
-        })
-        .collect();
-    let vectors = order
-        .iter()
-        .map(|&i| e.eigenvectors.column(i).iter().cloned().collect())
+        .map(|v| if total > 0.0 { v.max(0.0) / total } else { 0.0 })
         .collect();
     (shares, vectors)
 }

@@ -201,8 +201,8 @@ fn csv(model: &Model, analyses: &[Analysis]) -> String {
         .to_vec();
     header.extend(codes.iter().map(|c| c.to_string()));
     header.extend(model.fields.iter().map(|f| f.id.clone()));
-    let mut out = header.join(",") + "\n";
     let bit = |b: bool| if b { "1" } else { "0" }.to_string();
+    let mut rows = Vec::new();
     for a in analyses {
         for r in &a.rows {
             let o = r.orders;
@@ -213,10 +213,10 @@ fn csv(model: &Model, analyses: &[Analysis]) -> String {
                 row.push(v.map(|i| bit(r.passed[i])).unwrap_or_default());
             }
             row.extend(r.included.iter().map(|&b| bit(b)));
-            out += &(row.join(",") + "\n");
+            rows.push(row);
         }
     }
-    out
+    crate::report::csv_table(&header, rows)
 }
 
 fn field_map<T: Into<Value>>(

@@ -1,7 +1,7 @@
 //! Equipartition from dynamics (seed App. B): a Langevin run's principal components beside the
 //! modes of one field.
 
-use super::{positive, role_fields, BehaviourError};
+use super::{positive, principal_components, role_fields, BehaviourError};
 use crate::report::{csv_numbers, to_json, Report};
 use crate::theory::Theory;
 
@@ -85,31 +85,28 @@ pub fn equipartition_from_dynamics(
         Ok(())
     })?;
     let fr = frames as f64;
-    let cov =
-        faer::Mat::<f64>::from_fn(n, n, |i, j| outer[i][j] / fr - sum[i] * sum[j] / (fr * fr));
-    let evd = cov
-        .self_adjoint_eigen(faer::Side::Lower)
-        .map_err(|e| BehaviourError::new(format!("{e:?}")))?;
-    let s = evd.S().column_vector();
-    let u = evd.U();
+    let cov: Vec<Vec<f64>> = (0..n)
+        .map(|i| {
+            (0..n)
+                .map(|j| outer[i][j] / fr - sum[i] * sum[j] / (fr * fr))
+                .collect()
+        })
+        .collect();
+    let (variances, components) = principal_components(&cov).map_err(BehaviourError::new)?;
+    // Principal components by descending variance; the zero modes (and held points) carry none.
     let nonzero = f.spectrum.size - f.spectrum.nullity;
-    // Principal components by descending variance; the zero modes carry none.
-    let order: Vec<usize> = (0..n).rev().take(nonzero).collect();
-    let total: f64 = order.iter().map(|&k| s[k].max(0.0)).sum();
+    let total: f64 = variances[..nonzero].iter().map(|v| v.max(0.0)).sum();
     let shapes = f
         .spectrum
         .shapes
         .as_ref()
         .ok_or_else(|| BehaviourError::new("no shapes"))?;
-    let overlap = order
+    let overlap = components[..nonzero]
         .iter()
         .enumerate()
-        .map(|(rank, &k)| {
+        .map(|(rank, pc)| {
             let mode = f.spectrum.nullity + rank;
-            (0..n)
-                .map(|i| u[(i, k)] * shapes[(i, mode)])
-                .sum::<f64>()
-                .abs()
+            (0..n).map(|i| pc[i] * shapes[(i, mode)]).sum::<f64>().abs()
         })
         .collect();
     Ok(EquipartitionCheck {
@@ -117,7 +114,10 @@ pub fn equipartition_from_dynamics(
         points,
         temperature: kt,
         frames,
-        pca_variance_share: order.iter().map(|&k| s[k].max(0.0) / total).collect(),
+        pca_variance_share: variances[..nonzero]
+            .iter()
+            .map(|v| v.max(0.0) / total)
+            .collect(),
         theory_variance_share: f.modes[f.spectrum.nullity..]
             .iter()
             .map(|m| m.variance_share)

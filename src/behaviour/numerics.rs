@@ -1,4 +1,5 @@
-//! Numerics the behaviour models share: one classical Runge–Kutta step and one phase unwrapper.
+//! Numerics the behaviour models (and `fit`) share: one classical Runge–Kutta step, one phase
+//! unwrapper, one PCA on faer.
 
 use std::f64::consts::PI;
 
@@ -39,4 +40,23 @@ impl PhaseUnwrap {
     pub fn total(&self) -> f64 {
         self.total
     }
+}
+
+/// Principal components of a symmetric (covariance) matrix on faer: the variances, descending,
+/// and the unit components as rows in the same order.
+pub fn principal_components(cov: &[Vec<f64>]) -> Result<(Vec<f64>, Vec<Vec<f64>>), String> {
+    let n = cov.len();
+    let m = faer::Mat::<f64>::from_fn(n, n, |i, j| 0.5 * (cov[i][j] + cov[j][i]));
+    let evd = m
+        .self_adjoint_eigen(faer::Side::Lower)
+        .map_err(|e| format!("eigensolver failed: {e:?}"))?;
+    let (s, u) = (evd.S().column_vector(), evd.U());
+    // faer sorts ascending.
+    Ok((
+        (0..n).rev().map(|k| s[k]).collect(),
+        (0..n)
+            .rev()
+            .map(|k| (0..n).map(|i| u[(i, k)]).collect())
+            .collect(),
+    ))
 }
