@@ -64,17 +64,30 @@ struct StencilContext {
     positions: String,
 }
 
-/// One entry of the generated operator table.
+/// One entry of the generated operator table. Text from the model file goes in only as Rust
+/// string literals (`*_lit`, escaped by [`literal`]) or comments (cleaned by [`comment`]).
 #[derive(Debug, Serialize)]
 struct OperatorContext {
-    field: String,
+    field_lit: String,
     meaning: String,
-    density: String,
-    boundary: String,
+    density_lit: String,
+    boundary_lit: String,
     periodic: bool,
-    term: String,
+    term_lit: String,
     k: u32,
     stencil: String,
+}
+
+/// A Rust string literal holding `s`, quotes included: Rust's own escaping.
+pub fn literal(s: &str) -> String {
+    format!("{s:?}")
+}
+
+/// `s` made safe inside a `//` comment: no character can end the line.
+pub fn comment(s: &str) -> String {
+    s.chars()
+        .map(|c| if c.is_control() { ' ' } else { c })
+        .collect()
 }
 
 fn stencil_context(boundary: Boundary, k: u32) -> StencilContext {
@@ -169,16 +182,18 @@ pub fn operators_source(model: &Model, order: u32) -> Result<String, String> {
                 stencils.len() - 1
             }
         };
-        stencils[index]
-            .users
-            .push(format!("{} · {} · {term}", p.field, p.density.key()));
+        stencils[index].users.push(comment(&format!(
+            "{} · {} · {term}",
+            p.field,
+            p.density.key()
+        )));
         ops.push(OperatorContext {
-            field: p.field.clone(),
-            meaning: format!("{} ({}): {term}", p.field, field.meaning),
-            density: p.density.key().into(),
-            boundary: boundary_name(p.boundary),
+            field_lit: literal(&p.field),
+            meaning: comment(&format!("{} ({}): {term}", p.field, field.meaning)),
+            density_lit: literal(p.density.key()),
+            boundary_lit: literal(&boundary_name(p.boundary)),
             periodic: p.boundary == Boundary::Periodic,
-            term,
+            term_lit: literal(&term),
             k: p.k,
             stencil: name,
         });
@@ -189,7 +204,7 @@ pub fn operators_source(model: &Model, order: u32) -> Result<String, String> {
     let mut ctx = tera::Context::new();
     ctx.insert("stencils", &stencils);
     ctx.insert("ops", &ops);
-    ctx.insert("model", &model.name);
+    ctx.insert("model", &comment(&model.name));
     ctx.insert("order", &order);
     let source = tera
         .render("operators.rs", &ctx)

@@ -297,11 +297,13 @@ fn mode_shapes(theory: &Theory) -> Result<String, FigureError> {
     let titles: Vec<String> = fields
         .iter()
         .map(|f| {
-            format!(
-                "{} ({}, {:?} ends)",
-                f.field.symbol, f.field.meaning, f.field.boundary
-            )
-            .to_lowercase()
+            let ends = match f.field.boundary {
+                crate::model::Boundary::Ends { tail, head } if tail != head => {
+                    f.field.boundary.name()
+                }
+                b => format!("{b} ends"),
+            };
+            format!("{} ({}, {ends})", f.field.symbol, f.field.meaning).to_lowercase()
         })
         .collect();
     let mut panels = Vec::new();

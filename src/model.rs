@@ -468,23 +468,41 @@ impl Model {
 
     fn validate(&self) -> Result<(), ModelError> {
         let invalid = |why: String| ModelError::Invalid {
-            model: self.name.clone(),
+            model: self
+                .name
+                .chars()
+                .filter(|c| !c.is_control())
+                .take(64)
+                .collect(),
             why,
         };
         if self.fields.is_empty() {
             return Err(invalid("declares no fields".into()));
         }
+        if self.fields.len() > MAX_FIELDS {
+            return Err(invalid(format!(
+                "declares {} fields; at most {MAX_FIELDS} (interactions grow as 2^fields)",
+                self.fields.len()
+            )));
+        }
+        text("name", &self.name, 64).map_err(&invalid)?;
+        text("description", &self.description, 500).map_err(&invalid)?;
         for (i, f) in self.fields.iter().enumerate() {
-            let id_ok =
-                !f.id.is_empty() && f.id.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
-            if !id_ok {
+            identifier("field id", &f.id).map_err(&invalid)?;
+            let key = |k: &str| format!("field {:?} {k}", f.id);
+            text(&key("symbol"), &f.symbol, 16).map_err(&invalid)?;
+            if f.symbol.trim().is_empty() || f.symbol.chars().any(char::is_whitespace) {
                 return Err(invalid(format!(
-                    "field id {:?} must be non-empty ASCII letters, digits or '_'",
-                    f.id
+                    "{} must be non-empty, without spaces",
+                    key("symbol")
                 )));
             }
-            if f.symbol.trim().is_empty() {
-                return Err(invalid(format!("field {:?} has an empty symbol", f.id)));
+            text(&key("meaning"), &f.meaning, 200).map_err(&invalid)?;
+            if let Some(scale) = &f.scale {
+                identifier(&key("scale"), scale).map_err(&invalid)?;
+            }
+            for z in &f.zero_modes {
+                text(&key("zero mode name"), z, 100).map_err(&invalid)?;
             }
             if self.fields[..i].iter().any(|g| g.id == f.id) {
                 return Err(invalid(format!("field id {:?} is declared twice", f.id)));
@@ -546,6 +564,39 @@ impl Model {
         }
         Ok(())
     }
+}
+
+/// The most fields a model may declare (interactions grow as 2^fields).
+pub const MAX_FIELDS: usize = 8;
+
+/// Model text (names, symbols, meanings) reaches generated code, CSV and SVG: it must be
+/// printable (no control characters) and at most `max` characters.
+fn text(key: &str, value: &str, max: usize) -> Result<(), String> {
+    if let Some(c) = value.chars().find(|c| c.is_control()) {
+        return Err(format!(
+            "{key} contains the control character U+{:04X}",
+            c as u32
+        ));
+    }
+    let len = value.chars().count();
+    if len > max {
+        return Err(format!("{key} has {len} characters; at most {max}"));
+    }
+    Ok(())
+}
+
+/// Ids and scale names: an ASCII letter or `_`, then letters, digits or `_`, at most 32.
+fn identifier(key: &str, value: &str) -> Result<(), String> {
+    let mut chars = value.chars();
+    let first_ok = chars
+        .next()
+        .is_some_and(|c| c.is_ascii_alphabetic() || c == '_');
+    if !first_ok || !chars.all(|c| c.is_ascii_alphanumeric() || c == '_') || value.len() > 32 {
+        return Err(format!(
+            "{key} {value:?} must be an ASCII letter or '_' then letters, digits or '_' (at most 32)"
+        ));
+    }
+    Ok(())
 }
 
 #[cfg(test)]
