@@ -27,6 +27,10 @@ use crate::model::Model;
 /// The most points `simulate` takes (it keeps all N shapes of every field).
 pub const MAX_SIM_POINTS: usize = 2000;
 
+/// The most work a run may take, in mode-steps (each step advances every mode; each report also
+/// writes every field at every point): 10⁹, about ten seconds. Refused before it starts.
+pub const MAX_WORK: f64 = 1e9;
+
 /// A force on one mode: `constant + amplitude·cos(frequency·t + phase)`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Forcing {
@@ -368,6 +372,19 @@ pub fn run(
     mut sink: impl FnMut(&Sample) -> Result<(), Halt>,
 ) -> Result<(), DynamicsError> {
     check_config(config)?;
+    let modes: usize = fields.iter().map(|f| f.modes.len()).sum();
+    let values: usize = fields
+        .iter()
+        .map(|f| f.spectrum.shapes.as_ref().map_or(0, |s| s.nrows()) + f.modes.len())
+        .sum();
+    let reports = config.steps as f64 / config.every as f64;
+    let work = config.steps as f64 * modes as f64 + reports * values as f64;
+    if work > MAX_WORK {
+        return Err(DynamicsError::Invalid(format!(
+            "{} steps of {modes} modes (reporting every {}) is {work:.1e} units of work, over the budget of {MAX_WORK:.0e} (about ten seconds): use fewer steps or periods, a larger --every, or fewer points",
+            config.steps, config.every
+        )));
+    }
     if let Some(f) = fields.iter().find(|f| f.spectrum.shapes.is_none()) {
         return Err(DynamicsError::Invalid(format!(
             "field {} has no mode shapes: compute them to simulate",

@@ -253,15 +253,21 @@ pub struct CountReport {
     /// The basis counted.
     pub basis: Basis,
     /// (order, Lagrangian, Rayleigh) counts.
-    pub rows: Vec<(u32, usize, usize)>,
+    pub rows: Vec<(u32, u128, u128)>,
 }
 
 impl CountReport {
-    /// Count the candidates of `model` in `basis` at orders 1 … `max_order`.
+    /// Count the candidates of `model` in `basis` at orders 1 … `max_order`: monomials by the
+    /// generating function (no enumeration, so order 32 is instant), pure powers (few) by
+    /// listing them.
     pub fn new(model: &crate::model::Model, basis: Basis, max_order: u32) -> CountReport {
         use crate::model::Density;
         let count = |d: Density, order: u32| {
-            candidates(basis, &Bounds::for_order(model.density(d).bound, order)).len()
+            let bounds = Bounds::for_order(model.density(d).bound, order);
+            match basis {
+                Basis::Monomials => count_products(&bounds, 1),
+                Basis::Powers => candidates(basis, &bounds).len() as u128,
+            }
         };
         CountReport {
             model: model.name.clone(),

@@ -57,10 +57,12 @@ use rustfft::{Fft, FftPlanner};
 
 use crate::modal::{field_modes, Params};
 use crate::model::Model;
-use crate::report::{csv_numbers, to_json, Report};
+use crate::report::{check_finite, csv_numbers, to_json, NonFinite, Report};
 
 /// The most model points a fit takes (every mode shape is kept).
-pub const MAX_POINTS: usize = crate::dynamics::MAX_SIM_POINTS;
+/// Each frame's projection costs about N² (modes × observations), so model points stay at most
+/// 500 (a quarter of a million operations a frame).
+pub const MAX_POINTS: usize = 500;
 
 /// The longest Welch window, in frames.
 pub const MAX_WINDOW: usize = 1 << 20;
@@ -679,7 +681,7 @@ fn dimensions(settings: &FitSettings, width: usize) -> Result<(usize, usize), Fi
                     "the ring of {ring} segments cannot hold the {width} measured ones"
                 )));
             }
-            (width, ring + 1)
+            (width, ring.saturating_add(1))
         }
     };
     if n > MAX_POINTS {
@@ -1044,6 +1046,10 @@ fn descending_eigen(a: &[Vec<f64>]) -> (Vec<f64>, Vec<Vec<f64>>) {
 }
 
 impl Report for FitReport {
+    fn check(&self) -> Result<(), NonFinite> {
+        check_finite(self)
+    }
+
     fn json(&self) -> serde_json::Value {
         to_json(self)
     }

@@ -25,10 +25,16 @@ pub trait Report {
     fn csv(&self) -> Option<String> {
         None
     }
+    /// Every number the result holds is finite (checked before any format is written); a
+    /// result type that serializes implements it as [`check_finite`]`(self)`.
+    fn check(&self) -> Result<(), NonFinite> {
+        Ok(())
+    }
 }
 
 /// `report` in `format`, or why it has no such form.
 pub fn render(report: &dyn Report, format: Output) -> Result<String, String> {
+    report.check().map_err(|e| e.0)?;
     match format {
         Output::Text => Ok(report.text()),
         Output::Json => Ok(serde_json::to_string_pretty(&report.json()).unwrap_or_default() + "\n"),
@@ -65,7 +71,227 @@ pub fn csv_numbers<H: AsRef<str>>(
     )
 }
 
+/// A number as the user typed it: plain for ordinary magnitudes, exponent form (`1e300`) where
+/// plain would print hundreds of digits.
+pub fn number(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-6..1e15).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
 /// Serialize `value` to a JSON value (every result type is plain data).
 pub fn to_json(value: &impl serde::Serialize) -> serde_json::Value {
     serde_json::to_value(value).unwrap_or_default()
+}
+
+/// Why a result cannot be printed: a number in it is not finite.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct NonFinite(pub String);
+
+impl serde::ser::Error for NonFinite {
+    fn custom<T: std::fmt::Display>(msg: T) -> Self {
+        NonFinite(msg.to_string())
+    }
+}
+
+/// `Ok` when every number `value` serializes is finite; otherwise names the first field that
+/// is not (a result with NaN or ±∞ is refused, never printed).
+pub fn check_finite(value: &impl serde::Serialize) -> Result<(), NonFinite> {
+    value.serialize(&mut FiniteCheck { path: Vec::new() })
+}
+
+/// A serializer that writes nothing and fails on the first non-finite float.
+struct FiniteCheck {
+    path: Vec<String>,
+}
+
+impl FiniteCheck {
+    fn float(&self, v: f64) -> Result<(), NonFinite> {
+        if v.is_finite() {
+            Ok(())
+        } else {
+            let at = if self.path.is_empty() {
+                "the result".to_string()
+            } else {
+                self.path.join(".")
+            };
+            Err(NonFinite(format!(
+                "{at} came out {v}: the inputs are beyond what this computation can represent"
+            )))
+        }
+    }
+}
+
+macro_rules! accept {
+    ($($name:ident: $t:ty),*) => {
+        $(fn $name(self, _: $t) -> Result<(), NonFinite> { Ok(()) })*
+    };
+}
+
+impl serde::Serializer for &mut FiniteCheck {
+    type Ok = ();
+    type Error = NonFinite;
+    type SerializeSeq = Self;
+    type SerializeTuple = Self;
+    type SerializeTupleStruct = Self;
+    type SerializeTupleVariant = Self;
+    type SerializeMap = Self;
+    type SerializeStruct = Self;
+    type SerializeStructVariant = Self;
+
+    accept!(serialize_bool: bool, serialize_i8: i8, serialize_i16: i16, serialize_i32: i32,
+        serialize_i64: i64, serialize_u8: u8, serialize_u16: u16, serialize_u32: u32,
+        serialize_u64: u64, serialize_char: char, serialize_str: &str, serialize_bytes: &[u8],
+        serialize_unit_struct: &'static str);
+
+    fn serialize_f32(self, v: f32) -> Result<(), NonFinite> {
+        self.float(v as f64)
+    }
+    fn serialize_f64(self, v: f64) -> Result<(), NonFinite> {
+        self.float(v)
+    }
+    fn serialize_none(self) -> Result<(), NonFinite> {
+        Ok(())
+    }
+    fn serialize_some<T: ?Sized + serde::Serialize>(self, v: &T) -> Result<(), NonFinite> {
+        v.serialize(self)
+    }
+    fn serialize_unit(self) -> Result<(), NonFinite> {
+        Ok(())
+    }
+    fn serialize_unit_variant(
+        self,
+        _: &'static str,
+        _: u32,
+        _: &'static str,
+    ) -> Result<(), NonFinite> {
+        Ok(())
+    }
+    fn serialize_newtype_struct<T: ?Sized + serde::Serialize>(
+        self,
+        _: &'static str,
+        v: &T,
+    ) -> Result<(), NonFinite> {
+        v.serialize(self)
+    }
+    fn serialize_newtype_variant<T: ?Sized + serde::Serialize>(
+        self,
+        _: &'static str,
+        _: u32,
+        _: &'static str,
+        v: &T,
+    ) -> Result<(), NonFinite> {
+        v.serialize(self)
+    }
+    fn serialize_seq(self, _: Option<usize>) -> Result<Self, NonFinite> {
+        Ok(self)
+    }
+    fn serialize_tuple(self, _: usize) -> Result<Self, NonFinite> {
+        Ok(self)
+    }
+    fn serialize_tuple_struct(self, _: &'static str, _: usize) -> Result<Self, NonFinite> {
+        Ok(self)
+    }
+    fn serialize_tuple_variant(
+        self,
+        _: &'static str,
+        _: u32,
+        _: &'static str,
+        _: usize,
+    ) -> Result<Self, NonFinite> {
+        Ok(self)
+    }
+    fn serialize_map(self, _: Option<usize>) -> Result<Self, NonFinite> {
+        Ok(self)
+    }
+    fn serialize_struct(self, _: &'static str, _: usize) -> Result<Self, NonFinite> {
+        Ok(self)
+    }
+    fn serialize_struct_variant(
+        self,
+        _: &'static str,
+        _: u32,
+        _: &'static str,
+        _: usize,
+    ) -> Result<Self, NonFinite> {
+        Ok(self)
+    }
+}
+
+impl FiniteCheck {
+    fn field<T: ?Sized + serde::Serialize>(&mut self, key: &str, v: &T) -> Result<(), NonFinite> {
+        self.path.push(key.to_string());
+        v.serialize(&mut *self)?;
+        self.path.pop();
+        Ok(())
+    }
+}
+
+macro_rules! elements {
+    ($($tr:ident :: $m:ident),*) => {
+        $(impl serde::ser::$tr for &mut FiniteCheck {
+            type Ok = ();
+            type Error = NonFinite;
+            fn $m<T: ?Sized + serde::Serialize>(&mut self, v: &T) -> Result<(), NonFinite> {
+                v.serialize(&mut **self)
+            }
+            fn end(self) -> Result<(), NonFinite> {
+                Ok(())
+            }
+        })*
+    };
+}
+
+elements!(
+    SerializeSeq::serialize_element,
+    SerializeTuple::serialize_element,
+    SerializeTupleStruct::serialize_field,
+    SerializeTupleVariant::serialize_field
+);
+
+impl serde::ser::SerializeMap for &mut FiniteCheck {
+    type Ok = ();
+    type Error = NonFinite;
+    fn serialize_key<T: ?Sized + serde::Serialize>(&mut self, _: &T) -> Result<(), NonFinite> {
+        Ok(())
+    }
+    fn serialize_value<T: ?Sized + serde::Serialize>(&mut self, v: &T) -> Result<(), NonFinite> {
+        v.serialize(&mut **self)
+    }
+    fn end(self) -> Result<(), NonFinite> {
+        Ok(())
+    }
+}
+
+impl serde::ser::SerializeStruct for &mut FiniteCheck {
+    type Ok = ();
+    type Error = NonFinite;
+    fn serialize_field<T: ?Sized + serde::Serialize>(
+        &mut self,
+        key: &'static str,
+        v: &T,
+    ) -> Result<(), NonFinite> {
+        self.field(key, v)
+    }
+    fn end(self) -> Result<(), NonFinite> {
+        Ok(())
+    }
+}
+
+impl serde::ser::SerializeStructVariant for &mut FiniteCheck {
+    type Ok = ();
+    type Error = NonFinite;
+    fn serialize_field<T: ?Sized + serde::Serialize>(
+        &mut self,
+        key: &'static str,
+        v: &T,
+    ) -> Result<(), NonFinite> {
+        self.field(key, v)
+    }
+    fn end(self) -> Result<(), NonFinite> {
+        Ok(())
+    }
 }

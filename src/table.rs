@@ -681,6 +681,18 @@ pub struct ModesReport<'a> {
 }
 
 impl crate::report::Report for ModesReport<'_> {
+    fn check(&self) -> Result<(), crate::report::NonFinite> {
+        for f in self.modes {
+            let numbers: Vec<[f64; 4]> = f
+                .modes
+                .iter()
+                .map(|m| [m.eigenvalue, m.frequency, m.damping_ratio, m.variance_share])
+                .collect();
+            crate::report::check_finite(&(&f.field.id, numbers, f.spectrum.inverse_trace))?;
+        }
+        Ok(())
+    }
+
     fn text(&self) -> String {
         modes_text(self.model, self.points, self.modes)
     }

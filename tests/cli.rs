@@ -579,9 +579,9 @@ fn behaviour_commands_write_csv() {
         ),
         (pair.to_string(), "partition_function,", 1),
         (
-            format!("{pair} --samples 50"),
+            format!("{pair} --samples 200"),
             "amplitude,phase,momentum_a",
-            50,
+            200,
         ),
         (
             "stats equipartition --steps 2000".into(),
@@ -685,7 +685,7 @@ fn fit_command() {
     assert_clean_error(&["fit", "/nonexistent/m.csv"], "cannot open");
     assert_clean_error(&["fit", example, "--window", "4"], "window");
     assert_clean_error(&["fit", example, "--window", "1000000000"], "at most");
-    assert_clean_error(&["fit", example, "--points", "100000"], "at most 2000");
+    assert_clean_error(&["fit", example, "--points", "100000"], "at most 500");
     assert_clean_error(
         &["fit", example, "--points", "2"],
         "at least 3 model points",

@@ -5,7 +5,7 @@
 //! confirm both roots by integrating the nonlinear pair (RK4) and measuring the phase advance.
 
 use super::{finite, positive, rk4_step, BehaviourError, PhaseUnwrap};
-use crate::report::{csv_numbers, to_json, Report};
+use crate::report::{check_finite, csv_numbers, number, to_json, NonFinite, Report};
 
 /// Forward and backward frequencies of the self-interacting axial pair.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -42,7 +42,14 @@ pub fn simulate_pair(c: f64, a: f64, omega: f64, ws: f64, periods: f64) -> f64 {
         ]
     };
     let t_end = periods * 2.0 * std::f64::consts::PI / ws.abs();
-    let steps = (periods * 2000.0).ceil() as usize;
+    // 2000 steps per period of the fastest motion: the wave, the free oscillator, or the
+    // coupling rate cA²ω_s. Beyond 2·10⁷ steps the pair is too stiff to check: NaN.
+    let fast = (omega.max((c * a * a * ws).abs()) / ws.abs()).max(1.0);
+    let steps = (periods * 2000.0 * fast).ceil();
+    if steps.is_nan() || steps > 2e7 {
+        return f64::NAN;
+    }
+    let steps = steps as usize;
     let h = t_end / steps as f64;
     let mut x = [a, 0.0, 0.0, a * ws];
     // The polar angle of (X₁, X₂), unwrapped.
@@ -79,6 +86,18 @@ pub fn asymmetry(c: f64, a: f64, omega: f64) -> Result<Asymmetry, BehaviourError
     let a = positive("the amplitude", a)?;
     let omega = positive("the frequency", omega)?;
     let (forward, backward) = asymmetry_roots(c, a, omega);
+    let (simulated_forward, simulated_backward) = (
+        simulate_pair(c, a, omega, forward, 20.0),
+        simulate_pair(c, a, omega, backward, 20.0),
+    );
+    if !(simulated_forward.is_finite() && simulated_backward.is_finite()) {
+        return Err(BehaviourError::new(format!(
+            "cA² = {} against ω = {}: the roots differ by {:.1e}×, too stiff to confirm by integrating the pair",
+            number(c * a * a),
+            number(omega),
+            (backward / forward).abs()
+        )));
+    }
     Ok(Asymmetry {
         coupling: c,
         amplitude: a,
@@ -86,18 +105,22 @@ pub fn asymmetry(c: f64, a: f64, omega: f64) -> Result<Asymmetry, BehaviourError
         forward,
         backward,
         ratio: (backward / forward).abs(),
-        simulated_forward: simulate_pair(c, a, omega, forward, 20.0),
-        simulated_backward: simulate_pair(c, a, omega, backward, 20.0),
+        simulated_forward,
+        simulated_backward,
     })
 }
 
 impl Report for Asymmetry {
+    fn check(&self) -> Result<(), NonFinite> {
+        check_finite(self)
+    }
+
     fn text(&self) -> String {
         format!(
             "ω_s² + cA²ω_s − ω² = 0 with c = {}, A = {}, ω = {}\n  forward  ω₊ = {:.12}  (simulated {:.12})\n  backward ω₋ = {:.12}  (simulated {:.12})\n  |ω₋/ω₊| = {:.12}\n",
-            self.coupling,
-            self.amplitude,
-            self.omega,
+            number(self.coupling),
+            number(self.amplitude),
+            number(self.omega),
             self.forward,
             self.simulated_forward,
             self.backward,

@@ -2,7 +2,7 @@
 //! modes of one field.
 
 use super::{positive, principal_components, role_fields, BehaviourError};
-use crate::report::{csv_numbers, to_json, Report};
+use crate::report::{check_finite, csv_numbers, number, to_json, NonFinite, Report};
 use crate::theory::Theory;
 
 /// Principal components of simulated postures of one field beside its modes.
@@ -69,6 +69,11 @@ pub fn equipartition_from_dynamics(
         forcing: Vec::new(),
     };
     // Accumulate the covariance of the postures after a burn-in of a tenth of the run.
+    if steps < 100 {
+        return Err(BehaviourError::new(format!(
+            "--steps {steps}: at least 100 are needed (a tenth is burn-in, the rest make the covariance)"
+        )));
+    }
     let burn = steps / 10;
     let (mut sum, mut outer, mut frames) = (vec![0.0; n], vec![vec![0.0; n]; n], 0usize);
     run(std::slice::from_ref(f), &config, |s| {
@@ -127,10 +132,14 @@ pub fn equipartition_from_dynamics(
 }
 
 impl Report for EquipartitionCheck {
+    fn check(&self) -> Result<(), NonFinite> {
+        check_finite(self)
+    }
+
     fn text(&self) -> String {
         let mut t = format!(
             "PCA of {} simulated postures of {} (N = {}, kT = {}) beside its non-zero modes\n   k   PCA share   equipartition   |cos(PC, mode)|\n",
-            self.frames, self.field, self.points, self.temperature
+            self.frames, self.field, self.points, number(self.temperature)
         );
         for k in 0..self.overlap.len() {
             t += &format!(

@@ -2,7 +2,7 @@
 //! 3-point bend distribution and β refitted from the sampled variances.
 
 use super::{positive, role_fields, BehaviourError};
-use crate::report::{csv_numbers, to_json, Report};
+use crate::report::{check_finite, csv_numbers, number, to_json, NonFinite, Report};
 use crate::theory::Theory;
 
 /// Unbiased exploration (seed §3.3.4): planar postures with Gaussian modal coordinates.
@@ -149,10 +149,15 @@ pub fn explore(
 }
 
 impl Report for Exploration {
+    fn check(&self) -> Result<(), NonFinite> {
+        check_finite(self)?;
+        check_finite(&self.bend)
+    }
+
     fn text(&self) -> String {
         let mut t = format!(
             "Unbiased exploration, β = {}, N = {}, {} postures\n  3-point bend: sd {:.6} rad (small-amplitude prediction {:.6})\n  β refitted from the modal variances: {:.6}\n  histogram of the bend angle:\n",
-            self.beta,
+            number(self.beta),
             self.points,
             self.bend.len(),
             self.bend_sd,

@@ -4,7 +4,7 @@
 //! ω = 2λ, between ω/λ = 2√(1 − ε) and 2√(1 + ε) for small ε.
 
 use super::{finite, positive, rk4_step, BehaviourError};
-use crate::report::{csv_table, to_json, Report};
+use crate::report::{check_finite, csv_table, to_json, NonFinite, Report};
 
 /// The monodromy matrix of `Φ̈ + λ²[1 − 2ε cos ωt]Φ = 0` over one period 2π/ω.
 pub fn mathieu_monodromy(lambda: f64, epsilon: f64, omega: f64) -> [[f64; 2]; 2] {
@@ -82,6 +82,10 @@ pub struct StabilityChart {
 }
 
 impl Report for StabilityChart {
+    fn check(&self) -> Result<(), NonFinite> {
+        check_finite(&self.points)
+    }
+
     fn text(&self) -> String {
         let mut t = format!(
             "Mathieu stability chart, λ = {}: '#' unstable (|tr M| > 2), '.' stable; ε up, ω/λ across\n",
@@ -142,6 +146,9 @@ pub fn chart(
     })
 }
 
+/// The most RK4 steps a stability chart may take (about ten seconds).
+pub const MAX_CHART_STEPS: f64 = 5e8;
+
 /// The stability chart over ω/λ ∈ [lo, hi] (`n` points) and ε ∈ [0, ε_max] (`m` points).
 pub fn stability_chart(
     lambda: f64,
@@ -164,6 +171,30 @@ pub fn stability_chart(
         return Err(BehaviourError::new(
             "the grid needs 2 to 2000 points each way",
         ));
+    }
+    // Scale-free in λ (the chart depends on ω/λ and ε), but λ² must not overflow.
+    if !(1e-100..=1e100).contains(&positive("λ", lambda)?) {
+        return Err(BehaviourError::new(format!(
+            "λ = {lambda:e} is outside 1e-100…1e100 (the chart depends only on ω/λ and ε)"
+        )));
+    }
+    if emax.abs() > 1e6 {
+        return Err(BehaviourError::new(format!(
+            "ε_max = {emax:e} is beyond 10⁶: the solutions overflow within one period"
+        )));
+    }
+    // One monodromy costs 2·400·⌈2λ/ω⌉ RK4 steps: budget the whole chart up front.
+    let steps: f64 = (0..n)
+        .map(|i| {
+            let r = lo + (hi - lo) * i as f64 / (n - 1) as f64;
+            800.0 * (2.0 / r).ceil().max(1.0)
+        })
+        .sum::<f64>()
+        * m as f64;
+    if steps > MAX_CHART_STEPS {
+        return Err(BehaviourError::new(format!(
+            "the chart needs {steps:.1e} RK4 steps (ω/λ down to {lo:e}), over the budget of {MAX_CHART_STEPS:.0e}: raise --ratio-min or use fewer --columns/--rows"
+        )));
     }
     let mut out = Vec::with_capacity(n * m);
     for j in 0..m {

@@ -46,14 +46,20 @@ impl PhaseUnwrap {
 /// and the unit components as rows in the same order.
 pub fn principal_components(cov: &[Vec<f64>]) -> Result<(Vec<f64>, Vec<Vec<f64>>), String> {
     let n = cov.len();
-    let m = faer::Mat::<f64>::from_fn(n, n, |i, j| 0.5 * (cov[i][j] + cov[j][i]));
+    // Scaled to unit size: a covariance of subnormal or huge numbers has the same components.
+    let scale = cov.iter().flatten().fold(0.0f64, |a, v| a.max(v.abs()));
+    if !scale.is_finite() {
+        return Err("the covariance is not finite".into());
+    }
+    let scale = if scale > 0.0 { scale } else { 1.0 };
+    let m = faer::Mat::<f64>::from_fn(n, n, |i, j| 0.5 * (cov[i][j] + cov[j][i]) / scale);
     let evd = m
         .self_adjoint_eigen(faer::Side::Lower)
         .map_err(|e| format!("eigensolver failed: {e:?}"))?;
     let (s, u) = (evd.S().column_vector(), evd.U());
     // faer sorts ascending.
     Ok((
-        (0..n).rev().map(|k| s[k]).collect(),
+        (0..n).rev().map(|k| s[k] * scale).collect(),
         (0..n)
             .rev()
             .map(|k| (0..n).map(|i| u[(i, k)]).collect())

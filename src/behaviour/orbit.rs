@@ -2,7 +2,7 @@
 //! fixed momentum M, run undamped with the exact propagators.
 
 use super::{finite, positive, role_fields, BehaviourError, PhaseUnwrap};
-use crate::report::{csv_numbers, to_json, Report};
+use crate::report::{check_finite, csv_numbers, number, to_json, NonFinite, Report};
 use crate::theory::Theory;
 
 /// Which degenerate pair to set in motion.
@@ -204,6 +204,10 @@ pub fn pair_orbit(
 }
 
 impl Report for PairOrbit {
+    fn check(&self) -> Result<(), NonFinite> {
+        check_finite(self)
+    }
+
     fn text(&self) -> String {
         let what = match self.kind {
             PairKind::Peristalsis => format!(
@@ -220,11 +224,11 @@ impl Report for PairOrbit {
             self.kind,
             self.points,
             self.omega,
-            self.momentum,
+            number(self.momentum),
             self.amplitude,
             self.angular_velocity,
             self.momentum_drift,
-            self.periods
+            number(self.periods)
         )
     }
 

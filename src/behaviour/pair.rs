@@ -2,7 +2,7 @@
 //! partition function, free energy, amplitudes, and a Metropolis sampler to check them.
 
 use super::{finite, positive, BehaviourError};
-use crate::report::{csv_numbers, to_json, Report};
+use crate::report::{check_finite, csv_numbers, number, to_json, NonFinite, Report};
 
 /// Statistics of a degenerate pair at inverse temperature β with conserved momentum M
 /// (seed §3.3.3–3.3.4, App. J). Phase-space density ∝ exp(−β[p_A² + M²/A² + ω²A²]/2) on
@@ -52,16 +52,25 @@ impl Panel {
         let left = Panel::new(f, self.a, m, self.fa, self.fm);
         let right = Panel::new(f, m, self.b, self.fm, self.fb);
         let sum = left.whole + right.whole;
-        if depth == 0 || (sum - self.whole).abs() <= 15.0 * tol {
+        if depth == 0 || !sum.is_finite() || (sum - self.whole).abs() <= 15.0 * tol {
             return sum + (sum - self.whole) / 15.0;
         }
         left.refine(f, tol / 2.0, depth - 1) + right.refine(f, tol / 2.0, depth - 1)
     }
 }
 
-/// Adaptive Simpson quadrature of `f` on [a, b] to absolute tolerance `tol`.
+/// Adaptive Simpson quadrature of `f` on [a, b] to absolute tolerance `tol`: 16 panels refined
+/// at most 24 times each, so a tolerance below the integrand's own rounding noise costs at most
+/// 16·2²⁴ evaluations, never a hang.
 pub fn integrate(f: &dyn Fn(f64) -> f64, a: f64, b: f64, tol: f64) -> f64 {
-    Panel::new(f, a, b, f(a), f(b)).refine(f, tol, 50)
+    let panels = 16;
+    let h = (b - a) / panels as f64;
+    (0..panels)
+        .map(|i| {
+            let (x0, x1) = (a + i as f64 * h, a + (i + 1) as f64 * h);
+            Panel::new(f, x0, x1, f(x0), f(x1)).refine(f, tol / panels as f64, 24)
+        })
+        .sum()
 }
 
 /// e^z·K₁(z) for z > 0, from K₁(z) = ∫₀^∞ e^{−z cosh t} cosh t dt.
@@ -77,13 +86,37 @@ pub fn scaled_bessel_k1(z: f64) -> f64 {
 }
 
 /// The unnormalised amplitude density of a pair, exp(−β(M²/A² + ω²A²)/2 + β|M|ω) for A > 0
-/// (0 otherwise): scaled by e^{β|M|ω} so that its peak, at A* = √(|M|/ω), is 1.
+/// (its limit at A = 0, 0 below): scaled by e^{β|M|ω} so that its peak, at A* = √(|M|/ω), is 1. Written as
+/// exp(−β(|M|/A − ωA)²/2), which it equals, so no large exponents cancel.
 pub fn pair_amplitude_weight(omega: f64, beta: f64, momentum: f64, a: f64) -> f64 {
     let m = momentum.abs();
-    if a <= 0.0 {
+    if a < 0.0 || (a == 0.0 && m > 0.0) {
         0.0
+    } else if a == 0.0 {
+        // The limit A → 0 at M = 0: the density is continuous there.
+        1.0
     } else {
-        (-0.5 * beta * (m * m / (a * a) + omega * omega * a * a) + beta * m * omega).exp()
+        let d = m / a - omega * a;
+        (-0.5 * beta * d * d).exp()
+    }
+}
+
+/// The scales a pair's statistics need stay representable: the amplitude width 1/(ω√β), the
+/// orbit A* = √(|M|/ω) and 2π²/(βω).
+fn check_scales(omega: f64, beta: f64, m: f64) -> Result<(), BehaviourError> {
+    let width = 1.0 / (omega * beta.sqrt());
+    let orbit = (m / omega).sqrt();
+    let z0 = 1.0 / (beta * omega);
+    if [width, orbit, z0]
+        .iter()
+        .all(|v| v.is_finite() && *v < 1e150)
+        && width > 1e-150
+    {
+        Ok(())
+    } else {
+        Err(BehaviourError::new(format!(
+            "ω = {omega:?}, β = {beta:?}, M = {m:?} put the amplitude scales 1/(ω√β) = {width:.3e} and √(|M|/ω) = {orbit:.3e} outside 1e-150…1e150"
+        )))
     }
 }
 
@@ -96,17 +129,23 @@ pub fn pair_statistics(
     let omega = positive("ω", omega)?;
     let beta = positive("β", beta)?;
     let m = finite("M", momentum)?.abs();
+    check_scales(omega, beta, m)?;
     let z = beta * m * omega;
     let pi = std::f64::consts::PI;
     let partition_function = 2.0 * pi * pi / (beta * omega) * (-z).exp();
     // Z = 2π·√(2π/β)·∫₀^∞ exp(−β(M²/A² + ω²A²)/2) dA, the last integral by quadrature. The
     // integrand peaks at A* and is negligible beyond A* + 12/(ω√β).
     let weight = |a: f64| pair_amplitude_weight(omega, beta, m, a);
-    let upper = (m / omega).sqrt() + 12.0 / (omega * beta.sqrt());
+    // |M/A − ωA| ≥ ω|A − A*| on both sides, so the window A* ± 12/(ω√β) holds all but e^{−72}.
+    let half = 12.0 / (omega * beta.sqrt());
+    let (lower, upper) = (
+        ((m / omega).sqrt() - half).max(0.0),
+        (m / omega).sqrt() + half,
+    );
     // A tolerance relative to the integral's size, √(π/2β)/ω: an absolute one would drive the
     // adaptive rule to its depth limit when ω is small.
     let scale = (pi / (2.0 * beta)).sqrt() / omega;
-    let amplitude_integral = integrate(&weight, 0.0, upper, 1e-14 * scale) * (-z).exp();
+    let amplitude_integral = integrate(&weight, lower, upper, 1e-14 * scale) * (-z).exp();
     let partition_function_quadrature = 2.0 * pi * (2.0 * pi / beta).sqrt() * amplitude_integral;
     let mean_amplitude = if m == 0.0 {
         2f64.sqrt() / (omega * (pi * beta).sqrt())
@@ -116,7 +155,8 @@ pub fn pair_statistics(
     Ok(PairStatistics {
         partition_function,
         partition_function_quadrature,
-        free_energy: -partition_function.ln() / beta,
+        // −ln Z/β in closed form: Z itself underflows beyond β|M|ω ≈ 745.
+        free_energy: ((beta * omega / (2.0 * pi * pi)).ln() + z) / beta,
         free_energy_slope: if momentum == 0.0 {
             0.0
         } else {
@@ -160,8 +200,11 @@ pub fn sample_pair(
     let omega = positive("ω", omega)?;
     let beta = positive("β", beta)?;
     let m = finite("M", momentum)?.abs();
-    if samples == 0 || samples > 100_000_000 {
-        return Err(BehaviourError::new("samples must be between 1 and 10⁸"));
+    // Fewer than 100 draws give no meaningful mean or autocorrelation.
+    if !(100..=100_000_000).contains(&samples) {
+        return Err(BehaviourError::new(format!(
+            "--samples must be between 100 and 10⁸, not {samples}"
+        )));
     }
     let energy = |a: f64, p: f64| 0.5 * (p * p + m * m / (a * a) + omega * omega * a * a);
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
@@ -270,12 +313,21 @@ impl PairReport {
 }
 
 impl Report for PairReport {
+    fn check(&self) -> Result<(), NonFinite> {
+        check_finite(&self.stats)?;
+        if let Some(m) = &self.samples {
+            check_finite(m)?;
+            check_finite(&(&m.amplitude, &m.phase, &m.momentum))?;
+        }
+        Ok(())
+    }
+
     fn text(&self) -> String {
         let s = &self.stats;
         let mut t = format!(
-            "Degenerate pair, ω = {}, β = {}, M = {}\n  Z = 2π²/(βω)·e^(−β|M|ω) = {:.12} (quadrature {:.12})\n  F = −ln Z/β = {:.12}, ∂F/∂M = {} (kink at M = 0: ∓ω)\n  A* = √(|M|/ω) = {:.12}, ⟨A⟩ = {:.12}\n",
-            self.omega, self.beta, self.momentum,
-            s.partition_function, s.partition_function_quadrature, s.free_energy,
+            "Degenerate pair, ω = {}, β = {}, M = {}\n  Z = 2π²/(βω)·e^(−β|M|ω) = {} (quadrature {})\n  F = −ln Z/β = {:.12}, ∂F/∂M = {} (kink at M = 0: ∓ω)\n  A* = √(|M|/ω) = {:.12}, ⟨A⟩ = {:.12}\n",
+            number(self.omega), number(self.beta), number(self.momentum),
+            fixed_or_exponent(s.partition_function), fixed_or_exponent(s.partition_function_quadrature), s.free_energy,
             s.free_energy_slope, s.amplitude_at_minimum, s.mean_amplitude
         );
         if let Some(m) = &self.samples {
@@ -317,5 +369,15 @@ impl Report for PairReport {
                 ]],
             ),
         })
+    }
+}
+
+/// Twelve decimals, or 12 significant digits in exponent form where twelve decimals would
+/// print a tiny or huge Z as 0.000000000000 or a wall of digits.
+fn fixed_or_exponent(v: f64) -> String {
+    if v != 0.0 && !(1e-4..1e8).contains(&v.abs()) {
+        format!("{v:.11e}")
+    } else {
+        format!("{v:.12}")
     }
 }

@@ -26,7 +26,7 @@
 
 use super::{finite, positive, role_fields, BehaviourError};
 use crate::dynamics::{run, Config, Forcing, Halt, Initial};
-use crate::report::{csv_numbers, to_json, Report};
+use crate::report::{check_finite, csv_numbers, to_json, NonFinite, Report};
 use crate::theory::Theory;
 
 /// Settings of a self-righting run.
@@ -177,6 +177,9 @@ pub fn self_righting(
         )));
     }
     let stride = ((expected / dt) as u64 / settings.frames_per_stage.max(1) as u64).max(1);
+    // Each stage is given ten times its expected span (within the period limit), so the work
+    // budget sees the steps a run will take, not the limit.
+    let max_steps = max_steps.min((10.0 * expected / dt).ceil() as u64 + 1000);
     let plan = Plan {
         order: theory.order,
         n,
@@ -512,6 +515,11 @@ pub struct RightingReport {
 }
 
 impl Report for RightingReport {
+    fn check(&self) -> Result<(), NonFinite> {
+        check_finite(&self.righting)?;
+        check_finite(&self.sweep)
+    }
+
     fn text(&self) -> String {
         let r = &self.righting;
         let regime = if (r.damping_ratio - 1.0).abs() <= 1e-9 {

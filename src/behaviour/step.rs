@@ -2,7 +2,7 @@
 //! of one field, from rest, beside the analytic step response.
 
 use super::{finite, positive, BehaviourError};
-use crate::report::{csv_numbers, to_json, Report};
+use crate::report::{check_finite, csv_numbers, number, to_json, NonFinite, Report};
 use crate::theory::Theory;
 
 /// A constant generalised force on one mode (rearing: first dorsoventral bending mode; hunching:
@@ -117,12 +117,16 @@ pub fn step_response(
 }
 
 impl Report for StepResponse {
+    fn check(&self) -> Result<(), NonFinite> {
+        check_finite(self)
+    }
+
     fn text(&self) -> String {
         let shape: Vec<String> = self.shape.iter().map(|v| format!("{v:.5}")).collect();
         let mut t = format!(
             "{}: force {} on mode {} of {}; equilibrium Q* = F/ω² = {:.9}\n  shifted shape: {}\n  transient agrees with the analytic step response to {:.1e}\n  t, Q(t):\n",
             self.behaviour,
-            self.force,
+            number(self.force),
             self.mode,
             self.field,
             self.equilibrium,

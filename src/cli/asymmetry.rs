@@ -9,10 +9,10 @@ use crate::report::Output;
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Coupling constant c of the cubic dissipative interaction.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     coupling: f64,
     /// Wave amplitude A.
-    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     amplitude: f64,
     #[command(flatten)]
     pair: PairArgs,

@@ -16,13 +16,13 @@ pub struct Args {
     #[arg(value_enum)]
     kind: BehaveKind,
     /// The constant modal force (rearing, hunching).
-    #[arg(long, default_value_t = 0.02, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.02, allow_hyphen_values = true)]
     force: f64,
     /// How long to follow the transient (rearing, hunching).
     #[arg(long, default_value_t = 2000.0)]
     duration: f64,
     /// Conserved momentum M (its sign sets the direction).
-    #[arg(long, default_value_t = 0.1, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.1, allow_hyphen_values = true)]
     momentum: f64,
     /// Periods to run.
     #[arg(long, default_value_t = 100.0)]
@@ -35,7 +35,7 @@ pub struct Args {
     #[arg(long, value_name = "ZETA")]
     mode_damping: Option<f64>,
     /// Initial orientation of the body in radians (self-righting; π is upside down).
-    #[arg(long, default_value_t = std::f64::consts::PI, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = std::f64::consts::PI, allow_hyphen_values = true)]
     theta0: f64,
     /// Relaxation after attachment (self-righting): the seed's two-degree-of-freedom model,
     /// or the whole chain with the head held.

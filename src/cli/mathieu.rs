@@ -9,16 +9,16 @@ use crate::report::Output;
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Natural frequency λ of the transverse mode.
-    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     lambda: f64,
     /// Lowest ω/λ of the chart.
-    #[arg(long, default_value_t = 0.5, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.5, allow_hyphen_values = true)]
     ratio_min: f64,
     /// Highest ω/λ of the chart.
-    #[arg(long, default_value_t = 4.5, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 4.5, allow_hyphen_values = true)]
     ratio_max: f64,
     /// Largest ε of the chart.
-    #[arg(long, default_value_t = 0.5, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.5, allow_hyphen_values = true)]
     epsilon_max: f64,
     /// Grid points along ω/λ.
     #[arg(long, default_value_t = 81)]

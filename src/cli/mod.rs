@@ -215,7 +215,7 @@ struct SampleArgs {
 struct PairArgs {
     /// The pair's frequency ω. Default: with --model or --points, the frequency of that body's
     /// first axial pair; otherwise 1 (the unit of frequency).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     omega: Option<f64>,
     #[command(flatten)]
     model: ModelArgs,

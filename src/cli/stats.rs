@@ -19,7 +19,7 @@ enum StatsCommand {
     /// distribution, β refitted.
     Explore {
         /// Inverse temperature β (in units where ω_b = 1 and the body length is 1).
-        #[arg(long, default_value_t = 10_000.0, allow_negative_numbers = true)]
+        #[arg(long, default_value_t = 10_000.0, allow_hyphen_values = true)]
         beta: f64,
         #[command(flatten)]
         sample: SampleArgs,
@@ -38,7 +38,7 @@ enum StatsCommand {
         #[arg(long, default_value_t = 200_000)]
         steps: u64,
         /// Thermal energy kT.
-        #[arg(long, default_value_t = 0.5, allow_negative_numbers = true)]
+        #[arg(long, default_value_t = 0.5, allow_hyphen_values = true)]
         temperature: f64,
         /// Seed of the noise.
         #[arg(long, default_value_t = 1)]
@@ -52,10 +52,10 @@ enum StatsCommand {
     /// A degenerate pair at fixed momentum M: Z, F, A*, ⟨A⟩; with --samples also a Metropolis run.
     Pair {
         /// Inverse temperature β.
-        #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+        #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
         beta: f64,
         /// Conserved momentum M.
-        #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+        #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
         momentum: f64,
         /// Draw this many Metropolis samples.
         #[arg(long)]
