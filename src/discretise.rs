@@ -302,6 +302,17 @@ pub fn operators(
         .collect()
 }
 
+/// The JSON document of `operators`, serialized straight from the operators.
+#[derive(Debug, Serialize)]
+pub struct OperatorsJson<'a> {
+    /// Points along the body.
+    pub points: usize,
+    /// The order.
+    pub order: u32,
+    /// The operators.
+    pub operators: &'a [Operator],
+}
+
 /// `operators`: every operator of a model at an order on N points.
 pub struct OperatorReport<'a> {
     /// The model (for symbols).
@@ -353,7 +364,11 @@ impl crate::report::Report for OperatorReport<'_> {
     }
 
     fn json(&self) -> serde_json::Value {
-        serde_json::json!({"points": self.points, "order": self.order, "operators": self.operators})
+        crate::report::to_json(&OperatorsJson {
+            points: self.points,
+            order: self.order,
+            operators: &self.operators,
+        })
     }
 }
 

@@ -222,9 +222,14 @@ pub struct FitReport {
     pub shapes: Vec<Vec<f64>>,
 }
 
+/// The longest line a recording may have: a frame of thousands of points fits many times over;
+/// `/dev/zero` or a binary file does not.
+pub const MAX_LINE_BYTES: usize = 1 << 20;
+
 /// Streams frames out of text.
 struct FrameReader<R> {
-    lines: std::io::Lines<R>,
+    reader: R,
+    buf: Vec<u8>,
     line: usize,
     width: Option<usize>,
     seen_data: bool,
@@ -235,7 +240,8 @@ struct FrameReader<R> {
 impl<R: BufRead> FrameReader<R> {
     fn new(reader: R) -> Self {
         FrameReader {
-            lines: reader.lines(),
+            reader,
+            buf: Vec::new(),
             line: 0,
             width: None,
             seen_data: false,
@@ -244,14 +250,38 @@ impl<R: BufRead> FrameReader<R> {
         }
     }
 
+    /// The next line, read at most [`MAX_LINE_BYTES`] at a time.
+    fn next_line(&mut self) -> Result<Option<String>, FitError> {
+        use std::io::Read;
+        self.buf.clear();
+        let read = (&mut self.reader)
+            .take(MAX_LINE_BYTES as u64 + 1)
+            .read_until(b'\n', &mut self.buf)
+            .map_err(|e| FitError::Io(e.to_string()))?;
+        if read == 0 {
+            return Ok(None);
+        }
+        self.line += 1;
+        if self.buf.len() > MAX_LINE_BYTES {
+            return Err(FitError::Line {
+                line: self.line,
+                why: format!("longer than {MAX_LINE_BYTES} bytes: not a recording of midlines"),
+            });
+        }
+        String::from_utf8(std::mem::take(&mut self.buf))
+            .map(Some)
+            .map_err(|_| FitError::Line {
+                line: self.line,
+                why: "is not UTF-8 text".into(),
+            })
+    }
+
     /// The next frame: (t, values after t).
     fn next_frame(&mut self) -> Result<Option<(f64, Vec<f64>)>, FitError> {
         loop {
-            let Some(text) = self.lines.next() else {
+            let Some(text) = self.next_line()? else {
                 return Ok(None);
             };
-            self.line += 1;
-            let text = text.map_err(|e| FitError::Io(e.to_string()))?;
             let text = text.trim();
             if text.is_empty() || text.starts_with('#') {
                 continue;

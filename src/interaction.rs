@@ -146,6 +146,33 @@ fn subsets(n: usize) -> Vec<Vec<usize>> {
     all
 }
 
+/// The most candidate products the interaction tables of one density may decide (over every
+/// set of fields), counted by the generating function before any is built: about ten seconds.
+pub const MAX_INTERACTION_CANDIDATES: u128 = 3_000_000;
+
+/// Refuse, before any work, interaction tables over [`MAX_INTERACTION_CANDIDATES`].
+pub fn check_interaction_work(
+    model: &Model,
+    density: Density,
+    order: u32,
+) -> Result<(), OrderError> {
+    let bounds = crate::enumerate::Bounds::for_order(model.density(density).bound, order);
+    let count: u128 = subsets(model.fields.len())
+        .iter()
+        .filter(|s| s.len() as u32 <= bounds.epsilon)
+        .map(|s| crate::enumerate::count_products(&bounds, s.len() as u32))
+        .fold(0u128, |a, b| a.saturating_add(b));
+    if count > MAX_INTERACTION_CANDIDATES {
+        return Err(OrderError::TooManyInteractions {
+            density: density.key().into(),
+            order,
+            count,
+            limit: MAX_INTERACTION_CANDIDATES,
+        });
+    }
+    Ok(())
+}
+
 /// Analyse the interactions of every set of two or more fields of `model` in `density` at
 /// `order`.
 pub fn interactions(
@@ -153,6 +180,7 @@ pub fn interactions(
     density: Density,
     order: u32,
 ) -> Result<Interactions, OrderError> {
+    check_interaction_work(model, density, order)?;
     let free = analyse(model, density, order)?;
     let bounds = free.bounds;
     let mut couplings = Vec::new();

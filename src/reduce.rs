@@ -35,6 +35,18 @@ pub enum OrderError {
         /// The limit.
         limit: u128,
     },
+    /// The interaction tables would decide too many products in all.
+    #[error("the {density} interaction tables at order {order} decide {count} candidate products over every set of fields, more than the {limit} budget (about ten seconds): use a lower order or one --density")]
+    TooManyInteractions {
+        /// Which density.
+        density: String,
+        /// The order asked for.
+        order: u32,
+        /// How many products in all.
+        count: u128,
+        /// The budget.
+        limit: u128,
+    },
 }
 
 /// One candidate term with its verdicts.

@@ -18,6 +18,11 @@ pub struct Args {
 /// Decide and print the interaction tables.
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     let model = args.model.load()?;
+    // Every density's budget before any density's work.
+    for &d in args.density.densities() {
+        crate::interaction::check_interaction_work(&model, d, args.model.order)
+            .map_err(CliError::usage)?;
+    }
     let mut text = String::new();
     for &d in args.density.densities() {
         let i = crate::interaction::interactions(&model, d, args.model.order)

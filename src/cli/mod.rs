@@ -252,12 +252,35 @@ impl PairArgs {
     }
 }
 
+/// The largest model or parameter file read (a model of eight fields is a few kilobytes).
+pub const MAX_TEXT_FILE: u64 = 1 << 20;
+
+/// The text of a small input file, refusing anything larger than [`MAX_TEXT_FILE`] (such as
+/// `/dev/zero`) before reading it whole.
+fn read_text(path: &std::path::Path) -> Result<String, CliError> {
+    use std::io::Read;
+    let cannot =
+        |e: std::io::Error| CliError::Input(format!("cannot read {}: {e}", path.display()));
+    let mut text = String::new();
+    std::fs::File::open(path)
+        .map_err(cannot)?
+        .take(MAX_TEXT_FILE + 1)
+        .read_to_string(&mut text)
+        .map_err(cannot)?;
+    if text.len() as u64 > MAX_TEXT_FILE {
+        return Err(CliError::Input(format!(
+            "{}: larger than {MAX_TEXT_FILE} bytes, not a model or parameter file",
+            path.display()
+        )));
+    }
+    Ok(text)
+}
+
 fn load_model(path: &Option<PathBuf>) -> Result<Model, CliError> {
     match path {
         None => Ok(Model::larva()),
         Some(p) => {
-            let text = std::fs::read_to_string(p)
-                .map_err(|e| CliError::Input(format!("cannot read {}: {e}", p.display())))?;
+            let text = read_text(p)?;
             Model::from_toml(&text).map_err(|e| {
                 CliError::Input(format!("{}: {}", p.display(), one_line(&e.to_string())))
             })
@@ -277,11 +300,10 @@ fn one_line(s: &str) -> String {
 fn load_params(args: &ParamArgs, model: &Model) -> Result<Params, CliError> {
     let mut params = Params::default();
     if let Some(path) = &args.params_file {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| CliError::Input(format!("cannot read {}: {e}", path.display())))?;
+        // A file that is not a parameter file is an input error (exit 1), like a model file.
         params
-            .set_from_toml(&text)
-            .map_err(|e| CliError::Usage(format!("{}: {e}", path.display())))?;
+            .set_from_toml(&read_text(path)?)
+            .map_err(|e| CliError::Input(format!("{}: {e}", path.display())))?;
     }
     for p in &args.params {
         params.set_assignment(p).map_err(CliError::usage)?;

@@ -41,10 +41,26 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
         points,
         operators: operators(&model, args.model.order, points).map_err(CliError::usage)?,
     };
-    let text = match args.format {
-        OperatorFormat::Text => r.text(),
-        // Compact: dense matrices at N = 2000 are large.
-        OperatorFormat::Json => serde_json::to_string(&r.json()).unwrap_or_default() + "\n",
-    };
-    write_out(out, &text)
+    match args.format {
+        OperatorFormat::Text => write_out(out, &r.text()),
+        // Streamed from the operators themselves: no JSON value tree of N² numbers in memory.
+        OperatorFormat::Json => {
+            let doc = crate::discretise::OperatorsJson {
+                points,
+                order: args.model.order,
+                operators: &r.operators,
+            };
+            let mut w = std::io::BufWriter::new(out);
+            let written = serde_json::to_writer(&mut w, &doc)
+                .map_err(std::io::Error::from)
+                .and_then(|_| w.write_all(b"\n"))
+                .and_then(|_| w.flush());
+            match written {
+                Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+                    Err(CliError::Output(format!("cannot write output: {e}")))
+                }
+                _ => Ok(()),
+            }
+        }
+    }
 }

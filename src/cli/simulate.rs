@@ -166,13 +166,23 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     match result {
         // A closed pipe (`| head`) ends the run quietly.
         Err(DynamicsError::Output(std::io::ErrorKind::BrokenPipe, _)) => Ok(()),
-        Err(e @ DynamicsError::Output(..)) => Err(CliError::Output(e.to_string())),
+        Err(DynamicsError::Output(_, e)) => Err(CliError::Output(format!(
+            "cannot write {}: {e}",
+            where_to(&args.out)
+        ))),
         Err(e) => Err(CliError::usage(e)),
         Ok(()) => match flushed {
-            Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
-                Err(CliError::Output(format!("cannot write: {e}")))
-            }
+            Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(CliError::Output(format!(
+                "cannot write {}: {e}",
+                where_to(&args.out)
+            ))),
             _ => Ok(()),
         },
     }
+}
+
+/// Where the CSV goes, for messages.
+fn where_to(out: &Option<PathBuf>) -> String {
+    out.as_ref()
+        .map_or("standard output".into(), |p| p.display().to_string())
 }
