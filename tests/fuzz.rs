@@ -1,0 +1,212 @@
+//! Hostile-input fuzzing of the command line, the model parser and the recording reader.
+//!
+//! Each case runs the real binary with a time limit and asserts the one rule: exit 0 with
+//! finite output, or exit 1 or 2 with one line on stderr, within the time budget; never a
+//! panic, an abort, a hang, NaN or ∞. The case count is `PROPTEST_CASES` (default 32 here, as
+//! `.ci/run` runs it); `PROPTEST_CASES=2000 cargo test --release --test fuzz` is the longer
+//! campaign for developers (docs/budgets.md).
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use proptest::prelude::*;
+
+const LIMIT: Duration = Duration::from_secs(20);
+
+fn bin() -> &'static str {
+    env!("CARGO_BIN_EXE_theory-search")
+}
+
+fn scratch(tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("ts-fuzz-{}-{tag}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Run with a time limit; returns (code, stdout, stderr) or panics on a hang or a signal.
+fn run(args: &[String], stdin: Option<&str>) -> (i32, String, String) {
+    let mut child = Command::new(bin())
+        .args(args)
+        .stdin(if stdin.is_some() { Stdio::piped() } else { Stdio::null() })
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    if let (Some(text), Some(mut pipe)) = (stdin, child.stdin.take()) {
+        let _ = pipe.write_all(text.as_bytes());
+    }
+    let start = Instant::now();
+    // Drain the pipes on threads so a large output cannot block the child.
+    let mut out = child.stdout.take().unwrap();
+    let mut err = child.stderr.take().unwrap();
+    let o = std::thread::spawn(move || {
+        let mut s = Vec::new();
+        std::io::Read::read_to_end(&mut out, &mut s).ok();
+        s
+    });
+    let e = std::thread::spawn(move || {
+        let mut s = Vec::new();
+        std::io::Read::read_to_end(&mut err, &mut s).ok();
+        s
+    });
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if start.elapsed() > LIMIT {
+            child.kill().ok();
+            panic!("{args:?}: still running after {LIMIT:?}");
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    let out = String::from_utf8_lossy(&o.join().unwrap()).into_owned();
+    let err = String::from_utf8_lossy(&e.join().unwrap()).into_owned();
+    let code = status
+        .code()
+        .unwrap_or_else(|| panic!("{args:?}: killed by a signal (abort?): {err}"));
+    (code, out, err)
+}
+
+/// The one rule every run obeys.
+fn obeys_the_rule(args: &[String], stdin: Option<&str>) {
+    let (code, out, err) = run(args, stdin);
+    match code {
+        0 => {
+            let bad = out
+                .split(|c: char| !(c.is_alphanumeric() || c == '-'))
+                .find(|w| matches!(*w, "NaN" | "inf" | "-inf" | "nan"));
+            assert!(bad.is_none(), "{args:?}: printed {bad:?} with exit 0");
+        }
+        1 | 2 => {
+            assert!(err.starts_with("error: "), "{args:?}: {err}");
+            assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+            assert!(!err.contains("panicked"), "{args:?}: {err}");
+        }
+        other => panic!("{args:?}: exit {other}: {err}"),
+    }
+}
+
+/// Values users type, good and bad.
+fn value() -> impl Strategy<Value = String> {
+    prop_oneof![
+        Just("0".to_string()),
+        Just("1".to_string()),
+        Just("-1".to_string()),
+        Just("2".to_string()),
+        Just("12".to_string()),
+        Just("0.5".to_string()),
+        Just("-2.5e-1".to_string()),
+        Just("1e300".to_string()),
+        Just("-1e300".to_string()),
+        Just("1e-320".to_string()),
+        Just("NaN".to_string()),
+        Just("inf".to_string()),
+        Just("abc".to_string()),
+        Just("18446744073709551615".to_string()),
+        Just("4294967296".to_string()),
+        (1u32..5000).prop_map(|v| v.to_string()),
+        (-1e4f64..1e4).prop_map(|v| v.to_string()),
+    ]
+}
+
+/// A subcommand with a few of its options set to arbitrary values.
+fn command_line() -> impl Strategy<Value = Vec<String>> {
+    let commands: Vec<(&str, &[&str])> = vec![
+        ("table", &["--order", "--density", "--basis", "--format"]),
+        ("equations", &["--order", "--basis"]),
+        ("operators", &["--points", "--order"]),
+        ("modes", &["--points", "--modes", "--order", "--param"]),
+        ("simulate", &["--points", "--dt", "--steps", "--every", "--temperature", "--initial"]),
+        ("asymmetry", &["--coupling", "--amplitude", "--omega", "--points"]),
+        ("mathieu", &["--lambda", "--ratio-min", "--ratio-max", "--epsilon-max", "--columns", "--rows"]),
+        ("behave peristalsis", &["--momentum", "--periods", "--points", "--param"]),
+        ("behave rolling", &["--momentum", "--periods", "--points"]),
+        ("behave rearing", &["--force", "--duration", "--points"]),
+        ("behave self-righting", &["--theta0", "--tolerance", "--mode-damping", "--points"]),
+        ("stats pair", &["--omega", "--beta", "--momentum", "--samples"]),
+        ("stats explore", &["--beta", "--samples", "--points"]),
+        ("stats equipartition", &["--steps", "--temperature", "--points"]),
+        ("count", &["--max-order"]),
+        ("interactions", &["--order"]),
+        ("parts", &["--order"]),
+    ];
+    (0..commands.len(), prop::collection::vec((0usize..8, value()), 0..4)).prop_map(
+        move |(c, opts)| {
+            let (name, flags) = commands[c];
+            let mut args: Vec<String> = name.split(' ').map(String::from).collect();
+            for (f, v) in opts {
+                let flag = flags[f % flags.len()];
+                args.push(flag.to_string());
+                args.push(match flag {
+                    "--param" => format!("omega_b={v}"),
+                    "--initial" => format!("y:2={v}"),
+                    "--density" => "rayleigh".into(),
+                    "--basis" => "monomials".into(),
+                    "--format" => "json".into(),
+                    _ => v,
+                });
+            }
+            // Commands that need a required option get one.
+            match name {
+                "operators" | "modes" | "simulate" if !args.contains(&"--points".into()) => {
+                    args.extend(["--points".into(), "8".into()])
+                }
+                "asymmetry" if !args.contains(&"--coupling".into()) => {
+                    args.extend(["--coupling".into(), "0.1".into()])
+                }
+                _ => {}
+            }
+            args
+        },
+    )
+}
+
+fn cases() -> u32 {
+    std::env::var("PROPTEST_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(32)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: cases(), failure_persistence: None, ..ProptestConfig::default() })]
+
+    #[test]
+    fn any_command_line_obeys_the_rule(args in command_line()) {
+        obeys_the_rule(&args, None);
+    }
+
+    #[test]
+    fn any_mutated_model_file_obeys_the_rule(
+        edits in prop::collection::vec((0usize..4000, any::<u8>()), 1..6),
+        cut in 0usize..4000,
+    ) {
+        let mut text = include_str!("../tables/models/larva.toml").as_bytes().to_vec();
+        for (at, byte) in edits {
+            let at = at % text.len();
+            text[at] = byte;
+        }
+        text.truncate(text.len() - cut % (text.len() / 4).max(1));
+        let dir = scratch("model");
+        let path = dir.join(format!("m{}.toml", text.len()));
+        std::fs::write(&path, &text).unwrap();
+        let p = path.to_str().unwrap().to_string();
+        for cmd in [vec!["modes", "-p", "8"], vec!["behave", "rolling", "--periods", "2"], vec!["equations"]] {
+            let mut args: Vec<String> = cmd.iter().map(|s| s.to_string()).collect();
+            args.extend(["--model".into(), p.clone()]);
+            obeys_the_rule(&args, None);
+        }
+    }
+
+    #[test]
+    fn any_recording_obeys_the_rule(
+        rows in prop::collection::vec(prop::collection::vec(value(), 0..16), 0..40),
+        sep in prop_oneof![Just(","), Just(" "), Just("\t")],
+    ) {
+        let text: String = rows.iter().map(|r| r.join(sep) + "\n").collect();
+        obeys_the_rule(&["fit".into(), "-".into()], Some(&text));
+        obeys_the_rule(&["fit".into(), "-".into(), "--kind".into(), "lengths".into()], Some(&text));
+    }
+}
