@@ -576,7 +576,12 @@ fn d4(points: usize, count: usize, want_shapes: bool) -> Option<Spectrum> {
     };
     // Where it is well conditioned (λ not tiny), Sylvester's inertia confirms the count.
     if let (Some(top), Some(band)) = (top, &band) {
-        let gap = 1e-9 * top;
+        // A quarter of the top spacing (the top eigenvalues crowd as N grows), at most 1e-9·top.
+        let below = eigenvalues.len().checked_sub(2).map(|i| eigenvalues[i]);
+        let gap = match below {
+            Some(p) if top > p => (0.25 * (top - p)).min(1e-9 * top),
+            _ => 1e-9 * top,
+        };
         if band.count_below(top + gap) != count || band.count_below(top - gap) != count - 1 {
             return None;
         }

@@ -13,6 +13,7 @@ use std::time::{Duration, Instant};
 
 use proptest::prelude::*;
 
+/// Each run's limit (the budgets aim at ten seconds; a slow CI machine gets twice that).
 const LIMIT: Duration = Duration::from_secs(20);
 
 fn bin() -> &'static str {
@@ -29,7 +30,11 @@ fn scratch(tag: &str) -> PathBuf {
 fn run(args: &[String], stdin: Option<&str>) -> (i32, String, String) {
     let mut child = Command::new(bin())
         .args(args)
-        .stdin(if stdin.is_some() { Stdio::piped() } else { Stdio::null() })
+        .stdin(if stdin.is_some() {
+            Stdio::piped()
+        } else {
+            Stdio::null()
+        })
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -118,22 +123,60 @@ fn command_line() -> impl Strategy<Value = Vec<String>> {
         ("equations", &["--order", "--basis"]),
         ("operators", &["--points", "--order"]),
         ("modes", &["--points", "--modes", "--order", "--param"]),
-        ("simulate", &["--points", "--dt", "--steps", "--every", "--temperature", "--initial"]),
-        ("asymmetry", &["--coupling", "--amplitude", "--omega", "--points"]),
-        ("mathieu", &["--lambda", "--ratio-min", "--ratio-max", "--epsilon-max", "--columns", "--rows"]),
-        ("behave peristalsis", &["--momentum", "--periods", "--points", "--param"]),
+        (
+            "simulate",
+            &[
+                "--points",
+                "--dt",
+                "--steps",
+                "--every",
+                "--temperature",
+                "--initial",
+            ],
+        ),
+        (
+            "asymmetry",
+            &["--coupling", "--amplitude", "--omega", "--points"],
+        ),
+        (
+            "mathieu",
+            &[
+                "--lambda",
+                "--ratio-min",
+                "--ratio-max",
+                "--epsilon-max",
+                "--columns",
+                "--rows",
+            ],
+        ),
+        (
+            "behave peristalsis",
+            &["--momentum", "--periods", "--points", "--param"],
+        ),
         ("behave rolling", &["--momentum", "--periods", "--points"]),
         ("behave rearing", &["--force", "--duration", "--points"]),
-        ("behave self-righting", &["--theta0", "--tolerance", "--mode-damping", "--points"]),
-        ("stats pair", &["--omega", "--beta", "--momentum", "--samples"]),
+        (
+            "behave self-righting",
+            &["--theta0", "--tolerance", "--mode-damping", "--points"],
+        ),
+        (
+            "stats pair",
+            &["--omega", "--beta", "--momentum", "--samples"],
+        ),
         ("stats explore", &["--beta", "--samples", "--points"]),
-        ("stats equipartition", &["--steps", "--temperature", "--points"]),
+        (
+            "stats equipartition",
+            &["--steps", "--temperature", "--points"],
+        ),
         ("count", &["--max-order"]),
         ("interactions", &["--order"]),
         ("parts", &["--order"]),
     ];
-    (0..commands.len(), prop::collection::vec((0usize..8, value()), 0..4)).prop_map(
-        move |(c, opts)| {
+    (
+        0..commands.len(),
+        prop::collection::vec((0usize..8, value()), 0..4),
+    )
+        .prop_map(move |(c, opts)| {
             let (name, flags) = commands[c];
             let mut args: Vec<String> = name.split(' ').map(String::from).collect();
             for (f, v) in opts {
@@ -159,8 +202,7 @@ fn command_line() -> impl Strategy<Value = Vec<String>> {
                 _ => {}
             }
             args
-        },
-    )
+        })
 }
 
 fn cases() -> u32 {
@@ -209,4 +251,94 @@ proptest! {
         obeys_the_rule(&["fit".into(), "-".into()], Some(&text));
         obeys_the_rule(&["fit".into(), "-".into(), "--kind".into(), "lengths".into()], Some(&text));
     }
+}
+
+/// The command lines of the hostile-input campaign that hung, aborted or printed NaN: each now
+/// answers (finite) or refuses in one line, in time.
+#[test]
+fn the_reported_command_lines_answer_in_time() {
+    let dir = scratch("reported");
+    let example = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/examples/midlines.csv");
+    let figs = dir.join("figs");
+    let figs = figs.to_str().unwrap();
+    let lines: Vec<String> = vec![
+        "stats pair --omega 5 --momentum 3 --beta 100".into(),
+        format!("figures --out {figs} --param omega_s=50 --samples 2000"),
+        format!("fit {example} --points 1000"),
+        format!("fit {example} --points 2000"),
+        "interactions --order 5 --density lagrangian".into(),
+        "interactions --order 7".into(),
+        "operators --points 2000 --format json".into(),
+        "modes --points 10000000".into(),
+        "modes --points 10000000 --modes 3".into(),
+        "count --basis monomials --max-order 16".into(),
+        "behave rolling --periods 1e6".into(),
+        "behave peristalsis --periods 4294967296".into(),
+        "stats pair --omega 1e300".into(),
+        "stats pair --omega 1e-320".into(),
+        "stats pair --momentum 2000".into(),
+        "mathieu --ratio-min 1e-9".into(),
+        "mathieu --lambda 1e308".into(),
+        "simulate --points 12 --steps 10000000".into(),
+        "behave self-righting --theta0 1.8e19".into(),
+        "asymmetry --coupling 2000".into(),
+        "asymmetry --coupling 1e300".into(),
+        "asymmetry --coupling 1 --omega 1e-300".into(),
+        "asymmetry --coupling -1e-3".into(),
+        "stats pair --momentum 1e6".into(),
+        "stats pair --momentum -2.5e-1".into(),
+        "stats pair --samples 3".into(),
+        "stats pair --beta 1e300".into(),
+        "stats pair --beta 1e-300".into(),
+        "stats equipartition --steps 0".into(),
+        "stats equipartition --temperature 1e-320 --steps 2000".into(),
+        format!("fit {example} --omega 1e308"),
+        format!("fit --kind lengths {example} --ring 18446744073709551615"),
+        "modes --points 12 --model /dev/zero".into(),
+        "modes --points 12 --params /dev/zero".into(),
+        "fit /dev/zero".into(),
+        "simulate --points 8 --steps 3 --out /dev/full".into(),
+    ];
+    for line in &lines {
+        let args: Vec<String> = line.split(' ').map(String::from).collect();
+        let start = Instant::now();
+        obeys_the_rule(&args, None);
+        assert!(start.elapsed() < LIMIT, "{line}: {:?}", start.elapsed());
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Exit codes follow one rule: 2 for bad usage or values, 1 for files that cannot be read or
+/// written (or are not what they claim).
+#[test]
+fn exit_codes_follow_one_rule() {
+    let dir = scratch("codes");
+    let bad_params = dir.join("p.toml");
+    std::fs::write(&bad_params, "omega_b = \"x\"").unwrap();
+    let p = bad_params.to_str().unwrap().to_string();
+    for (line, want) in [
+        ("modes --points 0", 2),
+        ("modes --points 8 --param omega_b=-1", 2),
+        ("asymmetry --coupling abc", 2),
+        ("modes --points 8 --model /nonexistent.toml", 1),
+        ("fit /nonexistent.csv", 1),
+        ("modes --points 12 --model /dev/zero", 1),
+        ("simulate --points 8 --steps 3 --out /dev/full", 1),
+    ] {
+        let args: Vec<String> = line.split(' ').map(String::from).collect();
+        let (code, _, err) = run(&args, None);
+        assert_eq!(code, want, "{line}: {err}");
+    }
+    let (code, _, err) = run(
+        &[
+            "modes".into(),
+            "-p".into(),
+            "8".into(),
+            "--params".into(),
+            p,
+        ],
+        None,
+    );
+    assert_eq!(code, 1, "{err}");
+    std::fs::remove_dir_all(&dir).ok();
 }

@@ -7,13 +7,17 @@ use crate::modal::field_modes;
 use crate::report::Output;
 use crate::table::ModesReport;
 
+/// The most points whose every mode `modes` computes and prints.
+const MAX_FULL_SPECTRUM: usize = 1_000_000;
+
 /// The most numbers `--shapes` prints.
 const MAX_SHAPE_VALUES: usize = 20_000_000;
 
 /// Arguments of `modes`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Number of points along the body (the seed uses 12), up to 10 000 000.
+    /// Number of points along the body (the seed uses 12), up to 10 000 000 with --modes K; the
+    /// full spectrum up to 1 000 000 (about ten seconds).
     #[arg(long, short, value_name = "N",
           value_parser = clap::value_parser!(u64).range(1..=crate::modal::MAX_POINTS as u64))]
     points: u64,
@@ -40,6 +44,11 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     let params = load_params(&args.params, &model)?;
     let points = args.points as usize;
     let limit = args.limit.map(|k| k as usize);
+    if limit.is_none() && points > MAX_FULL_SPECTRUM {
+        return Err(CliError::Usage(format!(
+            "the full spectrum takes at most {MAX_FULL_SPECTRUM} points (about ten seconds); at {points} add --modes K"
+        )));
+    }
     if args.shapes && points.saturating_mul(limit.unwrap_or(points)) > MAX_SHAPE_VALUES {
         return Err(CliError::Usage(format!(
             "--shapes at {points} points would print more than {MAX_SHAPE_VALUES} numbers; add --modes K"
