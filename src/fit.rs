@@ -6,10 +6,11 @@
 //! * `midline`: `t x₁ y₁ … x_K y_K`, K ≥ 5 points from tail to head, as trackers write them;
 //! * `lengths`: `t ℓ₁ … ℓ_K`, K ≥ 3 segment lengths around the body (axial data).
 //!
-//! Every frame must have the first frame's width, finite numbers, and time that increases by
-//! one sampling interval (the first frame gap, within 1 %). Anything else is an error naming
-//! the line: a missing frame is an error, not a silent gap in the spectra. The file is
-//! streamed. Memory is O(N² + W·N) for N model points and a Welch window of W frames, whatever
+//! Every frame must have the first frame's width and time that increases by whole sampling
+//! intervals (the first step, within 1 %). A frame with a missing or non-finite value, or one
+//! the time step skips, is lost: it splits the recording into runs (the covariance pools every
+//! usable frame, Welch windows stay inside a run) unless `fill_gaps` bridges it linearly.
+//! Anything else is an error naming the line. The file is streamed. Memory is O(N² + W·N) for N model points and a Welch window of W frames, whatever
 //! the number of frames.
 //!
 //! **Observation map.** A field's operator is D = SᵀS, where S holds its difference stencils
@@ -110,6 +111,10 @@ pub struct FitSettings {
     /// Lengths only: the segments around the whole body when only the first K were measured
     /// (the seed's seven abdominal segments); `None` when the K segments close the ring.
     pub ring: Option<usize>,
+    /// Gaps of at most this many lost frames are bridged linearly; longer ones split the runs.
+    pub fill_gaps: usize,
+    /// The data list the head first (most trackers); the model's head is its last point.
+    pub head_first: bool,
 }
 
 impl FitSettings {
@@ -126,6 +131,8 @@ impl FitSettings {
             fit_modes: 4,
             omega: None,
             ring: None,
+            fill_gaps: 0,
+            head_first: false,
         }
     }
 }
@@ -152,6 +159,23 @@ pub enum FitError {
     Invalid(String),
 }
 
+/// How complete a recording was.
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize)]
+pub struct Recording {
+    /// Rows read (frames, lost or not).
+    pub frames_read: usize,
+    /// Frames the tracker lost (rows with a missing value, and frames the time steps skip).
+    pub frames_lost: usize,
+    /// Lost frames bridged linearly (`--fill-gaps`).
+    pub frames_filled: usize,
+    /// Gaps that split the recording.
+    pub gaps: usize,
+    /// Runs of consecutive frames between gaps.
+    pub runs: usize,
+    /// The longest run, in frames.
+    pub longest_run: usize,
+}
+
 /// One mode's fit.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct ModeFit {
@@ -174,7 +198,7 @@ pub struct ModeFit {
 /// The result of a fit. The JSON contract's keys come first.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct FitReport {
-    /// Frames read.
+    /// Frames used (read and usable, plus any bridged).
     pub frames: usize,
     /// Points (midline) or segments (lengths) per frame in the input.
     pub points: usize,
@@ -220,6 +244,8 @@ pub struct FitReport {
     /// The non-zero mode shapes on the model's points, `shapes[j][p]`.
     #[serde(skip)]
     pub shapes: Vec<Vec<f64>>,
+    /// What the recording held: frames read, lost, bridged; gaps and runs.
+    pub recording: Recording,
 }
 
 /// The longest line a recording may have: a frame of thousands of points fits many times over;
@@ -276,8 +302,9 @@ impl<R: BufRead> FrameReader<R> {
             })
     }
 
-    /// The next frame: (t, values after t).
-    fn next_frame(&mut self) -> Result<Option<(f64, Vec<f64>)>, FitError> {
+    /// The next row: a frame, or a frame the tracker lost (a missing or non-finite value), with
+    /// the frames the time step says are missing before it.
+    fn next_row(&mut self) -> Result<Option<Row>, FitError> {
         loop {
             let Some(text) = self.next_line()? else {
                 return Ok(None);
@@ -297,54 +324,79 @@ impl<R: BufRead> FrameReader<R> {
                 continue;
             }
             self.seen_data = true;
-            let bad = |why: String| FitError::Line {
-                line: self.line,
-                why,
-            };
-            let mut values = Vec::with_capacity(cells.len());
-            for (c, cell) in cells.iter().enumerate() {
-                let v: f64 = cell
-                    .parse()
-                    .map_err(|_| bad(format!("column {}: {cell:?} is not a number", c + 1)))?;
-                if !v.is_finite() {
-                    return Err(bad(format!(
-                        "column {}: {cell} (missing or non-finite values are not accepted)",
-                        c + 1
-                    )));
-                }
-                values.push(v);
-            }
+            let line = self.line;
+            let bad = |why: String| FitError::Line { line, why };
             match self.width {
-                None => self.width = Some(values.len()),
-                Some(w) if w != values.len() => {
+                None => self.width = Some(cells.len()),
+                Some(w) if w != cells.len() => {
                     return Err(bad(format!(
                         "{} columns where the first frame had {w}",
-                        values.len()
+                        cells.len()
                     )))
                 }
                 _ => {}
             }
-            let t = values.remove(0);
-            if let Some(last) = self.last_t {
-                let gap = t - last;
-                if gap <= 0.0 {
-                    return Err(bad(format!("time {t} does not increase (previous {last})")));
-                }
-                match self.dt {
-                    None => self.dt = Some(gap),
-                    Some(dt) if (gap - dt).abs() > 0.01 * dt => {
-                        return Err(bad(format!(
-                            "time step {gap} after t = {last} differs from the sampling interval {dt}{}",
-                            if gap > 1.5 * dt { " (missing frames?)" } else { "" }
-                        )))
-                    }
-                    _ => {}
-                }
+            let t: f64 = cells[0]
+                .parse()
+                .ok()
+                .filter(|t: &f64| t.is_finite())
+                .ok_or_else(|| {
+                    bad(format!(
+                        "column 1: time {:?} is not a finite number",
+                        cells[0]
+                    ))
+                })?;
+            let mut values = Vec::with_capacity(cells.len() - 1);
+            let mut lost = false;
+            for (c, cell) in cells.iter().enumerate().skip(1) {
+                // An empty cell, NaN or ±inf: the tracker lost this frame.
+                let v: f64 = if cell.is_empty() {
+                    f64::NAN
+                } else {
+                    cell.parse()
+                        .map_err(|_| bad(format!("column {}: {cell:?} is not a number", c + 1)))?
+                };
+                lost |= !v.is_finite();
+                values.push(v);
             }
-            self.last_t = Some(t);
-            return Ok(Some((t, values)));
+            let missing_before = self.step(t).map_err(bad)?;
+            return Ok(Some(Row {
+                t,
+                values: (!lost).then_some(values),
+                missing_before,
+            }));
         }
     }
+
+    /// Check the time step to `t`: one sampling interval (the first step, within 1 %), or a
+    /// whole number of them (frames missing from the file). Returns how many are missing.
+    fn step(&mut self, t: f64) -> Result<usize, String> {
+        let Some(last) = self.last_t.replace(t) else {
+            return Ok(0);
+        };
+        let gap = t - last;
+        if gap <= 0.0 {
+            return Err(format!("time {t} does not increase (previous {last})"));
+        }
+        let dt = *self.dt.get_or_insert(gap);
+        let steps = (gap / dt).round();
+        if steps >= 1.0 && (gap - steps * dt).abs() <= 0.01 * dt * steps.max(1.0) {
+            Ok(steps as usize - 1)
+        } else {
+            Err(format!(
+                "time step {gap} after t = {last} is not a whole number of sampling intervals {dt}"
+            ))
+        }
+    }
+}
+
+/// One row of a recording.
+struct Row {
+    t: f64,
+    /// The frame's values after t; `None` when the tracker lost it.
+    values: Option<Vec<f64>>,
+    /// Frames missing from the file just before this row (from the time step).
+    missing_before: usize,
 }
 
 /// Hann-windowed Welch averaging over a stream of vectors.
@@ -370,6 +422,12 @@ impl Welch {
             since: 0,
             fft: FftPlanner::new().plan_fft_forward(len),
         }
+    }
+
+    /// A gap: no window may span it.
+    fn break_run(&mut self) {
+        self.buffer.clear();
+        self.since = 0;
     }
 
     fn push(&mut self, v: Vec<f64>) {
@@ -788,10 +846,24 @@ pub fn fit_each(
     check_settings(settings)?;
     let invalid = |s: String| FitError::Invalid(s);
     let mut frames = FrameReader::new(reader);
-    let Some((t0, first)) = frames.next_frame()? else {
-        return Err(invalid("the input has no frames".into()));
+    let mut read = 0usize;
+    let mut lost = 0usize;
+    // Frames the tracker lost before the first usable one are gaps of nothing.
+    let first = loop {
+        let Some(row) = frames.next_row()? else {
+            return Err(invalid(if read == 0 {
+                "the input has no frames".into()
+            } else {
+                format!("none of the {read} frames is usable: every one has a missing or non-finite value")
+            }));
+        };
+        read += 1;
+        match row.values {
+            Some(v) => break (row.t, v),
+            None => lost += 1,
+        }
     };
-    let mut proj = Projector::new(model, params, settings, first.len()).map_err(|e| match e {
+    let mut proj = Projector::new(model, params, settings, first.1.len()).map_err(|e| match e {
         FitError::Line { why, .. } => FitError::Line {
             line: frames.line,
             why,
@@ -801,80 +873,184 @@ pub fn fit_each(
     if settings.kind == InputKind::Lengths {
         // A fixed rest length: a constant offset in the strains only shifts the means, which
         // the covariance and the spectra remove.
-        proj.reference_length = Some(first.iter().sum::<f64>() / first.len() as f64);
+        proj.reference_length = Some(first.1.iter().sum::<f64>() / first.1.len() as f64);
     }
-    let m = proj.eigenvalues.len();
-    let window = settings.window;
-    let mut welch = Welch::new(window, m);
-    let mut mean = vec![0.0; m];
-    let mut comoment = vec![vec![0.0; m]; m];
-    let mut count = 0usize;
-    let mut t_last = t0;
-    let mut pending = Some(first);
-    let mut line = frames.line;
-    loop {
-        let values = match pending.take() {
-            Some(v) => v,
-            None => match frames.next_frame()? {
-                Some((t, v)) => {
-                    t_last = t;
-                    line = frames.line;
-                    v
-                }
-                None => break,
-            },
+    let mut acc = Accumulator::new(proj.eigenvalues.len(), settings.window);
+    let mut previous = first.clone();
+    let mut feed = |acc: &mut Accumulator, t: f64, values: &[f64], line: usize| {
+        let oriented;
+        let values = if settings.head_first {
+            oriented = head_last(settings.kind, values);
+            &oriented
+        } else {
+            values
         };
         let q = proj
-            .modal(&values)
+            .modal(values)
             .map_err(|why| FitError::Line { line, why })?;
-        each(&proj, t_last, &q).map_err(FitError::Output)?;
-        count += 1;
-        let delta: Vec<f64> = q.iter().zip(&mean).map(|(a, b)| a - b).collect();
-        for (mu, d) in mean.iter_mut().zip(&delta) {
-            *mu += d / count as f64;
+        each(&proj, t, &q).map_err(FitError::Output)?;
+        acc.push(q);
+        Ok::<(), FitError>(())
+    };
+    feed(&mut acc, first.0, &first.1, frames.line)?;
+    let mut pending_lost = 0usize;
+    while let Some(row) = frames.next_row()? {
+        read += 1;
+        pending_lost += row.missing_before;
+        let Some(values) = row.values else {
+            pending_lost += 1;
+            continue;
+        };
+        if pending_lost > 0 {
+            lost += pending_lost;
+            if pending_lost <= settings.fill_gaps {
+                // Bridge a short gap linearly between the frames either side.
+                for k in 1..=pending_lost {
+                    let w = k as f64 / (pending_lost + 1) as f64;
+                    let t = previous.0 + w * (row.t - previous.0);
+                    let v: Vec<f64> = previous
+                        .1
+                        .iter()
+                        .zip(&values)
+                        .map(|(a, b)| a + w * (b - a))
+                        .collect();
+                    acc.filled += 1;
+                    feed(&mut acc, t, &v, frames.line)?;
+                }
+            } else {
+                acc.break_run();
+            }
+            pending_lost = 0;
         }
-        for i in 0..m {
-            for j in 0..m {
-                comoment[i][j] += delta[i] * (q[j] - mean[j]);
+        feed(&mut acc, row.t, &values, frames.line)?;
+        previous = (row.t, values);
+    }
+    lost += pending_lost;
+    let interval = frames.dt.unwrap_or(1.0);
+    acc.finish(&proj, settings, interval, (read, lost))
+}
+
+/// A frame listed head first, reordered head last (the model's orientation): points (x, y)
+/// pairs for midlines, segments for lengths.
+fn head_last(kind: InputKind, values: &[f64]) -> Vec<f64> {
+    match kind {
+        InputKind::Midline => values.chunks(2).rev().flatten().copied().collect(),
+        InputKind::Lengths => values.iter().rev().copied().collect(),
+    }
+}
+
+/// What one pass over the frames accumulates: running mean and co-moment of the modal
+/// coordinates over every usable frame, Welch spectra over the runs between gaps.
+struct Accumulator {
+    mean: Vec<f64>,
+    comoment: Vec<Vec<f64>>,
+    count: usize,
+    welch: Welch,
+    run: usize,
+    runs: usize,
+    longest: usize,
+    gaps: usize,
+    filled: usize,
+}
+
+impl Accumulator {
+    fn new(m: usize, window: usize) -> Accumulator {
+        Accumulator {
+            mean: vec![0.0; m],
+            comoment: vec![vec![0.0; m]; m],
+            count: 0,
+            welch: Welch::new(window, m),
+            run: 0,
+            runs: 1,
+            longest: 0,
+            gaps: 0,
+            filled: 0,
+        }
+    }
+
+    fn push(&mut self, q: Vec<f64>) {
+        self.count += 1;
+        let delta: Vec<f64> = q.iter().zip(&self.mean).map(|(a, b)| a - b).collect();
+        for (mu, d) in self.mean.iter_mut().zip(&delta) {
+            *mu += d / self.count as f64;
+        }
+        for (i, row) in self.comoment.iter_mut().enumerate() {
+            for (j, c) in row.iter_mut().enumerate() {
+                *c += delta[i] * (q[j] - self.mean[j]);
             }
         }
-        welch.push(q);
+        self.welch.push(q);
+        self.run += 1;
+        self.longest = self.longest.max(self.run);
     }
-    if count < 8 {
-        return Err(invalid(format!(
-            "{count} frames; at least 8 are needed for variances and spectra"
-        )));
+
+    fn break_run(&mut self) {
+        self.welch.break_run();
+        self.gaps += 1;
+        self.runs += 1;
+        self.run = 0;
     }
-    let interval = (t_last - t0) / (count - 1) as f64;
-    // Fewer frames than the window: one segment over all of them (the buffer holds them all).
-    if welch.segments == 0 {
-        let frames = std::mem::take(&mut welch.buffer);
-        welch = Welch::new(count, m);
-        for q in frames {
-            welch.push(q);
+
+    /// The report, from `read` rows of which `lost` were lost frames.
+    fn finish(
+        mut self,
+        proj: &Projector,
+        settings: &FitSettings,
+        interval: f64,
+        (read, lost): (usize, usize),
+    ) -> Result<FitReport, FitError> {
+        let (count, m) = (self.count, self.mean.len());
+        if count < 8 {
+            return Err(FitError::Invalid(format!(
+                "{count} usable frames; at least 8 are needed for variances and spectra"
+            )));
         }
+        // No run as long as the window: one segment over the last run, if it has 8 frames.
+        if self.welch.segments == 0 {
+            let frames = std::mem::take(&mut self.welch.buffer);
+            if frames.len() < 8 {
+                return Err(FitError::Invalid(format!(
+                    "no run of 8 frames between gaps for the spectra (longest {}); bridge short gaps with --fill-gaps K",
+                    self.longest
+                )));
+            }
+            self.welch = Welch::new(frames.len(), m);
+            for q in frames {
+                self.welch.push(q);
+            }
+        }
+        let used_window = self.welch.window.len();
+        let (frequencies, psd, segments) = self.welch.finish(1.0 / interval);
+        let cov: Vec<Vec<f64>> = self
+            .comoment
+            .iter()
+            .map(|r| r.iter().map(|c| c / (count - 1) as f64).collect())
+            .collect();
+        let mut report = summarise(
+            proj,
+            settings,
+            Moments {
+                frames: count,
+                interval,
+                cov,
+            },
+            Spectra {
+                window: used_window,
+                segments,
+                frequencies,
+                psd,
+            },
+        )?;
+        report.recording = Recording {
+            frames_read: read,
+            frames_lost: lost,
+            frames_filled: self.filled,
+            gaps: self.gaps,
+            runs: self.runs,
+            longest_run: self.longest,
+        };
+        Ok(report)
     }
-    let used_window = welch.window.len();
-    let (frequencies, psd, segments) = welch.finish(1.0 / interval);
-    let cov: Vec<Vec<f64>> = comoment
-        .iter()
-        .map(|r| r.iter().map(|c| c / (count - 1) as f64).collect())
-        .collect();
-    summarise(
-        &proj,
-        settings,
-        Moments {
-            frames: count,
-            interval,
-            cov,
-        },
-        Spectra {
-            window: used_window,
-            segments,
-            frequencies,
-            psd,
-        },
-    )
 }
 
 /// The settings' limits, checked before any data are read.
@@ -1003,6 +1179,7 @@ fn summarise(
     }
     Ok(FitReport {
         frames: count,
+        recording: Recording::default(),
         points: proj.input_points,
         pca_variance_share: pca_share,
         theory_variance_share: theory_share,
@@ -1139,6 +1316,17 @@ impl Report for FitReport {
                 r.welch.0,
                 r.welch.1,
             );
+            let rec = &r.recording;
+            if rec.frames_lost > 0 || rec.gaps > 0 {
+                t = t.replacen(
+                    "  Welch:",
+                    &format!(
+                        "  recording: {} frames read, {} lost ({} bridged), {} gaps, {} runs, longest {} frames\n  Welch:",
+                        rec.frames_read, rec.frames_lost, rec.frames_filled, rec.gaps, rec.runs, rec.longest_run
+                    ),
+                    1,
+                );
+            }
             for (k, m) in r.modes.iter().enumerate() {
                 t += &format!(
                     "  {:>4} {:>8.5} {:>9.3} % {:>12.3} % {:>18.5} {:>8.5} {:>11.5} {:>12.5} {:>11.5}\n",

@@ -266,6 +266,49 @@ fn segment_lengths_give_back_the_axial_scales() {
 }
 
 #[test]
+fn lost_frames_split_the_recording_into_runs() {
+    let s = FitSettings::new(InputKind::Midline);
+    let frame = |t: usize, lost: bool| -> String {
+        let mut c = vec![format!("{t}")];
+        for j in 0..6 {
+            c.push(format!("{j}"));
+            c.push(if lost {
+                "NaN".into()
+            } else {
+                format!("{:.5}", 0.05 * (0.7 * t as f64 + j as f64).sin())
+            });
+        }
+        c.join(",") + "\n"
+    };
+    // 60 frames: 20 good, 2 lost (NaN rows), 18 good, then 5 frames skipped by the time step,
+    // then 15 good.
+    let mut text = String::new();
+    for t in 0..40 {
+        text += &frame(t, (20..22).contains(&t));
+    }
+    for t in 45..60 {
+        text += &frame(t, false);
+    }
+    let r = larva_fit(&text, &s).unwrap();
+    let rec = &r.recording;
+    assert_eq!(rec.frames_read, 55);
+    assert_eq!(rec.frames_lost, 7);
+    assert_eq!((rec.gaps, rec.runs, rec.longest_run), (2, 3, 20));
+    assert_eq!(r.frames, 53);
+    // Bridging gaps of up to 2 frames joins the first two runs; the 5-frame gap stays.
+    let mut fill = s.clone();
+    fill.fill_gaps = 2;
+    let r = larva_fit(&text, &fill).unwrap();
+    assert_eq!((r.recording.gaps, r.recording.frames_filled), (1, 2));
+    assert_eq!(r.recording.longest_run, 40);
+    assert_eq!(r.frames, 55);
+    // Nothing usable is one error.
+    let all_lost: String = (0..10).map(|t| frame(t, true)).collect();
+    let e = larva_fit(&all_lost, &s).unwrap_err().to_string();
+    assert!(e.contains("none of the 10 frames is usable"), "{e}");
+}
+
+#[test]
 fn bad_input_names_the_line() {
     let s = FitSettings::new(InputKind::Midline);
     let cells = |t: f64| -> Vec<String> {
@@ -287,16 +330,15 @@ fn bad_input_names_the_line() {
     };
     let good = join(&rows);
     let cases = [
-        (with(0, 7, "NaN"), "line 1: column 8"),
-        (with(3, 7, ""), "line 4: column 8"),
         (with(0, 2, "abc"), "not a number"),
+        (with(4, 0, "NaN"), "line 5: column 1: time"),
         (
             format!("{good}{}\n", cells(19.0).join(",")),
             "line 21: time 19 does not increase",
         ),
         (
-            format!("{good}{}\n", cells(22.0).join(",")),
-            "missing frames",
+            format!("{good}{}\n", cells(21.5).join(",")),
+            "not a whole number of sampling intervals",
         ),
         (
             format!("{good}1,2,3\n"),
@@ -309,7 +351,7 @@ fn bad_input_names_the_line() {
         ),
         (String::new(), "no frames"),
         ("# only a comment\nt,x1,y1\n".into(), "no frames"),
-        (join(&rows[..5]), "5 frames; at least 8"),
+        (join(&rows[..5]), "5 usable frames; at least 8"),
         (
             join(
                 &(0..10)

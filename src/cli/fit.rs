@@ -41,6 +41,14 @@ pub struct Args {
     /// were measured (fits the lowest whole modes by least squares).
     #[arg(long, value_name = "R")]
     ring: Option<usize>,
+    /// Bridge gaps of at most K lost frames linearly; longer gaps split the recording into runs
+    /// (the covariance pools every usable frame, the spectra use windows inside one run).
+    #[arg(long, value_name = "K", default_value_t = 0)]
+    fill_gaps: usize,
+    /// Which end the data list first: `last` (head last, the model's order) or `first` (head
+    /// first, as most trackers write).
+    #[arg(long, value_enum, default_value_t = HeadEnd::Last)]
+    head: HeadEnd,
     /// Also write the fit's SVG figures into this directory.
     #[arg(long, value_name = "DIR")]
     figures: Option<PathBuf>,
@@ -59,6 +67,13 @@ pub struct Args {
 enum FitKind {
     Midline,
     Lengths,
+}
+
+/// Where the head is in each frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum HeadEnd {
+    First,
+    Last,
 }
 
 /// Frequency estimators of `fit`.
@@ -91,6 +106,8 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
         ));
     }
     settings.ring = args.ring;
+    settings.fill_gaps = args.fill_gaps;
+    settings.head_first = args.head == HeadEnd::First;
     let report = fit_input(&args.input, args.series.as_deref(), &model, &settings)?;
     if let Some(dir) = &args.figures {
         crate::figures::write_fit(dir, &report).map_err(|e| CliError::Output(e.to_string()))?;

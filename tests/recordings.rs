@@ -1,0 +1,66 @@
+//! Real recordings (`../shared/data`, never copied here): lost frames split the runs, the
+//! counts match the data's README, and the fits agree with what a plain PCA of the gap-free
+//! frames shows there.
+
+fn fit(file: &str, extra: &[&str]) -> serde_json::Value {
+    let path = format!("{}/../shared/data/{file}", env!("CARGO_MANIFEST_DIR"));
+    assert!(
+        std::path::Path::new(&path).exists(),
+        "{path} is missing: the recording tests need ../shared beside the repository"
+    );
+    let mut args = vec![
+        "theory-search",
+        "fit",
+        &path,
+        "--head",
+        "first",
+        "--format",
+        "json",
+    ];
+    args.extend_from_slice(extra);
+    let mut out = Vec::new();
+    theory_search::cli::run(args, &mut out).unwrap_or_else(|e| panic!("{file}: {e}"));
+    serde_json::from_slice(&out).unwrap()
+}
+
+#[test]
+fn lost_frames_are_counted_and_split_the_runs() {
+    for (file, read, lost) in [
+        ("celegans_wt2_crawling_30fps_49pts.csv", 499, 99),
+        ("celegans_wormpose_15fps_52pts.csv", 1000, 280),
+    ] {
+        let v = fit(file, &["--window", "64"]);
+        let rec = &v["recording"];
+        assert_eq!(rec["frames_read"], read, "{file}");
+        assert_eq!(rec["frames_lost"], lost, "{file}");
+        assert_eq!(v["frames"], read - lost, "{file}");
+        assert!(rec["runs"].as_u64().unwrap() > 1, "{file}");
+        assert!(v["omega"].as_f64().unwrap().is_finite());
+    }
+}
+
+#[test]
+fn the_fits_see_what_the_data_show() {
+    // WormPose: the first components lie close to the free–free beam modes.
+    let v = fit("celegans_wormpose_15fps_52pts.csv", &["--window", "64"]);
+    let overlap = v["mode_overlap"].as_array().unwrap();
+    for k in 0..2 {
+        assert!(overlap[k].as_f64().unwrap() > 0.95, "mode {k}: {overlap:?}");
+    }
+    // WT2 forward crawling: a driven travelling wave, its first two components a
+    // near-degenerate pair of about 54 % and 38 % of the variance.
+    let v = fit("celegans_wt2_crawling_30fps_49pts.csv", &["--window", "64"]);
+    let shares = v["pca_variance_share"].as_array().unwrap();
+    let (a, b) = (shares[0].as_f64().unwrap(), shares[1].as_f64().unwrap());
+    assert!(
+        (a - 0.54).abs() < 0.03 && (b - 0.38).abs() < 0.03,
+        "{a} {b}"
+    );
+    // Bridging the short stage-move gaps gives longer runs and more frames, never fewer.
+    let bridged = fit(
+        "celegans_wt2_crawling_30fps_49pts.csv",
+        &["--window", "64", "--fill-gaps", "5"],
+    );
+    assert!(bridged["recording"]["longest_run"].as_u64() > v["recording"]["longest_run"].as_u64());
+    assert!(bridged["frames"].as_u64() > v["frames"].as_u64());
+}
