@@ -162,6 +162,8 @@ pub enum FitError {
 /// How complete a recording was.
 #[derive(Debug, Clone, Default, PartialEq, serde::Serialize)]
 pub struct Recording {
+    /// Recordings (animals) pooled.
+    pub recordings: usize,
     /// Rows read (frames, lost or not).
     pub frames_read: usize,
     /// Frames the tracker lost (rows with a missing value, and frames the time steps skip).
@@ -246,6 +248,40 @@ pub struct FitReport {
     pub shapes: Vec<Vec<f64>>,
     /// What the recording held: frames read, lost, bridged; gaps and runs.
     pub recording: Recording,
+    /// With several recordings: each one's own fit, beside the pooled one above.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub animals: Vec<AnimalFit>,
+}
+
+/// One recording's own fit, in a pooled fit of several.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct AnimalFit {
+    /// The recording's name (file).
+    pub recording: String,
+    /// Frames used.
+    pub frames: usize,
+    /// Frames lost.
+    pub frames_lost: usize,
+    /// Its ω.
+    pub omega: f64,
+    /// Its β.
+    pub beta: f64,
+    /// Its first principal component's variance share.
+    pub first_share: f64,
+}
+
+impl AnimalFit {
+    /// The summary of `report`, the fit of recording `name` alone.
+    pub fn of(name: &str, report: &FitReport) -> AnimalFit {
+        AnimalFit {
+            recording: name.to_string(),
+            frames: report.frames,
+            frames_lost: report.recording.frames_lost,
+            omega: report.omega,
+            beta: report.beta,
+            first_share: report.pca_variance_share.first().copied().unwrap_or(0.0),
+        }
+    }
 }
 
 /// The longest line a recording may have: a frame of thousands of points fits many times over;
@@ -841,93 +877,140 @@ pub fn fit_each(
     model: &Model,
     params: &Params,
     settings: &FitSettings,
+    each: impl FnMut(&Projector, f64, &[f64]) -> Result<(), String>,
+) -> Result<FitReport, FitError> {
+    fit_animals(vec![reader], model, params, settings, each)
+}
+
+/// [`fit_each`] over several recordings, one animal each, pooled: the covariance over every
+/// usable frame of every animal, Welch windows inside one run of one animal, each animal's own
+/// rest length (lengths). Every recording needs the first one's width and sampling interval.
+pub fn fit_animals<R: BufRead>(
+    readers: Vec<R>,
+    model: &Model,
+    params: &Params,
+    settings: &FitSettings,
     mut each: impl FnMut(&Projector, f64, &[f64]) -> Result<(), String>,
 ) -> Result<FitReport, FitError> {
     check_settings(settings)?;
     let invalid = |s: String| FitError::Invalid(s);
-    let mut frames = FrameReader::new(reader);
-    let mut read = 0usize;
-    let mut lost = 0usize;
-    // Frames the tracker lost before the first usable one are gaps of nothing.
-    let first = loop {
-        let Some(row) = frames.next_row()? else {
-            return Err(invalid(if read == 0 {
-                "the input has no frames".into()
-            } else {
-                format!("none of the {read} frames is usable: every one has a missing or non-finite value")
-            }));
-        };
-        read += 1;
-        match row.values {
-            Some(v) => break (row.t, v),
-            None => lost += 1,
+    let (mut read, mut lost) = (0usize, 0usize);
+    let mut state: Option<(Projector, Accumulator, usize)> = None;
+    let mut interval: Option<f64> = None;
+    for (animal, reader) in readers.into_iter().enumerate() {
+        let mut frames = FrameReader::new(reader);
+        let mut previous: Option<(f64, Vec<f64>)> = None;
+        let mut pending_lost = 0usize;
+        if let Some((_, acc, _)) = state.as_mut() {
+            acc.next_animal();
         }
-    };
-    let mut proj = Projector::new(model, params, settings, first.1.len()).map_err(|e| match e {
-        FitError::Line { why, .. } => FitError::Line {
-            line: frames.line,
-            why,
-        },
-        other => other,
-    })?;
-    if settings.kind == InputKind::Lengths {
-        // A fixed rest length: a constant offset in the strains only shifts the means, which
-        // the covariance and the spectra remove.
-        proj.reference_length = Some(first.1.iter().sum::<f64>() / first.1.len() as f64);
-    }
-    let mut acc = Accumulator::new(proj.eigenvalues.len(), settings.window);
-    let mut previous = first.clone();
-    let mut feed = |acc: &mut Accumulator, t: f64, values: &[f64], line: usize| {
-        let oriented;
-        let values = if settings.head_first {
-            oriented = head_last(settings.kind, values);
-            &oriented
-        } else {
-            values
-        };
-        let q = proj
-            .modal(values)
-            .map_err(|why| FitError::Line { line, why })?;
-        each(&proj, t, &q).map_err(FitError::Output)?;
-        acc.push(q);
-        Ok::<(), FitError>(())
-    };
-    feed(&mut acc, first.0, &first.1, frames.line)?;
-    let mut pending_lost = 0usize;
-    while let Some(row) = frames.next_row()? {
-        read += 1;
-        pending_lost += row.missing_before;
-        let Some(values) = row.values else {
-            pending_lost += 1;
-            continue;
-        };
-        if pending_lost > 0 {
-            lost += pending_lost;
-            if pending_lost <= settings.fill_gaps {
-                // Bridge a short gap linearly between the frames either side.
-                for k in 1..=pending_lost {
-                    let w = k as f64 / (pending_lost + 1) as f64;
-                    let t = previous.0 + w * (row.t - previous.0);
-                    let v: Vec<f64> = previous
-                        .1
-                        .iter()
-                        .zip(&values)
-                        .map(|(a, b)| a + w * (b - a))
-                        .collect();
-                    acc.filled += 1;
-                    feed(&mut acc, t, &v, frames.line)?;
-                }
-            } else {
-                acc.break_run();
+        while let Some(row) = frames.next_row()? {
+            read += 1;
+            pending_lost += row.missing_before;
+            let Some(values) = row.values else {
+                pending_lost += 1;
+                continue;
+            };
+            let line = frames.line;
+            if state.is_none() {
+                let proj =
+                    Projector::new(model, params, settings, values.len()).map_err(|e| match e {
+                        FitError::Line { why, .. } => FitError::Line { line, why },
+                        other => other,
+                    })?;
+                let acc = Accumulator::new(proj.eigenvalues.len(), settings.window);
+                state = Some((proj, acc, values.len()));
             }
-            pending_lost = 0;
+            let (proj, acc, width) = state.as_mut().expect("set above");
+            if values.len() != *width {
+                // Midlines of another K resample to the same N modes; rings of another K do not.
+                if settings.kind == InputKind::Lengths {
+                    return Err(invalid(format!(
+                        "recording {}: {} segments where the first recording has {width}",
+                        animal + 1,
+                        values.len()
+                    )));
+                }
+                *proj = Projector::new(model, params, settings, values.len())?;
+                *width = values.len();
+            }
+            if previous.is_none() && settings.kind == InputKind::Lengths {
+                // Each animal's own rest length: a constant offset in the strains only shifts
+                // the means, which the covariance and the spectra remove.
+                proj.reference_length = Some(values.iter().sum::<f64>() / values.len() as f64);
+            }
+            if pending_lost > 0 {
+                lost += pending_lost;
+                match &previous {
+                    Some(prev) if pending_lost <= settings.fill_gaps => {
+                        // Bridge a short gap linearly between the frames either side.
+                        for k in 1..=pending_lost {
+                            let w = k as f64 / (pending_lost + 1) as f64;
+                            let t = prev.0 + w * (row.t - prev.0);
+                            let v: Vec<f64> = prev
+                                .1
+                                .iter()
+                                .zip(&values)
+                                .map(|(a, b)| a + w * (b - a))
+                                .collect();
+                            acc.filled += 1;
+                            feed(proj, acc, settings, &mut each, (t, &v, line))?;
+                        }
+                    }
+                    Some(_) => acc.break_run(),
+                    // Lost before this animal's first usable frame: nothing to split.
+                    None => {}
+                }
+                pending_lost = 0;
+            }
+            feed(proj, acc, settings, &mut each, (row.t, &values, line))?;
+            previous = Some((row.t, values));
         }
-        feed(&mut acc, row.t, &values, frames.line)?;
-        previous = (row.t, values);
+        lost += pending_lost;
+        interval = match (interval, frames.dt) {
+            (Some(a), Some(b)) if (a - b).abs() > 0.01 * a => {
+                return Err(invalid(format!(
+                    "recording {} is sampled every {b}, the first every {a}: fit recordings of one rate together",
+                    animal + 1
+                )))
+            }
+            (None, dt) => dt,
+            (kept, _) => kept,
+        };
     }
-    lost += pending_lost;
-    let interval = frames.dt.unwrap_or(1.0);
-    acc.finish(&proj, settings, interval, (read, lost))
+    let Some((proj, acc, _)) = state else {
+        return Err(invalid(if read == 0 {
+            "the input has no frames".into()
+        } else {
+            format!(
+                "none of the {read} frames is usable: every one has a missing or non-finite value"
+            )
+        }));
+    };
+    acc.finish(&proj, settings, interval.unwrap_or(1.0), (read, lost))
+}
+
+/// Project one frame (oriented head last), hand it to `each`, accumulate it.
+fn feed(
+    proj: &Projector,
+    acc: &mut Accumulator,
+    settings: &FitSettings,
+    each: &mut impl FnMut(&Projector, f64, &[f64]) -> Result<(), String>,
+    (t, values, line): (f64, &[f64], usize),
+) -> Result<(), FitError> {
+    let oriented;
+    let values = if settings.head_first {
+        oriented = head_last(settings.kind, values);
+        &oriented
+    } else {
+        values
+    };
+    let q = proj
+        .modal(values)
+        .map_err(|why| FitError::Line { line, why })?;
+    each(proj, t, &q).map_err(FitError::Output)?;
+    acc.push(q);
+    Ok(())
 }
 
 /// A frame listed head first, reordered head last (the model's orientation): points (x, y)
@@ -951,6 +1034,7 @@ struct Accumulator {
     longest: usize,
     gaps: usize,
     filled: usize,
+    animals: usize,
 }
 
 impl Accumulator {
@@ -965,6 +1049,7 @@ impl Accumulator {
             longest: 0,
             gaps: 0,
             filled: 0,
+            animals: 1,
         }
     }
 
@@ -987,6 +1072,14 @@ impl Accumulator {
     fn break_run(&mut self) {
         self.welch.break_run();
         self.gaps += 1;
+        self.runs += 1;
+        self.run = 0;
+    }
+
+    /// The next recording: a new run, not a gap.
+    fn next_animal(&mut self) {
+        self.welch.break_run();
+        self.animals += 1;
         self.runs += 1;
         self.run = 0;
     }
@@ -1042,6 +1135,7 @@ impl Accumulator {
             },
         )?;
         report.recording = Recording {
+            recordings: self.animals,
             frames_read: read,
             frames_lost: lost,
             frames_filled: self.filled,
@@ -1180,6 +1274,7 @@ fn summarise(
     Ok(FitReport {
         frames: count,
         recording: Recording::default(),
+        animals: Vec::new(),
         points: proj.input_points,
         pca_variance_share: pca_share,
         theory_variance_share: theory_share,
@@ -1347,6 +1442,23 @@ impl Report for FitReport {
                 .map(|s| format!("{:.1}", 100.0 * s))
                 .collect();
             t += "  overlap: |cos(PCₖ, vₖ)|, or the projection onto the pair's plane when λₖ is degenerate\n";
+            if !r.animals.is_empty() {
+                t += &format!(
+                    "  each recording alone ({} pooled above):\n  {:<40} {:>7} {:>6} {:>10} {:>12} {:>9}\n",
+                    r.animals.len(), "recording", "frames", "lost", "ω", "β", "PC 1"
+                );
+                for a in &r.animals {
+                    t += &format!(
+                        "  {:<40} {:>7} {:>6} {:>10.5} {:>12.5} {:>7.2} %\n",
+                        a.recording,
+                        a.frames,
+                        a.frames_lost,
+                        a.omega,
+                        a.beta,
+                        100.0 * a.first_share
+                    );
+                }
+            }
             t += &format!(
                 "  PCA of the plain angles (%, the seed's eigenmaggots; equipartition makes them equal): {}\n",
                 shares.join(" ")

@@ -64,3 +64,54 @@ fn the_fits_see_what_the_data_show() {
     assert!(bridged["recording"]["longest_run"].as_u64() > v["recording"]["longest_run"].as_u64());
     assert!(bridged["frames"].as_u64() > v["frames"].as_u64());
 }
+
+#[test]
+fn several_recordings_pool_into_one_fit_beside_each_own() {
+    // The same animal twice: the pooled statistics are those of one copy, with twice the frames.
+    let path = format!(
+        "{}/../shared/data/celegans_wormpose_15fps_52pts.csv",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let one = fit("celegans_wormpose_15fps_52pts.csv", &["--window", "64"]);
+    let mut out = Vec::new();
+    theory_search::cli::run(
+        [
+            "theory-search",
+            "fit",
+            &path,
+            &path,
+            "--head",
+            "first",
+            "--window",
+            "64",
+            "--format",
+            "json",
+        ],
+        &mut out,
+    )
+    .unwrap();
+    let two: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    assert_eq!(two["frames"], 2 * one["frames"].as_u64().unwrap());
+    assert_eq!(two["recording"]["recordings"], 2);
+    let (a, b) = (&one["pca_variance_share"], &two["pca_variance_share"]);
+    for k in 0..3 {
+        assert!(
+            (a[k].as_f64().unwrap() - b[k].as_f64().unwrap()).abs() < 1e-6,
+            "{a} {b}"
+        );
+    }
+    assert_eq!(two["animals"].as_array().unwrap().len(), 2);
+    assert_eq!(two["animals"][0]["omega"], one["omega"]);
+    // Recordings of different rates cannot share spectra: one line, exit 2.
+    let wt2 = format!(
+        "{}/../shared/data/celegans_wt2_crawling_30fps_49pts.csv",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let e = theory_search::cli::run(
+        ["theory-search", "fit", &path, &wt2, "--head", "first"],
+        &mut Vec::new(),
+    )
+    .unwrap_err();
+    assert_eq!(e.exit_code(), 2);
+    assert!(e.to_string().contains("sampled every"), "{e}");
+}

@@ -12,9 +12,11 @@ use crate::report::Output;
 /// Arguments of `fit`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// The data file (`-` for standard input): `t x₁ y₁ … x_K y_K` or `t ℓ₁ … ℓ_K` per line.
-    #[arg(value_name = "FILE")]
-    input: PathBuf,
+    /// The recordings (`-` for standard input): `t x₁ y₁ … x_K y_K` or `t ℓ₁ … ℓ_K` per line.
+    /// Several files, or a directory (its .csv and .txt files), are several animals: one pooled
+    /// fit and each animal's own.
+    #[arg(value_name = "FILE", required = true)]
+    input: Vec<PathBuf>,
     /// What the columns after time hold.
     #[arg(long, value_enum, default_value_t = FitKind::Midline)]
     kind: FitKind,
@@ -108,11 +110,83 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     settings.ring = args.ring;
     settings.fill_gaps = args.fill_gaps;
     settings.head_first = args.head == HeadEnd::First;
-    let report = fit_input(&args.input, args.series.as_deref(), &model, &settings)?;
+    let inputs = recordings(&args.input)?;
+    let report = if inputs.len() == 1 {
+        fit_input(&inputs[0], args.series.as_deref(), &model, &settings)?
+    } else {
+        fit_pooled(&inputs, args.series.as_deref(), &model, &settings)?
+    };
     if let Some(dir) = &args.figures {
         crate::figures::write_fit(dir, &report).map_err(|e| CliError::Output(e.to_string()))?;
     }
     emit(out, &report, args.format)
+}
+
+/// The recordings named: files as given, a directory's .csv and .txt files in name order.
+fn recordings(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, CliError> {
+    let mut out = Vec::new();
+    for path in inputs {
+        if path.is_dir() {
+            let mut files: Vec<PathBuf> = std::fs::read_dir(path)
+                .map_err(|e| CliError::Input(format!("cannot read {}: {e}", path.display())))?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.is_file() && p.extension().is_some_and(|x| x == "csv" || x == "txt"))
+                .collect();
+            files.sort();
+            if files.is_empty() {
+                return Err(CliError::Input(format!(
+                    "{}: no .csv or .txt recordings in this directory",
+                    path.display()
+                )));
+            }
+            out.extend(files);
+        } else {
+            out.push(path.clone());
+        }
+    }
+    if out.len() > 1 && out.iter().any(|p| p.as_os_str() == "-") {
+        return Err(CliError::Usage(
+            "standard input (-) is one recording: give files instead to pool several".into(),
+        ));
+    }
+    Ok(out)
+}
+
+/// Each recording alone (its errors name its file), then all pooled.
+fn fit_pooled(
+    inputs: &[PathBuf],
+    series: Option<&Path>,
+    model: &Model,
+    settings: &FitSettings,
+) -> Result<FitReport, CliError> {
+    let mut animals = Vec::new();
+    for path in inputs {
+        let alone = fit_input(path, None, model, settings)?;
+        animals.push(crate::fit::AnimalFit::of(
+            &path.display().to_string(),
+            &alone,
+        ));
+    }
+    let readers = inputs
+        .iter()
+        .map(|p| {
+            std::fs::File::open(p)
+                .map(std::io::BufReader::new)
+                .map_err(|e| CliError::Input(format!("cannot open {}: {e}", p.display())))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut sink = series_sink(series)?;
+    let mut report =
+        crate::fit::fit_animals(readers, model, &Params::default(), settings, |p, t, q| {
+            write_series(&mut sink, p, t, q)
+        })
+        .map_err(|e| match e {
+            FitError::Output(m) => CliError::Output(m),
+            other => CliError::Usage(format!("pooled fit: {other}")),
+        })?;
+    finish_series(sink)?;
+    report.animals = animals;
+    Ok(report)
 }
 
 /// Run the fit on a file or standard input, streaming the modal series to `series` if asked
@@ -124,33 +198,10 @@ fn fit_input(
     settings: &FitSettings,
 ) -> Result<FitReport, CliError> {
     let params = Params::default();
-    let mut sink = match series {
-        None => None,
-        Some(path) => Some((
-            path,
-            csv::Writer::from_path(path)
-                .map_err(|e| CliError::Output(format!("cannot write {}: {e}", path.display())))?,
-            false,
-        )),
-    };
-    let mut each = |p: &Projector, t: f64, q: &[f64]| -> Result<(), String> {
-        let Some((path, out, started)) = sink.as_mut() else {
-            return Ok(());
-        };
-        let fail = |e: csv::Error| format!("cannot write {}: {e}", path.display());
-        if !*started {
-            let mut names = vec!["t".to_string()];
-            names.extend((0..q.len()).map(|j| format!("q_{}", p.first_mode + j)));
-            out.write_record(&names).map_err(fail)?;
-            *started = true;
-        }
-        let cells = std::iter::once(t)
-            .chain(q.iter().copied())
-            .map(|v| v.to_string());
-        out.write_record(cells).map_err(fail)
-    };
+    let mut sink = series_sink(series)?;
+    let each = |p: &Projector, t: f64, q: &[f64]| write_series(&mut sink, p, t, q);
     let result = if input.as_os_str() == "-" {
-        fit_each(std::io::stdin().lock(), model, &params, settings, &mut each)
+        fit_each(std::io::stdin().lock(), model, &params, settings, each)
     } else {
         let file = std::fs::File::open(input)
             .map_err(|e| CliError::Input(format!("cannot open {}: {e}", input.display())))?;
@@ -159,16 +210,52 @@ fn fit_input(
             model,
             &params,
             settings,
-            &mut each,
+            each,
         )
     };
-    if let Some((path, mut out, _)) = sink {
-        out.flush()
-            .map_err(|e| CliError::Output(format!("cannot write {}: {e}", path.display())))?;
-    }
+    finish_series(sink)?;
     result.map_err(|e| match e {
         FitError::Invalid(m) => CliError::Usage(m),
         FitError::Output(m) => CliError::Output(m),
         other => CliError::Input(format!("{}: {other}", input.display())),
     })
+}
+
+/// The `--series` CSV: its path, the writer, and whether the header is out.
+type Series<'a> = Option<(&'a Path, csv::Writer<std::fs::File>, bool)>;
+
+fn series_sink(series: Option<&Path>) -> Result<Series<'_>, CliError> {
+    series
+        .map(|path| {
+            csv::Writer::from_path(path)
+                .map(|w| (path, w, false))
+                .map_err(|e| CliError::Output(format!("cannot write {}: {e}", path.display())))
+        })
+        .transpose()
+}
+
+/// One frame's modal coordinates as a CSV record (t, q_<mode>, …), header first.
+fn write_series(sink: &mut Series<'_>, p: &Projector, t: f64, q: &[f64]) -> Result<(), String> {
+    let Some((path, out, started)) = sink.as_mut() else {
+        return Ok(());
+    };
+    let fail = |e: csv::Error| format!("cannot write {}: {e}", path.display());
+    if !*started {
+        let mut names = vec!["t".to_string()];
+        names.extend((0..q.len()).map(|j| format!("q_{}", p.first_mode + j)));
+        out.write_record(&names).map_err(fail)?;
+        *started = true;
+    }
+    let cells = std::iter::once(t)
+        .chain(q.iter().copied())
+        .map(|v| v.to_string());
+    out.write_record(cells).map_err(fail)
+}
+
+fn finish_series(sink: Series<'_>) -> Result<(), CliError> {
+    if let Some((path, mut out, _)) = sink {
+        out.flush()
+            .map_err(|e| CliError::Output(format!("cannot write {}: {e}", path.display())))?;
+    }
+    Ok(())
 }
