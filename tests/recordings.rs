@@ -115,3 +115,62 @@ fn several_recordings_pool_into_one_fit_beside_each_own() {
     assert_eq!(e.exit_code(), 2);
     assert!(e.to_string().contains("sampled every"), "{e}");
 }
+
+#[test]
+fn a_fit_feeds_the_other_commands_through_a_parameter_file() {
+    let dir = std::env::temp_dir().join(format!("ts-params-out-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let params = dir.join("fitted.toml");
+    let path = format!(
+        "{}/../shared/data/celegans_wormpose_15fps_52pts.csv",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let mut out = Vec::new();
+    let p = params.to_str().unwrap();
+    theory_search::cli::run(
+        [
+            "theory-search",
+            "fit",
+            &path,
+            "--head",
+            "first",
+            "--window",
+            "64",
+            "--format",
+            "json",
+            "--params-out",
+            p,
+        ],
+        &mut out,
+    )
+    .unwrap();
+    let fitted: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let mut modes = Vec::new();
+    theory_search::cli::run(
+        [
+            "theory-search",
+            "modes",
+            "-p",
+            "12",
+            "--params",
+            p,
+            "--format",
+            "json",
+        ],
+        &mut modes,
+    )
+    .unwrap();
+    let m: serde_json::Value = serde_json::from_slice(&modes).unwrap();
+    let y = m["fields"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["field"] == "y")
+        .unwrap();
+    let omega = fitted["omega"].as_f64().unwrap();
+    assert!(
+        (y["omega"].as_f64().unwrap() - omega).abs() < 1e-12 * omega,
+        "{y}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

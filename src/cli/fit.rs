@@ -57,6 +57,10 @@ pub struct Args {
     /// Also write every frame's modal coordinates to this CSV file (t, q_<mode>, …).
     #[arg(long, value_name = "FILE")]
     series: Option<PathBuf>,
+    /// Also write the fitted scale as a parameter file (`omega_<scale> = ω`, in the data's time
+    /// unit), for `--params FILE` of `modes`, `simulate`, `behave` and `stats`.
+    #[arg(long, value_name = "FILE")]
+    params_out: Option<PathBuf>,
     #[command(flatten)]
     model: ModelArgs,
     /// Output format (csv: one row per mode).
@@ -118,6 +122,9 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     };
     if let Some(dir) = &args.figures {
         crate::figures::write_fit(dir, &report).map_err(|e| CliError::Output(e.to_string()))?;
+    }
+    if let Some(path) = &args.params_out {
+        write_params(path, &model, &report)?;
     }
     emit(out, &report, args.format)
 }
@@ -258,4 +265,21 @@ fn finish_series(sink: Series<'_>) -> Result<(), CliError> {
             .map_err(|e| CliError::Output(format!("cannot write {}: {e}", path.display())))?;
     }
     Ok(())
+}
+
+/// The fitted ω as a parameter file, with β and the units in comments.
+fn write_params(path: &Path, model: &Model, report: &FitReport) -> Result<(), CliError> {
+    let scale = model
+        .field(&report.field)
+        .map(|f| f.scale().to_string())
+        .unwrap_or_else(|| report.field.clone());
+    let text = format!(
+        "# Fitted by theory-search fit from {} frames of field {} (model {}).\n\
+         # ω is in radians per unit of the recording's time; β = {} in units of the point spacing\n\
+         # (lengths) and of that time: it scales as time² / length².\n\
+         omega_{scale} = {}\n",
+        report.frames, report.field, model.name, report.beta, report.omega
+    );
+    std::fs::write(path, text)
+        .map_err(|e| CliError::Output(format!("cannot write {}: {e}", path.display())))
 }
