@@ -266,32 +266,23 @@ impl serde::ser::SerializeMap for &mut FiniteCheck {
     }
 }
 
-impl serde::ser::SerializeStruct for &mut FiniteCheck {
-    type Ok = ();
-    type Error = NonFinite;
-    fn serialize_field<T: ?Sized + serde::Serialize>(
-        &mut self,
-        key: &'static str,
-        v: &T,
-    ) -> Result<(), NonFinite> {
-        self.field(key, v)
-    }
-    fn end(self) -> Result<(), NonFinite> {
-        Ok(())
-    }
+macro_rules! fields {
+    ($($tr:ident),*) => {
+        $(impl serde::ser::$tr for &mut FiniteCheck {
+            type Ok = ();
+            type Error = NonFinite;
+            fn serialize_field<T: ?Sized + serde::Serialize>(
+                &mut self,
+                key: &'static str,
+                v: &T,
+            ) -> Result<(), NonFinite> {
+                self.field(key, v)
+            }
+            fn end(self) -> Result<(), NonFinite> {
+                Ok(())
+            }
+        })*
+    };
 }
 
-impl serde::ser::SerializeStructVariant for &mut FiniteCheck {
-    type Ok = ();
-    type Error = NonFinite;
-    fn serialize_field<T: ?Sized + serde::Serialize>(
-        &mut self,
-        key: &'static str,
-        v: &T,
-    ) -> Result<(), NonFinite> {
-        self.field(key, v)
-    }
-    fn end(self) -> Result<(), NonFinite> {
-        Ok(())
-    }
-}
+fields!(SerializeStruct, SerializeStructVariant);
