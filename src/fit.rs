@@ -248,6 +248,9 @@ pub struct FitReport {
     pub shapes: Vec<Vec<f64>>,
     /// What the recording held: frames read, lost, bridged; gaps and runs.
     pub recording: Recording,
+    /// Cautions about what the numbers can mean for this input.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
     /// With several recordings: each one's own fit, beside the pooled one above.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub animals: Vec<AnimalFit>,
@@ -1134,6 +1137,13 @@ impl Accumulator {
                 psd,
             },
         )?;
+        if settings.ring.is_some_and(|r| r > proj.input_points) {
+            report.warnings.push(format!(
+                "only {} of {} ring segments were measured: under equipartition every mode carries the same strain variance, so the unresolved modes alias into the fitted ones; ω and β are reliable for a dominant rhythm, not for thermal data",
+                proj.input_points,
+                settings.ring.unwrap_or(0)
+            ));
+        }
         report.recording = Recording {
             recordings: self.animals,
             frames_read: read,
@@ -1274,6 +1284,7 @@ fn summarise(
     Ok(FitReport {
         frames: count,
         recording: Recording::default(),
+        warnings: Vec::new(),
         animals: Vec::new(),
         points: proj.input_points,
         pca_variance_share: pca_share,
@@ -1442,6 +1453,9 @@ impl Report for FitReport {
                 .map(|s| format!("{:.1}", 100.0 * s))
                 .collect();
             t += "  overlap: |cos(PCₖ, vₖ)|, or the projection onto the pair's plane when λₖ is degenerate\n";
+            for w in &r.warnings {
+                t += &format!("  warning: {w}\n");
+            }
             if !r.animals.is_empty() {
                 t += &format!(
                     "  each recording alone ({} pooled above):\n  {:<40} {:>7} {:>6} {:>10} {:>12} {:>9}\n",

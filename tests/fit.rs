@@ -651,9 +651,19 @@ fn a_partial_ring_of_segments() {
         r.mode_overlap
     );
     assert!(r.pca_variance_share[0] + r.pca_variance_share[1] > 0.95);
+    // A truncated ring says what its numbers can mean; a whole ring has no such caution.
+    assert!(
+        r.warnings
+            .iter()
+            .any(|w| w.contains("7 of 10 ring segments")),
+        "{:?}",
+        r.warnings
+    );
     // Without the ring the same data are read as a closed ring of 7: a different body.
     s.ring = None;
-    assert_eq!(larva_fit(&text, &s).unwrap().model_points, 8);
+    let whole = larva_fit(&text, &s).unwrap();
+    assert_eq!(whole.model_points, 8);
+    assert!(whole.warnings.is_empty());
     s.ring = Some(6);
     assert!(larva_fit(&text, &s)
         .unwrap_err()
