@@ -4,7 +4,10 @@
 //! **Input.** One frame per line, numbers separated by commas or white space; blank lines, `#`
 //! comments and one header line (a first line that does not start with a number) are skipped.
 //! * `midline`: `t x₁ y₁ … x_K y_K`, K ≥ 5 points from tail to head, as trackers write them;
-//! * `lengths`: `t ℓ₁ … ℓ_K`, K ≥ 3 segment lengths around the body (axial data).
+//! * `lengths`: `t ℓ₁ … ℓ_K`, K ≥ 3 segment lengths around the body (axial data);
+//! * DeepLabCut CSV (recognised by its `scorer`/`bodyparts`/`coords` header rows): the frame
+//!   index, then x, y, likelihood per body part; time is index/fps, and a point below the
+//!   likelihood threshold makes its frame lost.
 //!
 //! Every frame must have the first frame's width and time that increases by whole sampling
 //! intervals (the first step, within 1 %). A frame with a missing or non-finite value, or one
@@ -115,6 +118,10 @@ pub struct FitSettings {
     pub fill_gaps: usize,
     /// The data list the head first (most trackers); the model's head is its last point.
     pub head_first: bool,
+    /// Frames per second of a DeepLabCut file (its rows carry frame indices, not time).
+    pub fps: Option<f64>,
+    /// DeepLabCut points tracked below this likelihood count as lost.
+    pub min_likelihood: f64,
 }
 
 impl FitSettings {
@@ -133,6 +140,8 @@ impl FitSettings {
             ring: None,
             fill_gaps: 0,
             head_first: false,
+            fps: None,
+            min_likelihood: 0.6,
         }
     }
 }
@@ -300,10 +309,16 @@ struct FrameReader<R> {
     seen_data: bool,
     last_t: Option<f64>,
     dt: Option<f64>,
+    /// DeepLabCut layout: seen its `scorer`/`bodyparts`/`coords` header rows.
+    dlc: bool,
+    /// Frames per second, to turn DeepLabCut frame indices into time.
+    fps: Option<f64>,
+    /// DeepLabCut points below this likelihood are lost.
+    min_likelihood: f64,
 }
 
 impl<R: BufRead> FrameReader<R> {
-    fn new(reader: R) -> Self {
+    fn new(reader: R, settings: &FitSettings) -> Self {
         FrameReader {
             reader,
             buf: Vec::new(),
@@ -312,7 +327,34 @@ impl<R: BufRead> FrameReader<R> {
             seen_data: false,
             last_t: None,
             dt: None,
+            dlc: false,
+            fps: settings.fps,
+            min_likelihood: settings.min_likelihood,
         }
+    }
+
+    /// A DeepLabCut row (frame, then x, y, likelihood per body part) as `t, x₁, y₁, …`, with
+    /// NaN for a point tracked below the likelihood threshold.
+    fn dlc_row(&self, cells: &[&str]) -> Result<Vec<String>, String> {
+        if (cells.len() - 1) % 3 != 0 {
+            return Err(format!(
+                "{} values after the frame index: DeepLabCut rows hold x, y, likelihood per body part",
+                cells.len() - 1
+            ));
+        }
+        let frame: f64 = cells[0]
+            .parse()
+            .map_err(|_| format!("frame index {:?} is not a number", cells[0]))?;
+        let mut out = vec![(frame / self.fps.unwrap_or(1.0)).to_string()];
+        for part in cells[1..].chunks(3) {
+            let likely = part[2]
+                .parse::<f64>()
+                .is_ok_and(|l| l >= self.min_likelihood);
+            for v in &part[..2] {
+                out.push(if likely { v.to_string() } else { "NaN".into() });
+            }
+        }
+        Ok(out)
     }
 
     /// The next line, read at most [`MAX_LINE_BYTES`] at a time.
@@ -357,14 +399,25 @@ impl<R: BufRead> FrameReader<R> {
             } else {
                 text.split_whitespace().collect()
             };
-            // Only the first non-comment line may be a header.
-            if !self.seen_data && cells[0].parse::<f64>().is_err() {
+            // DeepLabCut's three header rows; otherwise only the first line may be a header.
+            if !self.seen_data && matches!(cells[0], "scorer" | "bodyparts" | "coords") {
+                self.dlc = true;
+                continue;
+            }
+            if !self.seen_data && !self.dlc && cells[0].parse::<f64>().is_err() {
                 self.seen_data = true;
                 continue;
             }
             self.seen_data = true;
             let line = self.line;
             let bad = |why: String| FitError::Line { line, why };
+            let converted;
+            let cells: Vec<&str> = if self.dlc {
+                converted = self.dlc_row(&cells).map_err(bad)?;
+                converted.iter().map(String::as_str).collect()
+            } else {
+                cells
+            };
             match self.width {
                 None => self.width = Some(cells.len()),
                 Some(w) if w != cells.len() => {
@@ -901,7 +954,7 @@ pub fn fit_animals<R: BufRead>(
     let mut state: Option<(Projector, Accumulator, usize)> = None;
     let mut interval: Option<f64> = None;
     for (animal, reader) in readers.into_iter().enumerate() {
-        let mut frames = FrameReader::new(reader);
+        let mut frames = FrameReader::new(reader, settings);
         let mut previous: Option<(f64, Vec<f64>)> = None;
         let mut pending_lost = 0usize;
         if let Some((_, acc, _)) = state.as_mut() {
@@ -1160,6 +1213,17 @@ impl Accumulator {
 /// The settings' limits, checked before any data are read.
 fn check_settings(settings: &FitSettings) -> Result<(), FitError> {
     let invalid = |s: String| FitError::Invalid(s);
+    if let Some(f) = settings.fps {
+        if !(f.is_finite() && f > 0.0) {
+            return Err(invalid(format!("--fps must be a positive number, not {f}")));
+        }
+    }
+    if !(0.0..=1.0).contains(&settings.min_likelihood) {
+        return Err(invalid(format!(
+            "--min-likelihood must be between 0 and 1, not {}",
+            settings.min_likelihood
+        )));
+    }
     if settings.points > MAX_POINTS {
         return Err(invalid(format!(
             "at most {MAX_POINTS} model points, not {}",

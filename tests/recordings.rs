@@ -174,3 +174,73 @@ fn a_fit_feeds_the_other_commands_through_a_parameter_file() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn deeplabcut_files_are_read_with_their_likelihoods() {
+    // A DeepLabCut export of the shipped example: three header rows, frame index, then x, y,
+    // likelihood per body part (head first, as DLC users label), some points uncertain.
+    let example = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tables/examples/midlines.csv"
+    ))
+    .unwrap();
+    let rows: Vec<Vec<f64>> = example
+        .lines()
+        .filter_map(|l| {
+            let v: Result<Vec<f64>, _> = l.split(',').map(|c| c.trim().parse()).collect();
+            v.ok()
+        })
+        .collect();
+    let k = (rows[0].len() - 1) / 2;
+    let dt = rows[1][0] - rows[0][0];
+    let mut dlc = String::new();
+    dlc += &format!("scorer{}\n", ",DLC_resnet50".repeat(3 * k));
+    let parts: Vec<String> = (0..k).flat_map(|j| vec![format!("p{j}"); 3]).collect();
+    dlc += &format!("bodyparts,{}\n", parts.join(","));
+    dlc += &format!("coords{}\n", ",x,y,likelihood".repeat(k));
+    for (i, r) in rows.iter().enumerate() {
+        let mut cells = vec![i.to_string()];
+        for j in (0..k).rev() {
+            let likely = if i % 97 == 5 && j == 3 { 0.2 } else { 0.99 };
+            cells.extend([
+                r[1 + 2 * j].to_string(),
+                r[2 + 2 * j].to_string(),
+                likely.to_string(),
+            ]);
+        }
+        dlc += &(cells.join(",") + "\n");
+    }
+    let dir = std::env::temp_dir().join(format!("ts-dlc-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("dlc.csv");
+    std::fs::write(&path, &dlc).unwrap();
+    let fps = (1.0 / dt).to_string();
+    let p = path.to_str().unwrap();
+    let mut out = Vec::new();
+    theory_search::cli::run(
+        // Single uncertain frames are bridged, so the Welch windows stay long.
+        [
+            "theory-search",
+            "fit",
+            p,
+            "--head",
+            "first",
+            "--fps",
+            &fps,
+            "--fill-gaps",
+            "1",
+            "--format",
+            "json",
+        ],
+        &mut out,
+    )
+    .unwrap();
+    let v: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let lost = rows.iter().enumerate().filter(|(i, _)| i % 97 == 5).count();
+    assert_eq!(v["recording"]["frames_lost"], lost);
+    assert_eq!(v["recording"]["frames_filled"], lost);
+    // The same physics as the plain file (ω_b = 1 in the simulation; the plain fit gives 0.974).
+    let omega = v["omega"].as_f64().unwrap();
+    assert!((omega - 0.974).abs() < 0.02, "{omega}");
+    std::fs::remove_dir_all(&dir).ok();
+}

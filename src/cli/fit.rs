@@ -47,6 +47,13 @@ pub struct Args {
     /// (the covariance pools every usable frame, the spectra use windows inside one run).
     #[arg(long, value_name = "K", default_value_t = 0)]
     fill_gaps: usize,
+    /// Frames per second of a DeepLabCut file (its rows hold frame indices; without it the
+    /// time unit is one frame).
+    #[arg(long, value_name = "F")]
+    fps: Option<f64>,
+    /// DeepLabCut points tracked below this likelihood make their frame lost.
+    #[arg(long, value_name = "P", default_value_t = 0.6)]
+    min_likelihood: f64,
     /// Which end the data list first: `last` (head last, the model's order) or `first` (head
     /// first, as most trackers write).
     #[arg(long, value_enum, default_value_t = HeadEnd::Last)]
@@ -114,6 +121,8 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     settings.ring = args.ring;
     settings.fill_gaps = args.fill_gaps;
     settings.head_first = args.head == HeadEnd::First;
+    settings.fps = args.fps;
+    settings.min_likelihood = args.min_likelihood;
     let inputs = recordings(&args.input)?;
     let report = if inputs.len() == 1 {
         fit_input(&inputs[0], args.series.as_deref(), &model, &settings)?
