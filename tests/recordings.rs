@@ -2,8 +2,13 @@
 //! counts match the data's README, and the fits agree with what a plain PCA of the gap-free
 //! frames shows there.
 
+/// The path of a recording in `../shared/data`.
+fn data(file: &str) -> String {
+    format!("{}/../shared/data/{file}", env!("CARGO_MANIFEST_DIR"))
+}
+
 fn fit(file: &str, extra: &[&str]) -> serde_json::Value {
-    let path = format!("{}/../shared/data/{file}", env!("CARGO_MANIFEST_DIR"));
+    let path = data(file);
     assert!(
         std::path::Path::new(&path).exists(),
         "{path} is missing: the recording tests need ../shared beside the repository"
@@ -68,10 +73,7 @@ fn the_fits_see_what_the_data_show() {
 #[test]
 fn several_recordings_pool_into_one_fit_beside_each_own() {
     // The same animal twice: the pooled statistics are those of one copy, with twice the frames.
-    let path = format!(
-        "{}/../shared/data/celegans_wormpose_15fps_52pts.csv",
-        env!("CARGO_MANIFEST_DIR")
-    );
+    let path = data("celegans_wormpose_15fps_52pts.csv");
     let one = fit("celegans_wormpose_15fps_52pts.csv", &["--window", "64"]);
     let mut out = Vec::new();
     theory_search::cli::run(
@@ -103,10 +105,7 @@ fn several_recordings_pool_into_one_fit_beside_each_own() {
     assert_eq!(two["animals"].as_array().unwrap().len(), 2);
     assert_eq!(two["animals"][0]["omega"], one["omega"]);
     // Recordings of different rates cannot share spectra: one line, exit 2.
-    let wt2 = format!(
-        "{}/../shared/data/celegans_wt2_crawling_30fps_49pts.csv",
-        env!("CARGO_MANIFEST_DIR")
-    );
+    let wt2 = data("celegans_wt2_crawling_30fps_49pts.csv");
     let e = theory_search::cli::run(
         ["theory-search", "fit", &path, &wt2, "--head", "first"],
         &mut Vec::new(),
@@ -121,10 +120,7 @@ fn a_fit_feeds_the_other_commands_through_a_parameter_file() {
     let dir = std::env::temp_dir().join(format!("ts-params-out-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let params = dir.join("fitted.toml");
-    let path = format!(
-        "{}/../shared/data/celegans_wormpose_15fps_52pts.csv",
-        env!("CARGO_MANIFEST_DIR")
-    );
+    let path = data("celegans_wormpose_15fps_52pts.csv");
     let mut out = Vec::new();
     let p = params.to_str().unwrap();
     theory_search::cli::run(

@@ -1,0 +1,204 @@
+//! Reading recordings: one frame per line (plain CSV or white space, or DeepLabCut exports),
+//! lost frames (missing values, skipped time steps) as rows without values, lines and files
+//! bounded.
+
+use std::io::BufRead;
+
+use super::{FitError, FitSettings};
+
+/// The longest line a recording may have: a frame of thousands of points fits many times over;
+/// `/dev/zero` or a binary file does not.
+pub const MAX_LINE_BYTES: usize = 1 << 20;
+
+/// Streams frames out of text.
+pub(super) struct FrameReader<R> {
+    reader: R,
+    buf: Vec<u8>,
+    /// The line last read (1-based).
+    pub(super) line: usize,
+    width: Option<usize>,
+    seen_data: bool,
+    last_t: Option<f64>,
+    /// The sampling interval (the first time step).
+    pub(super) dt: Option<f64>,
+    /// DeepLabCut layout: seen its `scorer`/`bodyparts`/`coords` header rows.
+    dlc: bool,
+    /// Frames per second, to turn DeepLabCut frame indices into time.
+    fps: Option<f64>,
+    /// DeepLabCut points below this likelihood are lost.
+    min_likelihood: f64,
+}
+
+impl<R: BufRead> FrameReader<R> {
+    pub(super) fn new(reader: R, settings: &FitSettings) -> Self {
+        FrameReader {
+            reader,
+            buf: Vec::new(),
+            line: 0,
+            width: None,
+            seen_data: false,
+            last_t: None,
+            dt: None,
+            dlc: false,
+            fps: settings.fps,
+            min_likelihood: settings.min_likelihood,
+        }
+    }
+
+    /// A DeepLabCut row (frame, then x, y, likelihood per body part) as `t, x₁, y₁, …`, with
+    /// NaN for a point tracked below the likelihood threshold.
+    fn dlc_row(&self, cells: &[&str]) -> Result<Vec<String>, String> {
+        if (cells.len() - 1) % 3 != 0 {
+            return Err(format!(
+                "{} values after the frame index: DeepLabCut rows hold x, y, likelihood per body part",
+                cells.len() - 1
+            ));
+        }
+        let frame: f64 = cells[0]
+            .parse()
+            .map_err(|_| format!("frame index {:?} is not a number", cells[0]))?;
+        let mut out = vec![(frame / self.fps.unwrap_or(1.0)).to_string()];
+        for part in cells[1..].chunks(3) {
+            let likely = part[2]
+                .parse::<f64>()
+                .is_ok_and(|l| l >= self.min_likelihood);
+            for v in &part[..2] {
+                out.push(if likely { v.to_string() } else { "NaN".into() });
+            }
+        }
+        Ok(out)
+    }
+
+    /// The next line, read at most [`MAX_LINE_BYTES`] at a time.
+    fn next_line(&mut self) -> Result<Option<String>, FitError> {
+        use std::io::Read;
+        self.buf.clear();
+        let read = (&mut self.reader)
+            .take(MAX_LINE_BYTES as u64 + 1)
+            .read_until(b'\n', &mut self.buf)
+            .map_err(|e| FitError::Io(e.to_string()))?;
+        if read == 0 {
+            return Ok(None);
+        }
+        self.line += 1;
+        if self.buf.len() > MAX_LINE_BYTES {
+            return Err(FitError::Line {
+                line: self.line,
+                why: format!("longer than {MAX_LINE_BYTES} bytes: not a recording of midlines"),
+            });
+        }
+        String::from_utf8(std::mem::take(&mut self.buf))
+            .map(Some)
+            .map_err(|_| FitError::Line {
+                line: self.line,
+                why: "is not UTF-8 text".into(),
+            })
+    }
+
+    /// The next row: a frame, or a frame the tracker lost (a missing or non-finite value), with
+    /// the frames the time step says are missing before it.
+    pub(super) fn next_row(&mut self) -> Result<Option<Row>, FitError> {
+        loop {
+            let Some(text) = self.next_line()? else {
+                return Ok(None);
+            };
+            let text = text.trim();
+            if text.is_empty() || text.starts_with('#') {
+                continue;
+            }
+            let cells: Vec<&str> = if text.contains(',') {
+                text.split(',').map(str::trim).collect()
+            } else {
+                text.split_whitespace().collect()
+            };
+            // DeepLabCut's three header rows; otherwise only the first line may be a header.
+            if !self.seen_data && matches!(cells[0], "scorer" | "bodyparts" | "coords") {
+                self.dlc = true;
+                continue;
+            }
+            if !self.seen_data && !self.dlc && cells[0].parse::<f64>().is_err() {
+                self.seen_data = true;
+                continue;
+            }
+            self.seen_data = true;
+            let line = self.line;
+            let bad = |why: String| FitError::Line { line, why };
+            let converted;
+            let cells: Vec<&str> = if self.dlc {
+                converted = self.dlc_row(&cells).map_err(bad)?;
+                converted.iter().map(String::as_str).collect()
+            } else {
+                cells
+            };
+            match self.width {
+                None => self.width = Some(cells.len()),
+                Some(w) if w != cells.len() => {
+                    return Err(bad(format!(
+                        "{} columns where the first frame had {w}",
+                        cells.len()
+                    )))
+                }
+                _ => {}
+            }
+            let t: f64 = cells[0]
+                .parse()
+                .ok()
+                .filter(|t: &f64| t.is_finite())
+                .ok_or_else(|| {
+                    bad(format!(
+                        "column 1: time {:?} is not a finite number",
+                        cells[0]
+                    ))
+                })?;
+            let mut values = Vec::with_capacity(cells.len() - 1);
+            let mut lost = false;
+            for (c, cell) in cells.iter().enumerate().skip(1) {
+                // An empty cell, NaN or ±inf: the tracker lost this frame.
+                let v: f64 = if cell.is_empty() {
+                    f64::NAN
+                } else {
+                    cell.parse()
+                        .map_err(|_| bad(format!("column {}: {cell:?} is not a number", c + 1)))?
+                };
+                lost |= !v.is_finite();
+                values.push(v);
+            }
+            let missing_before = self.step(t).map_err(bad)?;
+            return Ok(Some(Row {
+                t,
+                values: (!lost).then_some(values),
+                missing_before,
+            }));
+        }
+    }
+
+    /// Check the time step to `t`: one sampling interval (the first step, within 1 %), or a
+    /// whole number of them (frames missing from the file). Returns how many are missing.
+    fn step(&mut self, t: f64) -> Result<usize, String> {
+        let Some(last) = self.last_t.replace(t) else {
+            return Ok(0);
+        };
+        let gap = t - last;
+        if gap <= 0.0 {
+            return Err(format!("time {t} does not increase (previous {last})"));
+        }
+        let dt = *self.dt.get_or_insert(gap);
+        let steps = (gap / dt).round();
+        if steps >= 1.0 && (gap - steps * dt).abs() <= 0.01 * dt * steps.max(1.0) {
+            Ok(steps as usize - 1)
+        } else {
+            Err(format!(
+                "time step {gap} after t = {last} is not a whole number of sampling intervals {dt}"
+            ))
+        }
+    }
+}
+
+/// One row of a recording.
+pub(super) struct Row {
+    pub(super) t: f64,
+    /// The frame's values after t; `None` when the tracker lost it.
+    pub(super) values: Option<Vec<f64>>,
+    /// Frames missing from the file just before this row (from the time step).
+    pub(super) missing_before: usize,
+}
