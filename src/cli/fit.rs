@@ -4,7 +4,10 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use super::{emit, CliError, ModelArgs};
-use crate::fit::{fit_each, Estimator, FitError, FitReport, FitSettings, InputKind, Projector};
+use crate::fit::{
+    checked_unit, fit_inputs, Estimator, FitError, FitReport, FitSettings, Input, InputFormat,
+    InputKind, Projector, MAX_REPLICATES,
+};
 use crate::modal::Params;
 use crate::model::Model;
 use crate::report::Output;
@@ -12,9 +15,10 @@ use crate::report::Output;
 /// Arguments of `fit`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// The recordings (`-` for standard input): `t x₁ y₁ … x_K y_K` or `t ℓ₁ … ℓ_K` per line.
-    /// Several files, or a directory (its .csv and .txt files), are several animals: one pooled
-    /// fit and each animal's own.
+    /// The recordings (`-` for standard input): `t x₁ y₁ … x_K y_K` or `t ℓ₁ … ℓ_K` per line,
+    /// DeepLabCut CSV or WCON. Several files, a directory (its .csv, .txt, .wcon and .json
+    /// files) or a pattern with `*` and `?` in the file name are several animals: one pooled fit
+    /// and each animal's own.
     #[arg(value_name = "FILE", required = true)]
     input: Vec<PathBuf>,
     /// What the columns after time hold.
@@ -54,10 +58,29 @@ pub struct Args {
     /// DeepLabCut points tracked below this likelihood make their frame lost.
     #[arg(long, value_name = "P", default_value_t = 0.6)]
     min_likelihood: f64,
-    /// Which end the data list first: `last` (head last, the model's order) or `first` (head
-    /// first, as most trackers write).
-    #[arg(long, value_enum, default_value_t = HeadEnd::Last)]
+    /// Which end the data list first: `first` (head first, as trackers write) or `last`.
+    /// A WCON record's own `"head"` (`L`/`R`) is followed where it is given.
+    #[arg(long, value_enum, default_value_t = HeadEnd::First)]
     head: HeadEnd,
+    /// The inputs' layout (auto: `{` opens WCON, DeepLabCut's header rows mark its CSV).
+    #[arg(long, value_enum, default_value_t = Format::Auto)]
+    input_format: Format,
+    /// The first CSV column is a track id: each track is one animal (rows may interleave).
+    #[arg(long)]
+    track_column: bool,
+    /// Bootstrap replicates for 95 % intervals: whole animals (or one animal's whole runs)
+    /// are drawn with replacement.
+    #[arg(long, value_name = "B", default_value_t = 0)]
+    bootstrap: usize,
+    /// Seed of the bootstrap draws (same seed, same intervals).
+    #[arg(long, value_name = "S", default_value_t = 1)]
+    seed: u64,
+    /// Unit of the time column (e.g. `s`), printed with ω and β (a WCON file names its own).
+    #[arg(long, value_name = "UNIT")]
+    time_unit: Option<String>,
+    /// Unit of the coordinates (e.g. `mm`), printed with the point spacing.
+    #[arg(long, value_name = "UNIT")]
+    length_unit: Option<String>,
     /// Also write the fit's SVG figures into this directory.
     #[arg(long, value_name = "DIR")]
     figures: Option<PathBuf>,
@@ -73,6 +96,14 @@ pub struct Args {
     /// Output format (csv: one row per mode).
     #[arg(long, value_enum, default_value_t = Output::Text)]
     format: Output,
+}
+
+/// Input layouts of `fit`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum Format {
+    Auto,
+    Csv,
+    Wcon,
 }
 
 /// Input kinds of `fit`.
@@ -123,12 +154,55 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     settings.head_first = args.head == HeadEnd::First;
     settings.fps = args.fps;
     settings.min_likelihood = args.min_likelihood;
-    let inputs = recordings(&args.input)?;
-    let report = if inputs.len() == 1 {
-        fit_input(&inputs[0], args.series.as_deref(), &model, &settings)?
-    } else {
-        fit_pooled(&inputs, args.series.as_deref(), &model, &settings)?
+    settings.format = match args.input_format {
+        Format::Auto => InputFormat::Auto,
+        Format::Csv => InputFormat::Csv,
+        Format::Wcon => InputFormat::Wcon,
     };
+    settings.track_column = args.track_column;
+    if args.bootstrap > MAX_REPLICATES {
+        return Err(CliError::Usage(format!(
+            "--bootstrap takes at most {MAX_REPLICATES} replicates, not {}",
+            args.bootstrap
+        )));
+    }
+    settings.bootstrap = args.bootstrap;
+    settings.seed = args.seed;
+    let unit = |u: &Option<String>| {
+        u.as_deref()
+            .map(checked_unit)
+            .transpose()
+            .map_err(CliError::Usage)
+    };
+    settings.time_unit = unit(&args.time_unit)?;
+    settings.length_unit = unit(&args.length_unit)?;
+    let inputs: Vec<Input<'_>> = recordings(&args.input)?
+        .into_iter()
+        .map(|p| {
+            if p.as_os_str() == "-" {
+                Input::Reader {
+                    name: "-".into(),
+                    reader: Box::new(std::io::BufReader::new(std::io::stdin())),
+                }
+            } else {
+                Input::File(p)
+            }
+        })
+        .collect();
+    let params = Params::default();
+    let mut sink = series_sink(args.series.as_deref())?;
+    let result = if args.series.is_some() {
+        let mut each = |p: &Projector, t: f64, q: &[f64]| write_series(&mut sink, p, t, q);
+        fit_inputs(inputs, &model, &params, &settings, Some(&mut each))
+    } else {
+        fit_inputs(inputs, &model, &params, &settings, None)
+    };
+    finish_series(sink)?;
+    let report = result.map_err(|e| match e.innermost() {
+        FitError::Invalid(_) => CliError::Usage(e.to_string()),
+        FitError::Output(_) => CliError::Output(e.to_string()),
+        _ => CliError::Input(e.to_string()),
+    })?;
     if let Some(dir) = &args.figures {
         crate::figures::write_fit(dir, &report).map_err(|e| CliError::Output(e.to_string()))?;
     }
@@ -138,27 +212,65 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     emit(out, &report, args.format)
 }
 
-/// The recordings named: files as given, a directory's .csv and .txt files in name order.
+/// Files a directory holds recordings in.
+const EXTENSIONS: [&str; 4] = ["csv", "txt", "wcon", "json"];
+
+/// The files of `dir` whose names `keep` accepts, in name order.
+fn files_in(dir: &Path, keep: &dyn Fn(&str) -> bool) -> Result<Vec<PathBuf>, CliError> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map_err(|e| CliError::Input(format!("cannot read {}: {e}", dir.display())))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.is_file() && p.file_name().and_then(|n| n.to_str()).is_some_and(keep))
+        .collect();
+    files.sort();
+    Ok(files)
+}
+
+/// Whether `name` matches `pattern` (`*` any run of characters, `?` one), in O(p·n).
+fn matches(pattern: &[char], name: &[char]) -> bool {
+    // ok[j]: the pattern so far matches name[..j].
+    let mut ok = vec![false; name.len() + 1];
+    ok[0] = true;
+    for &c in pattern {
+        let mut next = vec![false; name.len() + 1];
+        for j in 0..=name.len() {
+            next[j] = match c {
+                '*' => ok[j] || (j > 0 && next[j - 1]),
+                '?' => j > 0 && ok[j - 1],
+                c => j > 0 && ok[j - 1] && name[j - 1] == c,
+            };
+        }
+        ok = next;
+    }
+    ok[name.len()]
+}
+
+/// The recordings named: files as given, a directory's recordings and a pattern's matches in
+/// name order.
 fn recordings(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, CliError> {
     let mut out = Vec::new();
     for path in inputs {
-        if path.is_dir() {
-            let mut files: Vec<PathBuf> = std::fs::read_dir(path)
-                .map_err(|e| CliError::Input(format!("cannot read {}: {e}", path.display())))?
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|p| p.is_file() && p.extension().is_some_and(|x| x == "csv" || x == "txt"))
-                .collect();
-            files.sort();
-            if files.is_empty() {
-                return Err(CliError::Input(format!(
-                    "{}: no .csv or .txt recordings in this directory",
-                    path.display()
-                )));
-            }
-            out.extend(files);
+        let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
+        let files = if path.is_dir() {
+            let ext = |n: &str| EXTENSIONS.iter().any(|e| n.ends_with(&format!(".{e}")));
+            files_in(path, &ext)?
+        } else if !path.exists() && name.contains(['*', '?']) && name.len() <= 256 {
+            let pattern: Vec<char> = name.chars().collect();
+            let dir = path.parent().filter(|p| !p.as_os_str().is_empty());
+            files_in(dir.unwrap_or(Path::new(".")), &|n: &str| {
+                matches(&pattern, &n.chars().collect::<Vec<_>>())
+            })?
         } else {
             out.push(path.clone());
+            continue;
+        };
+        if files.is_empty() {
+            return Err(CliError::Input(format!(
+                "{}: no recordings there (.csv, .txt, .wcon or .json files)",
+                path.display()
+            )));
         }
+        out.extend(files);
     }
     if out.len() > 1 && out.iter().any(|p| p.as_os_str() == "-") {
         return Err(CliError::Usage(
@@ -166,75 +278,6 @@ fn recordings(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, CliError> {
         ));
     }
     Ok(out)
-}
-
-/// Each recording alone (its errors name its file), then all pooled.
-fn fit_pooled(
-    inputs: &[PathBuf],
-    series: Option<&Path>,
-    model: &Model,
-    settings: &FitSettings,
-) -> Result<FitReport, CliError> {
-    let mut animals = Vec::new();
-    for path in inputs {
-        let alone = fit_input(path, None, model, settings)?;
-        animals.push(crate::fit::AnimalFit::of(
-            &path.display().to_string(),
-            &alone,
-        ));
-    }
-    let readers = inputs
-        .iter()
-        .map(|p| {
-            std::fs::File::open(p)
-                .map(std::io::BufReader::new)
-                .map_err(|e| CliError::Input(format!("cannot open {}: {e}", p.display())))
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    let mut sink = series_sink(series)?;
-    let mut report =
-        crate::fit::fit_animals(readers, model, &Params::default(), settings, |p, t, q| {
-            write_series(&mut sink, p, t, q)
-        })
-        .map_err(|e| match e {
-            FitError::Output(m) => CliError::Output(m),
-            other => CliError::Usage(format!("pooled fit: {other}")),
-        })?;
-    finish_series(sink)?;
-    report.animals = animals;
-    Ok(report)
-}
-
-/// Run the fit on a file or standard input, streaming the modal series to `series` if asked
-/// (written with the `csv` crate).
-fn fit_input(
-    input: &Path,
-    series: Option<&Path>,
-    model: &Model,
-    settings: &FitSettings,
-) -> Result<FitReport, CliError> {
-    let params = Params::default();
-    let mut sink = series_sink(series)?;
-    let each = |p: &Projector, t: f64, q: &[f64]| write_series(&mut sink, p, t, q);
-    let result = if input.as_os_str() == "-" {
-        fit_each(std::io::stdin().lock(), model, &params, settings, each)
-    } else {
-        let file = std::fs::File::open(input)
-            .map_err(|e| CliError::Input(format!("cannot open {}: {e}", input.display())))?;
-        fit_each(
-            std::io::BufReader::new(file),
-            model,
-            &params,
-            settings,
-            each,
-        )
-    };
-    finish_series(sink)?;
-    result.map_err(|e| match e {
-        FitError::Invalid(m) => CliError::Usage(m),
-        FitError::Output(m) => CliError::Output(m),
-        other => CliError::Input(format!("{}: {other}", input.display())),
-    })
 }
 
 /// The `--series` CSV: its path, the writer, and whether the header is out.

@@ -52,16 +52,16 @@
 //! ω = Σmᵢ√λᵢ / Σλᵢ. With ω fixed, equipartition Var Qᵢ = 1/(βω²λᵢ) gives β by maximum likelihood
 //! over the same modes: β = m / Σᵢ ω²λᵢ Var Qᵢ.
 
-use std::collections::VecDeque;
 use std::io::BufRead;
 
+mod bootstrap;
+mod pool;
 mod read;
-use read::FrameReader;
-pub use read::MAX_LINE_BYTES;
-use std::sync::Arc;
-
-use rustfft::num_complex::Complex;
-use rustfft::{Fft, FftPlanner};
+mod stats;
+mod wcon;
+pub use bootstrap::{Intervals, MAX_REPLICATES};
+pub use pool::{fit_inputs, Each, Input, MAX_WHOLE_FILE};
+pub use read::{Frame, Track, MAX_LINE_BYTES};
 
 use crate::modal::{field_modes, Params};
 use crate::model::Model;
@@ -95,6 +95,55 @@ pub enum Estimator {
     Centroid,
 }
 
+/// How an input is laid out.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum InputFormat {
+    /// From the content: `{` opens WCON, DeepLabCut's header rows mark its CSV, else plain.
+    Auto,
+    /// Plain CSV or white space, one frame per line (DeepLabCut's header rows recognised).
+    Csv,
+    /// WCON (tracker-commons JSON).
+    Wcon,
+}
+
+/// Units of the recording's time and length columns, as the file or the user names them.
+#[derive(Debug, Clone, Default, PartialEq, Eq, serde::Serialize)]
+pub struct Units {
+    /// Time unit (ω is in radians per this unit).
+    pub time: Option<String>,
+    /// Length unit of the coordinates.
+    pub length: Option<String>,
+}
+
+impl std::fmt::Display for Units {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "time in {}, lengths in {}",
+            self.time.as_deref().unwrap_or("the time column's unit"),
+            self.length.as_deref().unwrap_or("the coordinates' unit")
+        )
+    }
+}
+
+/// A name from a recording (a track id): printable, at most 64 characters.
+pub fn checked_name(text: &str) -> Result<String, String> {
+    let ok =
+        !text.is_empty() && text.chars().count() <= 64 && text.chars().all(|c| !c.is_control());
+    ok.then(|| text.to_string())
+        .ok_or_else(|| format!("{text:.40?} is not a track id (1 to 64 printable characters)"))
+}
+
+/// A unit name: printable, without quotes, at most 32 characters.
+pub fn checked_unit(text: &str) -> Result<String, String> {
+    let ok = text.chars().count() <= 32
+        && text
+            .chars()
+            .all(|c| !c.is_control() && !matches!(c, '"' | '\\' | '<' | '>' | '&'));
+    ok.then(|| text.to_string())
+        .ok_or_else(|| format!("{text:.40?} is not a unit (at most 32 printable characters)"))
+}
+
 /// Settings of a fit.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FitSettings {
@@ -126,6 +175,18 @@ pub struct FitSettings {
     pub fps: Option<f64>,
     /// DeepLabCut points tracked below this likelihood count as lost.
     pub min_likelihood: f64,
+    /// Layout of the inputs.
+    pub format: InputFormat,
+    /// The first column of a CSV is a track id: each track is one animal.
+    pub track_column: bool,
+    /// Bootstrap replicates for 95 % intervals (0: none).
+    pub bootstrap: usize,
+    /// Seed of the bootstrap draws.
+    pub seed: u64,
+    /// Time unit of the recordings (overrides a WCON file's).
+    pub time_unit: Option<String>,
+    /// Length unit of the recordings (overrides a WCON file's).
+    pub length_unit: Option<String>,
 }
 
 impl FitSettings {
@@ -143,9 +204,15 @@ impl FitSettings {
             omega: None,
             ring: None,
             fill_gaps: 0,
-            head_first: false,
+            head_first: true,
             fps: None,
             min_likelihood: 0.6,
+            format: InputFormat::Auto,
+            track_column: false,
+            bootstrap: 0,
+            seed: 1,
+            time_unit: None,
+            length_unit: None,
         }
     }
 }
@@ -170,6 +237,24 @@ pub enum FitError {
     /// A setting or the data as a whole is unusable.
     #[error("{0}")]
     Invalid(String),
+    /// An error in one of several inputs or animals.
+    #[error("{name}: {why}")]
+    In {
+        /// The input or animal.
+        name: String,
+        /// What is wrong there.
+        why: Box<FitError>,
+    },
+}
+
+impl FitError {
+    /// The error itself, without the input it happened in.
+    pub fn innermost(&self) -> &FitError {
+        match self {
+            FitError::In { why, .. } => why.innermost(),
+            other => other,
+        }
+    }
 }
 
 /// How complete a recording was.
@@ -231,6 +316,8 @@ pub struct FitReport {
     pub kind: InputKind,
     /// Observed field.
     pub field: String,
+    /// The observed field's scale suffix (its `omega_<scale>` parameter).
+    pub scale: String,
     /// Model points N.
     pub model_points: usize,
     /// Sampling interval.
@@ -264,121 +351,79 @@ pub struct FitReport {
     /// Cautions about what the numbers can mean for this input.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,
-    /// With several recordings: each one's own fit, beside the pooled one above.
+    /// With several animals: each one's own fit, beside the pooled one above.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub animals: Vec<AnimalFit>,
+    /// Units of the recording's columns.
+    pub units: Units,
+    /// The mean model point spacing h = (body length)/(N − 1) (midlines) or rest segment
+    /// length (lengths), in the coordinates' unit: modal amplitudes are in units of h.
+    pub spacing: f64,
+    /// The first k principal components against the first k modes, k = 1, 2, ….
+    pub subspace: Vec<Subspace>,
+    /// 95 % bootstrap intervals (`--bootstrap`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub intervals: Option<Intervals>,
 }
 
-/// One recording's own fit, in a pooled fit of several.
+/// The first k principal components against the first k theory modes.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Subspace {
+    /// k.
+    pub k: usize,
+    /// The smallest cosine of the principal angles between the two k-dimensional subspaces
+    /// (1: the same subspace).
+    pub cosine: f64,
+    /// Variance share the first k theory modes capture.
+    pub modes_capture: f64,
+    /// Variance share the first k principal components capture (the most any k directions can).
+    pub components_capture: f64,
+}
+
+/// One animal's own fit, in a pooled fit of several.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct AnimalFit {
-    /// The recording's name (file).
+    /// The animal's name (file, and track id within it).
     pub recording: String,
     /// Frames used.
     pub frames: usize,
     /// Frames lost.
     pub frames_lost: usize,
-    /// Its ω.
-    pub omega: f64,
+    /// Its ω (`None` when it cannot be fitted alone).
+    pub omega: Option<f64>,
     /// Its β.
-    pub beta: f64,
+    pub beta: Option<f64>,
     /// Its first principal component's variance share.
-    pub first_share: f64,
+    pub first_share: Option<f64>,
+    /// Why it could not be fitted alone (it still counts in the pool).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
 }
 
 impl AnimalFit {
-    /// The summary of `report`, the fit of recording `name` alone.
-    pub fn of(name: &str, report: &FitReport) -> AnimalFit {
+    /// The summary of `report`, the fit of animal `name` alone.
+    pub fn of(name: &str, counts: &Recording, report: &FitReport) -> AnimalFit {
         AnimalFit {
             recording: name.to_string(),
             frames: report.frames,
-            frames_lost: report.recording.frames_lost,
-            omega: report.omega,
-            beta: report.beta,
-            first_share: report.pca_variance_share.first().copied().unwrap_or(0.0),
-        }
-    }
-}
-
-/// Hann-windowed Welch averaging over a stream of vectors.
-struct Welch {
-    window: Vec<f64>,
-    buffer: VecDeque<Vec<f64>>,
-    acc: Vec<Vec<f64>>,
-    segments: usize,
-    since: usize,
-    fft: Arc<dyn Fft<f64>>,
-}
-
-impl Welch {
-    fn new(len: usize, channels: usize) -> Self {
-        let window = (0..len)
-            .map(|i| 0.5 - 0.5 * (2.0 * std::f64::consts::PI * i as f64 / len as f64).cos())
-            .collect();
-        Welch {
-            window,
-            buffer: VecDeque::with_capacity(len),
-            acc: vec![vec![0.0; len / 2 + 1]; channels],
-            segments: 0,
-            since: 0,
-            fft: FftPlanner::new().plan_fft_forward(len),
+            frames_lost: counts.frames_lost,
+            omega: Some(report.omega),
+            beta: Some(report.beta),
+            first_share: report.pca_variance_share.first().copied(),
+            note: None,
         }
     }
 
-    /// A gap: no window may span it.
-    fn break_run(&mut self) {
-        self.buffer.clear();
-        self.since = 0;
-    }
-
-    fn push(&mut self, v: Vec<f64>) {
-        let len = self.window.len();
-        if self.buffer.len() == len {
-            self.buffer.pop_front();
+    fn failed(animal: &pool::Animal, why: &str) -> AnimalFit {
+        AnimalFit {
+            recording: animal.name.clone(),
+            frames: animal.stats.count as usize,
+            frames_lost: animal.counts.frames_lost,
+            omega: None,
+            beta: None,
+            first_share: None,
+            note: Some(why.to_string()),
         }
-        self.buffer.push_back(v);
-        self.since += 1;
-        if self.buffer.len() == len && (self.segments == 0 || self.since >= len / 2) {
-            self.segment();
-        }
-    }
-
-    fn segment(&mut self) {
-        self.since = 0;
-        self.segments += 1;
-        let len = self.window.len();
-        let mut data = vec![Complex::new(0.0, 0.0); len];
-        for (c, acc) in self.acc.iter_mut().enumerate() {
-            let mean = self.buffer.iter().map(|v| v[c]).sum::<f64>() / len as f64;
-            for (i, v) in self.buffer.iter().enumerate() {
-                data[i] = Complex::new((v[c] - mean) * self.window[i], 0.0);
-            }
-            self.fft.process(&mut data);
-            for (k, a) in acc.iter_mut().enumerate() {
-                *a += data[k].norm_sqr();
-            }
-        }
-    }
-
-    /// One-sided density (per cycle per time unit) at sampling rate `fs`.
-    fn finish(self, fs: f64) -> (Vec<f64>, Vec<Vec<f64>>, usize) {
-        let len = self.window.len();
-        let norm = fs * self.window.iter().map(|w| w * w).sum::<f64>() * self.segments as f64;
-        let freqs = (0..=len / 2).map(|k| k as f64 * fs / len as f64).collect();
-        let psd = self
-            .acc
-            .into_iter()
-            .map(|acc| {
-                acc.iter()
-                    .enumerate()
-                    .map(|(k, a)| {
-                        let twice = k != 0 && !(len % 2 == 0 && k == len / 2);
-                        a / norm * if twice { 2.0 } else { 1.0 }
-                    })
-                    .collect()
-            })
-            .collect();
-        (freqs, psd, self.segments)
     }
 }
 
@@ -497,6 +542,8 @@ pub struct Projector {
     pub points: usize,
     /// The observed field's id.
     pub field: String,
+    /// The observed field's scale suffix.
+    pub scale: String,
     /// Index of the first non-zero mode.
     pub first_mode: usize,
     /// λⱼ of the non-zero modes.
@@ -622,6 +669,7 @@ impl Projector {
             input_points: k_in,
             points: n,
             field: fm.field.id.clone(),
+            scale: fm.field.scale().to_string(),
             first_mode,
             rows: projector,
             design,
@@ -641,6 +689,25 @@ impl Projector {
             .iter()
             .map(|p| p.iter().zip(&o).map(|(a, b)| a * b).sum())
             .collect())
+    }
+
+    /// The model point spacing of one frame in the data's length unit: arc length over N − 1
+    /// (midlines), the rest segment length (lengths).
+    pub fn spacing(&self, values: &[f64]) -> f64 {
+        match self.kind {
+            InputKind::Midline => {
+                let length: f64 = values
+                    .chunks(2)
+                    .collect::<Vec<_>>()
+                    .windows(2)
+                    .map(|w| (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1]))
+                    .sum();
+                length / (self.points - 1) as f64
+            }
+            InputKind::Lengths => self
+                .reference_length
+                .unwrap_or_else(|| values.iter().sum::<f64>() / values.len() as f64),
+        }
     }
 }
 
@@ -727,7 +794,7 @@ fn least_squares_rows(design: &[Vec<f64>]) -> Result<Vec<Vec<f64>>, FitError> {
 
 /// Run the fit on the frames in `reader`.
 pub fn fit(
-    reader: impl BufRead,
+    reader: impl BufRead + Send,
     model: &Model,
     params: &Params,
     settings: &FitSettings,
@@ -738,285 +805,27 @@ pub fn fit(
 /// [`fit`], handing the projector, each frame's time and its modal coordinates to `each` as they
 /// stream past (an error from `each` ends the fit as an output error).
 pub fn fit_each(
-    reader: impl BufRead,
-    model: &Model,
-    params: &Params,
-    settings: &FitSettings,
-    each: impl FnMut(&Projector, f64, &[f64]) -> Result<(), String>,
-) -> Result<FitReport, FitError> {
-    fit_animals(vec![reader], model, params, settings, each)
-}
-
-/// [`fit_each`] over several recordings, one animal each, pooled: the covariance over every
-/// usable frame of every animal, Welch windows inside one run of one animal, each animal's own
-/// rest length (lengths). Every recording needs the first one's width and sampling interval.
-pub fn fit_animals<R: BufRead>(
-    readers: Vec<R>,
+    reader: impl BufRead + Send,
     model: &Model,
     params: &Params,
     settings: &FitSettings,
     mut each: impl FnMut(&Projector, f64, &[f64]) -> Result<(), String>,
 ) -> Result<FitReport, FitError> {
-    check_settings(settings)?;
-    let invalid = |s: String| FitError::Invalid(s);
-    let (mut read, mut lost) = (0usize, 0usize);
-    let mut state: Option<(Projector, Accumulator, usize)> = None;
-    let mut interval: Option<f64> = None;
-    for (animal, reader) in readers.into_iter().enumerate() {
-        let mut frames = FrameReader::new(reader, settings);
-        let mut previous: Option<(f64, Vec<f64>)> = None;
-        let mut pending_lost = 0usize;
-        if let Some((_, acc, _)) = state.as_mut() {
-            acc.next_animal();
-        }
-        while let Some(row) = frames.next_row()? {
-            read += 1;
-            pending_lost += row.missing_before;
-            let Some(values) = row.values else {
-                pending_lost += 1;
-                continue;
-            };
-            let line = frames.line;
-            if state.is_none() {
-                let proj =
-                    Projector::new(model, params, settings, values.len()).map_err(|e| match e {
-                        FitError::Line { why, .. } => FitError::Line { line, why },
-                        other => other,
-                    })?;
-                let acc = Accumulator::new(proj.eigenvalues.len(), settings.window);
-                state = Some((proj, acc, values.len()));
-            }
-            let (proj, acc, width) = state.as_mut().expect("set above");
-            if values.len() != *width {
-                // Midlines of another K resample to the same N modes; rings of another K do not.
-                if settings.kind == InputKind::Lengths {
-                    return Err(invalid(format!(
-                        "recording {}: {} segments where the first recording has {width}",
-                        animal + 1,
-                        values.len()
-                    )));
-                }
-                *proj = Projector::new(model, params, settings, values.len())?;
-                *width = values.len();
-            }
-            if previous.is_none() && settings.kind == InputKind::Lengths {
-                // Each animal's own rest length: a constant offset in the strains only shifts
-                // the means, which the covariance and the spectra remove.
-                proj.reference_length = Some(values.iter().sum::<f64>() / values.len() as f64);
-            }
-            if pending_lost > 0 {
-                lost += pending_lost;
-                match &previous {
-                    Some(prev) if pending_lost <= settings.fill_gaps => {
-                        // Bridge a short gap linearly between the frames either side.
-                        for k in 1..=pending_lost {
-                            let w = k as f64 / (pending_lost + 1) as f64;
-                            let t = prev.0 + w * (row.t - prev.0);
-                            let v: Vec<f64> = prev
-                                .1
-                                .iter()
-                                .zip(&values)
-                                .map(|(a, b)| a + w * (b - a))
-                                .collect();
-                            acc.filled += 1;
-                            feed(proj, acc, settings, &mut each, (t, &v, line))?;
-                        }
-                    }
-                    Some(_) => acc.break_run(),
-                    // Lost before this animal's first usable frame: nothing to split.
-                    None => {}
-                }
-                pending_lost = 0;
-            }
-            feed(proj, acc, settings, &mut each, (row.t, &values, line))?;
-            previous = Some((row.t, values));
-        }
-        lost += pending_lost;
-        interval = match (interval, frames.dt) {
-            (Some(a), Some(b)) if (a - b).abs() > 0.01 * a => {
-                return Err(invalid(format!(
-                    "recording {} is sampled every {b}, the first every {a}: fit recordings of one rate together",
-                    animal + 1
-                )))
-            }
-            (None, dt) => dt,
-            (kept, _) => kept,
-        };
-    }
-    let Some((proj, acc, _)) = state else {
-        return Err(invalid(if read == 0 {
-            "the input has no frames".into()
-        } else {
-            format!(
-                "none of the {read} frames is usable: every one has a missing or non-finite value"
-            )
-        }));
+    let input = Input::Reader {
+        name: String::new(),
+        reader: Box::new(reader),
     };
-    acc.finish(&proj, settings, interval.unwrap_or(1.0), (read, lost))
+    fit_inputs(vec![input], model, params, settings, Some(&mut each))
 }
 
-/// Project one frame (oriented head last), hand it to `each`, accumulate it.
-fn feed(
-    proj: &Projector,
-    acc: &mut Accumulator,
+/// Fit animals held in memory (each track one animal): one pooled fit and each one's own.
+pub fn fit_tracks(
+    tracks: Vec<Track>,
+    model: &Model,
+    params: &Params,
     settings: &FitSettings,
-    each: &mut impl FnMut(&Projector, f64, &[f64]) -> Result<(), String>,
-    (t, values, line): (f64, &[f64], usize),
-) -> Result<(), FitError> {
-    let oriented;
-    let values = if settings.head_first {
-        oriented = head_last(settings.kind, values);
-        &oriented
-    } else {
-        values
-    };
-    let q = proj
-        .modal(values)
-        .map_err(|why| FitError::Line { line, why })?;
-    each(proj, t, &q).map_err(FitError::Output)?;
-    acc.push(q);
-    Ok(())
-}
-
-/// A frame listed head first, reordered head last (the model's orientation): points (x, y)
-/// pairs for midlines, segments for lengths.
-fn head_last(kind: InputKind, values: &[f64]) -> Vec<f64> {
-    match kind {
-        InputKind::Midline => values.chunks(2).rev().flatten().copied().collect(),
-        InputKind::Lengths => values.iter().rev().copied().collect(),
-    }
-}
-
-/// What one pass over the frames accumulates: running mean and co-moment of the modal
-/// coordinates over every usable frame, Welch spectra over the runs between gaps.
-struct Accumulator {
-    mean: Vec<f64>,
-    comoment: Vec<Vec<f64>>,
-    count: usize,
-    welch: Welch,
-    run: usize,
-    runs: usize,
-    longest: usize,
-    gaps: usize,
-    filled: usize,
-    animals: usize,
-}
-
-impl Accumulator {
-    fn new(m: usize, window: usize) -> Accumulator {
-        Accumulator {
-            mean: vec![0.0; m],
-            comoment: vec![vec![0.0; m]; m],
-            count: 0,
-            welch: Welch::new(window, m),
-            run: 0,
-            runs: 1,
-            longest: 0,
-            gaps: 0,
-            filled: 0,
-            animals: 1,
-        }
-    }
-
-    fn push(&mut self, q: Vec<f64>) {
-        self.count += 1;
-        let delta: Vec<f64> = q.iter().zip(&self.mean).map(|(a, b)| a - b).collect();
-        for (mu, d) in self.mean.iter_mut().zip(&delta) {
-            *mu += d / self.count as f64;
-        }
-        for (i, row) in self.comoment.iter_mut().enumerate() {
-            for (j, c) in row.iter_mut().enumerate() {
-                *c += delta[i] * (q[j] - self.mean[j]);
-            }
-        }
-        self.welch.push(q);
-        self.run += 1;
-        self.longest = self.longest.max(self.run);
-    }
-
-    fn break_run(&mut self) {
-        self.welch.break_run();
-        self.gaps += 1;
-        self.runs += 1;
-        self.run = 0;
-    }
-
-    /// The next recording: a new run, not a gap.
-    fn next_animal(&mut self) {
-        self.welch.break_run();
-        self.animals += 1;
-        self.runs += 1;
-        self.run = 0;
-    }
-
-    /// The report, from `read` rows of which `lost` were lost frames.
-    fn finish(
-        mut self,
-        proj: &Projector,
-        settings: &FitSettings,
-        interval: f64,
-        (read, lost): (usize, usize),
-    ) -> Result<FitReport, FitError> {
-        let (count, m) = (self.count, self.mean.len());
-        if count < 8 {
-            return Err(FitError::Invalid(format!(
-                "{count} usable frames; at least 8 are needed for variances and spectra"
-            )));
-        }
-        // No run as long as the window: one segment over the last run, if it has 8 frames.
-        if self.welch.segments == 0 {
-            let frames = std::mem::take(&mut self.welch.buffer);
-            if frames.len() < 8 {
-                return Err(FitError::Invalid(format!(
-                    "no run of 8 frames between gaps for the spectra (longest {}); bridge short gaps with --fill-gaps K",
-                    self.longest
-                )));
-            }
-            self.welch = Welch::new(frames.len(), m);
-            for q in frames {
-                self.welch.push(q);
-            }
-        }
-        let used_window = self.welch.window.len();
-        let (frequencies, psd, segments) = self.welch.finish(1.0 / interval);
-        let cov: Vec<Vec<f64>> = self
-            .comoment
-            .iter()
-            .map(|r| r.iter().map(|c| c / (count - 1) as f64).collect())
-            .collect();
-        let mut report = summarise(
-            proj,
-            settings,
-            Moments {
-                frames: count,
-                interval,
-                cov,
-            },
-            Spectra {
-                window: used_window,
-                segments,
-                frequencies,
-                psd,
-            },
-        )?;
-        if settings.ring.is_some_and(|r| r > proj.input_points) {
-            report.warnings.push(format!(
-                "only {} of {} ring segments were measured: under equipartition every mode carries the same strain variance, so the unresolved modes alias into the fitted ones; ω and β are reliable for a dominant rhythm, not for thermal data",
-                proj.input_points,
-                settings.ring.unwrap_or(0)
-            ));
-        }
-        report.recording = Recording {
-            recordings: self.animals,
-            frames_read: read,
-            frames_lost: lost,
-            frames_filled: self.filled,
-            gaps: self.gaps,
-            runs: self.runs,
-            longest_run: self.longest,
-        };
-        Ok(report)
-    }
+) -> Result<FitReport, FitError> {
+    fit_inputs(vec![Input::Tracks(tracks)], model, params, settings, None)
 }
 
 /// The settings' limits, checked before any data are read.
@@ -1062,35 +871,16 @@ fn check_settings(settings: &FitSettings) -> Result<(), FitError> {
     Ok(())
 }
 
-/// What one pass over the frames accumulates.
-struct Moments {
-    frames: usize,
-    interval: f64,
-    cov: Vec<Vec<f64>>,
-}
-
-/// The Welch spectra of the modal coordinates.
-struct Spectra {
-    window: usize,
-    segments: usize,
-    frequencies: Vec<f64>,
-    psd: Vec<Vec<f64>>,
-}
-
 /// PCA, overlaps, shares, frequencies and the ω and β fits from the accumulated moments.
 fn summarise(
     proj: &Projector,
     settings: &FitSettings,
-    moments: Moments,
-    spectra: Spectra,
+    cov: Vec<Vec<f64>>,
+    interval: f64,
+    spectra: stats::Spectra,
 ) -> Result<FitReport, FitError> {
     let invalid = |s: String| FitError::Invalid(s);
-    let Moments {
-        frames: count,
-        interval,
-        cov,
-    } = moments;
-    let Spectra {
+    let stats::Spectra {
         window: used_window,
         segments,
         frequencies,
@@ -1109,6 +899,7 @@ fn summarise(
         .map(|c| c.iter().map(|x| x.abs()).collect())
         .collect();
     let mode_overlap = pair_overlaps(lambdas, &components);
+    let subspace = subspaces(&cov, &pca_share, &components);
     let mut modes: Vec<ModeFit> = (0..m)
         .map(|j| {
             let (peak, centroid) = spectral_peak_and_centroid(&frequencies, &psd[j]);
@@ -1155,10 +946,14 @@ fn summarise(
         x.theory_angular_frequency = omega * x.eigenvalue.sqrt();
     }
     Ok(FitReport {
-        frames: count,
+        frames: 0,
         recording: Recording::default(),
         warnings: Vec::new(),
         animals: Vec::new(),
+        units: Units::default(),
+        spacing: 0.0,
+        subspace,
+        intervals: None,
         points: proj.input_points,
         pca_variance_share: pca_share,
         theory_variance_share: theory_share,
@@ -1167,6 +962,7 @@ fn summarise(
         beta,
         kind: settings.kind,
         field: proj.field.clone(),
+        scale: proj.scale.clone(),
         model_points: proj.points,
         sample_interval: interval,
         welch: (used_window, segments),
@@ -1198,6 +994,33 @@ fn angle_covariance(design: &[Vec<f64>], cov: &[Vec<f64>]) -> Vec<Vec<f64>> {
                     s
                 })
                 .collect()
+        })
+        .collect()
+}
+
+/// The first k principal components against the first k modes, for k up to 6: the smallest
+/// singular value of the k × k block of components over modes is the cosine of the largest
+/// principal angle; the captured variances are the modes' variances and the components'
+/// shares, summed.
+fn subspaces(cov: &[Vec<f64>], pca_share: &[f64], components: &[Vec<f64>]) -> Vec<Subspace> {
+    let m = cov.len();
+    let trace: f64 = (0..m).map(|j| cov[j][j]).sum();
+    (1..=m.min(6))
+        .map(|k| {
+            let block = nalgebra::DMatrix::from_fn(k, k, |i, j| components[i][j]);
+            let cosine = block
+                .singular_values()
+                .iter()
+                .copied()
+                .fold(f64::INFINITY, f64::min)
+                .clamp(0.0, 1.0);
+            let modes: f64 = (0..k).map(|j| cov[j][j]).sum();
+            Subspace {
+                k,
+                cosine,
+                modes_capture: if trace > 0.0 { modes / trace } else { 0.0 },
+                components_capture: pca_share[..k].iter().sum(),
+            }
         })
         .collect()
 }
@@ -1274,83 +1097,162 @@ impl Report for FitReport {
 
     fn text(&self) -> String {
         let r = self;
-        {
-            let what = match r.kind {
-                InputKind::Midline => format!("{}-point midlines", r.points),
-                InputKind::Lengths => format!("{} segment lengths", r.points),
-            };
-            let mut t = format!(
-                "Fit of {} frames of {what} (sampling interval {}) to field {} on N = {}\n\
-                 \x20 ω = {:.6} (least squares over modes {}–{}), β = {:.6} (lengths in units of the point spacing)\n\
-                 \x20 Welch: window {} frames, {} segments\n\
-                 \x20 mode        λ   PCA share  equipartition  overlap with mode   peak f  centroid f   measured ω  theory ω√λ\n",
-                r.frames,
-                (r.sample_interval * 1e9).round() / 1e9,
-                r.field,
-                r.model_points,
-                r.omega,
-                r.modes[0].index,
-                r.modes[r.fitted_modes - 1].index,
-                r.beta,
-                r.welch.0,
-                r.welch.1,
-            );
-            let rec = &r.recording;
-            if rec.frames_lost > 0 || rec.gaps > 0 {
-                t = t.replacen(
-                    "  Welch:",
-                    &format!(
-                        "  recording: {} frames read, {} lost ({} bridged), {} gaps, {} runs, longest {} frames\n  Welch:",
-                        rec.frames_read, rec.frames_lost, rec.frames_filled, rec.gaps, rec.runs, rec.longest_run
-                    ),
-                    1,
-                );
-            }
-            for (k, m) in r.modes.iter().enumerate() {
-                t += &format!(
-                    "  {:>4} {:>8.5} {:>9.3} % {:>12.3} % {:>18.5} {:>8.5} {:>11.5} {:>12.5} {:>11.5}\n",
-                    m.index,
-                    m.eigenvalue,
-                    100.0 * r.pca_variance_share[k],
-                    100.0 * r.theory_variance_share[k],
-                    r.mode_overlap[k],
-                    m.peak_frequency,
-                    m.centroid_frequency,
-                    m.angular_frequency,
-                    m.theory_angular_frequency,
-                );
-            }
-            let shares: Vec<String> = r
-                .angle_pca_variance_share
-                .iter()
-                .map(|s| format!("{:.1}", 100.0 * s))
-                .collect();
-            t += "  overlap: |cos(PCₖ, vₖ)|, or the projection onto the pair's plane when λₖ is degenerate\n";
-            for w in &r.warnings {
-                t += &format!("  warning: {w}\n");
-            }
-            if !r.animals.is_empty() {
-                t += &format!(
-                    "  each recording alone ({} pooled above):\n  {:<40} {:>7} {:>6} {:>10} {:>12} {:>9}\n",
-                    r.animals.len(), "recording", "frames", "lost", "ω", "β", "PC 1"
-                );
-                for a in &r.animals {
-                    t += &format!(
-                        "  {:<40} {:>7} {:>6} {:>10.5} {:>12.5} {:>7.2} %\n",
-                        a.recording,
-                        a.frames,
-                        a.frames_lost,
-                        a.omega,
-                        a.beta,
-                        100.0 * a.first_share
-                    );
-                }
-            }
+        let what = match r.kind {
+            InputKind::Midline => format!("{}-point midlines", r.points),
+            InputKind::Lengths => format!("{} segment lengths", r.points),
+        };
+        let time = r.units.time.as_deref().unwrap_or("time unit");
+        let length = r.units.length.as_deref().unwrap_or("length unit");
+        let mut t = format!(
+            "Fit of {} frames of {what} (sampling interval {} {time}) to field {} on N = {}\n\
+             \x20 ω = {:.6} rad/{time} (least squares over modes {}–{}), β = {:.6} {time}² (amplitudes in point spacings h = {:.6} {length}; β/h² = {:.6} {time}²/{length}²)\n",
+            r.frames,
+            (r.sample_interval * 1e9).round() / 1e9,
+            r.field,
+            r.model_points,
+            r.omega,
+            r.modes[0].index,
+            r.modes[r.fitted_modes - 1].index,
+            r.beta,
+            r.spacing,
+            r.beta / (r.spacing * r.spacing),
+        );
+        if let Some(i) = &r.intervals {
             t += &format!(
-                "  PCA of the plain angles (%, the seed's eigenmaggots; equipartition makes them equal): {}\n",
-                shares.join(" ")
+                "  95 % intervals ({} replicates over {} {}, {} fitted): ω [{:.6}, {:.6}], β [{:.6}, {:.6}]\n",
+                i.replicates, i.units, i.resampled, i.fitted, i.omega[0], i.omega[1], i.beta[0], i.beta[1]
             );
-            t
+        }
+        let rec = &r.recording;
+        t += &format!(
+            "  recording: {} animal(s), {} frames read, {} lost ({} bridged), {} gaps, {} runs, longest {} frames\n",
+            rec.recordings, rec.frames_read, rec.frames_lost, rec.frames_filled, rec.gaps, rec.runs, rec.longest_run
+        );
+        t += &format!(
+            "  Welch: window {} frames, {} segments\n  mode        λ   PCA share  equipartition  overlap with mode   peak f  centroid f   measured ω  theory ω√λ\n",
+            r.welch.0, r.welch.1
+        );
+        for (k, m) in r.modes.iter().enumerate() {
+            t += &format!(
+                "  {:>4} {:>8.5} {:>9.3} % {:>12.3} % {:>18.5} {:>8.5} {:>11.5} {:>12.5} {:>11.5}\n",
+                m.index,
+                m.eigenvalue,
+                100.0 * r.pca_variance_share[k],
+                100.0 * r.theory_variance_share[k],
+                r.mode_overlap[k],
+                m.peak_frequency,
+                m.centroid_frequency,
+                m.angular_frequency,
+                m.theory_angular_frequency,
+            );
+        }
+        t += "  overlap: |cos(PCₖ, vₖ)|, or the projection onto the pair's plane when λₖ is degenerate\n";
+        t += &subspace_text(r);
+        for w in &r.warnings {
+            t += &format!("  warning: {w}\n");
+        }
+        t += &animals_text(&r.animals);
+        let shares: Vec<String> = r
+            .angle_pca_variance_share
+            .iter()
+            .map(|s| format!("{:.1}", 100.0 * s))
+            .collect();
+        t += &format!(
+            "  PCA of the plain angles (%, the paper's eigenmaggots; equipartition makes them equal): {}\n",
+            shares.join(" ")
+        );
+        t += &format!(
+            "  onward (times in {time}, lengths in point spacings): theory-search simulate --points {} {}\n",
+            r.model_points,
+            r.onward().join(" ")
+        );
+        t
+    }
+}
+
+impl FitReport {
+    /// The arguments that make `simulate` (and, without `--temperature`, `behave` and `modes`)
+    /// use the fitted scales: `--param omega_<scale>=ω --temperature 1/β`.
+    pub fn onward(&self) -> Vec<String> {
+        vec![
+            "--param".into(),
+            format!("omega_{}={}", self.scale, self.omega),
+            "--temperature".into(),
+            format!("{}", 1.0 / self.beta),
+        ]
+    }
+}
+
+/// The subspace agreement lines: first k components against first k modes.
+fn subspace_text(r: &FitReport) -> String {
+    let row = |f: &dyn Fn(&Subspace) -> String| -> String {
+        r.subspace.iter().map(f).collect::<Vec<_>>().join(" ")
+    };
+    let mut t = format!(
+        "  first k = 1…{}: cos of the widest principal angle between components and modes: {}\n",
+        r.subspace.len(),
+        row(&|s| format!("{:.4}", s.cosine))
+    );
+    t += &format!(
+        "    variance captured by the first k modes: {} %; by the first k components: {} %\n",
+        row(&|s| format!("{:.1}", 100.0 * s.modes_capture)),
+        row(&|s| format!("{:.1}", 100.0 * s.components_capture))
+    );
+    if let Some(i) = &r.intervals {
+        let span = |v: &[[f64; 2]], scale: f64| -> String {
+            v.iter()
+                .map(|[a, b]| format!("[{:.3}, {:.3}]", scale * a, scale * b))
+                .collect::<Vec<_>>()
+                .join(" ")
+        };
+        t += &format!(
+            "    95 %: PCA shares (%) {}\n    95 %: overlaps {}\n    95 %: subspace cosines {}\n",
+            span(&i.pca_variance_share, 100.0),
+            span(&i.mode_overlap, 1.0),
+            span(&i.subspace_cosine, 1.0)
+        );
+    }
+    t
+}
+
+/// Each animal's own fit, one line each.
+fn animals_text(animals: &[AnimalFit]) -> String {
+    if animals.is_empty() {
+        return String::new();
+    }
+    let mut t = format!(
+        "  each animal alone ({} pooled above):\n  {:<40} {:>7} {:>6} {:>10} {:>12} {:>9}\n",
+        animals.len(),
+        "animal",
+        "frames",
+        "lost",
+        "ω",
+        "β",
+        "PC 1"
+    );
+    for a in animals {
+        match (a.omega, a.beta, a.first_share) {
+            (Some(w), Some(b), Some(p)) => {
+                t += &format!(
+                    "  {:<40} {:>7} {:>6} {:>10.5} {:>12.5} {:>7.2} %\n",
+                    a.recording,
+                    a.frames,
+                    a.frames_lost,
+                    w,
+                    b,
+                    100.0 * p
+                )
+            }
+            _ => {
+                t += &format!(
+                    "  {:<40} {:>7} {:>6}  not fitted alone: {}\n",
+                    a.recording,
+                    a.frames,
+                    a.frames_lost,
+                    a.note.as_deref().unwrap_or("")
+                )
+            }
         }
     }
+    t
 }

@@ -1,10 +1,119 @@
 //! Reading recordings: one frame per line (plain CSV or white space, or DeepLabCut exports),
-//! lost frames (missing values, skipped time steps) as rows without values, lines and files
-//! bounded.
+//! optionally led by a track id; lost frames (missing values, skipped time steps) as rows
+//! without values; lines and files bounded. Every source of frames (a text stream, a track held
+//! in memory) answers the same [`Source`] questions.
 
 use std::io::BufRead;
 
 use super::{FitError, FitSettings};
+
+/// One frame of a track held in memory: time and values, `None` when the tracker lost it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Frame {
+    /// Time.
+    pub t: f64,
+    /// The values after time (`x₁ y₁ …` or `ℓ₁ …`); `None`, or any non-finite value, is lost.
+    pub values: Option<Vec<f64>>,
+}
+
+/// One animal's frames, in time order, with a name for its reports.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Track {
+    /// Name in reports (file, and id within it).
+    pub name: String,
+    /// Frames in time order.
+    pub frames: Vec<Frame>,
+}
+
+/// A stream of rows of one animal.
+pub(super) trait Source {
+    /// The next row, or `None` at the end.
+    fn next_row(&mut self) -> Result<Option<Row>, FitError>;
+    /// Where the last row came from (line or frame, 1-based), for messages.
+    fn line(&self) -> usize;
+    /// The sampling interval seen (the first time step).
+    fn interval(&self) -> Option<f64>;
+}
+
+/// The sampling clock: the first time step is the interval; later steps must be whole numbers
+/// of it (within 1 %), the surplus being frames missing from the file.
+#[derive(Debug, Default)]
+pub(super) struct Clock {
+    last_t: Option<f64>,
+    pub(super) dt: Option<f64>,
+}
+
+impl Clock {
+    /// Check the step to `t`; returns how many frames are missing before it.
+    pub(super) fn step(&mut self, t: f64) -> Result<usize, String> {
+        let Some(last) = self.last_t.replace(t) else {
+            return Ok(0);
+        };
+        let gap = t - last;
+        if gap <= 0.0 {
+            return Err(format!("time {t} does not increase (previous {last})"));
+        }
+        let dt = *self.dt.get_or_insert(gap);
+        let steps = (gap / dt).round();
+        if steps >= 1.0 && (gap - steps * dt).abs() <= 0.01 * dt * steps.max(1.0) {
+            // Frames missing before this one; a step of absurd length is one long gap.
+            Ok((steps as usize).saturating_sub(1))
+        } else {
+            Err(format!(
+                "time step {gap} after t = {last} is not a whole number of sampling intervals {dt}"
+            ))
+        }
+    }
+}
+
+/// A track in memory as a [`Source`].
+pub(super) struct TrackSource {
+    frames: std::vec::IntoIter<Frame>,
+    index: usize,
+    clock: Clock,
+}
+
+impl TrackSource {
+    pub(super) fn new(track: Track) -> TrackSource {
+        TrackSource {
+            frames: track.frames.into_iter(),
+            index: 0,
+            clock: Clock::default(),
+        }
+    }
+}
+
+impl Source for TrackSource {
+    fn next_row(&mut self) -> Result<Option<Row>, FitError> {
+        let Some(frame) = self.frames.next() else {
+            return Ok(None);
+        };
+        self.index += 1;
+        let bad = |why: String| FitError::Line {
+            line: self.index,
+            why,
+        };
+        if !frame.t.is_finite() {
+            return Err(bad(format!("frame {}: time is not finite", self.index)));
+        }
+        let missing_before = self.clock.step(frame.t).map_err(bad)?;
+        let values = frame.values.filter(|v| v.iter().all(|x| x.is_finite()));
+        Ok(Some(Row {
+            t: frame.t,
+            values,
+            missing_before,
+            track: None,
+        }))
+    }
+
+    fn line(&self) -> usize {
+        self.index
+    }
+
+    fn interval(&self) -> Option<f64> {
+        self.clock.dt
+    }
+}
 
 /// The longest line a recording may have: a frame of thousands of points fits many times over;
 /// `/dev/zero` or a binary file does not.
@@ -18,9 +127,10 @@ pub(super) struct FrameReader<R> {
     pub(super) line: usize,
     width: Option<usize>,
     seen_data: bool,
-    last_t: Option<f64>,
-    /// The sampling interval (the first time step).
-    pub(super) dt: Option<f64>,
+    clock: Clock,
+    /// The first column is a track id (rows of several animals, in any order): time steps are
+    /// checked per track, by the caller.
+    track: bool,
     /// DeepLabCut layout: seen its `scorer`/`bodyparts`/`coords` header rows.
     dlc: bool,
     /// Frames per second, to turn DeepLabCut frame indices into time.
@@ -37,8 +147,8 @@ impl<R: BufRead> FrameReader<R> {
             line: 0,
             width: None,
             seen_data: false,
-            last_t: None,
-            dt: None,
+            clock: Clock::default(),
+            track: settings.track_column,
             dlc: false,
             fps: settings.fps,
             min_likelihood: settings.min_likelihood,
@@ -112,17 +222,33 @@ impl<R: BufRead> FrameReader<R> {
                 text.split_whitespace().collect()
             };
             // DeepLabCut's three header rows; otherwise only the first line may be a header.
+            if !self.seen_data && cells[0] == "individuals" {
+                return Err(FitError::Line {
+                    line: self.line,
+                    why: "a multi-animal DeepLabCut export: export one file per individual (each is one animal)".into(),
+                });
+            }
             if !self.seen_data && matches!(cells[0], "scorer" | "bodyparts" | "coords") {
                 self.dlc = true;
                 continue;
             }
-            if !self.seen_data && !self.dlc && cells[0].parse::<f64>().is_err() {
+            let first_number = cells[usize::from(self.track).min(cells.len() - 1)];
+            if !self.seen_data && !self.dlc && first_number.parse::<f64>().is_err() {
                 self.seen_data = true;
                 continue;
             }
             self.seen_data = true;
             let line = self.line;
             let bad = |why: String| FitError::Line { line, why };
+            let mut cells = cells;
+            let track = if self.track {
+                if cells.len() < 2 {
+                    return Err(bad("a track id and then time are needed".into()));
+                }
+                Some(super::checked_name(cells.remove(0)).map_err(bad)?)
+            } else {
+                None
+            };
             let converted;
             let cells: Vec<&str> = if self.dlc {
                 converted = self.dlc_row(&cells).map_err(bad)?;
@@ -163,34 +289,32 @@ impl<R: BufRead> FrameReader<R> {
                 lost |= !v.is_finite();
                 values.push(v);
             }
-            let missing_before = self.step(t).map_err(bad)?;
+            let missing_before = if self.track {
+                0
+            } else {
+                self.clock.step(t).map_err(bad)?
+            };
             return Ok(Some(Row {
                 t,
                 values: (!lost).then_some(values),
                 missing_before,
+                track,
             }));
         }
     }
+}
 
-    /// Check the time step to `t`: one sampling interval (the first step, within 1 %), or a
-    /// whole number of them (frames missing from the file). Returns how many are missing.
-    fn step(&mut self, t: f64) -> Result<usize, String> {
-        let Some(last) = self.last_t.replace(t) else {
-            return Ok(0);
-        };
-        let gap = t - last;
-        if gap <= 0.0 {
-            return Err(format!("time {t} does not increase (previous {last})"));
-        }
-        let dt = *self.dt.get_or_insert(gap);
-        let steps = (gap / dt).round();
-        if steps >= 1.0 && (gap - steps * dt).abs() <= 0.01 * dt * steps.max(1.0) {
-            Ok(steps as usize - 1)
-        } else {
-            Err(format!(
-                "time step {gap} after t = {last} is not a whole number of sampling intervals {dt}"
-            ))
-        }
+impl<R: BufRead> Source for FrameReader<R> {
+    fn next_row(&mut self) -> Result<Option<Row>, FitError> {
+        FrameReader::next_row(self)
+    }
+
+    fn line(&self) -> usize {
+        self.line
+    }
+
+    fn interval(&self) -> Option<f64> {
+        self.clock.dt
     }
 }
 
@@ -201,4 +325,36 @@ pub(super) struct Row {
     pub(super) values: Option<Vec<f64>>,
     /// Frames missing from the file just before this row (from the time step).
     pub(super) missing_before: usize,
+    /// The row's track id, when the first column holds one.
+    pub(super) track: Option<String>,
+}
+
+/// The tracks of a file whose first column is a track id, each in time order (rows of one
+/// track may be interleaved with others'). Every value is held: the caller bounds the file.
+pub(super) fn read_tracks<R: BufRead>(
+    reader: R,
+    name: &str,
+    settings: &FitSettings,
+) -> Result<Vec<Track>, FitError> {
+    let mut frames = FrameReader::new(reader, settings);
+    let mut tracks: Vec<Track> = Vec::new();
+    let mut index = std::collections::HashMap::new();
+    while let Some(row) = frames.next_row()? {
+        let id = row.track.unwrap_or_default();
+        let k = *index.entry(id.clone()).or_insert_with(|| {
+            tracks.push(Track {
+                name: format!("{name}#{id}"),
+                frames: Vec::new(),
+            });
+            tracks.len() - 1
+        });
+        tracks[k].frames.push(Frame {
+            t: row.t,
+            values: row.values,
+        });
+    }
+    for t in &mut tracks {
+        t.frames.sort_by(|a, b| a.t.total_cmp(&b.t));
+    }
+    Ok(tracks)
 }

@@ -1,0 +1,601 @@
+//! Many recordings, many animals: each input (a file, a stream, tracks in memory) is read by
+//! a worker thread into per-animal [`Stats`], one piece per run between gaps; the main thread
+//! takes the animals in input order, fits each alone and adds it to the pool, so the pooled
+//! numbers do not depend on the number of threads. Memory holds the inputs in flight (one per
+//! worker) and, for the bootstrap only, every piece's statistics.
+
+use std::collections::BTreeMap;
+use std::io::BufRead;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{mpsc, Mutex};
+
+use super::read::{read_tracks, FrameReader, Source, Track, TrackSource};
+use super::stats::{Plan, Run, Stats};
+use super::{
+    bootstrap, summarise, AnimalFit, FitError, FitReport, FitSettings, InputFormat, InputKind,
+    Projector, Recording, Units,
+};
+use crate::modal::Params;
+use crate::model::Model;
+
+/// The largest file read whole (WCON, or a file of interleaved tracks).
+pub const MAX_WHOLE_FILE: u64 = 1 << 30;
+
+/// One input of a fit.
+pub enum Input<'a> {
+    /// A file, opened by the worker that reads it.
+    File(PathBuf),
+    /// A named stream (standard input, a buffer).
+    Reader {
+        /// Name in messages and reports.
+        name: String,
+        /// The text.
+        reader: Box<dyn BufRead + Send + 'a>,
+    },
+    /// Animals already in memory (each track one animal).
+    Tracks(Vec<Track>),
+}
+
+impl Input<'_> {
+    fn name(&self) -> String {
+        match self {
+            Input::File(p) => p.display().to_string(),
+            Input::Reader { name, .. } => name.clone(),
+            Input::Tracks(t) => t.first().map(|t| t.name.clone()).unwrap_or_default(),
+        }
+    }
+}
+
+/// The per-frame callback of a streaming fit: projector, time, modal coordinates.
+pub type Each<'a> = &'a mut dyn FnMut(&Projector, f64, &[f64]) -> Result<(), String>;
+
+/// One animal's accumulated frames.
+pub(super) struct Animal {
+    pub(super) name: String,
+    pub(super) stats: Stats,
+    /// Its runs, kept for a bootstrap over runs.
+    pub(super) pieces: Vec<Stats>,
+    pub(super) counts: Recording,
+    pub(super) interval: Option<f64>,
+}
+
+/// What a worker hands back for one input.
+struct Read {
+    animals: Vec<Animal>,
+    units: Units,
+    /// A projector of the worker's (the pool's fits need one).
+    projector: Option<Projector>,
+}
+
+/// Shared, read-only context of the workers.
+struct Context<'a> {
+    model: &'a Model,
+    params: &'a Params,
+    settings: &'a FitSettings,
+    plan: Plan,
+}
+
+/// Projectors by frame width (midlines of another K resample to the same N modes).
+struct Projectors {
+    by_width: Vec<(usize, Projector)>,
+}
+
+impl Projectors {
+    fn get(&mut self, ctx: &Context<'_>, width: usize) -> Result<&mut Projector, FitError> {
+        if ctx.settings.kind == InputKind::Lengths {
+            if let Some(&(w, _)) = self.by_width.first().filter(|(w, _)| *w != width) {
+                return Err(FitError::Invalid(format!(
+                    "{width} segments where the first animal has {w}: rings of another K are another body"
+                )));
+            }
+        }
+        let k = match self.by_width.iter().position(|(w, _)| *w == width) {
+            Some(k) => k,
+            None => {
+                let p = Projector::new(ctx.model, ctx.params, ctx.settings, width)?;
+                self.by_width.push((width, p));
+                self.by_width.len() - 1
+            }
+        };
+        Ok(&mut self.by_width[k].1)
+    }
+
+    fn first(&self) -> Option<Projector> {
+        self.by_width.first().map(|(_, p)| p.clone())
+    }
+}
+
+/// Fit several inputs, each one animal or several (track ids, WCON ids): one pooled fit and,
+/// with more than one animal, each animal's own.
+pub fn fit_inputs(
+    inputs: Vec<Input<'_>>,
+    model: &Model,
+    params: &Params,
+    settings: &FitSettings,
+    each: Option<Each<'_>>,
+) -> Result<FitReport, FitError> {
+    super::check_settings(settings)?;
+    if inputs.is_empty() {
+        return Err(FitError::Invalid("no recordings to fit".into()));
+    }
+    let ctx = Context {
+        model,
+        params,
+        settings,
+        plan: Plan::new(settings.window),
+    };
+    let mut pool = Pool::default();
+    match each {
+        Some(each) => {
+            let mut projs = Projectors { by_width: vec![] };
+            for input in inputs {
+                let name = input.name();
+                let read = read_input(input, &ctx, &mut projs, &mut Some(&mut *each));
+                pool.take(&ctx, read.map_err(|e| with_name(e, &name))?)?;
+            }
+        }
+        None => parallel(inputs, &ctx, &mut pool)?,
+    }
+    pool.finish(&ctx)
+}
+
+/// Read the inputs on all cores, handing the reads to `pool` in input order.
+fn parallel(inputs: Vec<Input<'_>>, ctx: &Context<'_>, pool: &mut Pool) -> Result<(), FitError> {
+    let total = inputs.len();
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(total);
+    let queue: Vec<Mutex<Option<Input<'_>>>> =
+        inputs.into_iter().map(|i| Mutex::new(Some(i))).collect();
+    let next = AtomicUsize::new(0);
+    let stop = AtomicBool::new(false);
+    // At most 2 × threads reads wait for an earlier one: workers block on the channel.
+    let (tx, rx) = mpsc::sync_channel::<(usize, String, Result<Read, FitError>)>(2 * threads);
+    std::thread::scope(|scope| {
+        for _ in 0..threads {
+            let tx = tx.clone();
+            let (queue, next, stop) = (&queue, &next, &stop);
+            scope.spawn(move || {
+                let mut projs = Projectors { by_width: vec![] };
+                loop {
+                    let i = next.fetch_add(1, Ordering::Relaxed);
+                    if i >= total || stop.load(Ordering::Relaxed) {
+                        break;
+                    }
+                    let Some(input) = queue[i].lock().ok().and_then(|mut q| q.take()) else {
+                        break;
+                    };
+                    let name = input.name();
+                    let read = read_input(input, ctx, &mut projs, &mut None);
+                    if tx.send((i, name, read)).is_err() {
+                        break;
+                    }
+                }
+            });
+        }
+        drop(tx);
+        let mut waiting = BTreeMap::new();
+        let mut want = 0;
+        let mut outcome = Ok(());
+        for (i, name, read) in rx.iter() {
+            waiting.insert(i, (name, read));
+            while let Some((name, read)) = waiting.remove(&want) {
+                want += 1;
+                if outcome.is_ok() {
+                    outcome = read
+                        .map_err(|e| with_name(e, &name))
+                        .and_then(|r| pool.take(ctx, r));
+                    if outcome.is_err() {
+                        stop.store(true, Ordering::Relaxed);
+                    }
+                }
+            }
+        }
+        outcome
+    })
+}
+
+/// An error reading input `name`, named (unless the input has no name).
+fn with_name(e: FitError, name: &str) -> FitError {
+    match e {
+        FitError::Io(_) | FitError::Line { .. } if !name.is_empty() => FitError::In {
+            name: name.to_string(),
+            why: Box::new(e),
+        },
+        other => other,
+    }
+}
+
+/// Open and read one input into its animals.
+fn read_input(
+    input: Input<'_>,
+    ctx: &Context<'_>,
+    projs: &mut Projectors,
+    each: &mut Option<Each<'_>>,
+) -> Result<Read, FitError> {
+    let settings = ctx.settings;
+    let (name, mut reader): (String, Box<dyn BufRead + Send + '_>) = match input {
+        Input::Tracks(tracks) => return read_tracks_of(tracks, ctx, projs, each, Units::default()),
+        Input::Reader { name, reader } => (name, reader),
+        Input::File(path) => {
+            let file = std::fs::File::open(&path)
+                .map_err(|e| FitError::Io(format!("cannot open it ({e})")))?;
+            (
+                path.display().to_string(),
+                Box::new(std::io::BufReader::new(file)),
+            )
+        }
+    };
+    let format = match settings.format {
+        InputFormat::Auto => sniff(&mut reader)?,
+        forced => forced,
+    };
+    if format == InputFormat::Wcon {
+        let text = whole(reader)?;
+        let w = super::wcon::parse(&text, &name, settings.head_first)?;
+        let units = Units {
+            time: Some(w.time_unit),
+            length: Some(w.length_unit),
+        };
+        return read_tracks_of(w.tracks, ctx, projs, each, units);
+    }
+    if settings.track_column {
+        let tracks = read_tracks(std::io::Read::take(reader, MAX_WHOLE_FILE), &name, settings)?;
+        return read_tracks_of(tracks, ctx, projs, each, Units::default());
+    }
+    let mut source = FrameReader::new(reader, settings);
+    let animal = accumulate(&mut source, name, ctx, projs, each)?;
+    Ok(Read {
+        animals: vec![animal],
+        units: Units::default(),
+        projector: projs.first(),
+    })
+}
+
+fn read_tracks_of(
+    tracks: Vec<Track>,
+    ctx: &Context<'_>,
+    projs: &mut Projectors,
+    each: &mut Option<Each<'_>>,
+    units: Units,
+) -> Result<Read, FitError> {
+    let mut animals = Vec::with_capacity(tracks.len());
+    for track in tracks {
+        let name = track.name.clone();
+        let mut source = TrackSource::new(track);
+        animals.push(
+            accumulate(&mut source, name.clone(), ctx, projs, each).map_err(|e| match e {
+                FitError::Line { .. } => FitError::In {
+                    name,
+                    why: Box::new(e),
+                },
+                other => other,
+            })?,
+        );
+    }
+    Ok(Read {
+        animals,
+        units,
+        projector: projs.first(),
+    })
+}
+
+/// The format of a stream from its first bytes: `{` opens WCON; DeepLabCut's header rows are
+/// recognised by the line reader; anything else is plain CSV.
+fn sniff(reader: &mut Box<dyn BufRead + Send + '_>) -> Result<InputFormat, FitError> {
+    loop {
+        let buf = reader.fill_buf().map_err(|e| FitError::Io(e.to_string()))?;
+        let Some(&first) = buf.iter().find(|b| !b.is_ascii_whitespace()) else {
+            if buf.is_empty() {
+                return Ok(InputFormat::Csv);
+            }
+            let n = buf.len();
+            reader.consume(n);
+            continue;
+        };
+        return Ok(if first == b'{' {
+            InputFormat::Wcon
+        } else {
+            InputFormat::Csv
+        });
+    }
+}
+
+/// A whole stream as text, at most [`MAX_WHOLE_FILE`] bytes.
+fn whole(reader: Box<dyn BufRead + Send + '_>) -> Result<String, FitError> {
+    use std::io::Read as _;
+    let mut text = String::new();
+    std::io::Read::take(reader, MAX_WHOLE_FILE + 1)
+        .read_to_string(&mut text)
+        .map_err(|e| FitError::Io(e.to_string()))?;
+    if text.len() as u64 > MAX_WHOLE_FILE {
+        return Err(FitError::Invalid(format!(
+            "a WCON file is read whole; this one is larger than {MAX_WHOLE_FILE} bytes (split it into chunks)"
+        )));
+    }
+    Ok(text)
+}
+
+/// One animal's frames into its statistics: lost frames split the runs unless a gap is short
+/// enough to bridge linearly.
+fn accumulate(
+    source: &mut dyn Source,
+    name: String,
+    ctx: &Context<'_>,
+    projs: &mut Projectors,
+    each: &mut Option<Each<'_>>,
+) -> Result<Animal, FitError> {
+    let settings = ctx.settings;
+    let mut counts = Recording {
+        recordings: 1,
+        ..Recording::default()
+    };
+    let mut animal = Animal {
+        name,
+        stats: Stats::default(),
+        pieces: Vec::new(),
+        counts: Recording::default(),
+        interval: None,
+    };
+    let mut run: Option<Run> = None;
+    let mut previous: Option<(f64, Vec<f64>)> = None;
+    let mut reference: Option<f64> = None;
+    let mut pending = 0usize;
+    while let Some(row) = source.next_row()? {
+        counts.frames_read += 1;
+        pending += row.missing_before;
+        let Some(values) = row.values else {
+            pending += 1;
+            continue;
+        };
+        let line = source.line();
+        let proj = projs.get(ctx, values.len()).map_err(|e| match e {
+            FitError::Line { why, .. } => FitError::Line { line, why },
+            other => other,
+        })?;
+        if settings.kind == InputKind::Lengths && reference.is_none() {
+            // Each animal's own rest length: a constant offset in the strains only shifts the
+            // means, which the covariance and the spectra remove.
+            reference = Some(values.iter().sum::<f64>() / values.len() as f64);
+        }
+        proj.reference_length = reference;
+        if pending > 0 {
+            counts.frames_lost += pending;
+            match &previous {
+                Some(prev) if pending <= settings.fill_gaps => {
+                    for k in 1..=pending {
+                        let w = k as f64 / (pending + 1) as f64;
+                        let t = prev.0 + w * (row.t - prev.0);
+                        let v: Vec<f64> = prev
+                            .1
+                            .iter()
+                            .zip(&values)
+                            .map(|(a, b)| a + w * (b - a))
+                            .collect();
+                        counts.frames_filled += 1;
+                        feed(proj, ctx, &mut run, each, (t, &v, line))?;
+                    }
+                }
+                Some(_) => {
+                    counts.gaps += 1;
+                    close(&mut run, &mut animal, &mut counts, settings);
+                }
+                // Lost before the animal's first usable frame: nothing to split.
+                None => {}
+            }
+            pending = 0;
+        }
+        feed(proj, ctx, &mut run, each, (row.t, &values, line))?;
+        previous = Some((row.t, values));
+    }
+    counts.frames_lost += pending;
+    close(&mut run, &mut animal, &mut counts, settings);
+    animal.counts = counts;
+    animal.interval = source.interval();
+    Ok(animal)
+}
+
+/// End the current run: into the animal's total, and kept as a piece for the bootstrap.
+fn close(run: &mut Option<Run>, animal: &mut Animal, counts: &mut Recording, s: &FitSettings) {
+    let Some(r) = run.take() else {
+        return;
+    };
+    counts.runs += 1;
+    counts.longest_run = counts.longest_run.max(r.len());
+    let piece = r.finish();
+    if animal.stats.mean.is_empty() {
+        animal.stats = Stats::new(piece.mean.len(), s.window);
+    }
+    animal.stats.absorb(&piece, 1.0);
+    if s.bootstrap > 0 {
+        animal.pieces.push(piece);
+    }
+}
+
+/// Project one frame (oriented head last), hand it to `each`, add it to the run.
+fn feed(
+    proj: &Projector,
+    ctx: &Context<'_>,
+    run: &mut Option<Run>,
+    each: &mut Option<Each<'_>>,
+    (t, values, line): (f64, &[f64], usize),
+) -> Result<(), FitError> {
+    let oriented;
+    let values = if ctx.settings.head_first {
+        oriented = head_last(ctx.settings.kind, values);
+        &oriented
+    } else {
+        values
+    };
+    let q = proj
+        .modal(values)
+        .map_err(|why| FitError::Line { line, why })?;
+    if let Some(each) = each {
+        each(proj, t, &q).map_err(FitError::Output)?;
+    }
+    let spacing = proj.spacing(values);
+    run.get_or_insert_with(|| Run::new(q.len(), &ctx.plan))
+        .push(q, spacing);
+    Ok(())
+}
+
+/// A frame listed head first, reordered head last (the model's orientation): points (x, y)
+/// pairs for midlines, segments for lengths.
+fn head_last(kind: InputKind, values: &[f64]) -> Vec<f64> {
+    match kind {
+        InputKind::Midline => values.chunks(2).rev().flatten().copied().collect(),
+        InputKind::Lengths => values.iter().rev().copied().collect(),
+    }
+}
+
+/// The animals taken so far, in input order.
+#[derive(Default)]
+struct Pool {
+    stats: Option<Stats>,
+    counts: Recording,
+    interval: Option<f64>,
+    units: Option<Units>,
+    projector: Option<Projector>,
+    /// Each animal's own fit.
+    fits: Vec<AnimalFit>,
+    /// Each animal's statistics and runs (bootstrap only).
+    kept: Vec<Animal>,
+}
+
+impl Pool {
+    /// Add one input's animals.
+    fn take(&mut self, ctx: &Context<'_>, read: Read) -> Result<(), FitError> {
+        match (&self.units, read.units.time.is_some()) {
+            (Some(u), true) if *u != read.units => {
+                return Err(FitError::Invalid(format!(
+                    "{}: its units ({}) differ from the first file's ({}): fit recordings of one unit together",
+                    read.animals.first().map_or("", |a| a.name.as_str()),
+                    read.units,
+                    u
+                )))
+            }
+            (None, true) => self.units = Some(read.units),
+            _ => {}
+        }
+        if self.projector.is_none() {
+            self.projector = read.projector;
+        }
+        for animal in read.animals {
+            self.take_animal(ctx, animal)?;
+        }
+        Ok(())
+    }
+
+    fn take_animal(&mut self, ctx: &Context<'_>, animal: Animal) -> Result<(), FitError> {
+        let c = &animal.counts;
+        let total = &mut self.counts;
+        total.recordings += 1;
+        total.frames_read += c.frames_read;
+        total.frames_lost += c.frames_lost;
+        total.frames_filled += c.frames_filled;
+        total.gaps += c.gaps;
+        total.runs += c.runs;
+        total.longest_run = total.longest_run.max(c.longest_run);
+        if let Some(b) = animal.interval {
+            match self.interval {
+                Some(a) if (a - b).abs() > 0.01 * a => {
+                    return Err(FitError::Invalid(format!(
+                        "{} is sampled every {b}, the first animal every {a}: fit recordings of one rate together",
+                        animal.name
+                    )))
+                }
+                None => self.interval = Some(b),
+                _ => {}
+            }
+        }
+        if animal.stats.count == 0.0 {
+            self.fits
+                .push(AnimalFit::failed(&animal, "no usable frame"));
+            return Ok(());
+        }
+        let Some(proj) = self.projector.as_ref() else {
+            return Err(FitError::Invalid(
+                "an animal with frames but no projector".into(),
+            ));
+        };
+        let own = fit_stats(proj, ctx, &animal.stats, animal.interval.unwrap_or(1.0));
+        self.fits.push(match own {
+            Ok(r) => AnimalFit::of(&animal.name, &animal.counts, &r),
+            Err(e) => AnimalFit::failed(&animal, &e.to_string()),
+        });
+        self.stats
+            .get_or_insert_with(|| Stats::new(animal.stats.mean.len(), ctx.settings.window))
+            .absorb(&animal.stats, 1.0);
+        if ctx.settings.bootstrap > 0 {
+            self.kept.push(animal);
+        }
+        Ok(())
+    }
+
+    fn finish(self, ctx: &Context<'_>) -> Result<FitReport, FitError> {
+        let (Some(stats), Some(proj)) = (&self.stats, &self.projector) else {
+            return Err(FitError::Invalid(if self.counts.frames_read == 0 {
+                "the input has no frames".into()
+            } else {
+                format!(
+                    "none of the {} frames is usable: every one has a missing or non-finite value",
+                    self.counts.frames_read
+                )
+            }));
+        };
+        let interval = self.interval.unwrap_or(1.0);
+        let mut report = fit_stats(proj, ctx, stats, interval)?;
+        report.recording = self.counts.clone();
+        report.units = self.units.clone().unwrap_or_default();
+        if let Some(u) = &ctx.settings.time_unit {
+            report.units.time = Some(u.clone());
+        }
+        if let Some(u) = &ctx.settings.length_unit {
+            report.units.length = Some(u.clone());
+        }
+        if let Some(r) = ctx.settings.ring.filter(|&r| r > proj.input_points) {
+            report.warnings.push(format!(
+                "only {} of {r} ring segments were measured: under equipartition every mode carries the same strain variance, so the unresolved modes alias into the fitted ones; ω and β are reliable for a dominant rhythm, not for thermal data",
+                proj.input_points
+            ));
+        }
+        if ctx.settings.bootstrap > 0 {
+            let units = bootstrap::units(&self.kept);
+            let fit = |s: &Stats| fit_stats(proj, ctx, s, interval).ok();
+            match bootstrap::intervals(&units, ctx.settings, fit) {
+                Ok(i) => report.intervals = Some(i),
+                Err(why) => report.warnings.push(why),
+            }
+        }
+        if self.fits.len() > 1 {
+            report.animals = self.fits;
+        }
+        Ok(report)
+    }
+}
+
+/// The fit of some accumulated frames sampled every `interval`.
+fn fit_stats(
+    proj: &Projector,
+    ctx: &Context<'_>,
+    stats: &Stats,
+    interval: f64,
+) -> Result<FitReport, FitError> {
+    if stats.count < 8.0 {
+        return Err(FitError::Invalid(format!(
+            "{} usable frames; at least 8 are needed for variances and spectra",
+            stats.count
+        )));
+    }
+    let spectra = stats.spectra(&ctx.plan, 1.0 / interval).ok_or_else(|| {
+        FitError::Invalid(format!(
+            "no run of 8 frames between gaps for the spectra (longest {}); bridge short gaps with --fill-gaps K",
+            stats.short.len()
+        ))
+    })?;
+    let mut report = summarise(proj, ctx.settings, stats.covariance(), interval, spectra)?;
+    report.frames = stats.count as usize;
+    report.spacing = stats.spacing / stats.count;
+    Ok(report)
+}
