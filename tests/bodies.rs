@@ -226,6 +226,9 @@ fn fit_recovers_the_scale_of_a_held_body() {
             "json",
             "--window",
             "2048",
+            // Written in the model's order, tail first.
+            "--head",
+            "last",
         ])
         .unwrap();
         let v: serde_json::Value = serde_json::from_str(&out).unwrap();

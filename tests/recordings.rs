@@ -49,7 +49,7 @@ fn the_fits_see_what_the_data_show() {
     // WormPose: the first components lie close to the free–free beam modes.
     let v = fit("celegans_wormpose_15fps_52pts.csv", &["--window", "64"]);
     let overlap = v["mode_overlap"].as_array().unwrap();
-    for k in 0..2 {
+    for k in 0..3 {
         assert!(overlap[k].as_f64().unwrap() > 0.95, "mode {k}: {overlap:?}");
     }
     // WT2 forward crawling: a driven travelling wave, its first two components a
@@ -239,4 +239,93 @@ fn deeplabcut_files_are_read_with_their_likelihoods() {
     let omega = v["omega"].as_f64().unwrap();
     assert!((omega - 0.974).abs() < 0.02, "{omega}");
     std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn the_report_ends_with_arguments_the_other_commands_take() {
+    let v = fit(
+        "celegans_wormpose_15fps_52pts.csv",
+        &["--window", "64", "--time-unit", "s", "--length-unit", "px"],
+    );
+    assert_eq!(v["units"]["time"], "s");
+    assert_eq!(v["units"]["length"], "px");
+    assert!(v["spacing"].as_f64().unwrap() > 0.0);
+    let onward: Vec<String> = v["onward"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|a| a.as_str().unwrap().to_string())
+        .collect();
+    assert_eq!(onward[0], "--param");
+    assert!(onward[1].starts_with("omega_b="), "{onward:?}");
+    // simulate takes them all; modes and behave take the scale.
+    let mut args = vec![
+        "theory-search",
+        "simulate",
+        "--steps",
+        "20",
+        "--points",
+        "12",
+    ];
+    args.extend(onward.iter().map(String::as_str));
+    let mut out = Vec::new();
+    theory_search::cli::run(args, &mut out).unwrap();
+    assert!(String::from_utf8(out).unwrap().lines().count() > 20);
+    let mut out = Vec::new();
+    theory_search::cli::run(
+        [
+            "theory-search",
+            "modes",
+            "-p",
+            "12",
+            "--format",
+            "json",
+            &onward[0],
+            &onward[1],
+        ],
+        &mut out,
+    )
+    .unwrap();
+    let m: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let y = m["fields"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["field"] == "y")
+        .unwrap();
+    let omega = v["omega"].as_f64().unwrap();
+    assert!((y["omega"].as_f64().unwrap() - omega).abs() < 1e-12 * omega);
+    let mut out = Vec::new();
+    theory_search::cli::run(
+        ["theory-search", "behave", "rolling", &onward[0], &onward[1]],
+        &mut out,
+    )
+    .unwrap();
+}
+
+#[test]
+fn one_recording_bootstraps_over_its_runs() {
+    let v = fit(
+        "celegans_wormpose_15fps_52pts.csv",
+        &["--window", "64", "--bootstrap", "200", "--seed", "3"],
+    );
+    let i = &v["intervals"];
+    assert_eq!(i["resampled"], "runs");
+    assert_eq!(i["units"], 6);
+    let omega = v["omega"].as_f64().unwrap();
+    let w: Vec<f64> = i["omega"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    assert!(w[0] < omega && omega < w[1], "{w:?} around {omega}");
+    // Same seed, same intervals.
+    let again = fit(
+        "celegans_wormpose_15fps_52pts.csv",
+        &["--window", "64", "--bootstrap", "200", "--seed", "3"],
+    );
+    assert_eq!(again["intervals"], v["intervals"]);
+    let s = v["subspace"].as_array().unwrap();
+    assert!(s[2]["cosine"].as_f64().unwrap() > 0.95, "{s:?}");
 }

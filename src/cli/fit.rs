@@ -325,12 +325,22 @@ fn write_params(path: &Path, model: &Model, report: &FitReport) -> Result<(), Cl
         .field(&report.field)
         .map(|f| f.scale().to_string())
         .unwrap_or_else(|| report.field.clone());
+    let time = report
+        .units
+        .time
+        .as_deref()
+        .unwrap_or("the recording's time unit");
     let text = format!(
         "# Fitted by theory-search fit from {} frames of field {} (model {}).\n\
-         # ω is in radians per unit of the recording's time; β = {} in units of the point spacing\n\
-         # (lengths) and of that time: it scales as time² / length².\n\
+         # ω is in radians per {time}; β = {} {time}² with amplitudes in point spacings\n\
+         # (simulate --temperature {}).\n\
          omega_{scale} = {}\n",
-        report.frames, report.field, model.name, report.beta, report.omega
+        report.frames,
+        report.field,
+        model.name,
+        report.beta,
+        1.0 / report.beta,
+        report.omega
     );
     std::fs::write(path, text)
         .map_err(|e| CliError::Output(format!("cannot write {}: {e}", path.display())))

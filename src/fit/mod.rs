@@ -3,11 +3,18 @@
 //!
 //! **Input.** One frame per line, numbers separated by commas or white space; blank lines, `#`
 //! comments and one header line (a first line that does not start with a number) are skipped.
-//! * `midline`: `t x₁ y₁ … x_K y_K`, K ≥ 5 points from tail to head, as trackers write them;
+//! * `midline`: `t x₁ y₁ … x_K y_K`, K ≥ 5 points, head first by default (`head_first`);
 //! * `lengths`: `t ℓ₁ … ℓ_K`, K ≥ 3 segment lengths around the body (axial data);
+//! * with `track_column`, a track id before t: each track is one animal, rows may interleave;
 //! * DeepLabCut CSV (recognised by its `scorer`/`bodyparts`/`coords` header rows): the frame
 //!   index, then x, y, likelihood per body part; time is index/fps, and a point below the
-//!   likelihood threshold makes its frame lost.
+//!   likelihood threshold makes its frame lost;
+//! * WCON (tracker-commons JSON, recognised by its opening `{`; see `wcon`): each id one animal,
+//!   its units reported.
+//!
+//! **Animals.** Several inputs, or several tracks in one, are several animals (`pool`): read in
+//! parallel into per-run statistics (`stats`), each animal fitted alone and all pooled; the
+//! bootstrap (`bootstrap`) resamples whole animals, or the runs of a single one.
 //!
 //! Every frame must have the first frame's width and time that increases by whole sampling
 //! intervals (the first step, within 1 %). A frame with a missing or non-finite value, or one
@@ -364,6 +371,8 @@ pub struct FitReport {
     /// 95 % bootstrap intervals (`--bootstrap`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub intervals: Option<Intervals>,
+    /// The arguments that make `simulate` use the fitted scales (see [`FitReport::onward`]).
+    pub onward: Vec<String>,
 }
 
 /// The first k principal components against the first k theory modes.
@@ -439,10 +448,13 @@ pub fn spectral_peak_and_centroid(freqs: &[f64], psd: &[f64]) -> (f64, f64) {
         .unwrap_or(0);
     let mut peak = freqs.get(k).copied().unwrap_or(0.0);
     if k >= 1 && k + 1 < psd.len() {
-        let (a, b, c) = (psd[k - 1], psd[k], psd[k + 1]);
+        // The vertex of the parabola through the log powers: a Hann-windowed peak is close to a
+        // Gaussian there, so this is nearly unbiased where the plain parabola is off by up to a
+        // tenth of a bin.
+        let (a, b, c) = (psd[k - 1].ln(), psd[k].ln(), psd[k + 1].ln());
         let den = a - 2.0 * b + c;
         // Refine only a true local maximum; the vertex then lies within half a bin.
-        if b >= a && b >= c && den < 0.0 {
+        if b >= a && b >= c && den < 0.0 && den.is_finite() {
             peak += (0.5 * (a - c) / den).clamp(-0.5, 0.5) * df;
         }
     }
@@ -954,6 +966,7 @@ fn summarise(
         spacing: 0.0,
         subspace,
         intervals: None,
+        onward: Vec::new(),
         points: proj.input_points,
         pca_variance_share: pca_share,
         theory_variance_share: theory_share,
@@ -1164,7 +1177,7 @@ impl Report for FitReport {
         t += &format!(
             "  onward (times in {time}, lengths in point spacings): theory-search simulate --points {} {}\n",
             r.model_points,
-            r.onward().join(" ")
+            r.onward.join(" ")
         );
         t
     }
@@ -1173,7 +1186,7 @@ impl Report for FitReport {
 impl FitReport {
     /// The arguments that make `simulate` (and, without `--temperature`, `behave` and `modes`)
     /// use the fitted scales: `--param omega_<scale>=ω --temperature 1/β`.
-    pub fn onward(&self) -> Vec<String> {
+    pub fn onward_arguments(&self) -> Vec<String> {
         vec![
             "--param".into(),
             format!("omega_{}={}", self.scale, self.omega),

@@ -571,6 +571,7 @@ impl Pool {
         if self.fits.len() > 1 {
             report.animals = self.fits;
         }
+        report.onward = report.onward_arguments();
         Ok(report)
     }
 }
