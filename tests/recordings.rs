@@ -141,33 +141,7 @@ fn a_fit_feeds_the_other_commands_through_a_parameter_file() {
     )
     .unwrap();
     let fitted: serde_json::Value = serde_json::from_slice(&out).unwrap();
-    let mut modes = Vec::new();
-    theory_search::cli::run(
-        [
-            "theory-search",
-            "modes",
-            "-p",
-            "12",
-            "--params",
-            p,
-            "--format",
-            "json",
-        ],
-        &mut modes,
-    )
-    .unwrap();
-    let m: serde_json::Value = serde_json::from_slice(&modes).unwrap();
-    let y = m["fields"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|f| f["field"] == "y")
-        .unwrap();
-    let omega = fitted["omega"].as_f64().unwrap();
-    assert!(
-        (y["omega"].as_f64().unwrap() - omega).abs() < 1e-12 * omega,
-        "{y}"
-    );
+    assert_modes_take_omega(&["--params", p], &fitted);
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -271,30 +245,7 @@ fn the_report_ends_with_arguments_the_other_commands_take() {
     let mut out = Vec::new();
     theory_search::cli::run(args, &mut out).unwrap();
     assert!(String::from_utf8(out).unwrap().lines().count() > 20);
-    let mut out = Vec::new();
-    theory_search::cli::run(
-        [
-            "theory-search",
-            "modes",
-            "-p",
-            "12",
-            "--format",
-            "json",
-            &onward[0],
-            &onward[1],
-        ],
-        &mut out,
-    )
-    .unwrap();
-    let m: serde_json::Value = serde_json::from_slice(&out).unwrap();
-    let y = m["fields"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|f| f["field"] == "y")
-        .unwrap();
-    let omega = v["omega"].as_f64().unwrap();
-    assert!((y["omega"].as_f64().unwrap() - omega).abs() < 1e-12 * omega);
+    assert_modes_take_omega(&onward[..2], &v);
     let mut out = Vec::new();
     theory_search::cli::run(
         ["theory-search", "behave", "rolling", &onward[0], &onward[1]],
@@ -328,4 +279,24 @@ fn one_recording_bootstraps_over_its_runs() {
     assert_eq!(again["intervals"], v["intervals"]);
     let s = v["subspace"].as_array().unwrap();
     assert!(s[2]["cosine"].as_f64().unwrap() > 0.95, "{s:?}");
+}
+
+/// `modes` with `args` gives field y the fitted ω of `fitted`.
+fn assert_modes_take_omega<S: AsRef<str>>(args: &[S], fitted: &serde_json::Value) {
+    let mut all = vec!["theory-search", "modes", "-p", "12", "--format", "json"];
+    all.extend(args.iter().map(|a| a.as_ref()));
+    let mut out = Vec::new();
+    theory_search::cli::run(all, &mut out).unwrap();
+    let m: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let y = m["fields"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["field"] == "y")
+        .unwrap();
+    let omega = fitted["omega"].as_f64().unwrap();
+    assert!(
+        (y["omega"].as_f64().unwrap() - omega).abs() < 1e-12 * omega,
+        "{y}"
+    );
 }

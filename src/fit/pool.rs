@@ -554,6 +554,12 @@ impl Pool {
         if let Some(u) = &ctx.settings.length_unit {
             report.units.length = Some(u.clone());
         }
+        if report.welch.1 < 4 {
+            report.warnings.push(format!(
+                "the spectra average {} Welch segment(s) of {} frames: the peak frequencies, and ω with them, are rough (use a shorter --window or longer runs)",
+                report.welch.1, report.welch.0
+            ));
+        }
         if let Some(r) = ctx.settings.ring.filter(|&r| r > proj.input_points) {
             report.warnings.push(format!(
                 "only {} of {r} ring segments were measured: under equipartition every mode carries the same strain variance, so the unresolved modes alias into the fitted ones; ω and β are reliable for a dominant rhythm, not for thermal data",
