@@ -11,8 +11,9 @@
 //! `α_t ≥ 1` is `∂^{α−t}v`. The standard kinetic term `½(∂tφ)²` gives `−∂t²φ`; solving for it
 //! gives `∂t²φ = Σ sign·prefactor·coefficient·∂tᵗ∂sˢφ`, exact. For the larva:
 //! `∂t²x = c_x ∂s²x + 2c'_x ∂t∂s²x` and `∂t²y = −c_y ∂s⁴y − 2c'_y ∂t∂s⁴y`.
-//! The printed coefficients fold the rational prefactor into the free positive parameter; the
-//! prefactor is kept in [`RhsTerm::prefactor`].
+//! The printed coefficients fold the rational prefactor into the free parameter; the prefactor
+//! is kept in [`RhsTerm::prefactor`]. Whether a parameter's sign is fixed is derived, with its
+//! reason, by [`SignClaim`].
 
 use std::collections::BTreeMap;
 
@@ -35,8 +36,60 @@ pub struct RhsTerm {
     pub sign: i64,
     /// Exact positive prefactor, folded into `coefficient` when printed.
     pub prefactor: Rational64,
-    /// The free positive parameter (`c_x`, `c'_x`).
+    /// The free parameter (`c_x`, `c'_x`).
     pub coefficient: String,
+    /// What fixes the parameter's sign, if anything.
+    pub claim: SignClaim,
+}
+
+/// Whether a parameter's sign is fixed, and by what.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(tag = "sign", content = "reason", rename_all = "kebab-case")]
+pub enum SignClaim {
+    /// Positive as printed, for the reason given.
+    Positive(&'static str),
+    /// Negative as printed would be stable: the parameter must be negative.
+    Negative(&'static str),
+    /// Either sign is allowed, for the reason given.
+    Free(&'static str),
+}
+
+impl SignClaim {
+    /// Derived from the dispersion relation of ∂t²φ = Σ: with φ ∝ e^{i(qs−ωt)}, a term
+    /// c·∂sᵇφ (b even) adds (−1)^{b/2} c qᵇ to −ω², and c·∂t∂sᵇφ adds a damping rate. The lowest
+    /// and highest even b of each kind dominate as q → 0 and q → ∞, so their signs are fixed:
+    /// the stable sign is (−1)^{b/2+1}. Odd b is odd under s → −s and no square's variation:
+    /// nothing fixes it. Other terms are bounded only jointly.
+    fn of(deriv: Deriv, sign: i64, extreme: bool) -> SignClaim {
+        if deriv.s % 2 == 1 {
+            return SignClaim::Free("odd in ∂s, not the variation of a square: neither energy nor dissipation fixes its sign, and s → −s flips it");
+        }
+        let reason = match deriv.t {
+            0 if extreme => "the energy must be bounded below, ω² > 0 as q → 0 and as q → ∞",
+            1 if extreme => "dissipation cannot be negative, by the second law",
+            0 | 1 => {
+                return SignClaim::Free(
+                    "stability bounds it only together with the other terms of its kind",
+                )
+            }
+            _ => return SignClaim::Free("no energy or dissipation argument here fixes it"),
+        };
+        let stable = if (deriv.s / 2) % 2 == 0 { -1 } else { 1 };
+        if sign == stable {
+            SignClaim::Positive(reason)
+        } else {
+            SignClaim::Negative(reason)
+        }
+    }
+
+    /// `c_x > 0 (reason)`.
+    pub fn describe(&self, coefficient: &str) -> String {
+        match self {
+            SignClaim::Positive(r) => format!("{coefficient} > 0: {r}"),
+            SignClaim::Negative(r) => format!("{coefficient} < 0: {r}"),
+            SignClaim::Free(r) => format!("{coefficient} of either sign: {r}"),
+        }
+    }
 }
 
 /// `∂t²φ = Σ rhs` for one field.
@@ -164,10 +217,28 @@ fn field_equation(
                 sign: if value.is_negative() { -1 } else { 1 },
                 prefactor: value.abs(),
                 coefficient: param.unwrap_or_else(|| "1".to_string()),
+                claim: SignClaim::Free(""),
             }
         })
         .collect();
     rhs.sort_by_key(|t| (t.deriv.t, t.deriv.s));
+    // The lowest and highest even space order among the terms of each time order.
+    let extremes = |t: u32| {
+        let even = rhs
+            .iter()
+            .filter(|r| r.deriv.t == t && r.deriv.s % 2 == 0)
+            .map(|r| r.deriv.s);
+        (even.clone().min(), even.max())
+    };
+    let bounds: Vec<(Option<u32>, Option<u32>)> = (0..=2).map(extremes).collect();
+    for r in &mut rhs {
+        let (lo, hi) = bounds
+            .get(r.deriv.t as usize)
+            .copied()
+            .unwrap_or((None, None));
+        let extreme = Some(r.deriv.s) == lo || Some(r.deriv.s) == hi;
+        r.claim = SignClaim::of(r.deriv, r.sign, extreme);
+    }
     Ok(Equation { field, rhs })
 }
 
@@ -276,6 +347,7 @@ pub fn json(order: u32, equations: &[Equation], notes: &[String]) -> Value {
                 "sign": t.sign,
                 "coefficient": t.coefficient,
                 "prefactor": t.prefactor.to_string(),
+                "claim": t.claim,
             })).collect::<Vec<_>>(),
             "text": e.text(),
         })).collect::<Vec<_>>(),
@@ -315,12 +387,13 @@ impl crate::report::Report for EquationReport {
         for e in &self.equations {
             out += &format!("  {}\n", e.text());
         }
+        out += "Signs (derived from the dispersion relation, not assumed):\n";
+        for t in self.equations.iter().flat_map(|e| &e.rhs) {
+            out += &format!("  {}\n", t.claim.describe(&t.coefficient));
+        }
         let folds: Vec<String> = self.equations.iter().flat_map(|e| e.folds()).collect();
         if !folds.is_empty() {
-            out += &format!(
-                "Coefficients are positive free parameters; {}.\n",
-                folds.join(", ")
-            );
+            out += &format!("Exact factors: {}.\n", folds.join(", "));
         }
         for n in &self.notes {
             out += &format!("note: {n}\n");

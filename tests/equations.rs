@@ -161,7 +161,9 @@ fn json_contract() {
     assert_eq!(v["equations"][0]["field"], "x");
     assert_eq!(
         v["equations"][0]["rhs"][0],
-        serde_json::json!({"t": 0, "s": 2, "sign": 1, "coefficient": "c_x", "prefactor": "1"})
+        serde_json::json!({"t": 0, "s": 2, "sign": 1, "coefficient": "c_x", "prefactor": "1",
+            "claim": {"sign": "positive",
+                      "reason": "the energy must be bounded below, ω² > 0 as q → 0 and as q → ∞"}})
     );
     assert_eq!(v["equations"][0]["rhs"][1]["coefficient"], "c'_x");
     assert_eq!(v["equations"][1]["field"], "theta");
@@ -177,4 +179,38 @@ fn low_orders_drop_missing_terms_and_say_so() {
     // At order 1 nothing kinetic survives: there is no ∂t²φ to solve for.
     let err = derive(&Model::larva(), 1).unwrap_err().to_string();
     assert!(err.contains("no kinetic term"), "{err}");
+}
+
+#[test]
+fn sign_claims_are_derived_with_their_reasons() {
+    use theory_search::enumerate::Basis;
+    use theory_search::equations::{derive_basis, SignClaim};
+    let model = Model::larva();
+    let (eqs, _) = derive_basis(&model, 4, Basis::Monomials).unwrap();
+    let x = &eqs[0];
+    let claim = |name: &str| {
+        x.rhs
+            .iter()
+            .find(|t| t.coefficient == name)
+            .unwrap_or_else(|| panic!("{name} in {}", x.text()))
+            .claim
+    };
+    assert!(matches!(claim("c_x"), SignClaim::Positive(r) if r.contains("energy")));
+    assert!(matches!(claim("c'_x"), SignClaim::Positive(r) if r.contains("dissipation")));
+    assert!(matches!(claim("k_x"), SignClaim::Free(r) if r.contains("s → −s")));
+    // Independently: every claimed-positive stiffness gives ω² > 0 at small and large q, every
+    // damping a decaying mode, for each field of the powers basis at orders 2, 4 and 6.
+    for order in [2, 4, 6] {
+        let (eqs, _) = derive_basis(&model, order, Basis::Powers).unwrap();
+        for e in &eqs {
+            for t in &e.rhs {
+                if let SignClaim::Positive(_) = t.claim {
+                    // c·∂sᵇ with c > 0 adds sign·(i q)ᵇ c to −ω²: its share of ω² is
+                    // −sign·iᵇ, which must be positive for b even.
+                    let i_b = if (t.deriv.s / 2) % 2 == 0 { 1 } else { -1 };
+                    assert!(-t.sign * i_b > 0, "{}: {:?}", e.text(), t);
+                }
+            }
+        }
+    }
 }
