@@ -58,6 +58,39 @@ pub struct Coupling {
     pub admitted: Vec<Term>,
     /// Those admitted terms that no free survivor of a participating field dominates.
     pub kept: Vec<Term>,
+    /// When nothing is admitted at the order asked: the first higher order that admits a
+    /// product, and its lowest admitted terms, or `Err(last order searched)` within the budget.
+    pub later: Option<Result<(u32, Vec<Term>), u32>>,
+}
+
+/// Candidates the look-ahead of one coupling may decide, in all.
+const LOOK_AHEAD_CANDIDATES: u128 = 100_000;
+
+/// The first order above `order` (at most 4 more) at which `ids` admit a product, within
+/// [`LOOK_AHEAD_CANDIDATES`]; `Err(last order searched)` otherwise.
+fn look_ahead(
+    model: &Model,
+    density: Density,
+    ids: &[String],
+    order: u32,
+) -> Result<(u32, Vec<Term>), u32> {
+    let mut spent = 0u128;
+    let k = ids.len() as u32;
+    for next in order + 1..=(order + 4).min(crate::enumerate::MAX_ORDER) {
+        let bounds = Bounds::for_order(model.density(density).bound, next);
+        spent = spent.saturating_add(crate::enumerate::count_products(&bounds, k));
+        if k > bounds.epsilon || spent > LOOK_AHEAD_CANDIDATES {
+            return Err(next - 1);
+        }
+        let admitted: Vec<Term> = interaction_monomials(&bounds, k as u8)
+            .into_iter()
+            .filter(|t| admitted_by(model, density, ids, t))
+            .collect();
+        if !admitted.is_empty() {
+            return Ok((next, lowest_order(&admitted)));
+        }
+    }
+    Err((order + 4).min(crate::enumerate::MAX_ORDER))
 }
 
 /// The interaction analysis of one density.
@@ -232,12 +265,16 @@ pub fn interactions(
             })
             .cloned()
             .collect();
+        let later = admitted
+            .is_empty()
+            .then(|| look_ahead(model, density, &ids, order));
         couplings.push(Coupling {
             fields: ids,
             shared,
             rows,
             admitted,
             kept,
+            later,
         });
     }
     Ok(Interactions {
@@ -297,7 +334,26 @@ impl Interactions {
             }
             let render = |t: &Term| t.render(&name);
             if p.admitted.is_empty() {
-                out += "  admitted: none at this order\n";
+                out += &match &p.later {
+                    Some(Ok((next, terms))) => {
+                        let shown: Vec<String> = terms
+                            .iter()
+                            .map(|t| {
+                                let o = t.orders();
+                                format!("{} ({}, {})", render(t), o.tau, o.sigma)
+                            })
+                            .collect();
+                        format!(
+                            "  admitted: none at order {}; the first at order {next} (--order {next}): {}\n",
+                            self.order,
+                            shown.join(", ")
+                        )
+                    }
+                    Some(Err(last)) if *last > self.order => format!(
+                        "  admitted: none up to order {last} (looking further is over the budget)\n"
+                    ),
+                    _ => format!("  admitted: none at order {}\n", self.order),
+                };
             } else {
                 let admitted: Vec<String> = p
                     .admitted

@@ -26,8 +26,12 @@ pub enum OrderError {
     #[error("order {0} is out of range: use an order from 1 to {MAX_ORDER}")]
     OutOfRange(u32),
     /// The basis has too many candidates at this order.
-    #[error("order {order} has {count} candidate monomials, more than the {limit} the tool enumerates: use a lower order or --basis powers")]
+    #[error("order {order} has {count} candidate {what}, more than the {limit} the tool enumerates: use a lower order{advice}")]
     TooManyCandidates {
+        /// What the candidates are (`monomials`, `products of 2 fields`).
+        what: String,
+        /// More advice, where the command has another way (`or --basis powers`).
+        advice: &'static str,
         /// The order asked for.
         order: u32,
         /// How many candidates it has.
@@ -69,6 +73,17 @@ pub fn check_candidates(order: u32, bounds: &Bounds, fields: u32) -> Result<(), 
     let count = count_products(bounds, fields);
     if count > MAX_CANDIDATES {
         return Err(OrderError::TooManyCandidates {
+            what: if fields == 1 {
+                "monomials".into()
+            } else {
+                format!("products of {fields} fields")
+            },
+            // One field's densities have the powers basis; products of fields do not.
+            advice: if fields == 1 {
+                " or --basis powers"
+            } else {
+                ""
+            },
             order,
             count,
             limit: MAX_CANDIDATES,
@@ -295,9 +310,19 @@ fn missing_parts(
         let first = (order + 1..=horizon).find_map(|k| {
             let bounds = Bounds::for_order(model.density(density).bound, k);
             let (_, rows) = decide(model, density, &bounds, basis);
-            rows.into_iter()
-                .find(|r| r.admitted[field] && is_part(&r.term))
-                .map(|r| (k, r.term))
+            let admitted: Vec<Term> = rows
+                .into_iter()
+                .filter(|r| r.admitted[field] && is_part(&r.term))
+                .map(|r| r.term)
+                .collect();
+            // The lowest of them, the standard kinetic term (∂tφ)² first when it is one.
+            let lowest = lowest_order(&admitted);
+            let standard = Term::power(1, 0, 2);
+            lowest
+                .iter()
+                .find(|t| **t == standard)
+                .or(lowest.first())
+                .map(|t| (k, t.clone()))
         });
         let letter = density.letter();
         notes.push(match first {

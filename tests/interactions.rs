@@ -133,3 +133,33 @@ fn couplings_of_three_fields_need_higher_orders() {
     assert!(triple.admitted.is_empty());
     assert!(i.is_free());
 }
+
+#[test]
+fn a_coupling_none_admits_says_which_order_would() {
+    let m = Model::larva();
+    let l = interactions(&m, Density::Lagrangian, 4).unwrap();
+    let xy = l.couplings.iter().find(|c| c.fields == ["x", "y"]).unwrap();
+    assert!(xy.admitted.is_empty());
+    // The paper's argument: (∂s x)²(∂ss y)² at σ = 6, outranked by the free terms.
+    match &xy.later {
+        Some(Ok((6, terms))) => assert_eq!(terms, &vec![t("(∂s φ₁)²·(∂ss φ₂)²")]),
+        other => panic!("{other:?}"),
+    }
+    assert!(l
+        .text(&m)
+        .contains("the first at order 6 (--order 6): (∂s x)²·(∂ss y)² (0, 6)"));
+}
+
+#[test]
+fn refusals_advise_only_what_the_command_takes() {
+    let mut out = Vec::new();
+    let e = theory_search::cli::run(["theory-search", "interactions", "--order", "9"], &mut out)
+        .unwrap_err();
+    assert!(!e.to_string().contains("--basis"), "{e}");
+    let e = theory_search::cli::run(
+        ["theory-search", "--basis", "monomials", "--order", "20"],
+        &mut out,
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("--basis powers"), "{e}");
+}
