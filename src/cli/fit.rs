@@ -87,6 +87,9 @@ pub struct Args {
     /// Also write every frame's modal coordinates to this CSV file (t, q_<mode>, …).
     #[arg(long, value_name = "FILE")]
     series: Option<PathBuf>,
+    /// Also write the per-animal table (each animal's own fit) to this CSV file.
+    #[arg(long, value_name = "FILE")]
+    animals: Option<PathBuf>,
     /// Also write the fitted scale as a parameter file (`omega_<scale> = ω`, in the data's time
     /// unit), for `--params FILE` of `modes`, `simulate`, `behave` and `stats`.
     #[arg(long, value_name = "FILE")]
@@ -208,6 +211,10 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     }
     if let Some(path) = &args.params_out {
         write_params(path, &model, &report)?;
+    }
+    if let Some(path) = &args.animals {
+        std::fs::write(path, report.animals_csv())
+            .map_err(|e| CliError::Output(format!("cannot write {}: {e}", path.display())))?;
     }
     emit(out, &report, args.format)
 }

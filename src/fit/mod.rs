@@ -404,6 +404,10 @@ pub struct AnimalFit {
     pub beta: Option<f64>,
     /// Its first principal component's variance share.
     pub first_share: Option<f64>,
+    /// Its PCA variance shares, descending.
+    pub pca_variance_share: Vec<f64>,
+    /// Its components' overlaps with their modes.
+    pub mode_overlap: Vec<f64>,
     /// Why it could not be fitted alone (it still counts in the pool).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub note: Option<String>,
@@ -419,6 +423,8 @@ impl AnimalFit {
             omega: Some(report.omega),
             beta: Some(report.beta),
             first_share: report.pca_variance_share.first().copied(),
+            pca_variance_share: report.pca_variance_share.clone(),
+            mode_overlap: report.mode_overlap.clone(),
             note: None,
         }
     }
@@ -431,6 +437,8 @@ impl AnimalFit {
             omega: None,
             beta: None,
             first_share: None,
+            pca_variance_share: Vec::new(),
+            mode_overlap: Vec::new(),
             note: Some(why.to_string()),
         }
     }
@@ -1184,6 +1192,40 @@ impl Report for FitReport {
 }
 
 impl FitReport {
+    /// The per-animal table as CSV (the `csv` crate's writer): animal, frames, lost, ω, β, then
+    /// each component's share and overlap; empty cells for an animal not fitted alone.
+    pub fn animals_csv(&self) -> String {
+        let m = self.modes.len();
+        let mut w = csv::Writer::from_writer(Vec::new());
+        let mut header: Vec<String> = ["animal", "frames", "frames_lost", "omega", "beta", "note"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        header.extend((1..=m).map(|k| format!("pca_share_{k}")));
+        header.extend((1..=m).map(|k| format!("overlap_{k}")));
+        let opt = |v: Option<f64>| v.map(|x| x.to_string()).unwrap_or_default();
+        let mut rows = vec![header];
+        for a in &self.animals {
+            let mut row = vec![
+                a.recording.clone(),
+                a.frames.to_string(),
+                a.frames_lost.to_string(),
+                opt(a.omega),
+                opt(a.beta),
+                a.note.clone().unwrap_or_default(),
+            ];
+            for list in [&a.pca_variance_share, &a.mode_overlap] {
+                row.extend((0..m).map(|k| opt(list.get(k).copied())));
+            }
+            rows.push(row);
+        }
+        for r in rows {
+            // Writing to memory cannot fail.
+            w.write_record(&r).ok();
+        }
+        String::from_utf8(w.into_inner().unwrap_or_default()).unwrap_or_default()
+    }
+
     /// The arguments that make `simulate` (and, without `--temperature`, `behave` and `modes`)
     /// use the fitted scales: `--param omega_<scale>=ω --temperature 1/β`.
     pub fn onward_arguments(&self) -> Vec<String> {
