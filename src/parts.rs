@@ -132,6 +132,35 @@ pub fn euler_lagrange(l: &JetPoly) -> JetPoly {
     out
 }
 
+/// The Euler operators in s alone, one per time order a, treating each wₐ = ∂tᵃφ as a field
+/// of s: `E_a(P) = Σ_b (−D_s)^b ∂P/∂(∂sᵇ wₐ)`. P is a total s-derivative exactly when every
+/// E_a(P) vanishes; a separate implementation from the reduction, for checking it.
+pub fn space_euler(p: &JetPoly) -> BTreeMap<u32, JetPoly> {
+    let mut partials: BTreeMap<Deriv, JetPoly> = BTreeMap::new();
+    for (m, c) in p {
+        for (i, &(d, n)) in m.iter().enumerate() {
+            add_to(
+                partials.entry(d).or_default(),
+                swap_factor(m, i, None),
+                c * Rational64::from_integer(n as i64),
+            );
+        }
+    }
+    let mut out: BTreeMap<u32, JetPoly> = BTreeMap::new();
+    for (d, mut q) in partials {
+        for _ in 0..d.s {
+            q = derivative_of_poly(&q, false);
+        }
+        let sign = Rational64::from_integer(if d.s % 2 == 0 { 1 } else { -1 });
+        let e = out.entry(d.t).or_default();
+        for (m, c) in q {
+            add_to(e, m, c * sign);
+        }
+    }
+    out.retain(|_, q| !q.is_empty());
+    out
+}
+
 /// Every monomial of one field with the given (ε, τ, σ), optionally without the bare field.
 pub fn block_monomials(epsilon: u32, tau: u32, sigma: u32, shift_symmetric: bool) -> Vec<Mono> {
     let kinds: Vec<Deriv> = (0..=tau)
@@ -264,6 +293,15 @@ pub fn reduce_terms_full(terms: &[Term]) -> Vec<Block> {
 
 /// Reduce `terms` (single-field, any set) modulo total derivatives, block by block.
 pub fn reduce_terms(terms: &[Term]) -> Vec<Block> {
+    reduce_in(terms, Density::Lagrangian)
+}
+
+/// Reduce `terms` as terms of `density`: a Lagrangian modulo total t- and s-derivatives; a
+/// Rayleigh density modulo total s-derivatives only, because it enters through δR/δv at fixed
+/// time (v = ∂tφ), which a total s-derivative leaves alone and a total t-derivative does not
+/// (R = c·∂tφ is a constant force, not nothing).
+pub fn reduce_in(terms: &[Term], density: Density) -> Vec<Block> {
+    let with_time = density == Density::Lagrangian;
     let mut blocks: BTreeMap<(u32, u32, u32), Vec<Term>> = BTreeMap::new();
     for t in terms {
         let o = t.orders();
@@ -281,9 +319,12 @@ pub fn reduce_terms(terms: &[Term]) -> Vec<Block> {
             // the bare field and ε ≥ 2, the shift-symmetric ones span the same part of the
             // admitted space (exactness of the horizontal complex; `tests/parts.rs` compares
             // both). At ε = 1, ∂sφ = D_s φ needs the bare field.
-            let shift = e >= 2 && restrict_to_shift_symmetric(&admitted);
+            // The restriction rests on the exactness of the complex in both directions; with
+            // s-derivatives alone every lower monomial is taken.
+            let shift = with_time && e >= 2 && restrict_to_shift_symmetric(&admitted);
+            let time_lower = tau.checked_sub(1).filter(|_| with_time);
             for (time, lower) in [
-                (true, tau.checked_sub(1).map(|t| (t, sigma))),
+                (true, time_lower.map(|t| (t, sigma))),
                 (false, sigma.checked_sub(1).map(|s| (tau, s))),
             ] {
                 if let Some((t, s)) = lower {
@@ -349,7 +390,7 @@ pub fn reduce_model(
         .iter()
         .map(|f| FieldReduction {
             field: f.field.id.clone(),
-            blocks: reduce_terms(&f.admitted),
+            blocks: reduce_in(&f.admitted, density),
         })
         .collect())
 }

@@ -76,8 +76,27 @@ fn axial_survivors(model: &Model) -> Vec<String> {
         .collect()
 }
 
+/// The narrower reading of KIN: on the transverse fields only, not on x and θ.
+fn narrow_kin_text() -> String {
+    let narrow = Model::larva_toml()
+        .replace(
+            "x = [\"OST\", \"TRAN\", \"REF\", \"KIN\"]",
+            "x = [\"OST\", \"TRAN\", \"REF\"]",
+        )
+        .replace(
+            "theta = [\"OST\", \"TRAN\", \"REF\", \"KIN\"]",
+            "theta = [\"OST\", \"TRAN\", \"REF\"]",
+        );
+    assert_ne!(
+        narrow,
+        Model::larva_toml(),
+        "the larva states KIN for x and θ"
+    );
+    narrow
+}
+
 fn with_axial_rule(code: &str) -> Model {
-    let text = Model::larva_toml()
+    let text = narrow_kin_text()
         .replace(
             "columns = [\"OST\", \"TRAN\", \"REF\", \"KIN\", \"ROT\"]",
             &format!("columns = [\"OST\", \"TRAN\", \"REF\", \"KIN\", \"ROT\", \"{code}\"]"),
@@ -91,9 +110,31 @@ fn with_axial_rule(code: &str) -> Model {
 }
 
 #[test]
-fn the_gyroscopic_term_survives_without_parity_or_time_reversal() {
+fn the_readings_of_kin_agree_on_table_1_and_differ_on_monomials() {
+    let narrow = Model::from_toml(&narrow_kin_text()).unwrap();
+    // The paper's reading (KIN for every field): x keeps the wave equation's two terms (Eq. 40–41).
+    assert_eq!(axial_survivors(&Model::larva()), ["(∂t φ)²", "(∂s φ)²"]);
     assert_eq!(
-        axial_survivors(&Model::larva()),
+        axial_survivors(&narrow),
+        ["∂t φ·∂s φ", "(∂t φ)²", "(∂s φ)²"]
+    );
+    // Table 1 (pure powers) is the same under both: its rows' verdicts are the rules' own, and
+    // its field columns mark the survivors (x admits more under the narrow reading, of higher
+    // order, so it keeps the same two).
+    for density in [Density::Lagrangian, Density::Rayleigh] {
+        let a = analyse_basis(&Model::larva(), density, 4, Basis::Powers).unwrap();
+        let b = analyse_basis(&narrow, density, 4, Basis::Powers).unwrap();
+        for (f, g) in a.fields.iter().zip(&b.fields) {
+            assert_eq!(f.survivors, g.survivors, "{}", f.field.id);
+        }
+    }
+}
+
+#[test]
+fn the_gyroscopic_term_survives_without_parity_or_time_reversal() {
+    let narrow = Model::from_toml(&narrow_kin_text()).unwrap();
+    assert_eq!(
+        axial_survivors(&narrow),
         ["∂t φ·∂s φ", "(∂t φ)²", "(∂s φ)²"]
     );
     for code in ["PAR", "TREV"] {
@@ -132,8 +173,8 @@ fn the_gyroscopic_term_survives_without_parity_or_time_reversal() {
 
 #[test]
 fn the_gyroscopic_term_breaks_forward_backward_symmetry() {
-    let (eqs, _) =
-        theory_search::equations::derive_basis(&Model::larva(), 4, Basis::Monomials).unwrap();
+    let narrow = Model::from_toml(&narrow_kin_text()).unwrap();
+    let (eqs, _) = theory_search::equations::derive_basis(&narrow, 4, Basis::Monomials).unwrap();
     // −k ∂t∂s x: a first-order-in-time, odd-in-space term, absent under PAR or TREV.
     assert_eq!(
         eqs[0].text(),

@@ -116,3 +116,104 @@ fn larva_reduced_lowest_terms_are_the_seeds() {
     let names: Vec<String> = front.iter().map(|t| t.to_string()).collect();
     assert_eq!(names, ["(∂t φ)²", "(∂ss φ)²"]);
 }
+
+/// One field whose Rayleigh density only needs DIS: ∂t u itself survives.
+const DIS_ONLY: &str = r#"
+name = "dis-only"
+description = "one field, dissipation only required"
+[[fields]]
+id = "u"
+symbol = "u"
+meaning = "a test field"
+boundary = "free"
+zero_modes = []
+[lagrangian]
+bound = "tau-plus-sigma"
+columns = ["OST", "TRAN"]
+[lagrangian.requirements]
+u = ["OST", "TRAN"]
+[rayleigh]
+bound = "tau-and-sigma"
+columns = ["DIS"]
+[rayleigh.requirements]
+u = ["DIS"]
+"#;
+
+fn dissipative_only() -> Model {
+    Model::from_toml(DIS_ONLY).unwrap()
+}
+
+/// The rank of the velocity-jet Euler operators over `terms`: how many independent classes
+/// modulo total s-derivatives (Gaussian elimination over exact rationals, written here apart
+/// from the reduction's own echelon form).
+fn space_rank(terms: &[Term]) -> usize {
+    use theory_search::parts::{mono_of, space_euler};
+    type Key = (u32, Vec<(theory_search::term::Deriv, u32)>);
+    let mut rows: Vec<std::collections::BTreeMap<Key, Rational64>> = terms
+        .iter()
+        .map(|t| {
+            let p = JetPoly::from([(mono_of(t), Rational64::from_integer(1))]);
+            space_euler(&p)
+                .into_iter()
+                .flat_map(|(a, q)| q.into_iter().map(move |(m, c)| ((a, m), c)))
+                .collect()
+        })
+        .collect();
+    let mut rank = 0;
+    while let Some(i) = rows.iter().position(|r| !r.is_empty()) {
+        let pivot = rows.swap_remove(i);
+        let (key, c) = pivot.iter().next().map(|(k, c)| (k.clone(), *c)).unwrap();
+        for r in rows.iter_mut() {
+            if let Some(&f) = r.get(&key) {
+                for (k, v) in &pivot {
+                    let e = r.entry(k.clone()).or_insert(Rational64::from_integer(0));
+                    *e -= f / c * v;
+                }
+                r.retain(|_, v| *v != Rational64::from_integer(0));
+            }
+        }
+        rank += 1;
+    }
+    rank
+}
+
+#[test]
+fn rayleigh_terms_reduce_modulo_space_derivatives_only() {
+    let model = dissipative_only();
+    for (order, expected) in [(2, 3), (4, 13), (6, 42)] {
+        let f = &reduce_model(&model, Density::Rayleigh, order).unwrap()[0];
+        let kept: usize = f.blocks.iter().map(|b| b.kept.len()).sum();
+        let admitted: Vec<Term> = f.blocks.iter().flat_map(|b| b.admitted.clone()).collect();
+        assert_eq!(kept, space_rank(&admitted), "order {order}");
+        assert_eq!(kept, expected, "order {order}");
+        // ∂t u is a constant force, not a total derivative.
+        assert!(
+            f.blocks[0].kept.contains(&"∂t φ".parse().unwrap()),
+            "{:?}",
+            f.blocks[0]
+        );
+    }
+    // `parts` and `table` agree: the table's survivor ∂t u is kept.
+    let mut out = Vec::new();
+    let dir = std::env::temp_dir().join(format!("ts-dis-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("m.toml");
+    std::fs::write(&path, DIS_ONLY).unwrap();
+    theory_search::cli::run(
+        [
+            "theory-search",
+            "parts",
+            "--density",
+            "rayleigh",
+            "--order",
+            "2",
+            "--model",
+            path.to_str().unwrap(),
+        ],
+        &mut out,
+    )
+    .unwrap();
+    let text = String::from_utf8(out).unwrap();
+    assert!(!text.contains("∂t u ≡ 0"), "{text}");
+    std::fs::remove_dir_all(&dir).ok();
+}
