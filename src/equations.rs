@@ -405,3 +405,273 @@ impl crate::report::Report for EquationReport {
         json(self.order, &self.equations, &self.notes)
     }
 }
+
+/// One term `value · coefficient · Π ∂^α φ` of a nonlinear right-hand side.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PolyTerm {
+    /// The product of field derivatives (sorted, with powers); empty is the constant 1.
+    pub monomial: crate::parts::Mono,
+    /// Exact signed rational factor.
+    pub value: Rational64,
+    /// The free parameter (`c_x`), or `1`.
+    pub coefficient: String,
+}
+
+/// `∂t²φ = Σ rhs` for one field, any polynomial density: the exact Euler–Lagrange equation.
+#[derive(Debug, Clone)]
+pub struct NonlinearEquation {
+    /// The field.
+    pub field: Field,
+    /// Right-hand side, by parameter then monomial.
+    pub rhs: Vec<PolyTerm>,
+}
+
+/// `c·(∂s y)²·∂ss y` with the field's symbol.
+fn monomial_text(m: &crate::parts::Mono, symbol: &str) -> String {
+    if m.is_empty() {
+        return "1".into();
+    }
+    m.iter()
+        .map(|&(d, n)| {
+            let f = derivative_text(d, symbol);
+            match n {
+                1 => f,
+                n if d.order() == 0 => format!("{f}{}", superscript(n)),
+                n => format!("({f}){}", superscript(n)),
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("·")
+}
+
+impl NonlinearEquation {
+    /// `∂t² y = −c_y ∂s⁴ y − 6 c₃ ∂s y·∂ss y`.
+    pub fn text(&self) -> String {
+        let sym = &self.field.symbol;
+        let mut out = format!("{} =", derivative_text(Deriv::new(2, 0), sym));
+        if self.rhs.is_empty() {
+            return out + " 0";
+        }
+        for (i, t) in self.rhs.iter().enumerate() {
+            out += &sign_joiner(i, t.value.is_negative(), "−");
+            let v = t.value.abs();
+            let number = if v.is_one() {
+                String::new()
+            } else {
+                format!("{v} ")
+            };
+            let coefficient = if t.coefficient == "1" {
+                String::new()
+            } else {
+                format!("{} ", t.coefficient)
+            };
+            out += &format!("{number}{coefficient}{}", monomial_text(&t.monomial, sym));
+        }
+        out
+    }
+
+    /// JSON: each term's value, coefficient and factors.
+    pub fn json(&self) -> Value {
+        json!({
+            "field": self.field.id,
+            "lhs": {"t": 2, "s": 0},
+            "rhs": self.rhs.iter().map(|t| json!({
+                "value": t.value.to_string(),
+                "coefficient": t.coefficient,
+                "factors": t.monomial.iter().map(|(d, n)| json!({"t": d.t, "s": d.s, "power": n})).collect::<Vec<_>>(),
+            })).collect::<Vec<_>>(),
+            "text": self.text(),
+        })
+    }
+}
+
+/// The exact equations of motion of any surviving densities, quadratic or not:
+/// ∂t²φ = E(L − ½(∂tφ)²) − δR/δv, with E the full Euler–Lagrange operator
+/// ([`crate::parts::euler_lagrange`]) and δR/δv the Euler operator in s of the velocity
+/// v = ∂tφ ([`crate::parts::space_euler`]). A term whose contribution vanishes (a total
+/// derivative, as a linear ∂ssφ) is dropped with a note.
+pub fn derive_nonlinear(
+    model: &Model,
+    order: u32,
+    basis: Basis,
+) -> Result<(Vec<NonlinearEquation>, Vec<String>), EquationError> {
+    use crate::parts::{euler_lagrange, mono_of, space_euler, JetPoly};
+    let l = analyse_basis(model, Density::Lagrangian, order, basis)?;
+    let r = analyse_basis(model, Density::Rayleigh, order, basis)?;
+    let mut notes: Vec<String> = l
+        .fields
+        .iter()
+        .chain(&r.fields)
+        .flat_map(|f| f.missing.clone())
+        .collect();
+    let mut equations = Vec::new();
+    for (i, field) in model.fields.iter().enumerate() {
+        // Σ over parameters of the E(L) − δR/δv polynomials.
+        let mut total: BTreeMap<Option<String>, JetPoly> = BTreeMap::new();
+        for (analysis, sign) in [(&l, 1), (&r, -1)] {
+            for dt in &analysis.fields[i].density {
+                let c = dt.prefactor * Rational64::from_integer(dt.sign * sign);
+                let p: JetPoly = [(mono_of(&dt.term), c)].into_iter().collect();
+                let e = match analysis.density {
+                    Density::Lagrangian => euler_lagrange(&p),
+                    Density::Rayleigh => {
+                        let parts = space_euler(&p);
+                        if parts.keys().any(|&a| a != 1) {
+                            notes.push(format!(
+                                "R_{}: {} depends on more than the velocity jet; only its dependence on ∂t{} enters",
+                                field.symbol,
+                                dt.term.render(&|_| field.symbol.clone()),
+                                field.symbol
+                            ));
+                        }
+                        parts.get(&1).cloned().unwrap_or_default()
+                    }
+                };
+                if e.is_empty() {
+                    notes.push(format!(
+                        "{}_{}: {} contributes nothing to the equation (a total derivative) and is dropped",
+                        analysis.density.letter(),
+                        field.symbol,
+                        dt.term.render(&|_| field.symbol.clone())
+                    ));
+                }
+                let into = total.entry(dt.parameter.clone()).or_default();
+                for (m, v) in e {
+                    let entry = into.entry(m.clone()).or_insert_with(Rational64::zero);
+                    *entry += v;
+                    if entry.is_zero() {
+                        into.remove(&m);
+                    }
+                }
+            }
+        }
+        let acceleration: crate::parts::Mono = vec![(Deriv::new(2, 0), 1)];
+        let lead = total
+            .get_mut(&None)
+            .and_then(|p| p.remove(&acceleration))
+            .unwrap_or_else(Rational64::zero);
+        if lead.is_zero() {
+            return Err(EquationError::NoKinetic {
+                field: field.symbol.clone(),
+                order,
+            });
+        }
+        let rhs: Vec<PolyTerm> = total
+            .into_iter()
+            .flat_map(|(param, p)| {
+                let coefficient = param.unwrap_or_else(|| "1".into());
+                p.into_iter().map(move |(monomial, v)| PolyTerm {
+                    monomial,
+                    value: -v / lead,
+                    coefficient: coefficient.clone(),
+                })
+            })
+            .collect();
+        let mut rhs: Vec<PolyTerm> = rhs;
+        rhs.sort_by_key(|t| {
+            let degree: u32 = t.monomial.iter().map(|(_, n)| n).sum();
+            (degree, t.monomial.clone(), t.coefficient.clone())
+        });
+        equations.push(NonlinearEquation {
+            field: field.clone(),
+            rhs,
+        });
+    }
+    Ok((equations, notes))
+}
+
+impl NonlinearEquation {
+    /// The equation in LaTeX math.
+    pub fn latex(&self) -> String {
+        let sym = latex_symbol(&self.field.symbol);
+        let mut out = format!("{} &=", latex_derivative(Deriv::new(2, 0), &sym));
+        if self.rhs.is_empty() {
+            return out + " 0";
+        }
+        for (i, t) in self.rhs.iter().enumerate() {
+            out += &sign_joiner(i, t.value.is_negative(), "-");
+            let v = t.value.abs();
+            if !v.is_one() {
+                out += &if v.is_integer() {
+                    format!("{v} ")
+                } else {
+                    format!("\\tfrac{{{}}}{{{}}} ", v.numer(), v.denom())
+                };
+            }
+            if t.coefficient != "1" {
+                let (base, _) = t
+                    .coefficient
+                    .split_once('_')
+                    .unwrap_or((&t.coefficient, ""));
+                out += &format!("{base}_{{{sym}}} ");
+            }
+            let factors: Vec<String> = t
+                .monomial
+                .iter()
+                .map(|&(d, n)| {
+                    let f = latex_derivative(d, &sym);
+                    if n == 1 {
+                        f
+                    } else {
+                        format!("({f})^{{{n}}}")
+                    }
+                })
+                .collect();
+            out += &if factors.is_empty() {
+                "1".to_string()
+            } else {
+                factors.join(" ")
+            };
+        }
+        out
+    }
+}
+
+/// `equations` for survivors that are not all quadratic: the exact nonlinear equations.
+pub struct NonlinearReport {
+    /// The model's name.
+    pub model: String,
+    /// The order.
+    pub order: u32,
+    /// One equation per field.
+    pub equations: Vec<NonlinearEquation>,
+    /// What was dropped or could not be derived, and why.
+    pub notes: Vec<String>,
+}
+
+impl NonlinearReport {
+    /// The equations as a LaTeX `align*` block.
+    pub fn latex(&self) -> String {
+        let lines: Vec<String> = self.equations.iter().map(|e| e.latex()).collect();
+        format!(
+            "\\begin{{align*}}\n{}\n\\end{{align*}}\n",
+            lines.join(" \\\\\n")
+        )
+    }
+}
+
+impl crate::report::Report for NonlinearReport {
+    fn text(&self) -> String {
+        let mut out = format!(
+            "Equations of motion of the {} model at order {} (δL/δφ = δR/δ(∂tφ), exact; the surviving terms are not all quadratic):\n",
+            self.model, self.order
+        );
+        for e in &self.equations {
+            out += &format!("  {}\n", e.text());
+        }
+        out += "Each parameter multiplies its term as printed; the exact rational factors are shown.\n";
+        for n in &self.notes {
+            out += &format!("note: {n}\n");
+        }
+        out
+    }
+
+    fn json(&self) -> Value {
+        json!({
+            "order": self.order,
+            "nonlinear": true,
+            "equations": self.equations.iter().map(|e| e.json()).collect::<Vec<_>>(),
+            "notes": self.notes,
+        })
+    }
+}

@@ -4,7 +4,9 @@ use std::io::Write;
 
 use super::{write_out, CliError, ModelArgs};
 use crate::enumerate::Basis;
-use crate::equations::{derive_basis, EquationReport};
+use crate::equations::{
+    derive_basis, derive_nonlinear, EquationError, EquationReport, NonlinearReport,
+};
 use crate::report::Report;
 
 /// Arguments of `equations`.
@@ -31,8 +33,29 @@ enum EquationFormat {
 /// Derive and print the equations.
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     let model = args.model.load()?;
-    let (equations, notes) =
-        derive_basis(&model, args.model.order, args.basis).map_err(CliError::usage)?;
+    let order = args.model.order;
+    let (equations, notes) = match derive_basis(&model, order, args.basis) {
+        Err(EquationError::NotQuadratic { .. }) => {
+            // Not all quadratic: the exact nonlinear equations instead.
+            let (equations, notes) =
+                derive_nonlinear(&model, order, args.basis).map_err(CliError::usage)?;
+            let r = NonlinearReport {
+                model: model.name.clone(),
+                order,
+                equations,
+                notes,
+            };
+            let text = match args.format {
+                EquationFormat::Text => r.text(),
+                EquationFormat::Latex => r.latex(),
+                EquationFormat::Json => {
+                    serde_json::to_string_pretty(&r.json()).unwrap_or_default() + "\n"
+                }
+            };
+            return write_out(out, &text);
+        }
+        other => other.map_err(CliError::usage)?,
+    };
     let r = EquationReport {
         model: model.name.clone(),
         order: args.model.order,

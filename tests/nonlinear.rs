@@ -1,0 +1,413 @@
+//! Equations for every survivor set: the exact nonlinear Euler–Lagrange path against an
+//! independent oracle (the first variation of the action, computed exactly on polynomials over
+//! the unit square with a bump that vanishes on its edges), and a sweep over the requirement
+//! subsets of the larva's columns.
+
+use std::collections::BTreeMap;
+
+use num_bigint::BigInt;
+use num_rational::BigRational;
+use num_traits::{One, Zero};
+use theory_search::enumerate::Basis;
+use theory_search::equations::{derive_basis, derive_nonlinear, EquationError};
+use theory_search::model::{Density, Model};
+use theory_search::reduce::analyse_basis;
+
+type Q = BigRational;
+/// A polynomial in (s, t, ε): exponents → coefficient.
+type P = BTreeMap<(u32, u32, u32), Q>;
+
+fn q(n: i64, d: i64) -> Q {
+    Q::new(BigInt::from(n), BigInt::from(d))
+}
+
+fn mul(a: &P, b: &P) -> P {
+    let mut out = P::new();
+    for (ea, ca) in a {
+        for (eb, cb) in b {
+            let e = (ea.0 + eb.0, ea.1 + eb.1, ea.2 + eb.2);
+            *out.entry(e).or_insert_with(Q::zero) += ca * cb;
+        }
+    }
+    out.retain(|_, c| !c.is_zero());
+    out
+}
+
+fn add(a: &mut P, b: &P, scale: &Q) {
+    for (e, c) in b {
+        *a.entry(*e).or_insert_with(Q::zero) += c * scale;
+    }
+    a.retain(|_, c| !c.is_zero());
+}
+
+/// ∂tᵃ∂sᵇ of a polynomial.
+fn derive(p: &P, a: u32, b: u32) -> P {
+    let mut out = P::new();
+    for (&(s, t, e), c) in p {
+        if s < b || t < a {
+            continue;
+        }
+        let falling = |n: u32, k: u32| (0..k).map(|i| (n - i) as i64).product::<i64>();
+        let v = c * q(falling(s, b) * falling(t, a), 1);
+        *out.entry((s - b, t - a, e)).or_insert_with(Q::zero) += v;
+    }
+    out.retain(|_, c| !c.is_zero());
+    out
+}
+
+/// ∫₀¹∫₀¹ ds dt, per power of ε.
+fn integrate(p: &P) -> BTreeMap<u32, Q> {
+    let mut out = BTreeMap::new();
+    for (&(s, t, e), c) in p {
+        *out.entry(e).or_insert_with(Q::zero) += c * q(1, (s as i64 + 1) * (t as i64 + 1));
+    }
+    out
+}
+
+/// A product of derivatives of `f`, as the jet monomial says.
+fn evaluate(m: &[(theory_search::term::Deriv, u32)], f: &P) -> P {
+    let mut out: P = [((0, 0, 0), Q::one())].into_iter().collect();
+    for &(d, n) in m {
+        let g = derive(f, d.t, d.s);
+        for _ in 0..n {
+            out = mul(&out, &g);
+        }
+    }
+    out
+}
+
+/// The field φ(s, t) and the bump η = (s(1 − s)t(1 − t))⁴, which vanishes with its first three
+/// derivatives on the edges, so no boundary term survives the integrations by parts.
+fn field_and_bump() -> (P, P) {
+    let phi: P = [
+        ((1, 0, 0), q(1, 3)),
+        ((2, 1, 0), q(-2, 5)),
+        ((0, 2, 0), q(3, 7)),
+        ((3, 0, 0), q(1, 2)),
+        ((1, 1, 0), q(1, 1)),
+    ]
+    .into_iter()
+    .collect();
+    let s1: P = [((1, 0, 0), q(1, 1)), ((2, 0, 0), q(-1, 1))]
+        .into_iter()
+        .collect();
+    let t1: P = [((0, 1, 0), q(1, 1)), ((0, 2, 0), q(-1, 1))]
+        .into_iter()
+        .collect();
+    let mut bump = mul(&s1, &t1);
+    let base = bump.clone();
+    for _ in 0..3 {
+        bump = mul(&bump, &base);
+    }
+    (phi, bump)
+}
+
+/// For a Lagrangian L of one field: d/dε ∫∫ L(φ + εη) at ε = 0 must equal ∫∫ E(L)(φ)·η.
+fn variation_matches(
+    l: &[(Vec<(theory_search::term::Deriv, u32)>, Q)],
+    e: &[(Vec<(theory_search::term::Deriv, u32)>, Q)],
+) -> bool {
+    let (phi, bump) = field_and_bump();
+    let mut moved = phi.clone();
+    let eps_bump: P = bump
+        .iter()
+        .map(|(&(s, t, _), c)| ((s, t, 1), c.clone()))
+        .collect();
+    add(&mut moved, &eps_bump, &Q::one());
+    let mut action = P::new();
+    for (m, c) in l {
+        // Only the ε¹ part is needed: drop higher powers as they appear.
+        let mut v = evaluate(m, &moved);
+        v.retain(|k, _| k.2 <= 1);
+        add(&mut action, &v, c);
+    }
+    let first = integrate(&action).remove(&1).unwrap_or_else(Q::zero);
+    let mut el = P::new();
+    for (m, c) in e {
+        add(&mut el, &evaluate(m, &phi), c);
+    }
+    let other = integrate(&mul(&el, &bump))
+        .remove(&0)
+        .unwrap_or_else(Q::zero);
+    first == other
+}
+
+/// For a Rayleigh density R of the velocity jet: d/dε ∫∫ R with v = ∂tφ moved to v + εη(s)
+/// must equal ∫∫ (δR/δv)·η, η = (s(1 − s))⁴ (at every t, so also integrated over t).
+fn velocity_variation_matches(
+    r: &[(Vec<(theory_search::term::Deriv, u32)>, Q)],
+    e: &[(Vec<(theory_search::term::Deriv, u32)>, Q)],
+) -> bool {
+    let (phi, _) = field_and_bump();
+    let s1: P = [((1, 0, 0), q(1, 1)), ((2, 0, 0), q(-1, 1))]
+        .into_iter()
+        .collect();
+    let mut bump = s1.clone();
+    for _ in 0..3 {
+        bump = mul(&bump, &s1);
+    }
+    let eps_bump: P = bump
+        .iter()
+        .map(|(&(s, t, _), c)| ((s, t, 1), c.clone()))
+        .collect();
+    let mut total = P::new();
+    for (m, c) in r {
+        let mut v: P = [((0, 0, 0), Q::one())].into_iter().collect();
+        for &(d, n) in m {
+            let mut g = derive(&phi, d.t, d.s);
+            if d.t == 1 {
+                add(&mut g, &derive(&eps_bump, 0, d.s), &Q::one());
+            }
+            for _ in 0..n {
+                v = mul(&v, &g);
+                v.retain(|k, _| k.2 <= 1);
+            }
+        }
+        add(&mut total, &v, c);
+    }
+    let first = integrate(&total).remove(&1).unwrap_or_else(Q::zero);
+    let mut el = P::new();
+    for (m, c) in e {
+        add(&mut el, &evaluate(m, &phi), c);
+    }
+    first
+        == integrate(&mul(&el, &bump))
+            .remove(&0)
+            .unwrap_or_else(Q::zero)
+}
+
+fn mono(d: &[(u32, u32, u32)]) -> Vec<(theory_search::term::Deriv, u32)> {
+    d.iter()
+        .map(|&(t, s, n)| (theory_search::term::Deriv::new(t, s), n))
+        .collect()
+}
+
+#[test]
+fn the_oracle_sees_a_wrong_euler_lagrange_expression() {
+    // L = (∂s φ)³: E = −D_s(3(∂s φ)²) = −6 ∂s φ·∂ss φ, and nothing else.
+    let l = vec![(mono(&[(0, 1, 3)]), q(1, 1))];
+    let right = vec![(mono(&[(0, 1, 1), (0, 2, 1)]), q(-6, 1))];
+    let wrong = vec![(mono(&[(0, 1, 1), (0, 2, 1)]), q(6, 1))];
+    assert!(variation_matches(&l, &right));
+    assert!(!variation_matches(&l, &wrong));
+}
+
+/// The larva's Lagrangian requirements with only the codes in `keep` (per field the same).
+fn with_requirements(lagrangian: &[&str]) -> Model {
+    with_both(lagrangian, &["DIS", "TRAN", "GAL", "REF"])
+}
+
+/// The larva with these Lagrangian and Rayleigh requirements on every field.
+fn with_both(lagrangian: &[&str], rayleigh: &[&str]) -> Model {
+    let mut text = Model::larva_toml().to_string();
+    let list = |codes: &[&str]| {
+        codes
+            .iter()
+            .map(|c| format!("\"{c}\""))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    for line in [
+        "x = [\"OST\", \"TRAN\", \"REF\", \"KIN\"]",
+        "theta = [\"OST\", \"TRAN\", \"REF\", \"KIN\"]",
+        "y = [\"OST\", \"TRAN\", \"REF\", \"KIN\", \"ROT\"]",
+        "z = [\"OST\", \"TRAN\", \"REF\", \"KIN\", \"ROT\"]",
+    ] {
+        let field = line.split(' ').next().unwrap();
+        assert!(text.contains(line), "{line}");
+        text = text.replacen(line, &format!("{field} = [{}]", list(lagrangian)), 1);
+    }
+    for line in [
+        "x = [\"DIS\", \"TRAN\", \"GAL\", \"REF\"]",
+        "theta = [\"DIS\", \"TRAN\", \"GAL\", \"REF\"]",
+        "y = [\"DIS\", \"TRAN\", \"GAL\", \"REF\", \"SPIN\"]",
+        "z = [\"DIS\", \"TRAN\", \"GAL\", \"REF\", \"SPIN\"]",
+    ] {
+        let field = line.split(' ').next().unwrap();
+        assert!(text.contains(line), "{line}");
+        text = text.replacen(line, &format!("{field} = [{}]", list(rayleigh)), 1);
+    }
+    Model::from_toml(&text).unwrap()
+}
+
+#[test]
+fn every_requirement_subset_with_a_kinetic_term_has_equations() {
+    let codes = ["OST", "TRAN", "REF", "KIN", "ROT"];
+    let (mut derived, mut nonlinear, mut checked) = (0, 0, 0);
+    for mask in 0..(1u32 << codes.len()) {
+        let keep: Vec<&str> = (0..codes.len())
+            .filter(|i| mask & (1 << i) != 0)
+            .map(|i| codes[i])
+            .collect();
+        let model = with_requirements(&keep);
+        let l = analyse_basis(&model, Density::Lagrangian, 4, Basis::Powers).unwrap();
+        let kinetic = theory_search::term::Term::power(1, 0, 2);
+        let has_kinetic = l.fields.iter().all(|f| f.survivors.contains(&kinetic));
+        match derive_nonlinear(&model, 4, Basis::Powers) {
+            Ok((eqs, _)) => {
+                derived += 1;
+                let linear = derive_basis(&model, 4, Basis::Powers);
+                if matches!(linear, Err(EquationError::NotQuadratic { .. })) {
+                    nonlinear += 1;
+                }
+                // Each field's equation is the oracle's variation of its own Lagrangian.
+                for (i, e) in eqs.iter().enumerate() {
+                    let terms: Vec<_> = l.fields[i]
+                        .density
+                        .iter()
+                        .map(|dt| {
+                            let c = q(*dt.prefactor.numer(), *dt.prefactor.denom()) * q(dt.sign, 1);
+                            (theory_search::parts::mono_of(&dt.term), c)
+                        })
+                        .collect();
+                    // Per parameter (set to 1 one at a time): the Lagrangian's part of the
+                    // right-hand side is E(L − ½(∂tφ)²), the kinetic part giving −∂t²φ.
+                    let params: std::collections::BTreeSet<String> =
+                        e.rhs.iter().map(|t| t.coefficient.clone()).collect();
+                    for p in params.iter().filter(|p| !p.contains('\'')) {
+                        let own: Vec<_> = l.fields[i]
+                            .density
+                            .iter()
+                            .zip(&terms)
+                            .filter(|(dt, _)| dt.parameter.as_deref() == Some(p.as_str()))
+                            .map(|(_, t)| t.clone())
+                            .collect();
+                        let rhs: Vec<_> = e
+                            .rhs
+                            .iter()
+                            .filter(|t| &t.coefficient == p)
+                            .map(|t| (t.monomial.clone(), q(*t.value.numer(), *t.value.denom())))
+                            .collect();
+                        assert!(variation_matches(&own, &rhs), "{keep:?} {}: {p}", e.text());
+                        checked += 1;
+                    }
+                }
+            }
+            Err(EquationError::NoKinetic { .. }) => {
+                assert!(!has_kinetic, "{keep:?}: a kinetic term survives");
+            }
+            Err(other) => panic!("{keep:?}: {other}"),
+        }
+    }
+    assert!(
+        derived >= 8 && nonlinear >= 1 && checked >= 10,
+        "{derived} {nonlinear} {checked}"
+    );
+}
+
+#[test]
+fn quadratic_survivors_give_the_linear_equations() {
+    for basis in [Basis::Powers, Basis::Monomials] {
+        let model = Model::larva();
+        let (lin, _) = derive_basis(&model, 4, basis).unwrap();
+        let (non, _) = derive_nonlinear(&model, 4, basis).unwrap();
+        for (a, b) in lin.iter().zip(&non) {
+            let mut x: Vec<_> = a
+                .rhs
+                .iter()
+                .map(|t| {
+                    (
+                        vec![(t.deriv, 1)],
+                        t.prefactor * num_rational::Rational64::from_integer(t.sign),
+                        t.coefficient.clone(),
+                    )
+                })
+                .collect();
+            let mut y: Vec<_> = b
+                .rhs
+                .iter()
+                .map(|t| (t.monomial.clone(), t.value, t.coefficient.clone()))
+                .collect();
+            x.sort();
+            y.sort();
+            assert_eq!(x, y, "{} vs {}", a.text(), b.text());
+        }
+    }
+}
+
+#[test]
+fn every_rayleigh_subset_gives_equations_that_vary_right() {
+    let codes = ["DIS", "TRAN", "GAL", "REF", "SPIN"];
+    let mut checked = 0;
+    for mask in 0..(1u32 << codes.len()) {
+        let keep: Vec<&str> = (0..codes.len())
+            .filter(|i| mask & (1 << i) != 0)
+            .map(|i| codes[i])
+            .collect();
+        let model = with_both(&["OST", "TRAN", "REF", "KIN", "ROT"], &keep);
+        let r = analyse_basis(&model, Density::Rayleigh, 4, Basis::Powers).unwrap();
+        let (eqs, _) =
+            derive_nonlinear(&model, 4, Basis::Powers).unwrap_or_else(|e| panic!("{keep:?}: {e}"));
+        for (i, e) in eqs.iter().enumerate() {
+            // Only velocity-jet densities (every factor ∂t once) have δR/δv as the whole story.
+            let velocity = r.fields[i]
+                .density
+                .iter()
+                .all(|dt| dt.term.factors().iter().all(|f| f.deriv.t == 1));
+            if !velocity {
+                continue;
+            }
+            let own: Vec<_> = r.fields[i]
+                .density
+                .iter()
+                .map(|dt| {
+                    let c = q(*dt.prefactor.numer(), *dt.prefactor.denom()) * q(dt.sign, 1);
+                    (theory_search::parts::mono_of(&dt.term), c)
+                })
+                .collect();
+            // The c' part of the right-hand side is −δR/δv.
+            let minus: Vec<_> = e
+                .rhs
+                .iter()
+                .filter(|t| t.coefficient.contains('\''))
+                .map(|t| (t.monomial.clone(), -q(*t.value.numer(), *t.value.denom())))
+                .collect();
+            assert!(
+                velocity_variation_matches(&own, &minus),
+                "{keep:?}: {}",
+                e.text()
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 32, "{checked}");
+}
+
+#[test]
+fn the_command_falls_back_to_the_exact_equations() {
+    // Without REF the linear ∂s x and ∂ss y survive: they contribute nothing and are dropped
+    // with a note, where the linear path refuses.
+    let text = Model::larva_toml().replace(
+        "x = [\"OST\", \"TRAN\", \"REF\", \"KIN\"]",
+        "x = [\"OST\", \"TRAN\", \"KIN\"]",
+    );
+    let dir = std::env::temp_dir().join(format!("ts-nonlinear-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("noref.toml");
+    std::fs::write(&path, text).unwrap();
+    for format in ["text", "json", "latex"] {
+        let mut out = Vec::new();
+        theory_search::cli::run(
+            [
+                "theory-search",
+                "equations",
+                "--model",
+                path.to_str().unwrap(),
+                "--format",
+                format,
+            ],
+            &mut out,
+        )
+        .unwrap();
+        let out = String::from_utf8(out).unwrap();
+        match format {
+            "text" => assert!(
+                out.contains("∂s x contributes nothing") && out.contains("∂t² y = −c_y ∂s⁴ y"),
+                "{out}"
+            ),
+            "json" => assert!(out.contains("\"nonlinear\": true"), "{out}"),
+            _ => assert!(out.contains("\\begin{align*}"), "{out}"),
+        }
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
