@@ -253,18 +253,28 @@ pub fn derive_basis(
     order: u32,
     basis: Basis,
 ) -> Result<(Vec<Equation>, Vec<String>), EquationError> {
-    let l = analyse_basis(model, Density::Lagrangian, order, basis)?;
-    let r = analyse_basis(model, Density::Rayleigh, order, basis)?;
+    let (l, r, notes) = analyses(model, order, basis)?;
     let equations = (0..model.fields.len())
         .map(|i| field_equation(&l, &r, i, order))
         .collect::<Result<Vec<_>, _>>()?;
+    Ok((equations, notes))
+}
+
+/// Both densities' analyses and what they say is missing.
+fn analyses(
+    model: &Model,
+    order: u32,
+    basis: Basis,
+) -> Result<(Analysis, Analysis, Vec<String>), EquationError> {
+    let l = analyse_basis(model, Density::Lagrangian, order, basis)?;
+    let r = analyse_basis(model, Density::Rayleigh, order, basis)?;
     let notes = l
         .fields
         .iter()
         .chain(&r.fields)
         .flat_map(|f| f.missing.clone())
         .collect();
-    Ok((equations, notes))
+    Ok((l, r, notes))
 }
 
 /// `∂t∂s² x`: a derivative as the seed writes it in equations.
@@ -291,19 +301,32 @@ fn latex_derivative(d: Deriv, symbol: &str) -> String {
     format!("{}{} {symbol}", part("t", d.t), part("s", d.s))
 }
 
+/// `∂t² φ = a − b …` from (negative, body) terms.
+fn equation_text(symbol: &str, terms: impl Iterator<Item = (bool, String)>) -> String {
+    let mut out = format!("{} =", derivative_text(Deriv::new(2, 0), symbol));
+    let mut empty = true;
+    for (i, (negative, body)) in terms.enumerate() {
+        out += &sign_joiner(i, negative, "−");
+        out += &body;
+        empty = false;
+    }
+    if empty {
+        out += " 0";
+    }
+    out
+}
+
 impl Equation {
     /// `∂t² x = c_x ∂s² x + c'_x ∂t∂s² x`.
     pub fn text(&self) -> String {
         let sym = &self.field.symbol;
-        let mut out = format!("{} =", derivative_text(Deriv::new(2, 0), sym));
-        if self.rhs.is_empty() {
-            return out + " 0";
-        }
-        for (i, t) in self.rhs.iter().enumerate() {
-            out += &sign_joiner(i, t.sign < 0, "−");
-            out += &format!("{} {}", t.coefficient, derivative_text(t.deriv, sym));
-        }
-        out
+        equation_text(
+            sym,
+            self.rhs.iter().map(|t| {
+                let body = format!("{} {}", t.coefficient, derivative_text(t.deriv, sym));
+                (t.sign < 0, body)
+            }),
+        )
     }
 
     /// The equation in LaTeX math.
@@ -355,38 +378,84 @@ pub fn json(order: u32, equations: &[Equation], notes: &[String]) -> Value {
     })
 }
 
+/// Equations as one LaTeX `align*` block.
+fn align(lines: impl Iterator<Item = String>) -> String {
+    let lines: Vec<String> = lines.collect();
+    format!(
+        "\\begin{{align*}}\n{}\n\\end{{align*}}\n",
+        lines.join(" \\\\\n")
+    )
+}
+
+/// The heading line and one indented line per equation.
+fn heading(model: &str, order: u32, how: &str, lines: impl Iterator<Item = String>) -> String {
+    let mut out = format!("Equations of motion of the {model} model at order {order} ({how}):\n");
+    for l in lines {
+        out += &format!("  {l}\n");
+    }
+    out
+}
+
+/// An equation that can be shown as text and LaTeX.
+pub trait Shown {
+    /// One line of text.
+    fn line(&self) -> String;
+    /// One LaTeX `align` row.
+    fn latex_row(&self) -> String;
+}
+
+impl Shown for Equation {
+    fn line(&self) -> String {
+        self.text()
+    }
+    fn latex_row(&self) -> String {
+        self.latex()
+    }
+}
+
+impl Shown for NonlinearEquation {
+    fn line(&self) -> String {
+        self.text()
+    }
+    fn latex_row(&self) -> String {
+        self.latex()
+    }
+}
+
 /// `equations`: the equations of motion of a model at an order, with the engine's notes.
-pub struct EquationReport {
+pub struct EquationReport<E = Equation> {
     /// The model's name.
     pub model: String,
     /// The order.
     pub order: u32,
     /// One equation per field.
-    pub equations: Vec<Equation>,
-    /// What could not be derived, and why.
+    pub equations: Vec<E>,
+    /// What could not be derived or was dropped, and why.
     pub notes: Vec<String>,
 }
 
-impl EquationReport {
+/// `equations` for survivors that are not all quadratic: the exact nonlinear equations.
+pub type NonlinearReport = EquationReport<NonlinearEquation>;
+
+impl<E: Shown> EquationReport<E> {
     /// The equations as a LaTeX `align*` block.
     pub fn latex(&self) -> String {
-        let lines: Vec<String> = self.equations.iter().map(|e| e.latex()).collect();
-        format!(
-            "\\begin{{align*}}\n{}\n\\end{{align*}}\n",
-            lines.join(" \\\\\n")
+        align(self.equations.iter().map(|e| e.latex_row()))
+    }
+
+    fn heading(&self, how: &str) -> String {
+        heading(
+            &self.model,
+            self.order,
+            how,
+            self.equations.iter().map(|e| e.line()),
         )
     }
 }
 
-impl crate::report::Report for EquationReport {
+impl crate::report::Report for EquationReport<Equation> {
     fn text(&self) -> String {
-        let mut out = format!(
-            "Equations of motion of the {} model at order {} (δL/δφ = δR/δ(∂tφ)):\n",
-            self.model, self.order
-        );
-        for e in &self.equations {
-            out += &format!("  {}\n", e.text());
-        }
+        let mut out = self.heading("δL/δφ = δR/δ(∂tφ)");
         out += "Signs (derived from the dispersion relation, not assumed):\n";
         for t in self.equations.iter().flat_map(|e| &e.rhs) {
             out += &format!("  {}\n", t.claim.describe(&t.coefficient));
@@ -448,26 +517,24 @@ impl NonlinearEquation {
     /// `∂t² y = −c_y ∂s⁴ y − 6 c₃ ∂s y·∂ss y`.
     pub fn text(&self) -> String {
         let sym = &self.field.symbol;
-        let mut out = format!("{} =", derivative_text(Deriv::new(2, 0), sym));
-        if self.rhs.is_empty() {
-            return out + " 0";
-        }
-        for (i, t) in self.rhs.iter().enumerate() {
-            out += &sign_joiner(i, t.value.is_negative(), "−");
-            let v = t.value.abs();
-            let number = if v.is_one() {
-                String::new()
-            } else {
-                format!("{v} ")
-            };
-            let coefficient = if t.coefficient == "1" {
-                String::new()
-            } else {
-                format!("{} ", t.coefficient)
-            };
-            out += &format!("{number}{coefficient}{}", monomial_text(&t.monomial, sym));
-        }
-        out
+        equation_text(
+            sym,
+            self.rhs.iter().map(|t| {
+                let v = t.value.abs();
+                let number = if v.is_one() {
+                    String::new()
+                } else {
+                    format!("{v} ")
+                };
+                let coefficient = if t.coefficient == "1" {
+                    String::new()
+                } else {
+                    format!("{} ", t.coefficient)
+                };
+                let body = format!("{number}{coefficient}{}", monomial_text(&t.monomial, sym));
+                (t.value.is_negative(), body)
+            }),
+        )
     }
 
     /// JSON: each term's value, coefficient and factors.
@@ -496,14 +563,7 @@ pub fn derive_nonlinear(
     basis: Basis,
 ) -> Result<(Vec<NonlinearEquation>, Vec<String>), EquationError> {
     use crate::parts::{euler_lagrange, mono_of, space_euler, JetPoly};
-    let l = analyse_basis(model, Density::Lagrangian, order, basis)?;
-    let r = analyse_basis(model, Density::Rayleigh, order, basis)?;
-    let mut notes: Vec<String> = l
-        .fields
-        .iter()
-        .chain(&r.fields)
-        .flat_map(|f| f.missing.clone())
-        .collect();
+    let (l, r, mut notes) = analyses(model, order, basis)?;
     let mut equations = Vec::new();
     for (i, field) in model.fields.iter().enumerate() {
         // Σ over parameters of the E(L) − δR/δv polynomials.
@@ -627,38 +687,10 @@ impl NonlinearEquation {
     }
 }
 
-/// `equations` for survivors that are not all quadratic: the exact nonlinear equations.
-pub struct NonlinearReport {
-    /// The model's name.
-    pub model: String,
-    /// The order.
-    pub order: u32,
-    /// One equation per field.
-    pub equations: Vec<NonlinearEquation>,
-    /// What was dropped or could not be derived, and why.
-    pub notes: Vec<String>,
-}
-
-impl NonlinearReport {
-    /// The equations as a LaTeX `align*` block.
-    pub fn latex(&self) -> String {
-        let lines: Vec<String> = self.equations.iter().map(|e| e.latex()).collect();
-        format!(
-            "\\begin{{align*}}\n{}\n\\end{{align*}}\n",
-            lines.join(" \\\\\n")
-        )
-    }
-}
-
 impl crate::report::Report for NonlinearReport {
     fn text(&self) -> String {
-        let mut out = format!(
-            "Equations of motion of the {} model at order {} (δL/δφ = δR/δ(∂tφ), exact; the surviving terms are not all quadratic):\n",
-            self.model, self.order
-        );
-        for e in &self.equations {
-            out += &format!("  {}\n", e.text());
-        }
+        let mut out =
+            self.heading("δL/δφ = δR/δ(∂tφ), exact; the surviving terms are not all quadratic");
         out += "Each parameter multiplies its term as printed; the exact rational factors are shown.\n";
         for n in &self.notes {
             out += &format!("note: {n}\n");

@@ -176,6 +176,19 @@ fn velocity_variation_matches(
             .unwrap_or_else(Q::zero)
 }
 
+/// A density's terms as (jet monomial, signed exact coefficient), every parameter 1.
+fn polynomial(
+    density: &[theory_search::reduce::DensityTerm],
+) -> Vec<(Vec<(theory_search::term::Deriv, u32)>, Q)> {
+    density
+        .iter()
+        .map(|dt| {
+            let c = q(*dt.prefactor.numer(), *dt.prefactor.denom()) * q(dt.sign, 1);
+            (theory_search::parts::mono_of(&dt.term), c)
+        })
+        .collect()
+}
+
 fn mono(d: &[(u32, u32, u32)]) -> Vec<(theory_search::term::Deriv, u32)> {
     d.iter()
         .map(|&(t, s, n)| (theory_search::term::Deriv::new(t, s), n))
@@ -207,25 +220,24 @@ fn with_both(lagrangian: &[&str], rayleigh: &[&str]) -> Model {
             .collect::<Vec<_>>()
             .join(", ")
     };
-    for line in [
+    let lagrangian_lines = [
         "x = [\"OST\", \"TRAN\", \"REF\", \"KIN\"]",
         "theta = [\"OST\", \"TRAN\", \"REF\", \"KIN\"]",
         "y = [\"OST\", \"TRAN\", \"REF\", \"KIN\", \"ROT\"]",
         "z = [\"OST\", \"TRAN\", \"REF\", \"KIN\", \"ROT\"]",
-    ] {
-        let field = line.split(' ').next().unwrap();
-        assert!(text.contains(line), "{line}");
-        text = text.replacen(line, &format!("{field} = [{}]", list(lagrangian)), 1);
-    }
-    for line in [
+    ];
+    let rayleigh_lines = [
         "x = [\"DIS\", \"TRAN\", \"GAL\", \"REF\"]",
         "theta = [\"DIS\", \"TRAN\", \"GAL\", \"REF\"]",
         "y = [\"DIS\", \"TRAN\", \"GAL\", \"REF\", \"SPIN\"]",
         "z = [\"DIS\", \"TRAN\", \"GAL\", \"REF\", \"SPIN\"]",
-    ] {
-        let field = line.split(' ').next().unwrap();
-        assert!(text.contains(line), "{line}");
-        text = text.replacen(line, &format!("{field} = [{}]", list(rayleigh)), 1);
+    ];
+    for (lines, codes) in [(lagrangian_lines, lagrangian), (rayleigh_lines, rayleigh)] {
+        for line in lines {
+            let field = line.split(' ').next().unwrap();
+            assert!(text.contains(line), "{line}");
+            text = text.replacen(line, &format!("{field} = [{}]", list(codes)), 1);
+        }
     }
     Model::from_toml(&text).unwrap()
 }
@@ -252,14 +264,7 @@ fn every_requirement_subset_with_a_kinetic_term_has_equations() {
                 }
                 // Each field's equation is the oracle's variation of its own Lagrangian.
                 for (i, e) in eqs.iter().enumerate() {
-                    let terms: Vec<_> = l.fields[i]
-                        .density
-                        .iter()
-                        .map(|dt| {
-                            let c = q(*dt.prefactor.numer(), *dt.prefactor.denom()) * q(dt.sign, 1);
-                            (theory_search::parts::mono_of(&dt.term), c)
-                        })
-                        .collect();
+                    let terms = polynomial(&l.fields[i].density);
                     // Per parameter (set to 1 one at a time): the Lagrangian's part of the
                     // right-hand side is E(L − ½(∂tφ)²), the kinetic part giving −∂t²φ.
                     let params: std::collections::BTreeSet<String> =
@@ -347,14 +352,7 @@ fn every_rayleigh_subset_gives_equations_that_vary_right() {
             if !velocity {
                 continue;
             }
-            let own: Vec<_> = r.fields[i]
-                .density
-                .iter()
-                .map(|dt| {
-                    let c = q(*dt.prefactor.numer(), *dt.prefactor.denom()) * q(dt.sign, 1);
-                    (theory_search::parts::mono_of(&dt.term), c)
-                })
-                .collect();
+            let own = polynomial(&r.fields[i].density);
             // The c' part of the right-hand side is −δR/δv.
             let minus: Vec<_> = e
                 .rhs
