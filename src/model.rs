@@ -398,7 +398,8 @@ impl Model {
 
     /// Read and check a model from TOML text.
     pub fn from_toml(text: &str) -> Result<Model, ModelError> {
-        let model: Model = toml::from_str(text).map_err(|e| ModelError::Syntax(e.to_string()))?;
+        let model: Model =
+            toml::from_str(text).map_err(|e| ModelError::Syntax(one_line(&e.to_string())))?;
         model.validate()?;
         Ok(model)
     }
@@ -644,4 +645,13 @@ mod tests {
         let err = Model::from_toml("name = 3").unwrap_err().to_string();
         assert!(err.contains("line 1"), "{err}");
     }
+}
+
+/// Fold a multi-line message (TOML errors quote the offending line) onto one line.
+pub fn one_line(s: &str) -> String {
+    s.split('\n')
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && l.chars().any(|c| c.is_alphanumeric()))
+        .collect::<Vec<_>>()
+        .join("; ")
 }

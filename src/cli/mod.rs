@@ -288,14 +288,7 @@ fn load_model(path: &Option<PathBuf>) -> Result<Model, CliError> {
     }
 }
 
-/// Fold a multi-line message (TOML errors quote the offending line) onto one line.
-fn one_line(s: &str) -> String {
-    s.split('\n')
-        .map(str::trim)
-        .filter(|l| !l.is_empty() && l.chars().any(|c| c.is_alphanumeric()))
-        .collect::<Vec<_>>()
-        .join("; ")
-}
+use crate::model::one_line;
 
 fn load_params(args: &ParamArgs, model: &Model) -> Result<Params, CliError> {
     let mut params = Params::default();
