@@ -97,9 +97,19 @@ fn notes(a: &Analysis) -> Vec<String> {
 }
 
 fn width(s: &str) -> usize {
-    s.chars().count()
+    if s.is_ascii() {
+        s.len()
+    } else {
+        s.chars().count()
+    }
 }
 
+fn spaces(out: &mut String, n: usize) {
+    out.extend(std::iter::repeat_n(' ', n));
+}
+
+/// Columns padded to their widest cell, written into one string (no string per cell: the
+/// modes table at N = 10⁵ has millions of cells).
 fn aligned(header: &[String], rows: &[Vec<String>]) -> String {
     let widths: Vec<usize> = (0..header.len())
         .map(|c| {
@@ -110,28 +120,35 @@ fn aligned(header: &[String], rows: &[Vec<String>]) -> String {
                 .unwrap_or(0)
         })
         .collect();
-    let line = |cells: &[String]| {
-        let padded: Vec<String> = cells
-            .iter()
-            .zip(&widths)
-            .enumerate()
-            .map(|(i, (c, &w))| {
-                let pad = " ".repeat(w - width(c));
-                // Terms read left to right; numbers and marks are centred under short headers.
-                if i == 0 {
-                    format!("{c}{pad}")
-                } else {
-                    let left = (w - width(c)) / 2;
-                    format!("{}{c}{}", " ".repeat(left), " ".repeat(w - width(c) - left))
-                }
-            })
-            .collect();
-        format!("  {}", padded.join("  ").trim_end())
+    let total = widths.iter().sum::<usize>() + 2 * (widths.len() - 1);
+    let mut out = String::with_capacity((rows.len() + 2) * (total + 3));
+    let line = |cells: &[String], out: &mut String| {
+        out.push_str("  ");
+        for (i, (c, &w)) in cells.iter().zip(&widths).enumerate() {
+            let pad = w - width(c);
+            // Terms read left to right; numbers and marks are centred under short headers.
+            if i == 0 {
+                out.push_str(c);
+                spaces(out, pad);
+            } else {
+                out.push_str("  ");
+                spaces(out, pad / 2);
+                out.push_str(c);
+                spaces(out, pad - pad / 2);
+            }
+        }
+        let kept = out.trim_end_matches(' ').len();
+        out.truncate(kept);
+        out.push('\n');
     };
-    let rule: String = "─".repeat(widths.iter().sum::<usize>() + 2 * (widths.len() - 1));
-    let mut out = vec![line(header), format!("  {rule}")];
-    out.extend(rows.iter().map(|r| line(r)));
-    out.join("\n") + "\n"
+    line(header, &mut out);
+    out.push_str("  ");
+    out.extend(std::iter::repeat_n('─', total));
+    out.push('\n');
+    for r in rows {
+        line(r, &mut out);
+    }
+    out
 }
 
 fn text(model: &Model, analyses: &[Analysis]) -> String {
@@ -469,6 +486,9 @@ pub fn modes_text(model: &Model, points: usize, modes: &[crate::modal::FieldMode
         );
         let beam = !f.beam.is_empty();
         let eq17 = f.beam.iter().any(|b| b.seed_eq17.is_some());
+        // Each mode's beam comparison by index: one lookup per row, not a scan (O(N²) at N = 10⁵).
+        let beams: std::collections::HashMap<usize, &crate::modal::BeamComparison> =
+            f.beam.iter().map(|b| (b.index, b)).collect();
         let mut header: Vec<String> = [
             "i",
             "λᵢ",
@@ -505,7 +525,7 @@ pub fn modes_text(model: &Model, points: usize, modes: &[crate::modal::FieldMode
                     percent(m.cumulative_share),
                 ];
                 if beam {
-                    match f.beam.iter().find(|b| b.index == m.index) {
+                    match beams.get(&m.index) {
                         Some(b) => {
                             let off = |x: f64| {
                                 let r = 100.0 * (x - b.eigenvalue) / b.eigenvalue;
