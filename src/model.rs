@@ -600,6 +600,15 @@ fn identifier(key: &str, value: &str) -> Result<(), String> {
     Ok(())
 }
 
+/// Fold a multi-line message (TOML errors quote the offending line) onto one line.
+pub fn one_line(s: &str) -> String {
+    s.split('\n')
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && l.chars().any(|c| c.is_alphanumeric()))
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -645,13 +654,4 @@ mod tests {
         let err = Model::from_toml("name = 3").unwrap_err().to_string();
         assert!(err.contains("line 1"), "{err}");
     }
-}
-
-/// Fold a multi-line message (TOML errors quote the offending line) onto one line.
-pub fn one_line(s: &str) -> String {
-    s.split('\n')
-        .map(str::trim)
-        .filter(|l| !l.is_empty() && l.chars().any(|c| c.is_alphanumeric()))
-        .collect::<Vec<_>>()
-        .join("; ")
 }
