@@ -119,7 +119,7 @@ fn the_command_writes_quietly_and_fails_cleanly() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// The README shows `tables/figures/self_righting.svg`: it must be what the engine draws now.
+/// docs/commands.md shows `tables/figures/self_righting.svg`: it must be what the engine draws now.
 #[test]
 fn readme_figure_is_fresh() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));

@@ -1,0 +1,84 @@
+//! The README cannot rot: every `cargo run --release -- …` line it shows is run, and every line
+//! of the Table 1 excerpt it prints (but the "…" elisions) is in what the engine prints now.
+
+fn readme() -> String {
+    std::fs::read_to_string(format!("{}/README.md", env!("CARGO_MANIFEST_DIR"))).unwrap()
+}
+
+/// The fenced blocks of the README with their info strings.
+fn blocks(text: &str) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    let mut current: Option<(String, String)> = None;
+    for line in text.lines() {
+        if let Some(info) = line.strip_prefix("```") {
+            match current.take() {
+                Some(block) => out.push(block),
+                None => current = Some((info.trim().to_string(), String::new())),
+            }
+        } else if let Some((_, body)) = current.as_mut() {
+            body.push_str(line);
+            body.push('\n');
+        }
+    }
+    out
+}
+
+fn run(args: &[String]) -> String {
+    let mut all = vec!["theory-search".to_string()];
+    all.extend(args.iter().cloned());
+    let mut out = Vec::new();
+    theory_search::cli::run(all.clone(), &mut out).unwrap_or_else(|e| panic!("{all:?}: {e}"));
+    String::from_utf8(out).unwrap()
+}
+
+#[test]
+fn every_command_the_readme_shows_runs() {
+    let dir = std::env::temp_dir().join(format!("ts-readme-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut ran = 0;
+    for (info, body) in blocks(&readme()) {
+        if info != "sh" {
+            continue;
+        }
+        // Join continued lines, drop comments.
+        let joined = body.replace("\\\n", " ");
+        for line in joined.lines() {
+            let line = line.split(" #").next().unwrap().trim();
+            let Some(rest) = line.strip_prefix("cargo run --release -- ") else {
+                continue;
+            };
+            let args: Vec<String> = rest
+                .split_whitespace()
+                .map(|a| match a {
+                    // Output directories go to a scratch place.
+                    "figs" => dir.join("figs").display().to_string(),
+                    _ => a.to_string(),
+                })
+                .collect();
+            run(&args);
+            ran += 1;
+        }
+    }
+    assert!(ran >= 7, "{ran} commands");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn the_table_the_readme_prints_is_what_the_engine_prints() {
+    let shown = blocks(&readme())
+        .into_iter()
+        .find(|(info, body)| info.is_empty() && body.contains("Lagrangian density:"))
+        .expect("the Table 1 excerpt")
+        .1;
+    let printed = run(&["--order".into(), "4".into()]);
+    let lines: Vec<&str> = printed.lines().map(str::trim_end).collect();
+    for line in shown
+        .lines()
+        .filter(|l| !l.trim().is_empty() && l.trim() != "…")
+    {
+        assert!(
+            lines.contains(&line.trim_end()),
+            "the README shows {line:?}, which the engine no longer prints"
+        );
+    }
+}
