@@ -8,9 +8,10 @@ use super::{write_out, CliError, ModelArgs};
 /// Arguments of `emit`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Directory to write into: the crate root.
-    #[arg(long, default_value = ".")]
-    out: PathBuf,
+    /// Directory to write `src/generated/` and `tables/` into (default: the current directory,
+    /// which must then be a theory-search checkout).
+    #[arg(long)]
+    out: Option<PathBuf>,
     #[command(flatten)]
     model: ModelArgs,
 }
@@ -18,8 +19,20 @@ pub struct Args {
 /// Write every generated file under `--out`.
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     let model = args.model.load()?;
-    let written =
-        crate::codegen::emit(&args.out, &model, args.model.order).map_err(CliError::Output)?;
+    let dir = match &args.out {
+        Some(dir) => dir.clone(),
+        None => {
+            // Without --out, only a checkout of this crate: never scatter files elsewhere.
+            let manifest = std::fs::read_to_string("Cargo.toml").unwrap_or_default();
+            if !manifest.contains("name = \"theory-search\"") {
+                return Err(CliError::Usage(
+                    "emit writes src/generated/ and tables/ of a theory-search checkout: run it at the crate root, or give --out DIR".into(),
+                ));
+            }
+            PathBuf::from(".")
+        }
+    };
+    let written = crate::codegen::emit(&dir, &model, args.model.order).map_err(CliError::Output)?;
     let text: String = written
         .iter()
         .map(|p| format!("wrote {}\n", p.display()))

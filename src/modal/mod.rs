@@ -1070,7 +1070,7 @@ impl Regime {
     /// Name for reports.
     pub fn name(self) -> &'static str {
         match self {
-            Regime::Free => "free",
+            Regime::Free => "zero-mode",
             Regime::Underdamped => "underdamped",
             Regime::Critical => "critical",
             Regime::Overdamped => "overdamped",
