@@ -133,8 +133,29 @@ impl Report for StepResponse {
             shape.join(" "),
             self.max_error
         );
-        for (tt, q) in self.transient.iter().step_by(40) {
-            t += &format!("  {tt:>10.2}  {q:.9}\n");
+        // Every sample is in the JSON and CSV; the text shows about twenty, plus the peak, so an
+        // overshoot between the rows is not lost.
+        let peak = self
+            .transient
+            .iter()
+            .enumerate()
+            .max_by(|a, b| (a.1 .1).total_cmp(&b.1 .1))
+            .map(|(i, _)| i)
+            .unwrap_or(0);
+        let stride = (self.transient.len() / 20).max(1);
+        for (i, (tt, q)) in self.transient.iter().enumerate() {
+            if i % stride == 0 || i == peak {
+                let mark = if i == peak { "  (peak)" } else { "" };
+                t += &format!("  {tt:>10.2}  {q:.9}{mark}\n");
+            }
+        }
+        if let Some(&(tp, qp)) = self.transient.get(peak) {
+            if self.equilibrium != 0.0 {
+                t += &format!(
+                    "  peak Q = {qp:.9} at t = {tp:.2}: {:+.2} % of Q*\n",
+                    100.0 * (qp / self.equilibrium - 1.0)
+                );
+            }
         }
         t
     }
