@@ -82,3 +82,61 @@ fn the_table_the_readme_prints_is_what_the_engine_prints() {
         );
     }
 }
+
+/// Every `$ cargo run --release -- …` example in docs/: the command runs, and every line shown
+/// under it (but the "…" elisions) is a line of what it prints now.
+#[test]
+fn the_examples_in_docs_print_what_they_show() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = std::env::temp_dir().join(format!("ts-docs-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut checked = 0;
+    let mut stale = Vec::new();
+    for entry in std::fs::read_dir(root.join("docs")).unwrap() {
+        let path = entry.unwrap().path();
+        let text = std::fs::read_to_string(&path).unwrap();
+        for (_, body) in blocks(&text) {
+            let joined = body.replace("\\\n", " ");
+            let mut lines = joined.lines();
+            let Some(command) = lines
+                .next()
+                .and_then(|l| l.strip_prefix("$ cargo run --release -- "))
+            else {
+                continue;
+            };
+            // The directory after --out or --figures goes to a scratch place.
+            let words: Vec<&str> = command.split_whitespace().collect();
+            let args: Vec<String> = words
+                .iter()
+                .enumerate()
+                .map(|(i, a)| match i.checked_sub(1).map(|j| words[j]) {
+                    Some("--out" | "--figures") => dir.join(a).display().to_string(),
+                    _ => a.to_string(),
+                })
+                .collect();
+            // Paths in what it prints name the directory as the example does.
+            let mut printed = run(&args);
+            for (i, a) in words.iter().enumerate().skip(1) {
+                if matches!(words[i - 1], "--out" | "--figures") {
+                    printed = printed.replace(&dir.join(a).display().to_string(), a);
+                }
+            }
+            let printed: std::collections::HashSet<&str> = printed.lines().map(str::trim).collect();
+            for shown in lines
+                .map(str::trim)
+                .filter(|l| !l.is_empty() && !l.contains('…'))
+            {
+                if !printed.contains(shown) {
+                    stale.push(format!(
+                        "{}: `{command}` no longer prints {shown:?}",
+                        path.display()
+                    ));
+                }
+            }
+            checked += 1;
+        }
+    }
+    std::fs::remove_dir_all(&dir).ok();
+    assert!(checked >= 10, "{checked} examples");
+    assert!(stale.is_empty(), "{}", stale.join("\n"));
+}
