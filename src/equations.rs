@@ -266,6 +266,12 @@ fn analyses(
     order: u32,
     basis: Basis,
 ) -> Result<(Analysis, Analysis, Vec<String>), EquationError> {
+    crate::reduce::check_work(
+        model,
+        &[Density::Lagrangian, Density::Rayleigh],
+        order,
+        basis,
+    )?;
     let l = analyse_basis(model, Density::Lagrangian, order, basis)?;
     let r = analyse_basis(model, Density::Rayleigh, order, basis)?;
     let notes = l

@@ -68,6 +68,26 @@ pub struct Row {
     pub included: Vec<bool>,
 }
 
+/// Refuse, from counts alone and before any term is built, an analysis of `densities` at
+/// `order` that is out of range or over the candidate limit: a command analysing both densities
+/// checks both first, so it never decides one only to refuse the other.
+pub fn check_work(
+    model: &Model,
+    densities: &[Density],
+    order: u32,
+    basis: Basis,
+) -> Result<(), OrderError> {
+    if order == 0 || order > MAX_ORDER {
+        return Err(OrderError::OutOfRange(order));
+    }
+    if basis == Basis::Monomials {
+        for &d in densities {
+            check_candidates(order, &Bounds::for_order(model.density(d).bound, order), 1)?;
+        }
+    }
+    Ok(())
+}
+
 /// Refuse an enumeration of more than [`MAX_CANDIDATES`] products of `fields` fields.
 pub fn check_candidates(order: u32, bounds: &Bounds, fields: u32) -> Result<(), OrderError> {
     let count = count_products(bounds, fields);
@@ -230,13 +250,8 @@ pub fn analyse_basis(
     order: u32,
     basis: Basis,
 ) -> Result<Analysis, OrderError> {
-    if order == 0 || order > MAX_ORDER {
-        return Err(OrderError::OutOfRange(order));
-    }
+    check_work(model, &[density], order, basis)?;
     let bounds = Bounds::for_order(model.density(density).bound, order);
-    if basis == Basis::Monomials {
-        check_candidates(order, &bounds, 1)?;
-    }
     let (columns, mut rows) = decide(model, density, &bounds, basis);
     let mut fields = Vec::new();
     for (i, field) in model.fields.iter().enumerate() {

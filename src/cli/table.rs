@@ -49,6 +49,13 @@ impl DensityChoice {
 /// Print the tables.
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     let model = args.model.load()?;
+    crate::reduce::check_work(
+        &model,
+        &args.density.densities(),
+        args.model.order,
+        args.basis,
+    )
+    .map_err(CliError::usage)?;
     let analyses = args
         .density
         .densities()
