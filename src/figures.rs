@@ -95,6 +95,19 @@ fn series(name: impl Into<String>, points: Vec<(f64, f64)>, mark: Mark) -> Serie
     }
 }
 
+/// Series drawn exactly over an earlier one join its legend entry ("y = z"), so no curve is
+/// hidden without a word.
+fn merge_identical(all: Vec<Series>) -> Vec<Series> {
+    let mut out: Vec<Series> = Vec::new();
+    for s in all {
+        match out.iter_mut().find(|o| o.points == s.points && o.mark == s.mark) {
+            Some(o) => o.name = format!("{} = {}", o.name, s.name),
+            None => out.push(s),
+        }
+    }
+    out
+}
+
 struct Panel<'a> {
     title: &'a str,
     x: &'a str,
@@ -355,6 +368,7 @@ fn spectrum(theory: &Theory) -> Result<String, FigureError> {
             series(f.field.symbol.clone(), pts, Mark::Dots)
         })
         .collect();
+    let eig = merge_identical(eig);
     let share = fields
         .iter()
         .map(|f| {
@@ -369,6 +383,7 @@ fn spectrum(theory: &Theory) -> Result<String, FigureError> {
             series(f.field.symbol.clone(), pts, Mark::Line)
         })
         .collect();
+    let share = merge_identical(share);
     let mut right = panel(
         "cumulative variance share at equipartition",
         "mode index i",
