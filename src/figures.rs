@@ -100,7 +100,10 @@ fn series(name: impl Into<String>, points: Vec<(f64, f64)>, mark: Mark) -> Serie
 fn merge_identical(all: Vec<Series>) -> Vec<Series> {
     let mut out: Vec<Series> = Vec::new();
     for s in all {
-        match out.iter_mut().find(|o| o.points == s.points && o.mark == s.mark) {
+        match out
+            .iter_mut()
+            .find(|o| o.points == s.points && o.mark == s.mark)
+        {
             Some(o) => o.name = format!("{} = {}", o.name, s.name),
             None => out.push(s),
         }

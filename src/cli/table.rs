@@ -51,7 +51,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     let model = args.model.load()?;
     crate::reduce::check_work(
         &model,
-        &args.density.densities(),
+        args.density.densities(),
         args.model.order,
         args.basis,
     )
