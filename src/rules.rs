@@ -77,10 +77,33 @@ impl Rule {
     }
 
     /// Does `term` satisfy the rule? The same decision as [`Rule::verdict`], without building
-    /// the explanation. A shift φ → φ + p·g is compared to first order in p only: the map is
-    /// affine in φ, so the p¹ coefficient Σ nᵢ·(∂^αᵢ g)·∏ⱼ≠ᵢ… vanishes exactly when every shifted
-    /// factor is unchanged, which is exactly when the whole expansion is.
+    /// the explanation, and without expanding the product: a transformation of field f maps each
+    /// factor ∂^αf to ±∂^αf (+ p·∂^αg when it shifts). What it does to each *factor kind*
+    /// (f, α) is found once by applying it to that factor alone ([`FactorImage`], cached); the
+    /// product is invariant exactly when no factor of f is shifted (the p¹ coefficient
+    /// Σ nᵢ·(∂^αᵢ g)·∏ⱼ≠ᵢ… vanishes only then: its terms are distinct monomials) and the signs
+    /// of f's factors, each to its power, multiply to +1. [`Rule::passes_by_expansion`] is the
+    /// whole-product computation the tests compare this with.
     pub fn passes(&self, term: &Term) -> bool {
+        match &self.check {
+            Check::Structural(pred) => pred(term).is_ok(),
+            Check::Symmetry(tr) => term.fields().into_iter().all(|field| {
+                let mut sign = 1i64;
+                for f in term.factors().iter().filter(|f| f.field == field) {
+                    match factor_image(self.code, tr, field, f.deriv) {
+                        FactorImage::Shifted => return false,
+                        FactorImage::Signed(s) if f.power % 2 == 1 => sign *= s,
+                        FactorImage::Signed(_) => {}
+                    }
+                }
+                sign == 1
+            }),
+        }
+    }
+
+    /// [`Rule::passes`] by applying the transformation to the whole product and comparing, to
+    /// first order in a shift's parameter (slower; the checker of the factor-kind path).
+    pub fn passes_by_expansion(&self, term: &Term) -> bool {
         match &self.check {
             Check::Structural(pred) => pred(term).is_ok(),
             Check::Symmetry(tr) => {
@@ -103,6 +126,53 @@ impl Rule {
             Check::Symmetry(tr) => format!("apply {tr} and compare"),
         }
     }
+}
+
+/// What a transformation does to one factor ∂^αf of the field it moves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum FactorImage {
+    /// ∂^αf → ±∂^αf.
+    Signed(i64),
+    /// ∂^αf picks up a shift p·∂^αg ≠ 0.
+    Shifted,
+}
+
+thread_local! {
+    /// Factor images by (rule code, field, derivative): few kinds serve every product.
+    static FACTOR_IMAGES: std::cell::RefCell<std::collections::HashMap<(&'static str, u8, Deriv), FactorImage>> =
+        std::cell::RefCell::new(std::collections::HashMap::new());
+}
+
+/// The image of the factor ∂^αf under `tr` (to first order in its parameter), by applying it
+/// to the one-factor term and comparing with ±the factor; cached per rule.
+fn factor_image(code: &'static str, tr: &Transformation, field: u8, deriv: Deriv) -> FactorImage {
+    let key = (code, field, deriv);
+    if let Some(k) = FACTOR_IMAGES.with(|m| m.borrow().get(&key).copied()) {
+        return k;
+    }
+    let first_order = Transformation {
+        infinitesimal: true,
+        ..*tr
+    };
+    let image = Term::new([Factor {
+        field,
+        deriv,
+        power: 1,
+    }])
+    .map(|single| {
+        let original = Poly::of_term(&single);
+        let moved = first_order.apply(&single, field);
+        if moved == original {
+            FactorImage::Signed(1)
+        } else if moved == original.scaled(-Rational64::one()) {
+            FactorImage::Signed(-1)
+        } else {
+            FactorImage::Shifted
+        }
+    })
+    .unwrap_or(FactorImage::Shifted);
+    FACTOR_IMAGES.with(|m| m.borrow_mut().insert(key, image));
+    image
 }
 
 /// A transformation of one field, `φ(s, t) → scale·φ(s_sign·s, t_sign·t) + p·sᵐtⁿ`, with `p`

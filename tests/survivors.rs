@@ -93,3 +93,33 @@ fn each_rule_gives_its_verdict_and_reason() {
         assert_eq!(verdict(code, term), Verdict::Pass, "{code} on {term}");
     }
 }
+
+#[test]
+fn factor_kind_verdicts_agree_with_expanding_the_product() {
+    use theory_search::enumerate::{interaction_monomials, monomials, Bounds};
+    use theory_search::model::BoundShape;
+    use theory_search::rules::REGISTRY;
+    let mut decided = 0;
+    for shape in [BoundShape::TauPlusSigma, BoundShape::TauAndSigma] {
+        let single = monomials(&Bounds::for_order(shape, 5));
+        let pairs = interaction_monomials(&Bounds::for_order(shape, 4), 2);
+        for term in single.iter().chain(&pairs) {
+            for rule in REGISTRY {
+                assert_eq!(
+                    rule.passes(term),
+                    rule.passes_by_expansion(term),
+                    "{} on {term}",
+                    rule.code
+                );
+                assert_eq!(
+                    rule.passes(term),
+                    rule.verdict(term).passed(),
+                    "{} on {term}",
+                    rule.code
+                );
+                decided += 1;
+            }
+        }
+    }
+    assert!(decided > 10_000, "{decided}");
+}
