@@ -1,4 +1,4 @@
-//! SVG figures of the modes and the behaviour models (the seed's Figs. 2, 3, 6, 7, 8 and the
+//! SVG figures of the modes and the behaviour models (the paper's Figs. 2, 3, 6, 7, 8 and the
 //! Mathieu chart of App. D), drawn with plotters' SVG backend.
 //!
 //! Text goes into the SVG as `<text>` elements, so no font library is needed to write a figure
@@ -155,6 +155,49 @@ fn range(values: impl Iterator<Item = f64>, zero: bool) -> std::ops::Range<f64> 
     (lo - pad)..(hi + pad)
 }
 
+/// A tick label: whole numbers without ".0", no "-0", at most four significant decimals.
+fn tick(v: f64) -> String {
+    if v.abs() < 1e-12 {
+        return "0".into();
+    }
+    if (v - v.round()).abs() < 1e-9 * v.abs().max(1.0) && v.abs() < 1e9 {
+        return format!("{}", v.round() as i64);
+    }
+    let text = format!("{v:.4}");
+    text.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+/// The corner of the plot holding the fewest data points (a third of each axis), for the legend.
+fn emptiest_corner(
+    p: &Panel,
+    xr: &std::ops::Range<f64>,
+    yr: &std::ops::Range<f64>,
+) -> SeriesLabelPosition {
+    let (w, h) = (xr.end - xr.start, yr.end - yr.start);
+    let count = |right: bool, upper: bool| {
+        p.series
+            .iter()
+            .flat_map(|s| s.points.iter())
+            .filter(|&&(x, y)| {
+                let fx = (x - xr.start) / w;
+                let fy = (y - yr.start) / h;
+                (if right { fx > 0.6 } else { fx < 0.4 })
+                    && (if upper { fy > 0.55 } else { fy < 0.45 })
+            })
+            .count()
+    };
+    [
+        (SeriesLabelPosition::UpperRight, count(true, true)),
+        (SeriesLabelPosition::UpperLeft, count(false, true)),
+        (SeriesLabelPosition::LowerRight, count(true, false)),
+        (SeriesLabelPosition::LowerLeft, count(false, false)),
+    ]
+    .into_iter()
+    .min_by_key(|(_, n)| *n)
+    .map(|(pos, _)| pos)
+    .unwrap_or(SeriesLabelPosition::UpperRight)
+}
+
 fn color(i: usize) -> RGBColor {
     const COLORS: [RGBColor; 8] = [
         RGBColor(31, 119, 180),
@@ -188,18 +231,42 @@ fn draw(area: &Area, p: &Panel) -> Result<(), FigureError> {
         .margin(8)
         .x_label_area_size(36)
         .y_label_area_size(56)
-        .build_cartesian_2d(xr, yr.clone())
+        .build_cartesian_2d(xr.clone(), yr.clone())
         .map_err(err)?;
     chart
         .configure_mesh()
         .x_desc(p.x)
         .y_desc(p.y)
+        .x_label_formatter(&|v| tick(*v))
+        .y_label_formatter(&|v| tick(*v))
         .light_line_style(WHITE)
         .draw()
         .map_err(err)?;
     for (i, s) in p.series.iter().enumerate() {
         let c = color(i);
-        let legend = move |(x, y): (i32, i32)| PathElement::new(vec![(x, y), (x + 16, y)], c);
+        // The legend swatch is drawn as the series is: a line, two dashes, a dot, a bar.
+        let mark = s.mark;
+        let legend = move |(x, y): (i32, i32)| {
+            let at = EmptyElement::at((x, y));
+            match mark {
+                Mark::Line => {
+                    at + PathElement::new(vec![(0, 0), (8, 0)], c.stroke_width(2))
+                        + PathElement::new(vec![(8, 0), (16, 0)], c.stroke_width(2))
+                }
+                Mark::Dashed => {
+                    at + PathElement::new(vec![(0, 0), (6, 0)], c.stroke_width(2))
+                        + PathElement::new(vec![(10, 0), (16, 0)], c.stroke_width(2))
+                }
+                Mark::Dots => {
+                    at + PathElement::new(vec![(8, 0), (8, 0)], c)
+                        + PathElement::new(vec![(5, 0), (11, 0)], c.stroke_width(5))
+                }
+                Mark::Bars(_) => {
+                    at + PathElement::new(vec![(2, 0), (14, 0)], c.mix(0.45).stroke_width(8))
+                        + PathElement::new(vec![(2, 0), (2, 0)], c)
+                }
+            }
+        };
         let drawn =
             match s.mark {
                 Mark::Line => chart
@@ -242,7 +309,7 @@ fn draw(area: &Area, p: &Panel) -> Result<(), FigureError> {
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK.mix(0.4))
             .label_font(("sans-serif", 11))
-            .position(SeriesLabelPosition::UpperRight)
+            .position(emptiest_corner(p, &xr, &yr))
             .draw()
             .map_err(err)?;
     }
@@ -343,7 +410,7 @@ fn mode_shapes(theory: &Theory) -> Result<String, FigureError> {
     }
     let rows = fields.len().div_ceil(2);
     render(
-        &format!("Mode shapes on N = {n} points (seed Fig. 2A)"),
+        &format!("Mode shapes on N = {n} points (paper Fig. 2A)"),
         (1000, 380 * rows as u32),
         (rows, 2),
         &panels,
@@ -395,7 +462,7 @@ fn spectrum(theory: &Theory) -> Result<String, FigureError> {
     );
     right.zero = true;
     render(
-        &format!("Eigenvalues and variance shares, N = {n} (seed Fig. 2B–C)"),
+        &format!("Eigenvalues and variance shares, N = {n} (paper Fig. 2B–C)"),
         (1000, 420),
         (1, 2),
         &[
@@ -496,7 +563,7 @@ fn self_righting(theory: &Theory) -> Result<String, FigureError> {
     panels[4].zero = true;
     render(
         &format!(
-            "Self-righting, N = {n}, ζ₁ = {} (seed Fig. 3); attach at {:.1}, righted at {:.1}",
+            "Self-righting, N = {n}, ζ₁ = {} (paper Fig. 3); attach at {:.1}, righted at {:.1}",
             r.damping_ratio, r.attachment_time, r.righting_time
         ),
         (1000, 1050),
@@ -566,7 +633,7 @@ fn rearing_hunching(theory: &Theory) -> Result<String, FigureError> {
         panels.push(b);
     }
     render(
-        &format!("Rearing and hunching, N = {n} (seed §3.3.2, Fig. 4)"),
+        &format!("Rearing and hunching, N = {n} (paper §3.3.2, Fig. 4)"),
         (1000, 760),
         (2, 2),
         &panels,
@@ -605,7 +672,7 @@ fn asymmetry() -> Result<String, FigureError> {
     );
     p.zero = true;
     render(
-        "Forward/backward asymmetry of the axial pair (seed App. C, corrected cA²)",
+        "Forward/backward asymmetry of the axial pair (paper App. C, corrected cA²)",
         (760, 520),
         (1, 1),
         &[p],
@@ -654,7 +721,7 @@ fn equipartition(theory: &Theory, settings: &FigureSettings) -> Result<String, F
     overlap.zero = true;
     render(
         &format!(
-            "Equipartition from Langevin dynamics: {} postures of y, N = {n}, kT = {kt} (seed App. B)",
+            "Equipartition from Langevin dynamics: {} postures of y, N = {n}, kT = {kt} (paper App. B)",
             c.frames
         ),
         (1000, 420),
@@ -726,7 +793,7 @@ fn pair(theory: &Theory, kind: PairKind, settings: &FigureSettings) -> Result<St
     dens_panel.zero = true;
     render(
         &format!(
-            "{what}: pair frequency ω = {:.4}, M = {m}, N = {n} (seed Figs. 6–7)",
+            "{what}: pair frequency ω = {:.4}, M = {m}, N = {n} (paper Figs. 6–7)",
             o.omega
         ),
         (1200, 420),
@@ -753,7 +820,7 @@ fn free_energy(theory: &Theory) -> Result<String, FigureError> {
     }
     render(
         &format!(
-            "Free energy of the first axial pair, ω = {:.4} (seed Fig. 8A)",
+            "Free energy of the first axial pair, ω = {:.4} (paper Fig. 8A)",
             o.omega
         ),
         (700, 480),
@@ -780,7 +847,7 @@ fn bend_angle(theory: &Theory, settings: &FigureSettings) -> Result<String, Figu
         (-0.5 * (x / sd).powi(2)).exp() / (sd * (2.0 * std::f64::consts::PI).sqrt())
     });
     render(
-        &format!("3-point body bend in unbiased exploration, β = {beta}, N = {n} (seed Fig. 8D)"),
+        &format!("3-point body bend in unbiased exploration, β = {beta}, N = {n} (paper Fig. 8D)"),
         (700, 480),
         (1, 1),
         &[panel(
@@ -810,7 +877,7 @@ fn mathieu() -> Result<String, FigureError> {
         root.fill(&WHITE).map_err(err)?;
         let mut chart = ChartBuilder::on(&root)
             .caption(
-                "Mathieu stability: Φ̈ + λ²[1 − 2ε cos ωt]Φ = 0 (seed App. D)",
+                "Mathieu stability: Φ̈ + λ²[1 − 2ε cos ωt]Φ = 0 (paper App. D)",
                 ("sans-serif", 18),
             )
             .margin(10)
@@ -1077,7 +1144,7 @@ pub fn fit_figures(r: &crate::fit::FitReport) -> Result<Vec<(&'static str, Strin
         .collect();
     let summary = render(
         &format!(
-            "Fit of {} frames: ω = {:.4}, β = {:.4} (seed Fig. 2)",
+            "Fit of {} frames: ω = {:.4}, β = {:.4} (paper Fig. 2)",
             r.frames, r.omega, r.beta
         ),
         (1000, 780),
