@@ -127,3 +127,41 @@ fn readme_figure_is_fresh() {
     let path = root.join("tables/figures/self_righting.svg");
     theory_search::codegen::ensure_file_contents(&path, &svg).unwrap();
 }
+
+/// Every figure rendered to pixels (resvg, without text): it parses, and its drawing covers
+/// more than 1 % of the canvas in more than three colours.
+#[test]
+fn every_figure_renders_to_pixels() {
+    let s = settings();
+    let theory = larva(s.points);
+    for name in FIGURES {
+        let svg = figure(name, &theory, &s).unwrap();
+        let tree = resvg::usvg::Tree::from_str(&svg, &resvg::usvg::Options::default())
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let size = tree.size().to_int_size();
+        let mut pixmap = resvg::tiny_skia::Pixmap::new(size.width(), size.height()).unwrap();
+        resvg::render(
+            &tree,
+            resvg::tiny_skia::Transform::default(),
+            &mut pixmap.as_mut(),
+        );
+        let pixels = pixmap.pixels();
+        // Not white (nor transparent): axes, grid and data.
+        let inked = pixels
+            .iter()
+            .filter(|p| p.alpha() > 0 && (p.red() < 200 || p.green() < 200 || p.blue() < 200))
+            .count();
+        let share = inked as f64 / pixels.len() as f64;
+        assert!(
+            share > 0.01,
+            "{name}: only {:.2} % of the canvas is drawn",
+            100.0 * share
+        );
+        let colours: std::collections::HashSet<(u8, u8, u8)> = pixels
+            .iter()
+            .filter(|p| p.alpha() == 255)
+            .map(|p| (p.red() / 32, p.green() / 32, p.blue() / 32))
+            .collect();
+        assert!(colours.len() > 3, "{name}: {} colours", colours.len());
+    }
+}
