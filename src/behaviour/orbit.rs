@@ -156,7 +156,10 @@ pub fn pair_orbit(
         let (qa, qb) = (s.modal[a.0][a.1], s.modal[b.0][b.1]);
         if step <= steps_per_period {
             trajectory.push((s.t, qa, qb));
-            if step % (steps_per_period / 8) == 0 && step < steps_per_period {
+            // Six postures 30° apart over half a period: none is the opposite of another (which
+            // would coincide with it for a rolling C-bend), and their order shows the direction.
+            let stride = (steps_per_period / 12).max(1);
+            if step % stride == 0 && step / stride < 6 {
                 postures.push((s.t, s.positions[a.0].clone(), s.positions[b.0].clone()));
             }
         }
