@@ -67,8 +67,8 @@ mod read;
 mod stats;
 mod wcon;
 pub use bootstrap::{Intervals, MAX_REPLICATES};
-pub use pool::{fit_inputs, Each, Input, MAX_WHOLE_FILE};
-pub use read::{Frame, Track, MAX_LINE_BYTES};
+pub use pool::{fit_inputs, Each, Input};
+pub use read::{Frame, Track, MAX_LINE_BYTES, MAX_WHOLE_FILE};
 
 use crate::modal::{field_modes, Params};
 use crate::model::Model;

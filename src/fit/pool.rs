@@ -10,7 +10,9 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{mpsc, Mutex};
 
-use super::read::{read_tracks, FrameReader, Source, Track, TrackSource};
+use super::read::{
+    read_tracks, sniff, whole, FrameReader, Source, Track, TrackSource, MAX_WHOLE_FILE,
+};
 use super::stats::{Plan, Run, Stats};
 use super::{
     bootstrap, summarise, AnimalFit, FitError, FitReport, FitSettings, InputFormat, InputKind,
@@ -18,9 +20,6 @@ use super::{
 };
 use crate::modal::Params;
 use crate::model::Model;
-
-/// The largest file read whole (WCON, or a file of interleaved tracks).
-pub const MAX_WHOLE_FILE: u64 = 1 << 30;
 
 /// One input of a fit.
 pub enum Input<'a> {
@@ -279,42 +278,6 @@ fn read_tracks_of(
         units,
         projector: projs.first(),
     })
-}
-
-/// The format of a stream from its first bytes: `{` opens WCON; DeepLabCut's header rows are
-/// recognised by the line reader; anything else is plain CSV.
-fn sniff(reader: &mut Box<dyn BufRead + Send + '_>) -> Result<InputFormat, FitError> {
-    loop {
-        let buf = reader.fill_buf().map_err(|e| FitError::Io(e.to_string()))?;
-        let Some(&first) = buf.iter().find(|b| !b.is_ascii_whitespace()) else {
-            if buf.is_empty() {
-                return Ok(InputFormat::Csv);
-            }
-            let n = buf.len();
-            reader.consume(n);
-            continue;
-        };
-        return Ok(if first == b'{' {
-            InputFormat::Wcon
-        } else {
-            InputFormat::Csv
-        });
-    }
-}
-
-/// A whole stream as text, at most [`MAX_WHOLE_FILE`] bytes.
-fn whole(reader: Box<dyn BufRead + Send + '_>) -> Result<String, FitError> {
-    use std::io::Read as _;
-    let mut text = String::new();
-    std::io::Read::take(reader, MAX_WHOLE_FILE + 1)
-        .read_to_string(&mut text)
-        .map_err(|e| FitError::Io(e.to_string()))?;
-    if text.len() as u64 > MAX_WHOLE_FILE {
-        return Err(FitError::Invalid(format!(
-            "a WCON file is read whole; this one is larger than {MAX_WHOLE_FILE} bytes (split it into chunks)"
-        )));
-    }
-    Ok(text)
 }
 
 /// One animal's frames into its statistics: lost frames split the runs unless a gap is short

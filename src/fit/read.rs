@@ -5,7 +5,7 @@
 
 use std::io::BufRead;
 
-use super::{FitError, FitSettings};
+use super::{FitError, FitSettings, InputFormat};
 
 /// One frame of a track held in memory: time and values, `None` when the tracker lost it.
 #[derive(Debug, Clone, PartialEq)]
@@ -114,6 +114,9 @@ impl Source for TrackSource {
         self.clock.dt
     }
 }
+
+/// The largest file read whole (WCON, or a file of interleaved tracks).
+pub const MAX_WHOLE_FILE: u64 = 1 << 30;
 
 /// The longest line a recording may have: a frame of thousands of points fits many times over;
 /// `/dev/zero` or a binary file does not.
@@ -357,4 +360,40 @@ pub(super) fn read_tracks<R: BufRead>(
         t.frames.sort_by(|a, b| a.t.total_cmp(&b.t));
     }
     Ok(tracks)
+}
+
+/// The format of a stream from its first bytes: `{` opens WCON; DeepLabCut's header rows are
+/// recognised by the line reader; anything else is plain CSV.
+pub(super) fn sniff(reader: &mut Box<dyn BufRead + Send + '_>) -> Result<InputFormat, FitError> {
+    loop {
+        let buf = reader.fill_buf().map_err(|e| FitError::Io(e.to_string()))?;
+        let Some(&first) = buf.iter().find(|b| !b.is_ascii_whitespace()) else {
+            if buf.is_empty() {
+                return Ok(InputFormat::Csv);
+            }
+            let n = buf.len();
+            reader.consume(n);
+            continue;
+        };
+        return Ok(if first == b'{' {
+            InputFormat::Wcon
+        } else {
+            InputFormat::Csv
+        });
+    }
+}
+
+/// A whole stream as text, at most [`MAX_WHOLE_FILE`] bytes.
+pub(super) fn whole(reader: Box<dyn BufRead + Send + '_>) -> Result<String, FitError> {
+    use std::io::Read as _;
+    let mut text = String::new();
+    std::io::Read::take(reader, MAX_WHOLE_FILE + 1)
+        .read_to_string(&mut text)
+        .map_err(|e| FitError::Io(e.to_string()))?;
+    if text.len() as u64 > MAX_WHOLE_FILE {
+        return Err(FitError::Invalid(format!(
+            "a WCON file is read whole; this one is larger than {MAX_WHOLE_FILE} bytes (split it into chunks)"
+        )));
+    }
+    Ok(text)
 }
