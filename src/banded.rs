@@ -4,7 +4,8 @@
 //! What the modal solver needs without forming a dense N×N matrix, each O(N·p²):
 //! * [`BandedSym::count_below`]: the number of eigenvalues below σ, by Sylvester's law of inertia
 //!   (negative pivots of the LDLᵀ factorisation of A − σI);
-//! * [`BandedSym::solve_shifted`]: `(A − σI)x = b`, for inverse iteration;
+//! * [`BandedSym::shifted`]: `A − σI = LDLᵀ` once, then `(A − σI)x = b` for each b (inverse
+//!   iteration);
 //! * [`BandedR`]: the upper triangular factor R of a tall banded matrix S = QR, built by Givens
 //!   row updates without forming SᵀS, so `(SᵀS)⁻¹` is applied with the conditioning of S, not
 //!   its square (what keeps the small eigenvalues of a beam accurate at large N); and the trace
@@ -75,8 +76,30 @@ impl BandedSym {
 
     /// Solve `(A − σI)x = b`.
     pub fn solve_shifted(&self, sigma: f64, b: &[f64]) -> Vec<f64> {
-        let Ldlt { l, d } = self.ldlt(sigma);
-        let (n, p) = (self.n, self.bandwidth());
+        self.shifted(sigma).solve(b)
+    }
+
+    /// The factorisation of `A − σI`, to solve with many right-hand sides (inverse iteration
+    /// factors once per shift).
+    pub fn shifted(&self, sigma: f64) -> ShiftedFactor {
+        ShiftedFactor {
+            ldlt: self.ldlt(sigma),
+            p: self.bandwidth(),
+        }
+    }
+}
+
+/// `A − σI = LDLᵀ` of a [`BandedSym`], from [`BandedSym::shifted`].
+pub struct ShiftedFactor {
+    ldlt: Ldlt,
+    p: usize,
+}
+
+impl ShiftedFactor {
+    /// Solve `(A − σI)x = b`: forward substitution, the pivots, back substitution.
+    pub fn solve(&self, b: &[f64]) -> Vec<f64> {
+        let Ldlt { l, d } = &self.ldlt;
+        let (n, p) = (d.len(), self.p);
         let mut x = b.to_vec();
         for i in 0..n {
             for k in i.saturating_sub(p)..i {

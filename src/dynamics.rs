@@ -146,6 +146,25 @@ fn damped_cs(gamma: f64, omega: f64, t: f64) -> (f64, f64) {
     }
 }
 
+/// One mode's propagator over a fixed step h: e^{Ah} and the constant force's push.
+struct Stepper {
+    h: f64,
+    flow: Matrix2<f64>,
+    push: Vector2<f64>,
+}
+
+impl Stepper {
+    /// The state at t + h from `x` at t: e^{Ah}(x − x_p(t)) + x_p(t + h) + push.
+    fn advance(&self, osc: &Oscillator, x: Vector2<f64>, t: f64) -> Vector2<f64> {
+        if osc.drives.is_empty() {
+            // The particular solution is constant: no trigonometry per step.
+            let p = osc.particular(t);
+            return self.flow * (x - p) + p + self.push;
+        }
+        self.flow * (x - osc.particular(t)) + osc.particular(t + self.h) + self.push
+    }
+}
+
 impl Oscillator {
     /// e^{At}.
     fn flow(&self, t: f64) -> Matrix2<f64> {
@@ -185,8 +204,17 @@ impl Oscillator {
 
     /// The state at time t + h from the state `x` at t, without noise.
     fn advance(&self, x: Vector2<f64>, t: f64, h: f64) -> Vector2<f64> {
-        let m = self.flow(h);
-        m * (x - self.particular(t)) + self.particular(t + h) + self.free_push(h)
+        self.stepper(h).advance(self, x, t)
+    }
+
+    /// The parts of [`Oscillator::advance`] over a fixed step h that do not depend on t,
+    /// computed once per mode (the flow costs an exponential and a sine and cosine).
+    fn stepper(&self, h: f64) -> Stepper {
+        Stepper {
+            h,
+            flow: self.flow(h),
+            push: self.free_push(h),
+        }
     }
 
     /// A lower Cholesky factor of the OU step covariance Σ∞ − e^{Ah}Σ∞e^{Aᵀh}.
@@ -394,11 +422,12 @@ pub fn run(
     let (oscillators, start) = oscillators(fields, config)?;
     let noisy = config.temperature > 0.0;
     let h = config.dt;
-    let factors: Vec<Vec<Matrix2<f64>>> = oscillators
+    // Per mode, once: the step's propagator and the noise's Cholesky factor.
+    let steps: Vec<Vec<(Stepper, Matrix2<f64>)>> = oscillators
         .iter()
         .map(|o| {
             o.iter()
-                .map(|osc| osc.noise_factor(h, config.temperature))
+                .map(|osc| (osc.stepper(h), osc.noise_factor(h, config.temperature)))
                 .collect()
         })
         .collect();
@@ -435,7 +464,8 @@ pub fn run(
                         StandardNormal.sample(&mut rng),
                         StandardNormal.sample(&mut rng),
                     );
-                    *x = osc.advance(*x, t - h, h) + factors[f][m] * z;
+                    let (step, factor) = &steps[f][m];
+                    *x = step.advance(osc, *x, t - h) + factor * z;
                 }
             }
         }

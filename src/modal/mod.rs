@@ -539,8 +539,9 @@ fn inverse_iteration(band: &BandedSym, lambda: f64) -> Vec<f64> {
         .map(|j| 1.0 + ((j * 7919) % 101) as f64 / 101.0)
         .collect();
     let shift = lambda * (1.0 - 1e-13) - 1e-300;
+    let factor = band.shifted(shift);
     for _ in 0..3 {
-        v = band.solve_shifted(shift, &v);
+        v = factor.solve(&v);
         normalise(&mut v);
     }
     v
