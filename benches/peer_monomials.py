@@ -30,43 +30,60 @@ RAYLEIGH = {
 }
 
 
-def passes(code, factors):
-    if code in SHIFTS:
-        m, n = SHIFTS[code]
-        return not any(a <= n and b <= m for (a, b), _ in factors)
-    if code == "REF":
-        return sum(p for _, p in factors) % 2 == 0
-    top = max(a for (a, _), _ in factors)
-    if code == "OST":
-        return top <= 1
-    if code == "KIN":
-        return top == 0 or factors == [((1, 0), 2)]
-    if code == "DIS":
-        return all(a == 1 for (a, _), _ in factors)
-    raise ValueError(code)
+def kind_mask(a, b):
+    """The shift rules that move the factor ∂tᵃ∂sᵇφ, as a bit set over SHIFTS."""
+    return sum(1 << i for i, (m, n) in enumerate(SHIFTS.values()) if a <= n and b <= m)
+
+
+SHIFT_BIT = {code: 1 << i for i, code in enumerate(SHIFTS)}
+
+
+def verdicts(columns, factors, masks):
+    moved = 0
+    top = 0
+    eps = 0
+    all_one = True
+    for (a, b), p in factors:
+        moved |= masks[a][b]
+        top = max(top, a)
+        eps += p
+        all_one = all_one and a == 1
+    out = []
+    for code in columns:
+        if code in SHIFT_BIT:
+            out.append(not moved & SHIFT_BIT[code])
+        elif code == "REF":
+            out.append(eps % 2 == 0)
+        elif code == "OST":
+            out.append(top <= 1)
+        elif code == "KIN":
+            out.append(top == 0 or factors == [((1, 0), 2)])
+        elif code == "DIS":
+            out.append(all_one)
+        else:
+            raise ValueError(code)
+    return out
 
 
 def monomials(order, tau_plus_sigma):
     kinds = [(a, b) for a in range(order + 1) for b in range(order + 1 - a)]
     out = []
 
-    def walk(i, chosen, eps, tau, sig):
-        if i == len(kinds):
-            if eps > 0:
-                out.append(list(chosen))
-            return
-        a, b = kinds[i]
-        n = 0
-        while True:
-            e, t, s = eps + n, tau + n * a, sig + n * b
-            if e > order or (t + s > order if tau_plus_sigma else (t > order or s > order)):
-                break
-            if n:
+    def fits(e, t, s):
+        return e <= order and (t + s <= order if tau_plus_sigma else (t <= order and s <= order))
+
+    def walk(start, chosen, eps, tau, sig):
+        # One call per product: extend the prefix by each later kind, each power.
+        if chosen:
+            out.append(list(chosen))
+        for j in range(start, len(kinds)):
+            a, b = kinds[j]
+            n = 1
+            while fits(eps + n, tau + n * a, sig + n * b):
                 chosen.append(((a, b), n))
-            walk(i + 1, chosen, e, t, s)
-            if n:
+                walk(j + 1, chosen, eps + n, tau + n * a, sig + n * b)
                 chosen.pop()
-            n += 1
+                n += 1
 
     walk(0, [], 0, 0, 0)
     return out
@@ -77,10 +94,14 @@ def orders(factors):
             sum(a * p for (a, _), p in factors), sum(b * p for (_, b), p in factors))
 
 
+def letters(c, k):
+    return c * k if k <= 4 else c + str(k).translate(SUP)
+
+
 def render(factors):
     parts = []
     for (a, b), p in factors:
-        d = ("∂" + "t" * a + "s" * b + " " if a + b else "") + "φ"
+        d = ("∂" + letters("t", a) + letters("s", b) + " " if a + b else "") + "φ"
         if p > 1:
             d = (f"({d})" if a + b else d) + str(p).translate(SUP)
         parts.append(d)
@@ -91,11 +112,12 @@ def density(name, spec, order, tau_plus_sigma, write):
     terms = [(orders(f), f) for f in monomials(order, tau_plus_sigma)]
     terms.sort(key=lambda t: (t[0][0], t[0][1]))
     cols = spec["columns"]
-    verdicts = [[passes(c, f) for c in cols] for _, f in terms]
+    masks = [[kind_mask(a, b) for b in range(order + 1)] for a in range(order + 1)]
+    verdict = [verdicts(cols, f, masks) for _, f in terms]
     admitted = []
     for _, req in spec["fields"]:
         need = [cols.index(c) for c in req.split()]
-        admitted.append([i for i, v in enumerate(verdicts) if all(v[k] for k in need)])
+        admitted.append([i for i, v in enumerate(verdict) if all(v[k] for k in need)])
     survivors = []
     for adm in admitted:
         orders_of = {(terms[i][0][2], terms[i][0][3]) for i in adm}
@@ -106,7 +128,7 @@ def density(name, spec, order, tau_plus_sigma, write):
         return
     write(f"{name} density: {len(terms)} candidate monomials\n")
     for i, (o, f) in enumerate(terms):
-        marks = ["x" if v else "" for v in verdicts[i]]
+        marks = ["x" if v else "" for v in verdict[i]]
         marks += ["x" if i in s else "" for s in survivors]
         write(f"  {render(f)}  {o[0]}  {o[1]}  {o[2]}  {o[3]}  " + "  ".join(marks) + "\n")
 

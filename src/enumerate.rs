@@ -173,77 +173,80 @@ pub fn interaction_monomials(bounds: &Bounds, k: u8) -> Vec<Term> {
         .collect()
 }
 
-/// Every product of derivative factors of the placeholder `fields` within `bounds`.
+/// Every product of derivative factors of the placeholder `fields` within `bounds`, in
+/// canonical order without a comparison sort: the walk yields each (δ, ε) class already in
+/// factor-lexicographic order, and a stable bucketing by (δ, ε) puts the classes in order.
 fn products(bounds: &Bounds, fields: &[u8]) -> Vec<Term> {
     let d = bounds.delta;
-    let kinds: Vec<Factor> = iproduct!(fields.iter().copied(), 0..=d, 0..=d)
+    let mut kinds: Vec<Factor> = iproduct!(fields.iter().copied(), 0..=d, 0..=d)
         .filter(|&(_, a, b)| a + b <= d)
         .map(|(field, a, b)| Factor {
             field,
             deriv: Deriv::new(a, b),
-            power: 0,
+            power: 1,
         })
         .collect();
-    let mut out = Vec::new();
+    // Factor order with the power fixed: the order a canonical term lists its factors in.
+    kinds.sort();
+    let mut found = Vec::new();
     let zero = Orders {
         delta: 0,
         epsilon: 0,
         tau: 0,
         sigma: 0,
     };
-    walk(&mut kinds.clone(), 0, zero, bounds, &mut out);
-    sort_canonical(&mut out);
-    out
+    walk(&kinds, 0, &mut Vec::new(), zero, bounds, &mut found);
+    // Stable counting sort by (δ, ε).
+    let width = bounds.epsilon as usize + 1;
+    let key = |o: &Orders| o.delta as usize * width + o.epsilon as usize;
+    let mut starts = vec![0usize; (bounds.delta as usize + 1) * width + 1];
+    for (o, _) in &found {
+        starts[key(o) + 1] += 1;
+    }
+    for i in 1..starts.len() {
+        starts[i] += starts[i - 1];
+    }
+    let mut slots: Vec<Option<Term>> = vec![None; found.len()];
+    for (o, t) in found {
+        let k = key(&o);
+        slots[starts[k]] = Some(t);
+        starts[k] += 1;
+    }
+    slots.into_iter().flatten().collect()
 }
 
-/// Sort distinct terms into canonical order, computing each term's (δ, ε) once.
-fn sort_canonical(terms: &mut Vec<Term>) {
-    let mut keyed: Vec<((u32, u32), Term)> = terms
-        .drain(..)
-        .map(|t| {
-            let o = t.orders();
-            ((o.delta, o.epsilon), t)
-        })
-        .collect();
-    keyed.sort_unstable_by(|a, b| a.0.cmp(&b.0).then_with(|| a.1.factors().cmp(b.1.factors())));
-    terms.extend(keyed.into_iter().map(|(_, t)| t));
-}
-
-/// Depth-first over the factor kinds, choosing each one's power; prunes as soon as a partial
-/// product is out of bounds (every order only grows as factors are added).
-fn walk(kinds: &mut [Factor], i: usize, orders: Orders, bounds: &Bounds, out: &mut Vec<Term>) {
-    if i == kinds.len() {
-        if orders.epsilon > 0 {
-            let chosen = kinds.iter().filter(|f| f.power > 0).copied();
-            out.push(Term::new(chosen).expect("a positive total power"));
-        }
-        return;
+/// Depth-first in factor-lexicographic order: a prefix comes before its extensions, and the
+/// extensions by kind j and power n follow in (j, n) order, which is exactly how canonical
+/// terms compare factor by factor. Prunes as soon as a product is out of bounds (every order
+/// only grows as factors are added).
+fn walk(
+    kinds: &[Factor],
+    from: usize,
+    prefix: &mut Vec<Factor>,
+    orders: Orders,
+    bounds: &Bounds,
+    out: &mut Vec<(Orders, Term)>,
+) {
+    if !prefix.is_empty() {
+        out.push((orders, Term::from_canonical(prefix.clone())));
     }
-    let (a, b) = (kinds[i].deriv.t, kinds[i].deriv.s);
-    let mut n = 0;
-    loop {
-        let o = Orders {
-            delta: if n > 0 {
-                orders.delta.max(a + b)
-            } else {
-                orders.delta
-            },
-            epsilon: orders.epsilon + n,
-            tau: orders.tau + n * a,
-            sigma: orders.sigma + n * b,
-        };
-        let within = o.epsilon <= bounds.epsilon
-            && bounds.tau.is_none_or(|t| o.tau <= t)
-            && bounds.sigma.is_none_or(|s| o.sigma <= s)
-            && bounds.tau_plus_sigma.is_none_or(|w| o.tau + o.sigma <= w);
-        if !within {
-            break;
+    for (j, kind) in kinds.iter().enumerate().skip(from) {
+        let (a, b) = (kind.deriv.t, kind.deriv.s);
+        for n in 1.. {
+            let o = Orders {
+                delta: orders.delta.max(a + b),
+                epsilon: orders.epsilon + n,
+                tau: orders.tau + n * a,
+                sigma: orders.sigma + n * b,
+            };
+            if !bounds.admits(&o) {
+                break;
+            }
+            prefix.push(Factor { power: n, ..*kind });
+            walk(kinds, j + 1, prefix, o, bounds, out);
+            prefix.pop();
         }
-        kinds[i].power = n;
-        walk(kinds, i + 1, o, bounds, out);
-        n += 1;
     }
-    kinds[i].power = 0;
 }
 
 /// `count`: the candidate terms of each density at orders 1 … N.

@@ -13,7 +13,7 @@ use num_traits::{One, Signed};
 
 use crate::enumerate::{candidates, count_products, Basis, Bounds, MAX_CANDIDATES, MAX_ORDER};
 use crate::model::{Density, Field, Model};
-use crate::rules::{Rule, Verdict};
+use crate::rules::{PreparedRule, Rule, Verdict};
 use crate::term::{Orders, Term};
 
 /// How many orders past the requested one a missing part is looked for on the monomial basis.
@@ -61,11 +61,66 @@ pub struct Row {
     /// Its orders.
     pub orders: Orders,
     /// Per column of the density, in column order: does the term satisfy the rule?
-    pub passed: Vec<bool>,
+    pub passed: Marks,
     /// Per field (model order): does the field admit the term?
-    pub admitted: Vec<bool>,
+    pub admitted: Marks,
     /// Per field (model order): is the term one of the field's survivors?
-    pub included: Vec<bool>,
+    pub included: Marks,
+}
+
+/// A short row of yes/no marks (rule columns or fields, at most 64), one word instead of a
+/// vector per candidate: the tables hold 10⁵ rows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Marks {
+    bits: u64,
+    len: u8,
+}
+
+impl Marks {
+    /// At most 64 marks.
+    pub const MAX: usize = 64;
+
+    /// How many marks.
+    pub fn len(&self) -> usize {
+        self.len as usize
+    }
+
+    /// True when there are no marks.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// The marks in order.
+    pub fn iter(&self) -> impl Iterator<Item = bool> + use<> {
+        let Marks { bits, len } = *self;
+        (0..len).map(move |i| bits >> i & 1 == 1)
+    }
+}
+
+impl FromIterator<bool> for Marks {
+    /// The marks in order (those past [`Marks::MAX`] are dropped; models and the registry stay
+    /// far below it).
+    fn from_iter<I: IntoIterator<Item = bool>>(values: I) -> Marks {
+        let mut m = Marks::default();
+        for v in values.into_iter().take(Self::MAX) {
+            m.bits |= (v as u64) << m.len;
+            m.len += 1;
+        }
+        m
+    }
+}
+
+impl std::ops::Index<usize> for Marks {
+    type Output = bool;
+
+    fn index(&self, i: usize) -> &bool {
+        assert!(i < self.len(), "mark {i} of {}", self.len);
+        if self.bits >> i & 1 == 1 {
+            &true
+        } else {
+            &false
+        }
+    }
 }
 
 /// Refuse, from counts alone and before any term is built, an analysis of `densities` at
@@ -199,7 +254,8 @@ pub fn lowest_order(terms: &[Term]) -> Vec<Term> {
         .collect()
 }
 
-/// Candidates, verdicts and admission per field, without reduction.
+/// Candidates, verdicts and admission per field, without reduction. Each rule is prepared once
+/// for the order (its images of the factor kinds), then decided on every candidate.
 fn decide(
     model: &Model,
     density: Density,
@@ -207,31 +263,27 @@ fn decide(
     basis: Basis,
 ) -> (Vec<&'static Rule>, Vec<Row>) {
     let columns = model.columns(density);
-    let requirements: Vec<Vec<&'static Rule>> = model
+    let prepared: Vec<PreparedRule> = columns.iter().map(|r| r.prepare(bounds.delta)).collect();
+    // Each field's requirements as a mask over the columns.
+    let masks: Vec<u64> = model
         .fields
         .iter()
-        .map(|f| model.requirements(density, &f.id))
+        .map(|f| {
+            let req = model.requirements(density, &f.id);
+            Marks::from_iter(columns.iter().map(|c| req.iter().any(|r| r.code == c.code))).bits
+        })
         .collect();
     let rows = candidates(basis, bounds)
         .into_iter()
         .map(|term| {
-            let passed: Vec<bool> = columns.iter().map(|r| r.passes(&term)).collect();
-            let passes = |rule: &Rule| {
-                columns
-                    .iter()
-                    .zip(&passed)
-                    .any(|(c, &ok)| c.code == rule.code && ok)
-            };
-            let admitted = requirements
-                .iter()
-                .map(|req| req.iter().all(|r| passes(r)))
-                .collect();
+            let passed = Marks::from_iter(prepared.iter().map(|r| r.passes(&term)));
+            let admitted = Marks::from_iter(masks.iter().map(|&m| passed.bits & m == m));
             Row {
                 orders: term.orders(),
                 term,
                 passed,
                 admitted,
-                included: Vec::new(),
+                included: Marks::default(),
             }
         })
         .collect();
@@ -271,10 +323,7 @@ pub fn analyse_basis(
         });
     }
     for row in &mut rows {
-        row.included = fields
-            .iter()
-            .map(|f| f.survivors.contains(&row.term))
-            .collect();
+        row.included = Marks::from_iter(fields.iter().map(|f| f.survivors.contains(&row.term)));
     }
     Ok(Analysis {
         density,

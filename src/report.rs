@@ -86,6 +86,133 @@ pub fn to_json(value: &impl serde::Serialize) -> serde_json::Value {
     serde_json::to_value(value).unwrap_or_default()
 }
 
+/// Text written to an output in chunks: lines gather in a buffer that goes out every 64 KiB,
+/// so a table of 10⁵ rows never sits whole in memory.
+pub struct Chunked<'a> {
+    buf: String,
+    out: &'a mut dyn std::io::Write,
+}
+
+impl<'a> Chunked<'a> {
+    const CHUNK: usize = 1 << 16;
+
+    /// Chunks to `out`.
+    pub fn new(out: &'a mut dyn std::io::Write) -> Self {
+        Chunked {
+            buf: String::with_capacity(Self::CHUNK + 1024),
+            out,
+        }
+    }
+
+    /// The buffer to append to.
+    pub fn buf(&mut self) -> &mut String {
+        &mut self.buf
+    }
+
+    /// Append one formatted line.
+    pub fn say(&mut self, line: std::fmt::Arguments) {
+        // Formatting into a String cannot fail.
+        let _ = std::fmt::Write::write_fmt(&mut self.buf, line);
+        self.buf.push('\n');
+    }
+
+    /// Send the buffer on once it is a chunk long.
+    pub fn spill(&mut self) -> std::io::Result<()> {
+        if self.buf.len() >= Self::CHUNK {
+            self.out.write_all(self.buf.as_bytes())?;
+            self.buf.clear();
+        }
+        Ok(())
+    }
+
+    /// Send what is left and flush.
+    pub fn finish(&mut self) -> std::io::Result<()> {
+        self.out.write_all(self.buf.as_bytes())?;
+        self.buf.clear();
+        self.out.flush()
+    }
+}
+
+/// Columns padded to their widest cell: the first (a term, a label) left-aligned, the others
+/// centred under their headers, two spaces between, no trailing spaces. Widths are fitted to
+/// every row first ([`Aligned::fit`]); rows are then written one at a time.
+pub struct Aligned {
+    widths: Vec<usize>,
+}
+
+/// Display width of a cell: one column per character (the tables use no wide characters).
+fn width(s: &str) -> usize {
+    if s.is_ascii() {
+        s.len()
+    } else {
+        s.chars().count()
+    }
+}
+
+fn spaces(out: &mut String, n: usize) {
+    out.extend(std::iter::repeat_n(' ', n));
+}
+
+impl Aligned {
+    /// Columns as wide as the header's cells.
+    pub fn new<S: AsRef<str>>(header: &[S]) -> Aligned {
+        Aligned {
+            widths: header.iter().map(|h| width(h.as_ref())).collect(),
+        }
+    }
+
+    /// Widen the columns to hold `cells`.
+    pub fn fit<S: AsRef<str>>(&mut self, cells: &[S]) {
+        for (w, c) in self.widths.iter_mut().zip(cells) {
+            *w = (*w).max(width(c.as_ref()));
+        }
+    }
+
+    /// Append one line of `cells`.
+    pub fn line<S: AsRef<str>>(&self, cells: &[S], out: &mut String) {
+        out.push_str("  ");
+        for (i, (c, &w)) in cells.iter().zip(&self.widths).enumerate() {
+            let c = c.as_ref();
+            let pad = w.saturating_sub(width(c));
+            if i == 0 {
+                out.push_str(c);
+                spaces(out, pad);
+            } else {
+                out.push_str("  ");
+                spaces(out, pad / 2);
+                out.push_str(c);
+                spaces(out, pad - pad / 2);
+            }
+        }
+        let kept = out.trim_end_matches(' ').len();
+        out.truncate(kept);
+        out.push('\n');
+    }
+
+    /// Append the rule under the header.
+    pub fn rule(&self, out: &mut String) {
+        let total = self.widths.iter().sum::<usize>() + 2 * self.widths.len().saturating_sub(1);
+        out.push_str("  ");
+        out.extend(std::iter::repeat_n('─', total));
+        out.push('\n');
+    }
+}
+
+/// A whole aligned table as one string (for small tables).
+pub fn aligned<H: AsRef<str>, C: AsRef<str>>(header: &[H], rows: &[Vec<C>]) -> String {
+    let mut layout = Aligned::new(header);
+    for r in rows {
+        layout.fit(r);
+    }
+    let mut out = String::new();
+    layout.line(header, &mut out);
+    layout.rule(&mut out);
+    for r in rows {
+        layout.line(r, &mut out);
+    }
+    out
+}
+
 /// Why a result cannot be printed: a number in it is not finite.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error("{0}")]

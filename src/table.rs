@@ -5,7 +5,12 @@
 //! satisfies the requirement (rule columns) or survives in that field's density (field columns),
 //! as in the seed.
 
-use serde_json::{json, Map, Value};
+use std::io::{self, Write};
+
+use serde::ser::{Serialize, SerializeMap, Serializer};
+use serde_json::{json, Value};
+
+use crate::report::{aligned, Aligned, Chunked};
 
 use crate::model::{Density, Model};
 use crate::reduce::{prefactor_text, sign_joiner, Analysis, FieldResult};
@@ -27,28 +32,63 @@ pub enum Format {
 
 const MARK: &str = "x";
 
-fn mark(b: bool) -> String {
-    if b { MARK } else { "" }.to_string()
+fn mark(b: bool) -> &'static str {
+    if b {
+        MARK
+    } else {
+        ""
+    }
 }
 
-/// The cells of one density's table: header, then one row per candidate.
-fn cells(model: &Model, a: &Analysis) -> (Vec<String>, Vec<Vec<String>>) {
-    let mut header: Vec<String> = ["term", "δ", "ε", "τ", "σ"].map(String::from).to_vec();
-    header.extend(a.columns.iter().map(|r| r.code.to_string()));
-    header.extend(model.fields.iter().map(|f| f.symbol.clone()));
-    let rows = a
-        .rows
-        .iter()
-        .map(|r| {
-            let o = r.orders;
-            let mut row = vec![r.term.to_string()];
-            row.extend([o.delta, o.epsilon, o.tau, o.sigma].map(|v| v.to_string()));
-            row.extend(r.passed.iter().map(|&ok| mark(ok)));
-            row.extend(r.included.iter().map(|&b| mark(b)));
-            row
-        })
-        .collect();
-    (header, rows)
+/// One density's table as cells: the header, and each row's cells into a reused vector (a term's
+/// text once, numbers from a small table, marks static; no string per cell, as the monomial
+/// tables have 10⁵ rows).
+struct Cells<'a> {
+    header: Vec<String>,
+    terms: Vec<String>,
+    numbers: Vec<String>,
+    analysis: &'a Analysis,
+}
+
+impl<'a> Cells<'a> {
+    fn new(model: &Model, a: &'a Analysis, term: impl Fn(&crate::term::Term) -> String) -> Self {
+        let mut header: Vec<String> = ["term", "δ", "ε", "τ", "σ"].map(String::from).to_vec();
+        header.extend(a.columns.iter().map(|r| r.code.to_string()));
+        header.extend(model.fields.iter().map(|f| f.symbol.clone()));
+        let top = a
+            .rows
+            .iter()
+            .map(|r| {
+                let o = r.orders;
+                o.delta.max(o.epsilon).max(o.tau).max(o.sigma)
+            })
+            .max()
+            .unwrap_or(0);
+        Cells {
+            header,
+            terms: a.rows.iter().map(|r| term(&r.term)).collect(),
+            numbers: (0..=top).map(|v| v.to_string()).collect(),
+            analysis: a,
+        }
+    }
+
+    /// The cells of row `i`, into `row`.
+    fn row<'b>(&'b self, i: usize, row: &mut Vec<&'b str>) {
+        let r = &self.analysis.rows[i];
+        let o = r.orders;
+        row.clear();
+        row.push(&self.terms[i]);
+        for v in [o.delta, o.epsilon, o.tau, o.sigma] {
+            row.push(&self.numbers[v as usize]);
+        }
+        for b in r.passed.iter().chain(r.included.iter()) {
+            row.push(mark(b));
+        }
+    }
+
+    fn len(&self) -> usize {
+        self.terms.len()
+    }
 }
 
 fn title(a: &Analysis) -> String {
@@ -96,115 +136,86 @@ fn notes(a: &Analysis) -> Vec<String> {
     a.fields.iter().flat_map(|f| f.missing.clone()).collect()
 }
 
-fn width(s: &str) -> usize {
-    if s.is_ascii() {
-        s.len()
-    } else {
-        s.chars().count()
-    }
-}
-
-fn spaces(out: &mut String, n: usize) {
-    out.extend(std::iter::repeat_n(' ', n));
-}
-
-/// Columns padded to their widest cell, written into one string (no string per cell: the
-/// modes table at N = 10⁵ has millions of cells).
-fn aligned(header: &[String], rows: &[Vec<String>]) -> String {
-    let widths: Vec<usize> = (0..header.len())
-        .map(|c| {
-            rows.iter()
-                .map(|r| width(&r[c]))
-                .chain([width(&header[c])])
-                .max()
-                .unwrap_or(0)
-        })
-        .collect();
-    let total = widths.iter().sum::<usize>() + 2 * (widths.len() - 1);
-    let mut out = String::with_capacity((rows.len() + 2) * (total + 3));
-    let line = |cells: &[String], out: &mut String| {
-        out.push_str("  ");
-        for (i, (c, &w)) in cells.iter().zip(&widths).enumerate() {
-            let pad = w - width(c);
-            // Terms read left to right; numbers and marks are centred under short headers.
-            if i == 0 {
-                out.push_str(c);
-                spaces(out, pad);
-            } else {
-                out.push_str("  ");
-                spaces(out, pad / 2);
-                out.push_str(c);
-                spaces(out, pad - pad / 2);
-            }
+/// The candidate tables in text: the title, the requirements, the aligned table, then each
+/// density's survivors and notes; written line by line to `out`.
+fn text(model: &Model, analyses: &[Analysis], out: &mut Chunked) -> io::Result<()> {
+    for a in analyses {
+        let cells = Cells::new(model, a, |t| t.to_string());
+        out.say(format_args!(
+            "{}\n{}\n",
+            title(a),
+            requirement_line(model, a)
+        ));
+        let mut layout = Aligned::new(&cells.header);
+        let mut row = Vec::new();
+        for i in 0..cells.len() {
+            cells.row(i, &mut row);
+            layout.fit(&row);
         }
-        let kept = out.trim_end_matches(' ').len();
-        out.truncate(kept);
-        out.push('\n');
-    };
-    line(header, &mut out);
-    out.push_str("  ");
-    out.extend(std::iter::repeat_n('─', total));
-    out.push('\n');
-    for r in rows {
-        line(r, &mut out);
+        layout.line(&cells.header, out.buf());
+        layout.rule(out.buf());
+        for i in 0..cells.len() {
+            cells.row(i, &mut row);
+            layout.line(&row, out.buf());
+            out.spill()?;
+        }
+        out.buf().push('\n');
     }
-    out
-}
-
-fn text(model: &Model, analyses: &[Analysis]) -> String {
-    let mut out = String::new();
-    for a in analyses {
-        let (header, rows) = cells(model, a);
-        out += &format!("{}\n", title(a));
-        out += &format!("{}\n\n", requirement_line(model, a));
-        out += &aligned(&header, &rows);
-        out += "\n";
-    }
-    for a in analyses {
-        out += &format!(
-            "Surviving {} densities (lowest order in τ and σ):\n",
+    for (k, a) in analyses.iter().enumerate() {
+        out.say(format_args!(
+            "Surviving {} densities (lowest order in τ and σ):",
             a.density
-        );
+        ));
         for f in &a.fields {
-            out += &format!("  {}\n", f.formula(a.density));
+            out.say(format_args!("  {}", f.formula(a.density)));
         }
         for n in notes(a) {
-            out += &format!("  note: {n}\n");
+            out.say(format_args!("  note: {n}"));
         }
-        out += "\n";
+        if k + 1 < analyses.len() {
+            out.buf().push('\n');
+        }
     }
-    out.trim_end().to_string() + "\n"
+    out.finish()
 }
 
-fn markdown(model: &Model, analyses: &[Analysis]) -> String {
-    let mut out = String::new();
-    for a in analyses {
-        let (header, rows) = cells(model, a);
-        out += &format!("## {}\n\n{}.\n\n", title(a), requirement_line(model, a));
-        let line = |c: &[String]| format!("| {} |\n", c.join(" | "));
-        out += &line(&header);
-        out += &format!("|{}\n", "---|".repeat(header.len()));
-        for r in &rows {
-            out += &line(r);
+fn markdown(model: &Model, analyses: &[Analysis], out: &mut Chunked) -> io::Result<()> {
+    for (k, a) in analyses.iter().enumerate() {
+        let cells = Cells::new(model, a, |t| t.to_string());
+        out.say(format_args!(
+            "## {}\n\n{}.\n",
+            title(a),
+            requirement_line(model, a)
+        ));
+        out.say(format_args!("| {} |", cells.header.join(" | ")));
+        out.say(format_args!("|{}", "---|".repeat(cells.header.len())));
+        let mut row = Vec::new();
+        for i in 0..cells.len() {
+            cells.row(i, &mut row);
+            out.say(format_args!("| {} |", row.join(" | ")));
+            out.spill()?;
         }
-        out += &format!(
-            "\nSurviving {} densities (lowest order in τ and σ):\n\n",
+        out.say(format_args!(
+            "\nSurviving {} densities (lowest order in τ and σ):\n",
             a.density
-        );
+        ));
         for f in &a.fields {
-            out += &format!("- `{}`\n", f.formula(a.density));
+            out.say(format_args!("- `{}`", f.formula(a.density)));
         }
         for n in notes(a) {
-            out += &format!("- note: {n}\n");
+            out.say(format_args!("- note: {n}"));
         }
-        out += "\n";
+        if k + 1 < analyses.len() {
+            out.buf().push('\n');
+        }
     }
-    out.trim_end().to_string() + "\n"
+    out.finish()
 }
 
-fn csv(model: &Model, analyses: &[Analysis]) -> String {
-    // One table for all densities: the union of rule columns, empty where a rule is not a
-    // requirement column of that density; 1/0 for satisfied/failed and included/not.
+/// One CSV table for all densities, row by row through the `csv` crate's writer.
+fn csv(model: &Model, analyses: &[Analysis], out: &mut dyn io::Write) -> io::Result<()> {
+    // The union of rule columns, empty where a rule is not a requirement column of that
+    // density; 1/0 for satisfied/failed and included/not.
     let mut codes: Vec<&str> = Vec::new();
     for a in analyses {
         for r in &a.columns {
@@ -218,111 +229,217 @@ fn csv(model: &Model, analyses: &[Analysis]) -> String {
         .to_vec();
     header.extend(codes.iter().map(|c| c.to_string()));
     header.extend(model.fields.iter().map(|f| f.id.clone()));
-    let bit = |b: bool| if b { "1" } else { "0" }.to_string();
-    let mut rows = Vec::new();
+    let mut w = csv::Writer::from_writer(io::BufWriter::with_capacity(1 << 16, out));
+    w.write_record(&header)?;
+    let bit = |b: bool| if b { "1" } else { "0" };
     for a in analyses {
-        for r in &a.rows {
+        let cells = Cells::new(model, a, |t| t.to_string());
+        let mut row: Vec<&str> = Vec::new();
+        let column: Vec<Option<usize>> = codes
+            .iter()
+            .map(|code| a.columns.iter().position(|c| c.code == *code))
+            .collect();
+        for (i, r) in a.rows.iter().enumerate() {
+            row.clear();
+            row.push(a.density.key());
+            row.push(&cells.terms[i]);
             let o = r.orders;
-            let mut row = vec![a.density.key().to_string(), r.term.to_string()];
-            row.extend([o.delta, o.epsilon, o.tau, o.sigma].map(|v| v.to_string()));
-            for code in &codes {
-                let v = a.columns.iter().position(|c| c.code == *code);
-                row.push(v.map(|i| bit(r.passed[i])).unwrap_or_default());
+            for v in [o.delta, o.epsilon, o.tau, o.sigma] {
+                row.push(&cells.numbers[v as usize]);
             }
-            row.extend(r.included.iter().map(|&b| bit(b)));
-            rows.push(row);
+            for c in &column {
+                row.push(c.map_or("", |i| bit(r.passed[i])));
+            }
+            for b in r.included.iter() {
+                row.push(bit(b));
+            }
+            w.write_record(&row)?;
         }
     }
-    crate::report::csv_table(&header, rows)
+    w.flush()
 }
 
-fn field_map<T: Into<Value>>(
-    fields: &[FieldResult],
-    value: impl Fn(usize, &FieldResult) -> T,
-) -> Value {
-    let mut m = Map::new();
-    for (i, f) in fields.iter().enumerate() {
-        m.insert(f.field.id.clone(), value(i, f).into());
+/// Serialize `f(i, field)` for each field as a map keyed by field id, in model order.
+struct FieldMap<'a, F> {
+    fields: &'a [FieldResult],
+    value: F,
+}
+
+impl<T: Serialize, F: Fn(usize, &FieldResult) -> T> Serialize for FieldMap<'_, F> {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_map(
+            self.fields
+                .iter()
+                .enumerate()
+                .map(|(i, f)| (f.field.id.as_str(), (self.value)(i, f))),
+        )
     }
-    Value::Object(m)
+}
+
+fn field_map<T: Serialize, F: Fn(usize, &FieldResult) -> T>(
+    fields: &[FieldResult],
+    value: F,
+) -> FieldMap<'_, F> {
+    FieldMap { fields, value }
+}
+
+/// One factor of a term in the JSON contract: `{"t", "s", "power"}`, and `"field"` in products
+/// of several fields.
+struct JsonFactor<'a>(&'a crate::term::Factor);
+
+impl Serialize for JsonFactor<'_> {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let f = self.0;
+        let mut m = s.serialize_map(None)?;
+        m.serialize_entry("t", &f.deriv.t)?;
+        m.serialize_entry("s", &f.deriv.s)?;
+        m.serialize_entry("power", &f.power)?;
+        if f.field != 0 {
+            m.serialize_entry("field", &f.field)?;
+        }
+        m.end()
+    }
+}
+
+/// One candidate row of the JSON contract, serialized as it is written (no value tree).
+struct JsonRow<'a> {
+    a: &'a Analysis,
+    i: usize,
+}
+
+impl Serialize for JsonRow<'_> {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let (a, r) = (self.a, &self.a.rows[self.i]);
+        let o = r.orders;
+        let mut m = s.serialize_map(None)?;
+        m.serialize_entry("term", &r.term.to_string())?;
+        let factors: Vec<JsonFactor> = r.term.factors().iter().map(JsonFactor).collect();
+        m.serialize_entry("factors", &factors)?;
+        m.serialize_entry("delta", &o.delta)?;
+        m.serialize_entry("epsilon", &o.epsilon)?;
+        m.serialize_entry("tau", &o.tau)?;
+        m.serialize_entry("sigma", &o.sigma)?;
+        let codes = || a.columns.iter().map(|c| c.code);
+        m.serialize_entry("satisfies", &Pairs(codes().zip(r.passed.iter()).collect()))?;
+        m.serialize_entry("included", &field_map(&a.fields, |i, _| r.included[i]))?;
+        m.serialize_entry("admitted", &field_map(&a.fields, |i, _| r.admitted[i]))?;
+        // The reasons come from the full verdict (the explanation path), for failed rules only.
+        let rejected: Vec<(&str, String)> = codes()
+            .enumerate()
+            .filter(|&(i, _)| !r.passed[i])
+            .filter_map(|(i, code)| r.why(a, i).map(|why| (code, why)))
+            .collect();
+        m.serialize_entry("rejected", &Pairs(rejected))?;
+        m.end()
+    }
+}
+
+/// Key–value pairs serialized as a JSON object in their order.
+struct Pairs<K, V>(Vec<(K, V)>);
+
+impl<K: Serialize, V: Serialize> Serialize for Pairs<K, V> {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_map(self.0.iter().map(|(k, v)| (k, v)))
+    }
 }
 
 /// The JSON of one density (the contract's `"lagrangian"` / `"rayleigh"` object).
-fn json_density(model: &Model, a: &Analysis) -> Value {
-    let rows: Vec<Value> = a
-        .rows
-        .iter()
-        .map(|r| {
-            let o = r.orders;
-            let factors: Vec<Value> = r
-                .term
-                .factors()
-                .iter()
-                .map(|f| {
-                    let mut v = json!({"t": f.deriv.t, "s": f.deriv.s, "power": f.power});
-                    if f.field != 0 {
-                        v["field"] = json!(f.field);
-                    }
-                    v
-                })
-                .collect();
-            let mut satisfies = Map::new();
-            let mut rejected = Map::new();
-            for (i, (rule, &ok)) in a.columns.iter().zip(&r.passed).enumerate() {
-                satisfies.insert(rule.code.into(), ok.into());
-                if let Some(why) = r.why(a, i) {
-                    rejected.insert(rule.code.into(), why.into());
-                }
-            }
-            json!({
-                "term": r.term.to_string(),
-                "factors": factors,
-                "delta": o.delta, "epsilon": o.epsilon, "tau": o.tau, "sigma": o.sigma,
-                "satisfies": satisfies,
-                "included": field_map(&a.fields, |i, _| r.included[i]),
-                "admitted": field_map(&a.fields, |i, _| r.admitted[i]),
-                "rejected": rejected,
-            })
-        })
-        .collect();
-    let codes = |f: &FieldResult| -> Vec<Value> {
-        model
-            .requirements(a.density, &f.field.id)
-            .iter()
-            .map(|r| r.code.into())
-            .collect()
-    };
-    json!({
-        "basis": match a.basis {
-            crate::enumerate::Basis::Powers => "powers",
-            crate::enumerate::Basis::Monomials => "monomials",
-        },
-        "bound": a.bounds.to_string(),
-        "requirements": a.columns.iter().map(|r| r.code).collect::<Vec<_>>(),
-        "fields": model.fields.iter().map(|f| f.id.as_str()).collect::<Vec<_>>(),
-        "rows": rows,
-        "survivors": field_map(&a.fields, |_, f| {
-            f.survivors.iter().map(|t| Value::from(t.to_string())).collect::<Vec<_>>()
-        }),
-        "field_requirements": field_map(&a.fields, |_, f| codes(f)),
-        "densities": field_map(&a.fields, |_, f| f.formula(a.density)),
-        "notes": notes(a),
-    })
+struct JsonDensity<'a> {
+    model: &'a Model,
+    a: &'a Analysis,
+}
+
+impl Serialize for JsonDensity<'_> {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let (model, a) = (self.model, self.a);
+        let mut m = s.serialize_map(None)?;
+        m.serialize_entry(
+            "basis",
+            match a.basis {
+                crate::enumerate::Basis::Powers => "powers",
+                crate::enumerate::Basis::Monomials => "monomials",
+            },
+        )?;
+        m.serialize_entry("bound", &a.bounds.to_string())?;
+        let codes: Vec<&str> = a.columns.iter().map(|r| r.code).collect();
+        m.serialize_entry("requirements", &codes)?;
+        let ids: Vec<&str> = model.fields.iter().map(|f| f.id.as_str()).collect();
+        m.serialize_entry("fields", &ids)?;
+        let rows = (0..a.rows.len()).map(|i| JsonRow { a, i });
+        m.serialize_entry("rows", &Seq(std::cell::Cell::new(Some(rows))))?;
+        m.serialize_entry(
+            "survivors",
+            &field_map(&a.fields, |_, f| {
+                f.survivors
+                    .iter()
+                    .map(|t| t.to_string())
+                    .collect::<Vec<_>>()
+            }),
+        )?;
+        m.serialize_entry(
+            "field_requirements",
+            &field_map(&a.fields, |_, f| {
+                model
+                    .requirements(a.density, &f.field.id)
+                    .iter()
+                    .map(|r| r.code)
+                    .collect::<Vec<_>>()
+            }),
+        )?;
+        m.serialize_entry(
+            "densities",
+            &field_map(&a.fields, |_, f| f.formula(a.density)),
+        )?;
+        m.serialize_entry("notes", &notes(a))?;
+        m.end()
+    }
+}
+
+/// A sequence serialized from an iterator, item by item (taken once).
+struct Seq<I>(std::cell::Cell<Option<I>>);
+
+impl<I: Iterator<Item = T>, T: Serialize> Serialize for Seq<I> {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_seq(self.0.take().into_iter().flatten())
+    }
 }
 
 /// The JSON report: `{"order": N, "model": …, "lagrangian": {…}, "rayleigh": {…}}`, with only
 /// the densities analysed.
-pub fn json_report(model: &Model, analyses: &[Analysis]) -> Value {
-    let mut top = Map::new();
-    top.insert(
-        "order".into(),
-        analyses.first().map(|a| a.order).unwrap_or(0).into(),
-    );
-    top.insert("model".into(), model.name.clone().into());
-    for a in analyses {
-        top.insert(a.density.key().into(), json_density(model, a));
+struct JsonReport<'a> {
+    model: &'a Model,
+    analyses: &'a [Analysis],
+}
+
+impl Serialize for JsonReport<'_> {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut m = s.serialize_map(None)?;
+        m.serialize_entry("order", &self.analyses.first().map_or(0, |a| a.order))?;
+        m.serialize_entry("model", &self.model.name)?;
+        for a in self.analyses {
+            m.serialize_entry(
+                a.density.key(),
+                &JsonDensity {
+                    model: self.model,
+                    a,
+                },
+            )?;
+        }
+        m.end()
     }
-    Value::Object(top)
+}
+
+/// The JSON report as a value (for programs that inspect it; the command streams it).
+pub fn json_report(model: &Model, analyses: &[Analysis]) -> Value {
+    serde_json::to_value(JsonReport { model, analyses }).unwrap_or_default()
+}
+
+/// The JSON report written to `out` as it is serialized, pretty-printed.
+pub fn write_json(model: &Model, analyses: &[Analysis], out: &mut dyn io::Write) -> io::Result<()> {
+    let mut w = io::BufWriter::with_capacity(1 << 16, out);
+    serde_json::to_writer_pretty(&mut w, &JsonReport { model, analyses })?;
+    w.write_all(b"\n")?;
+    w.flush()
 }
 
 const GREEK: [(char, &str); 12] = [
@@ -382,19 +499,20 @@ fn latex_formula(density: Density, f: &FieldResult) -> String {
     out
 }
 
-fn latex(model: &Model, analyses: &[Analysis]) -> String {
-    let mut out =
-        String::from("% Generated by theory-search; needs no package beyond LaTeX itself.\n");
-    for a in analyses {
-        let (_, rows) = cells(model, a);
-        let ncols = a.columns.len();
-        let nfields = model.fields.len();
-        out += &format!("% {}\n", title(a));
-        out += &format!(
-            "\\begin{{tabular}}{{l|cccc|{}|{}}}\n\\hline\n",
-            "c".repeat(ncols),
-            "c".repeat(nfields)
-        );
+fn latex(model: &Model, analyses: &[Analysis], out: &mut Chunked) -> io::Result<()> {
+    out.say(format_args!(
+        "% Generated by theory-search; needs no package beyond LaTeX itself."
+    ));
+    for (k, a) in analyses.iter().enumerate() {
+        let cells = Cells::new(model, a, |t| {
+            format!("${}$", t.render_latex(&|_| "\\phi".to_string()))
+        });
+        out.say(format_args!("% {}", title(a)));
+        out.say(format_args!(
+            "\\begin{{tabular}}{{l|cccc|{}|{}}}\n\\hline",
+            "c".repeat(a.columns.len()),
+            "c".repeat(model.fields.len())
+        ));
         let mut header: Vec<String> = ["Term", "$\\delta$", "$\\epsilon$", "$\\tau$", "$\\sigma$"]
             .map(String::from)
             .to_vec();
@@ -405,43 +523,54 @@ fn latex(model: &Model, analyses: &[Analysis]) -> String {
                 .iter()
                 .map(|f| format!("${}$", latex_symbol(&f.symbol))),
         );
-        out += &format!("{} \\\\\n\\hline\n", header.join(" & "));
-        for (row, r) in rows.iter().zip(&a.rows) {
-            let mut cells = row.clone();
-            cells[0] = format!("${}$", r.term.render_latex(&|_| "\\phi".to_string()));
-            out += &format!("{} \\\\\n", cells.join(" & "));
+        out.say(format_args!("{} \\\\\n\\hline", header.join(" & ")));
+        let mut row = Vec::new();
+        for i in 0..cells.len() {
+            cells.row(i, &mut row);
+            out.say(format_args!("{} \\\\", row.join(" & ")));
+            out.spill()?;
         }
-        out += "\\hline\n\\end{tabular}\n\n";
-        out += "\\begin{align*}\n";
+        out.say(format_args!(
+            "\\hline\n\\end{{tabular}}\n\n\\begin{{align*}}"
+        ));
         let lines: Vec<String> = a
             .fields
             .iter()
             .map(|f| latex_formula(a.density, f))
             .collect();
-        out += &lines.join(" \\\\\n");
-        out += "\n\\end{align*}\n";
+        out.say(format_args!("{}\n\\end{{align*}}", lines.join(" \\\\\n")));
         for n in notes(a) {
-            out += &format!("% note: {n}\n");
+            out.say(format_args!("% note: {n}"));
         }
-        out += "\n";
+        if k + 1 < analyses.len() {
+            out.buf().push('\n');
+        }
     }
-    out.trim_end().to_string() + "\n"
+    out.finish()
 }
 
-/// Render `analyses` (one per density, same order) of `model` in `format`.
-pub fn render(model: &Model, analyses: &[Analysis], format: Format) -> String {
+/// Write `analyses` (one per density, same order) of `model` in `format` to `out`, row by row.
+pub fn write(
+    model: &Model,
+    analyses: &[Analysis],
+    format: Format,
+    out: &mut dyn io::Write,
+) -> io::Result<()> {
     match format {
-        Format::Text => text(model, analyses),
-        Format::Markdown => markdown(model, analyses),
-        Format::Csv => csv(model, analyses),
-        Format::Json => {
-            let mut s = serde_json::to_string_pretty(&json_report(model, analyses))
-                .unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"));
-            s.push('\n');
-            s
-        }
-        Format::Latex => latex(model, analyses),
+        Format::Text => text(model, analyses, &mut Chunked::new(out)),
+        Format::Markdown => markdown(model, analyses, &mut Chunked::new(out)),
+        Format::Csv => csv(model, analyses, out),
+        Format::Json => write_json(model, analyses, out),
+        Format::Latex => latex(model, analyses, &mut Chunked::new(out)),
     }
+}
+
+/// [`write`] into a string (for generated files and tests).
+pub fn render(model: &Model, analyses: &[Analysis], format: Format) -> String {
+    let mut out = Vec::new();
+    // Writing to memory cannot fail.
+    let _ = write(model, analyses, format, &mut out);
+    String::from_utf8(out).unwrap_or_default()
 }
 
 /// `0.1234` style: 6 significant digits, scientific outside 1e-4…1e6.

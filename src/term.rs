@@ -135,6 +135,19 @@ impl Term {
         Ok(Term { factors: merged })
     }
 
+    /// A term of factors already canonical (distinct kinds, sorted, powers ≥ 1), as the
+    /// enumeration builds them; checked in debug builds.
+    pub(crate) fn from_canonical(factors: Vec<Factor>) -> Term {
+        debug_assert!(
+            !factors.is_empty()
+                && factors
+                    .windows(2)
+                    .all(|w| w[0] < w[1] && (w[0].field, w[0].deriv) != (w[1].field, w[1].deriv))
+                && factors.iter().all(|f| f.power > 0)
+        );
+        Term { factors }
+    }
+
     /// The pure power `(∂tᵗ∂sˢ φ)ⁿ` of the single placeholder field; `n ≥ 1`.
     pub fn power(t: u32, s: u32, n: u32) -> Term {
         assert!(n > 0, "a pure power needs n ≥ 1");
@@ -182,11 +195,34 @@ impl Term {
 
     /// The text form with each placeholder field written by `name` (e.g. the field's symbol).
     pub fn render(&self, name: &dyn Fn(u8) -> String) -> String {
-        self.factors
-            .iter()
-            .map(|f| render_factor(f, &name(f.field)))
-            .collect::<Vec<_>>()
-            .join("·")
+        let mut out = String::new();
+        for (i, f) in self.factors.iter().enumerate() {
+            if i > 0 {
+                out.push('·');
+            }
+            let field = name(f.field);
+            // Writing to a String cannot fail.
+            let _ = write_factor(&mut out, f, |w| fmt::Write::write_str(w, &field));
+        }
+        out
+    }
+
+    /// The text form (what `Display` writes) into `w`, without an allocation per factor: the
+    /// tables write hundreds of thousands of terms.
+    pub fn write_text<W: fmt::Write>(&self, w: &mut W) -> fmt::Result {
+        for (i, f) in self.factors.iter().enumerate() {
+            if i > 0 {
+                w.write_char('·')?;
+            }
+            write_factor(w, f, |w| {
+                w.write_char('φ')?;
+                if f.field > 0 {
+                    write_script(w, f.field as u32, SUBSCRIPTS)?;
+                }
+                Ok(())
+            })?;
+        }
+        Ok(())
     }
 
     /// The term as LaTeX math (without `$`), each placeholder field written by `name`.
@@ -242,7 +278,7 @@ pub fn placeholder(k: u8) -> String {
 
 impl fmt::Display for Term {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.render(&placeholder))
+        self.write_text(f)
     }
 }
 
@@ -251,10 +287,17 @@ const SUBSCRIPTS: [char; 10] = ['₀', '₁', '₂', '₃', '₄', '₅', '₆',
 
 /// `n` in the given digit set (superscript or subscript).
 pub fn to_script(n: u32, digits: [char; 10]) -> String {
-    n.to_string()
-        .chars()
-        .map(|c| digits[c.to_digit(10).unwrap_or(0) as usize])
-        .collect()
+    let mut out = String::new();
+    let _ = write_script(&mut out, n, digits);
+    out
+}
+
+/// `n` in the given digit set, written into `w`.
+fn write_script<W: fmt::Write>(w: &mut W, n: u32, digits: [char; 10]) -> fmt::Result {
+    if n >= 10 {
+        write_script(w, n / 10, digits)?;
+    }
+    w.write_char(digits[(n % 10) as usize])
 }
 
 /// `n` as superscript digits, e.g. `²`.
@@ -271,30 +314,47 @@ fn letters_with(letter: char, count: u32, exp: fn(u32) -> String) -> String {
     }
 }
 
-fn letters(letter: char, count: u32) -> String {
-    letters_with(letter, count, superscript)
-}
-
 fn latex_letters(letter: char, count: u32) -> String {
     letters_with(letter, count, |n| format!("^{{{n}}}"))
 }
 
-fn render_factor(f: &Factor, field: &str) -> String {
-    if f.deriv.order() == 0 {
-        return match f.power {
-            1 => field.to_string(),
-            n => format!("{field}{}", superscript(n)),
-        };
+/// `count` derivative letters into `w`, as [`letters_with`] with superscript exponents.
+fn write_letters<W: fmt::Write>(w: &mut W, letter: char, count: u32) -> fmt::Result {
+    match count {
+        0 => Ok(()),
+        1..=4 => (0..count).try_for_each(|_| w.write_char(letter)),
+        _ => {
+            w.write_char(letter)?;
+            write_script(w, count, SUPERSCRIPTS)
+        }
     }
-    let d = format!(
-        "∂{}{} {field}",
-        letters('t', f.deriv.t),
-        letters('s', f.deriv.s)
-    );
-    match f.power {
-        1 => d,
-        n => format!("({d}){}", superscript(n)),
+}
+
+/// One factor, `φ³`, `∂ts φ` or `(∂ts φ)²`, with the field written by `field`.
+fn write_factor<W: fmt::Write>(
+    w: &mut W,
+    f: &Factor,
+    field: impl Fn(&mut W) -> fmt::Result,
+) -> fmt::Result {
+    let derived = f.deriv.order() > 0;
+    let bracket = derived && f.power > 1;
+    if bracket {
+        w.write_char('(')?;
     }
+    if derived {
+        w.write_char('∂')?;
+        write_letters(w, 't', f.deriv.t)?;
+        write_letters(w, 's', f.deriv.s)?;
+        w.write_char(' ')?;
+    }
+    field(w)?;
+    if bracket {
+        w.write_char(')')?;
+    }
+    if f.power > 1 {
+        write_script(w, f.power, SUPERSCRIPTS)?;
+    }
+    Ok(())
 }
 
 impl FromStr for Term {

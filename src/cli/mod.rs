@@ -326,7 +326,12 @@ fn emit(out: &mut dyn Write, report: &dyn Report, format: Output) -> Result<(), 
 
 /// Write `text`; a closed pipe (`| head`) is not an error.
 fn write_out(out: &mut dyn Write, text: &str) -> Result<(), CliError> {
-    match out.write_all(text.as_bytes()).and_then(|_| out.flush()) {
+    written(out.write_all(text.as_bytes()).and_then(|_| out.flush()))
+}
+
+/// The outcome of writing a result as it streams; a closed pipe (`| head`) is not an error.
+fn written(result: std::io::Result<()>) -> Result<(), CliError> {
+    match result {
         Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
             Err(CliError::Output(format!("cannot write output: {e}")))
         }

@@ -2,11 +2,11 @@
 
 use std::io::Write;
 
-use super::{write_out, CliError, ModelArgs};
+use super::{written, CliError, ModelArgs};
 use crate::enumerate::Basis;
 use crate::model::Density;
 use crate::reduce::analyse_basis;
-use crate::table::{render, Format};
+use crate::table::{write, Format};
 
 /// Arguments of the table (the default command).
 #[derive(Debug, clap::Args)]
@@ -63,5 +63,5 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
         .map(|&d| analyse_basis(&model, d, args.model.order, args.basis))
         .collect::<Result<Vec<_>, _>>()
         .map_err(CliError::usage)?;
-    write_out(out, &render(&model, &analyses, args.format))
+    written(write(&model, &analyses, args.format, out))
 }
