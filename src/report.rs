@@ -2,6 +2,8 @@
 //! CSV for the results that are tables. Each result type implements it beside its own
 //! definition; the command line only picks the format.
 
+use std::io::{self, Write};
+
 use clap::ValueEnum;
 
 /// How a result is written.
@@ -30,18 +32,74 @@ pub trait Report {
     fn check(&self) -> Result<(), NonFinite> {
         Ok(())
     }
+    /// Write the text to `out`; a large result streams it instead of building it.
+    fn write_text(&self, out: &mut dyn Write) -> io::Result<()> {
+        out.write_all(self.text().as_bytes())
+    }
+    /// Write the JSON (pretty, one trailing newline) to `out`; a large result serializes
+    /// itself as it writes instead of building a value.
+    fn write_json(&self, out: &mut dyn Write) -> io::Result<()> {
+        json_to(out, &self.json())
+    }
+    /// Write the CSV to `out`, if the result is a table.
+    fn write_csv(&self, out: &mut dyn Write) -> Option<io::Result<()>> {
+        self.csv().map(|s| out.write_all(s.as_bytes()))
+    }
 }
 
-/// `report` in `format`, or why it has no such form.
-pub fn render(report: &dyn Report, format: Output) -> Result<String, String> {
-    report.check().map_err(|e| e.0)?;
+/// Why a result was not written.
+#[derive(Debug, thiserror::Error)]
+pub enum EmitError {
+    /// The result cannot take this form (a non-finite number, no CSV form).
+    #[error("{0}")]
+    Refused(String),
+    /// The output failed.
+    #[error("cannot write output: {0}")]
+    Io(#[from] io::Error),
+}
+
+/// Write `report` in `format` to `out` as it is formatted.
+pub fn emit(report: &dyn Report, format: Output, out: &mut dyn Write) -> Result<(), EmitError> {
+    report.check().map_err(|e| EmitError::Refused(e.0))?;
     match format {
-        Output::Text => Ok(report.text()),
-        Output::Json => Ok(serde_json::to_string_pretty(&report.json()).unwrap_or_default() + "\n"),
-        Output::Csv => report
-            .csv()
-            .ok_or_else(|| "this result has no CSV form: use --format text or json".into()),
+        Output::Text => report.write_text(out)?,
+        Output::Json => report.write_json(out)?,
+        Output::Csv => report.write_csv(out).ok_or_else(|| {
+            EmitError::Refused("this result has no CSV form: use --format text or json".into())
+        })??,
     }
+    Ok(out.flush()?)
+}
+
+/// `report` in `format` as a string, or why it has no such form.
+pub fn render(report: &dyn Report, format: Output) -> Result<String, String> {
+    let mut out = Vec::new();
+    emit(report, format, &mut out).map_err(|e| e.to_string())?;
+    Ok(String::from_utf8(out).unwrap_or_default())
+}
+
+/// `value` as pretty JSON and a newline, serialized straight to `out` (buffered).
+pub fn json_to(out: &mut dyn Write, value: &impl serde::Serialize) -> io::Result<()> {
+    let mut w = io::BufWriter::with_capacity(1 << 16, out);
+    serde_json::to_writer_pretty(&mut w, value)?;
+    w.write_all(b"\n")?;
+    w.flush()
+}
+
+/// A `csv` crate error as the I/O error it wraps, kind kept (a closed pipe stays one).
+pub fn csv_io(e: csv::Error) -> io::Error {
+    match e.into_kind() {
+        csv::ErrorKind::Io(e) => e,
+        other => io::Error::other(format!("{other:?}")),
+    }
+}
+
+/// What a streaming writer writes, as a string (for the `String` forms and tests).
+pub fn to_string(write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> String {
+    let mut out = Vec::new();
+    // Writing to memory cannot fail.
+    let _ = write(&mut out);
+    String::from_utf8(out).unwrap_or_default()
 }
 
 /// A CSV table of `header` and `rows` of cells, written with the `csv` crate (so a cell with a
@@ -196,21 +254,6 @@ impl Aligned {
         out.extend(std::iter::repeat_n('─', total));
         out.push('\n');
     }
-}
-
-/// A whole aligned table as one string (for small tables).
-pub fn aligned<H: AsRef<str>, C: AsRef<str>>(header: &[H], rows: &[Vec<C>]) -> String {
-    let mut layout = Aligned::new(header);
-    for r in rows {
-        layout.fit(r);
-    }
-    let mut out = String::new();
-    layout.line(header, &mut out);
-    layout.rule(&mut out);
-    for r in rows {
-        layout.line(r, &mut out);
-    }
-    out
 }
 
 /// Why a result cannot be printed: a number in it is not finite.

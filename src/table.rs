@@ -8,9 +8,9 @@
 use std::io::{self, Write};
 
 use serde::ser::{Serialize, SerializeMap, Serializer};
-use serde_json::{json, Value};
+use serde_json::Value;
 
-use crate::report::{aligned, Aligned, Chunked};
+use crate::report::{Aligned, Chunked};
 
 use crate::model::{Density, Model};
 use crate::reduce::{prefactor_text, sign_joiner, Analysis, FieldResult};
@@ -214,6 +214,10 @@ fn markdown(model: &Model, analyses: &[Analysis], out: &mut Chunked) -> io::Resu
 
 /// One CSV table for all densities, row by row through the `csv` crate's writer.
 fn csv(model: &Model, analyses: &[Analysis], out: &mut dyn io::Write) -> io::Result<()> {
+    csv_rows(model, analyses, out).map_err(crate::report::csv_io)
+}
+
+fn csv_rows(model: &Model, analyses: &[Analysis], out: &mut dyn io::Write) -> csv::Result<()> {
     // The union of rule columns, empty where a rule is not a requirement column of that
     // density; 1/0 for satisfied/failed and included/not.
     let mut codes: Vec<&str> = Vec::new();
@@ -256,7 +260,7 @@ fn csv(model: &Model, analyses: &[Analysis], out: &mut dyn io::Write) -> io::Res
             w.write_record(&row)?;
         }
     }
-    w.flush()
+    Ok(w.flush()?)
 }
 
 /// Serialize `f(i, field)` for each field as a map keyed by field id, in model order.
@@ -571,286 +575,4 @@ pub fn render(model: &Model, analyses: &[Analysis], format: Format) -> String {
     // Writing to memory cannot fail.
     let _ = write(model, analyses, format, &mut out);
     String::from_utf8(out).unwrap_or_default()
-}
-
-/// `0.1234` style: 6 significant digits, scientific outside 1e-4…1e6.
-fn num(v: f64) -> String {
-    if v == 0.0 {
-        "0".to_string()
-    } else if v.abs() >= 1e-4 && v.abs() < 1e6 {
-        let digits = (5 - v.abs().log10().floor() as i32).clamp(0, 10) as usize;
-        let s = format!("{v:.digits$}");
-        if s.contains('.') {
-            s.trim_end_matches('0').trim_end_matches('.').to_string()
-        } else {
-            s
-        }
-    } else {
-        format!("{v:.5e}")
-    }
-}
-
-fn percent(v: f64) -> String {
-    format!("{:.2} %", 100.0 * v)
-}
-
-/// The modes of every field, a table each, readable at a glance.
-pub fn modes_text(model: &Model, points: usize, modes: &[crate::modal::FieldModes]) -> String {
-    let mut out = format!("Modes of the {} model on N = {points} points\n", model.name);
-    out += "ωᵢ = ω√λᵢ, ζᵢ = ζ√λᵢ, ω_d = ωᵢ√(1−ζᵢ²); share = λᵢ⁻¹/Σλⱼ⁻¹ over all non-zero modes (equipartition).\n";
-    for f in modes {
-        let sp = &f.spectrum;
-        let scale = f.field.scale();
-        out += &format!(
-            "\n{} ({}) · {} boundary · Δ{} operator, {} modes ({}) · ω_{scale} = {}, ζ_{scale} = {} · Σλ⁻¹ = {}\n",
-            f.field.id,
-            f.field.meaning,
-            crate::discretise::boundary_name(f.field.boundary),
-            crate::term::superscript(f.k),
-            sp.size,
-            sp.method.name(),
-            num(f.omega),
-            num(f.zeta),
-            num(sp.inverse_trace),
-        );
-        let beam = !f.beam.is_empty();
-        let eq17 = f.beam.iter().any(|b| b.seed_eq17.is_some());
-        // Each mode's beam comparison by index: one lookup per row, not a scan (O(N²) at N = 10⁵).
-        let beams: std::collections::HashMap<usize, &crate::modal::BeamComparison> =
-            f.beam.iter().map(|b| (b.index, b)).collect();
-        let mut header: Vec<String> = [
-            "i",
-            "λᵢ",
-            "ωᵢ",
-            "ζᵢ",
-            "ω_d",
-            "regime",
-            "share",
-            "cumulative",
-        ]
-        .map(String::from)
-        .to_vec();
-        if eq17 {
-            header.extend(["Eq. 17", "off"].map(String::from));
-        }
-        if beam {
-            header.extend(["beam limit", "off"].map(String::from));
-        }
-        let rows: Vec<Vec<String>> = f
-            .modes
-            .iter()
-            .map(|m| {
-                let mut row = vec![
-                    m.index.to_string(),
-                    num(m.eigenvalue),
-                    num(m.frequency),
-                    num(m.damping_ratio),
-                    m.damped_frequency.map(num).unwrap_or_else(|| "—".into()),
-                    m.zero_mode
-                        .as_ref()
-                        .map(|z| format!("zero mode: {z}"))
-                        .unwrap_or_else(|| m.regime.name().to_string()),
-                    percent(m.variance_share),
-                    percent(m.cumulative_share),
-                ];
-                if beam {
-                    match beams.get(&m.index) {
-                        Some(b) => {
-                            let off = |x: f64| {
-                                let r = 100.0 * (x - b.eigenvalue) / b.eigenvalue;
-                                if r.abs() >= 0.01 {
-                                    format!("{r:+.2} %")
-                                } else {
-                                    format!("{r:+.1e} %")
-                                }
-                            };
-                            if let Some(e) = b.seed_eq17 {
-                                row.extend([num(e), off(e)]);
-                            }
-                            row.extend([num(b.continuum), off(b.continuum)]);
-                        }
-                        None => {
-                            let blanks = if eq17 { 4 } else { 2 };
-                            row.extend(std::iter::repeat_n(String::new(), blanks));
-                        }
-                    }
-                }
-                row
-            })
-            .collect();
-        out += &aligned(&header, &rows);
-        if !f.degenerate_pairs.is_empty() {
-            let pairs: Vec<String> = f
-                .degenerate_pairs
-                .iter()
-                .map(|(i, j)| format!("({i}, {j})"))
-                .collect();
-            out += &format!("  degenerate pairs: {}\n", pairs.join(" "));
-        }
-        if let Some(other) = &f.same_frequencies_as {
-            out += &format!("  same operator and scales as {other}: identical frequencies\n");
-        }
-        if eq17 {
-            // Eq. 17's limit (iπ)⁴ against the beam's (β₁L)⁴, for the first mode.
-            let gap = 100.0 * ((std::f64::consts::PI / crate::modal::beam_beta(1)).powi(4) - 1.0);
-            out += "  Eq. 17 is the seed's 16 sin⁴(πi/(2(N−1))); the beam limit is (βᵢL)⁴/(N−1)⁴ with cos βL cosh βL = 1.\n";
-            out += &format!("  As N grows the numerics converge to the beam limit; Eq. 17 tends to (iπ)⁴/(N−1)⁴ and stays off\n  ({gap:+.1} % for the first mode): the seed's claim that it becomes exact is false.\n").replace('-', "−");
-        } else if beam {
-            out += &format!(
-                "  The beam limit is (βᵢL)⁴/(N−1)⁴ of the continuous Euler–Bernoulli beam with these ends ({}).\n",
-                crate::discretise::boundary_name(f.field.boundary)
-            );
-        }
-        if let Some(v) = &sp.shapes {
-            out += "  shapes (columns = modes):\n";
-            for i in 0..v.nrows() {
-                let cells: Vec<String> = (0..v.ncols())
-                    .map(|c| format!("{:>9.5}", v[(i, c)]))
-                    .collect();
-                out += &format!("  {}\n", cells.join(" "));
-            }
-        }
-    }
-    out
-}
-
-/// The JSON contract of `modes`.
-pub fn modes_json(points: usize, modes: &[crate::modal::FieldModes]) -> Value {
-    let fields: Vec<Value> = modes
-        .iter()
-        .map(|f| {
-            let col = |g: &dyn Fn(&crate::modal::Mode) -> Value| f.modes.iter().map(g).collect::<Vec<_>>();
-            let mut v = json!({
-                "field": f.field.id,
-                "boundary": crate::discretise::boundary_name(f.field.boundary),
-                "size": f.spectrum.size,
-                "method": f.spectrum.method.name(),
-                "omega": f.omega,
-                "zeta": f.zeta,
-                "eigenvalues": col(&|m| m.eigenvalue.into()),
-                "frequencies": col(&|m| m.frequency.into()),
-                "damping_ratios": col(&|m| m.damping_ratio.into()),
-                "damped_frequencies": col(&|m| m.damped_frequency.map_or(Value::Null, Value::from)),
-                "regimes": col(&|m| m.regime.name().into()),
-                "variance_share": col(&|m| m.variance_share.into()),
-                "cumulative_share": col(&|m| m.cumulative_share.into()),
-                "inverse_eigenvalue_sum": f.spectrum.inverse_trace,
-                "zero_modes": f.modes.iter().filter(|m| m.zero_mode.is_some()).map(|m| m.index).collect::<Vec<_>>(),
-                "zero_mode_names": f.modes.iter().filter_map(|m| m.zero_mode.clone()).collect::<Vec<_>>(),
-                "degenerate_pairs": f.degenerate_pairs.iter().map(|&(i, j)| json!([i, j])).collect::<Vec<_>>(),
-                "same_frequencies_as": f.same_frequencies_as,
-            });
-            if !f.beam.is_empty() {
-                v["beam_comparison"] = f
-                    .beam
-                    .iter()
-                    .map(|b| json!({"index": b.index, "eigenvalue": b.eigenvalue, "seed_eq17": b.seed_eq17, "continuum": b.continuum}))
-                    .collect::<Vec<_>>()
-                    .into();
-            }
-            if let Some(s) = &f.spectrum.shapes {
-                v["shapes"] = (0..s.ncols())
-                    .map(|c| (0..s.nrows()).map(|i| s[(i, c)]).collect::<Vec<f64>>())
-                    .collect::<Vec<_>>()
-                    .into();
-            }
-            v
-        })
-        .collect();
-    json!({"points": points, "fields": fields})
-}
-
-/// One CSV row per mode (and, with shapes, the shape's components on the body's points as
-/// `v0 … v(n−1)`), written with the `csv` crate (zero-mode names come from the model file).
-pub fn modes_csv(modes: &[crate::modal::FieldModes], shapes: bool) -> String {
-    let mut header: Vec<String> = [
-        "field",
-        "index",
-        "eigenvalue",
-        "frequency",
-        "damping_ratio",
-        "damped_frequency",
-        "regime",
-        "variance_share",
-        "cumulative_share",
-        "zero_mode",
-    ]
-    .iter()
-    .map(|h| h.to_string())
-    .collect();
-    let width = modes
-        .iter()
-        .filter_map(|f| f.spectrum.shapes.as_ref().map(|s| s.nrows()))
-        .max()
-        .unwrap_or(0);
-    if shapes {
-        header.extend((0..width).map(|i| format!("v{i}")));
-    }
-    let rows = modes.iter().flat_map(|f| {
-        f.modes.iter().map(move |m| {
-            let mut row = vec![
-                f.field.id.clone(),
-                m.index.to_string(),
-                m.eigenvalue.to_string(),
-                m.frequency.to_string(),
-                m.damping_ratio.to_string(),
-                m.damped_frequency
-                    .map(|v| v.to_string())
-                    .unwrap_or_default(),
-                m.regime.name().to_string(),
-                m.variance_share.to_string(),
-                m.cumulative_share.to_string(),
-                m.zero_mode.clone().unwrap_or_default(),
-            ];
-            if let Some(s) = f.spectrum.shapes.as_ref().filter(|_| shapes) {
-                row.extend((0..width).map(|i| {
-                    if i < s.nrows() {
-                        s[(i, m.index)].to_string()
-                    } else {
-                        String::new()
-                    }
-                }));
-            }
-            row
-        })
-    });
-    crate::report::csv_table(&header, rows)
-}
-
-/// `modes`: every field's modes on N points, with shapes when asked.
-pub struct ModesReport<'a> {
-    /// The model.
-    pub model: &'a Model,
-    /// Points along the body.
-    pub points: usize,
-    /// The modes of each field.
-    pub modes: &'a [crate::modal::FieldModes],
-    /// Whether the shapes go into the CSV.
-    pub shapes: bool,
-}
-
-impl crate::report::Report for ModesReport<'_> {
-    fn check(&self) -> Result<(), crate::report::NonFinite> {
-        for f in self.modes {
-            let numbers: Vec<[f64; 4]> = f
-                .modes
-                .iter()
-                .map(|m| [m.eigenvalue, m.frequency, m.damping_ratio, m.variance_share])
-                .collect();
-            crate::report::check_finite(&(&f.field.id, numbers, f.spectrum.inverse_trace))?;
-        }
-        Ok(())
-    }
-
-    fn text(&self) -> String {
-        modes_text(self.model, self.points, self.modes)
-    }
-
-    fn json(&self) -> Value {
-        modes_json(self.points, self.modes)
-    }
-
-    fn csv(&self) -> Option<String> {
-        Some(modes_csv(self.modes, self.shapes))
-    }
 }

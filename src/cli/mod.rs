@@ -12,7 +12,7 @@ use clap::{Args, Parser, Subcommand};
 use crate::enumerate::MAX_ORDER;
 use crate::modal::Params;
 use crate::model::{Model, RoleError};
-use crate::report::{render, Output, Report};
+use crate::report::{EmitError, Output, Report};
 use crate::theory::Theory;
 
 mod asymmetry;
@@ -320,8 +320,11 @@ fn load_params(args: &ParamArgs, model: &Model) -> Result<Params, CliError> {
 
 /// Write a result in `format`.
 fn emit(out: &mut dyn Write, report: &dyn Report, format: Output) -> Result<(), CliError> {
-    let text = render(report, format).map_err(CliError::Usage)?;
-    write_out(out, &text)
+    match crate::report::emit(report, format, out) {
+        Err(EmitError::Refused(why)) => Err(CliError::Usage(why)),
+        Err(EmitError::Io(e)) => written(Err(e)),
+        Ok(()) => Ok(()),
+    }
 }
 
 /// Write `text`; a closed pipe (`| head`) is not an error.

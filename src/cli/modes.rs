@@ -3,9 +3,8 @@
 use std::io::Write;
 
 use super::{emit, load_params, CliError, ModelArgs, ParamArgs};
-use crate::modal::field_modes;
+use crate::modal::{field_modes, ModesReport};
 use crate::report::Output;
-use crate::table::ModesReport;
 
 /// The most points whose every mode `modes` computes and prints.
 const MAX_FULL_SPECTRUM: usize = 1_000_000;

@@ -35,7 +35,9 @@ use std::f64::consts::PI;
 
 use faer::Mat;
 
+mod report;
 mod trace;
+pub use report::ModesReport;
 pub use trace::trace_polynomial;
 
 use crate::banded::{BandedR, BandedSym};
