@@ -108,6 +108,33 @@ fn lowest_modes_only() {
     check(2, Boundary::FREE, 300, &few, 1e-11);
 }
 
+/// Above N ≈ 121 600 the top two beam eigenvalues are closer than the inertia check's old fixed
+/// gap (1e-9·λ_top), which sent every mode to the dense solver and failed; the gap now follows
+/// the spacing. Every mode at N = 121 700 and N = 150 000, against the lowest-K path.
+#[test]
+fn every_beam_mode_just_above_the_old_limit() {
+    for points in [121_700, 150_000] {
+        let all = spectrum(2, Boundary::FREE, points, None, false)
+            .unwrap_or_else(|e| panic!("N = {points}: {e}"));
+        assert_eq!(all.eigenvalues.len(), points);
+        assert_eq!(all.method, Method::Characteristic);
+        let few = spectrum(2, Boundary::FREE, points, Some(12), false).unwrap();
+        for (i, (a, b)) in all.eigenvalues.iter().zip(&few.eigenvalues).enumerate() {
+            assert!(
+                (a - b).abs() <= 1e-12 * b.abs().max(1e-300),
+                "N = {points}, λ{i}: {a} vs {b}"
+            );
+        }
+        assert!(
+            all.eigenvalues.windows(2).all(|w| w[0] <= w[1]),
+            "ascending"
+        );
+        // The top of the spectrum approaches 16 (the stencil's symbol at the Nyquist wave).
+        let top = all.eigenvalues[points - 1];
+        assert!(top < 16.0 && top > 15.999, "N = {points}: λ_top = {top}");
+    }
+}
+
 #[test]
 fn other_operators_use_the_dense_solver() {
     for (k, boundary) in [
