@@ -89,6 +89,17 @@ impl<'a> Cells<'a> {
     fn len(&self) -> usize {
         self.terms.len()
     }
+
+    /// Every row as one line: `open`, the cells joined by `sep`, `close`.
+    fn joined(&self, out: &mut Chunked, (open, sep, close): (&str, &str, &str)) -> io::Result<()> {
+        let mut row = Vec::new();
+        for i in 0..self.len() {
+            self.row(i, &mut row);
+            out.say(format_args!("{open}{}{close}", row.join(sep)));
+            out.spill()?;
+        }
+        Ok(())
+    }
 }
 
 fn title(a: &Analysis) -> String {
@@ -189,12 +200,7 @@ fn markdown(model: &Model, analyses: &[Analysis], out: &mut Chunked) -> io::Resu
         ));
         out.say(format_args!("| {} |", cells.header.join(" | ")));
         out.say(format_args!("|{}", "---|".repeat(cells.header.len())));
-        let mut row = Vec::new();
-        for i in 0..cells.len() {
-            cells.row(i, &mut row);
-            out.say(format_args!("| {} |", row.join(" | ")));
-            out.spill()?;
-        }
+        cells.joined(out, ("| ", " | ", " |"))?;
         out.say(format_args!(
             "\nSurviving {} densities (lowest order in τ and σ):\n",
             a.density
@@ -528,12 +534,7 @@ fn latex(model: &Model, analyses: &[Analysis], out: &mut Chunked) -> io::Result<
                 .map(|f| format!("${}$", latex_symbol(&f.symbol))),
         );
         out.say(format_args!("{} \\\\\n\\hline", header.join(" & ")));
-        let mut row = Vec::new();
-        for i in 0..cells.len() {
-            cells.row(i, &mut row);
-            out.say(format_args!("{} \\\\", row.join(" & ")));
-            out.spill()?;
-        }
+        cells.joined(out, ("", " & ", " \\\\"))?;
         out.say(format_args!(
             "\\hline\n\\end{{tabular}}\n\n\\begin{{align*}}"
         ));
