@@ -304,7 +304,12 @@ fn latex_derivative(d: Deriv, symbol: &str) -> String {
         1 => format!("\\partial_{c}"),
         k => format!("\\partial_{c}^{{{k}}}"),
     };
-    format!("{}{} {symbol}", part("t", d.t), part("s", d.s))
+    let ops = part("t", d.t) + &part("s", d.s);
+    if ops.is_empty() {
+        symbol.to_string()
+    } else {
+        format!("{ops} {symbol}")
+    }
 }
 
 /// `∂t² φ = a − b …` from (negative, body) terms.
@@ -537,8 +542,16 @@ impl NonlinearEquation {
                 } else {
                     format!("{} ", t.coefficient)
                 };
-                let body = format!("{number}{coefficient}{}", monomial_text(&t.monomial, sym));
-                (t.value.is_negative(), body)
+                // A constant force is its number and coefficient alone ("1" only when bare).
+                let monomial = match (
+                    t.monomial.is_empty(),
+                    number.is_empty() && coefficient.is_empty(),
+                ) {
+                    (true, false) => String::new(),
+                    _ => monomial_text(&t.monomial, sym),
+                };
+                let body = format!("{number}{coefficient}{monomial}");
+                (t.value.is_negative(), body.trim_end().to_string())
             }),
         )
     }
@@ -676,18 +689,21 @@ impl NonlinearEquation {
                 .iter()
                 .map(|&(d, n)| {
                     let f = latex_derivative(d, &sym);
-                    if n == 1 {
-                        f
-                    } else {
-                        format!("({f})^{{{n}}}")
+                    match n {
+                        1 => f,
+                        n if d.order() == 0 => format!("{f}^{{{n}}}"),
+                        n => format!("({f})^{{{n}}}"),
                     }
                 })
                 .collect();
-            out += &if factors.is_empty() {
-                "1".to_string()
+            if !factors.is_empty() {
+                out += &factors.join(" ");
+            } else if v.is_one() && t.coefficient == "1" {
+                out += "1";
             } else {
-                factors.join(" ")
-            };
+                let kept = out.trim_end().len();
+                out.truncate(kept);
+            }
         }
         out
     }

@@ -602,16 +602,17 @@ fn rearing_hunching(theory: &Theory) -> Result<String, FigureError> {
         })
         .collect();
     for (((_, _, axis), r), (t1, t2)) in labels.iter().zip(&runs).zip(&titles) {
+        let transient = settled(&r.transient, r.equilibrium);
         let q = vec![
             (0.0, r.equilibrium),
-            (r.transient.last().map_or(1.0, |x| x.0), r.equilibrium),
+            (transient.last().map_or(1.0, |x| x.0), r.equilibrium),
         ];
         let mut a = panel(
             t1,
             "time t (1/ω)",
             "modal coordinate Q",
             vec![
-                series("transient", r.transient.clone(), Mark::Line),
+                series("transient", transient, Mark::Line),
                 series("Q* = F/ωᵢ²", q, Mark::Dashed),
             ],
         );
@@ -638,6 +639,20 @@ fn rearing_hunching(theory: &Theory) -> Result<String, FigureError> {
         (2, 2),
         &panels,
     )
+}
+
+/// The transient up to its settling time (the last moment it is more than 1 % of Q* away from
+/// Q*) and a third again: a fast mode settles in a tenth of a slow one's time, and its panel
+/// should show the settling, not a flat line.
+fn settled(transient: &[(f64, f64)], equilibrium: f64) -> Vec<(f64, f64)> {
+    let tolerance = 0.01 * equilibrium.abs();
+    let last = transient
+        .iter()
+        .rposition(|&(_, q)| (q - equilibrium).abs() > tolerance)
+        .unwrap_or(0);
+    let end = transient.get(last).map_or(0.0, |p| p.0) * 4.0 / 3.0;
+    let kept = transient.iter().take_while(|p| p.0 <= end).count().max(2);
+    transient[..kept.min(transient.len())].to_vec()
 }
 
 /// App. C: forward and backward frequencies of the self-interacting axial pair against the
@@ -1174,4 +1189,27 @@ pub fn write_fit(dir: &Path, r: &crate::fit::FitReport) -> Result<Vec<PathBuf>, 
         .iter()
         .map(|(name, svg)| write_svg(dir, name, svg))
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::settled;
+
+    #[test]
+    fn a_transient_is_cut_a_third_past_its_settling_time() {
+        // Q(t) = 1 − e^{−t}cos t settles within 1 % at t ≈ ln 100 ≈ 4.6, sampled to t = 100.
+        let transient: Vec<(f64, f64)> = (0..=10_000)
+            .map(|i| {
+                let t = i as f64 / 100.0;
+                (t, 1.0 - (-t).exp() * t.cos())
+            })
+            .collect();
+        let kept = settled(&transient, 1.0);
+        let end = kept.last().unwrap().0;
+        assert!(end > 4.0 * 4.0 / 3.0 && end < 4.7 * 4.0 / 3.0, "{end}");
+        assert_eq!(kept[0], transient[0]);
+        // One that never leaves its equilibrium keeps two points; one that never settles, all.
+        assert_eq!(settled(&[(0.0, 1.0), (1.0, 1.0), (2.0, 1.0)], 1.0).len(), 2);
+        assert_eq!(settled(&transient, 5.0).len(), transient.len());
+    }
 }

@@ -346,6 +346,29 @@ pub struct DensitySpec {
     pub interaction: Vec<String>,
     /// For each field id, the rule codes its terms must satisfy.
     pub requirements: BTreeMap<String, Vec<String>>,
+    /// Which admitted terms compete for "lowest order" (default: all together, as the paper).
+    #[serde(default, skip_serializing_if = "Dominance::is_joint")]
+    pub dominance: Dominance,
+}
+
+/// Which admitted terms compete when the lowest-order ones are kept.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Dominance {
+    /// Every admitted term against every other (the paper): a term survives when no admitted
+    /// term has τ′ ≤ τ and σ′ ≤ σ with one strict.
+    #[default]
+    Joint,
+    /// The kinetic terms (with a time derivative) and the potential terms (without) each among
+    /// themselves. Needed by a body without translation symmetry, whose potential φ, φ², φ³ …
+    /// has τ = σ = 0 and would otherwise outrank the kinetic term (∂t φ)² and leave no dynamics.
+    ByPart,
+}
+
+impl Dominance {
+    fn is_joint(&self) -> bool {
+        *self == Dominance::Joint
+    }
 }
 
 /// A model: fields and, per density, their requirements.

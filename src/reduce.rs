@@ -12,7 +12,7 @@ use num_rational::Rational64;
 use num_traits::{One, Signed};
 
 use crate::enumerate::{candidates, count_products, Basis, Bounds, MAX_CANDIDATES, MAX_ORDER};
-use crate::model::{Density, Field, Model};
+use crate::model::{Density, Dominance, Field, Model};
 use crate::rules::{PreparedRule, Rule, Verdict};
 use crate::term::{Orders, Term};
 
@@ -187,7 +187,8 @@ pub struct FieldResult {
     pub field: Field,
     /// Admitted terms, canonical order.
     pub admitted: Vec<Term>,
-    /// Survivors (the Pareto front in (τ, σ)), canonical order.
+    /// Survivors (the Pareto front in (τ, σ)), canonical order (by part, kinetic first, under
+    /// [`Dominance::ByPart`]).
     pub survivors: Vec<Term>,
     /// The surviving density with its coefficients.
     pub density: Vec<DensityTerm>,
@@ -312,7 +313,7 @@ pub fn analyse_basis(
             .filter(|r| r.admitted[i])
             .map(|r| r.term.clone())
             .collect();
-        let survivors = lowest_order(&admitted);
+        let survivors = survivors(&admitted, model.density(density).dominance, density);
         let missing = missing_parts(model, density, order, basis, i, &survivors);
         fields.push(FieldResult {
             field: field.clone(),
@@ -334,6 +335,22 @@ pub fn analyse_basis(
         rows,
         fields,
     })
+}
+
+/// The lowest-order terms of `admitted`: all competing together (canonical order), or each part
+/// of the density among its own kind ([`Dominance::ByPart`]; kinetic terms first, each part in
+/// canonical order).
+fn survivors(admitted: &[Term], dominance: Dominance, density: Density) -> Vec<Term> {
+    match dominance {
+        Dominance::Joint => lowest_order(admitted),
+        Dominance::ByPart => parts(density)
+            .into_iter()
+            .flat_map(|(_, is_part)| {
+                let part: Vec<Term> = admitted.iter().filter(|t| is_part(t)).cloned().collect();
+                lowest_order(&part)
+            })
+            .collect(),
+    }
 }
 
 /// A test on a term.

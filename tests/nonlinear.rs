@@ -262,31 +262,7 @@ fn every_requirement_subset_with_a_kinetic_term_has_equations() {
                 if matches!(linear, Err(EquationError::NotQuadratic { .. })) {
                     nonlinear += 1;
                 }
-                // Each field's equation is the oracle's variation of its own Lagrangian.
-                for (i, e) in eqs.iter().enumerate() {
-                    let terms = polynomial(&l.fields[i].density);
-                    // Per parameter (set to 1 one at a time): the Lagrangian's part of the
-                    // right-hand side is E(L − ½(∂tφ)²), the kinetic part giving −∂t²φ.
-                    let params: std::collections::BTreeSet<String> =
-                        e.rhs.iter().map(|t| t.coefficient.clone()).collect();
-                    for p in params.iter().filter(|p| !p.contains('\'')) {
-                        let own: Vec<_> = l.fields[i]
-                            .density
-                            .iter()
-                            .zip(&terms)
-                            .filter(|(dt, _)| dt.parameter.as_deref() == Some(p.as_str()))
-                            .map(|(_, t)| t.clone())
-                            .collect();
-                        let rhs: Vec<_> = e
-                            .rhs
-                            .iter()
-                            .filter(|t| &t.coefficient == p)
-                            .map(|t| (t.monomial.clone(), q(*t.value.numer(), *t.value.denom())))
-                            .collect();
-                        assert!(variation_matches(&own, &rhs), "{keep:?} {}: {p}", e.text());
-                        checked += 1;
-                    }
-                }
+                checked += checked_by_oracle(&l, &eqs, &format!("{keep:?}"));
             }
             Err(EquationError::NoKinetic { .. }) => {
                 assert!(!has_kinetic, "{keep:?}: a kinetic term survives");
@@ -298,6 +274,84 @@ fn every_requirement_subset_with_a_kinetic_term_has_equations() {
         derived >= 8 && nonlinear >= 1 && checked >= 10,
         "{derived} {nonlinear} {checked}"
     );
+}
+
+/// Each field's equation against the oracle's variation of its own Lagrangian `l`, one
+/// parameter at a time; how many (field, parameter) pairs were checked.
+fn checked_by_oracle(
+    l: &theory_search::reduce::Analysis,
+    eqs: &[theory_search::equations::NonlinearEquation],
+    what: &str,
+) -> usize {
+    let mut checked = 0;
+    for (i, e) in eqs.iter().enumerate() {
+        let terms = polynomial(&l.fields[i].density);
+        // Per parameter (set to 1 one at a time): the Lagrangian's part of the
+        // right-hand side is E(L − ½(∂tφ)²), the kinetic part giving −∂t²φ.
+        let params: std::collections::BTreeSet<String> =
+            e.rhs.iter().map(|t| t.coefficient.clone()).collect();
+        for p in params.iter().filter(|p| !p.contains('\'')) {
+            let own: Vec<_> = l.fields[i]
+                .density
+                .iter()
+                .zip(&terms)
+                .filter(|(dt, _)| dt.parameter.as_deref() == Some(p.as_str()))
+                .map(|(_, t)| t.clone())
+                .collect();
+            let rhs: Vec<_> = e
+                .rhs
+                .iter()
+                .filter(|t| &t.coefficient == p)
+                .map(|t| (t.monomial.clone(), q(*t.value.numer(), *t.value.denom())))
+                .collect();
+            assert!(variation_matches(&own, &rhs), "{what} {}: {p}", e.text());
+            checked += 1;
+        }
+    }
+    checked
+}
+
+/// The shipped tethered filament has neither TRAN nor REF: its potential c₁u + … + c₄u⁴ keeps
+/// the kinetic term only because kinetic and potential terms each keep their own lowest order
+/// (`dominance = "by-part"`), and its cubic term reaches the equation as −(3/2)c₃u².
+#[test]
+fn the_tethered_model_has_its_cubic_term_in_its_equation() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/models/tethered.toml");
+    let model = Model::from_toml(&std::fs::read_to_string(path).unwrap()).unwrap();
+    assert_eq!(
+        model.density(Density::Lagrangian).dominance,
+        theory_search::model::Dominance::ByPart
+    );
+    let l = analyse_basis(&model, Density::Lagrangian, 4, Basis::Powers).unwrap();
+    let survivors: Vec<String> = l.fields[0]
+        .survivors
+        .iter()
+        .map(|t| t.to_string())
+        .collect();
+    assert_eq!(survivors, ["(∂t φ)²", "φ", "φ²", "φ³", "φ⁴"]);
+    assert!(matches!(
+        derive_basis(&model, 4, Basis::Powers),
+        Err(EquationError::NotQuadratic { .. })
+    ));
+    let (eqs, _) = derive_nonlinear(&model, 4, Basis::Powers).unwrap();
+    let cubic = eqs[0]
+        .rhs
+        .iter()
+        .find(|t| t.coefficient == "c3_u")
+        .expect("the cubic term's force");
+    assert_eq!(cubic.value, num_rational::Rational64::new(-3, 2));
+    assert_eq!(
+        cubic.monomial,
+        vec![(theory_search::term::Deriv::new(0, 0), 2)]
+    );
+    assert_eq!(checked_by_oracle(&l, &eqs, "tethered"), 4);
+    // Under the paper's joint dominance the constant-order potential outranks (∂t u)².
+    let mut joint = model.clone();
+    joint.lagrangian.dominance = theory_search::model::Dominance::Joint;
+    assert!(matches!(
+        derive_nonlinear(&joint, 4, Basis::Powers),
+        Err(EquationError::NoKinetic { .. })
+    ));
 }
 
 #[test]
