@@ -212,8 +212,79 @@ fn color(i: usize) -> RGBColor {
     COLORS[i % COLORS.len()]
 }
 
-/// Draw one panel: axes with labels, its series and a legend.
-fn draw(area: &Area, p: &Panel) -> Result<(), FigureError> {
+/// Curves drawn at sub-pixel precision: plotters' SVG backend rounds every coordinate to a whole
+/// pixel (jagged shallow curves), so lines are written as SVG polylines with float coordinates
+/// by the figure itself, at the place in the drawing order a zero-size marker of a unique
+/// colour holds for them (under the legend, over the grid).
+struct Curves {
+    /// The marker's colour, `#0102xx`.
+    marker: RGBColor,
+    /// The `<polyline>` elements.
+    svg: String,
+}
+
+impl Curves {
+    fn new(id: usize) -> Curves {
+        Curves {
+            marker: RGBColor(1, 2, (id % 250) as u8 + 3),
+            svg: String::new(),
+        }
+    }
+
+    /// One polyline of data `points` through the chart's linear map to pixels.
+    fn add(
+        &mut self,
+        points: &[(f64, f64)],
+        pixels: &(std::ops::Range<i32>, std::ops::Range<i32>),
+        ranges: (&std::ops::Range<f64>, &std::ops::Range<f64>),
+        (color, dashed): (RGBColor, bool),
+    ) {
+        use std::fmt::Write as _;
+        // plotters' own map: x from the first to the last pixel column, y from the bottom row up.
+        let (x0, x1) = (pixels.0.start as f64, (pixels.0.end - 1) as f64);
+        let (y0, y1) = ((pixels.1.end - 1) as f64, pixels.1.start as f64);
+        let (xr, yr) = ranges;
+        let dash = if dashed {
+            " stroke-dasharray=\"6 4\""
+        } else {
+            ""
+        };
+        let RGBColor(r, g, b) = color;
+        let _ = write!(
+            self.svg,
+            "<polyline fill=\"none\" stroke=\"#{r:02X}{g:02X}{b:02X}\" stroke-width=\"2\"{dash} points=\""
+        );
+        for &(x, y) in points {
+            let px = x0 + (x1 - x0) * (x - xr.start) / (xr.end - xr.start);
+            let py = y0 + (y1 - y0) * (y - yr.start) / (yr.end - yr.start);
+            if px.is_finite() && py.is_finite() {
+                let _ = write!(self.svg, "{px:.2},{py:.2} ");
+            }
+        }
+        self.svg.push_str("\"/>\n");
+    }
+
+    /// Put the curves where the marker is in `svg` (the marker goes).
+    fn splice(&self, svg: &mut String) {
+        let RGBColor(r, g, b) = self.marker;
+        let tag = format!("fill=\"#{r:02X}{g:02X}{b:02X}\"");
+        if let Some(at) = svg.find(&tag) {
+            let start = svg[..at].rfind('<').unwrap_or(at);
+            let end = svg[at..].find("/>").map_or(at, |e| at + e + 2);
+            let end = if svg[end..].starts_with('\n') {
+                end + 1
+            } else {
+                end
+            };
+            svg.replace_range(start..end, &self.svg);
+        }
+    }
+}
+
+/// Draw one panel: axes with labels, its series and a legend; its line series come back as
+/// [`Curves`] to splice into the SVG.
+fn draw(area: &Area, p: &Panel, id: usize) -> Result<Curves, FigureError> {
+    let mut curves = Curves::new(id);
     let xs = p.series.iter().flat_map(|s| {
         s.points.iter().flat_map(move |q| match s.mark {
             Mark::Bars(w) => vec![q.0, q.0 + w],
@@ -267,19 +338,17 @@ fn draw(area: &Area, p: &Panel) -> Result<(), FigureError> {
                 }
             }
         };
+        let pixels = chart.plotting_area().get_pixel_range();
         let drawn =
             match s.mark {
-                Mark::Line => chart
-                    .draw_series(LineSeries::new(s.points.clone(), c.stroke_width(2)))
-                    .map_err(err)?,
-                Mark::Dashed => chart
-                    .draw_series(DashedLineSeries::new(
-                        s.points.clone(),
-                        6,
-                        4,
-                        c.stroke_width(2),
-                    ))
-                    .map_err(err)?,
+                Mark::Line | Mark::Dashed => {
+                    let dashed = matches!(s.mark, Mark::Dashed);
+                    curves.add(&s.points, &pixels, (&xr, &yr), (c, dashed));
+                    // Nothing drawn by plotters: the series only takes its legend entry.
+                    chart
+                        .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
+                        .map_err(err)?
+                }
                 Mark::Dots => chart
                     .draw_series(s.points.iter().map(|&q| Circle::new(q, 3, c.filled())))
                     .map_err(err)?,
@@ -303,6 +372,13 @@ fn draw(area: &Area, p: &Panel) -> Result<(), FigureError> {
             .label(label.as_str())
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLUE.mix(0.6)));
     }
+    // The curves' place: after the grid and markers, before the legend.
+    chart
+        .draw_series(std::iter::once(Rectangle::new(
+            [(xr.start, yr.start), (xr.start, yr.start)],
+            curves.marker.filled(),
+        )))
+        .map_err(err)?;
     if p.series.iter().any(|s| !s.name.is_empty()) || !p.markers.is_empty() {
         chart
             .configure_series_labels()
@@ -313,7 +389,7 @@ fn draw(area: &Area, p: &Panel) -> Result<(), FigureError> {
             .draw()
             .map_err(err)?;
     }
-    Ok(())
+    Ok(curves)
 }
 
 /// Render panels in a grid of `rows × cols` under a title, returning the SVG text.
@@ -324,14 +400,18 @@ fn render(
     panels: &[Panel],
 ) -> Result<String, FigureError> {
     let mut svg = String::new();
+    let mut curves = Vec::new();
     {
         let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
         root.fill(&WHITE).map_err(err)?;
         let root = root.titled(title, ("sans-serif", 20)).map_err(err)?;
-        for (area, p) in root.split_evenly(grid).iter().zip(panels) {
-            draw(area, p)?;
+        for (id, (area, p)) in root.split_evenly(grid).iter().zip(panels).enumerate() {
+            curves.push(draw(area, p, id)?);
         }
         root.present().map_err(err)?;
+    }
+    for c in &curves {
+        c.splice(&mut svg);
     }
     Ok(svg)
 }
@@ -894,6 +974,7 @@ fn mathieu() -> Result<String, FigureError> {
     let (lo, hi) = (0.5, 4.5);
     let chart_points = behaviour::stability_chart(1.0, (lo, hi), emax, (nx, ny)).map_err(bh)?;
     let mut svg = String::new();
+    let mut curves = Curves::new(0);
     {
         let root = SVGBackend::with_string(&mut svg, (800, 520)).into_drawing_area();
         root.fill(&WHITE).map_err(err)?;
@@ -931,27 +1012,35 @@ fn mathieu() -> Result<String, FigureError> {
                     RGBColor(214, 39, 40).mix(0.5).filled(),
                 )
             });
+        let pixels = chart.plotting_area().get_pixel_range();
         for (sign, name) in [(-1.0, "2√(1 − ε)"), (1.0, "2√(1 + ε)")] {
+            let edge: Vec<(f64, f64)> = curve(0.0, emax, 100, |e| e)
+                .into_iter()
+                .map(|(e, _)| (2.0 * (1.0 + sign * e).sqrt(), e))
+                .collect();
+            curves.add(&edge, &pixels, (&(lo..hi), &(0.0..emax)), (BLACK, false));
             chart
-                .draw_series(LineSeries::new(
-                    curve(0.0, emax, 100, |e| e)
-                        .into_iter()
-                        .map(|(e, _)| (2.0 * (1.0 + sign * e).sqrt(), e)),
-                    BLACK.stroke_width(2),
-                ))
+                .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
                 .map_err(err)?
                 .label(format!("first tongue edge {name}"))
                 .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLACK));
         }
         chart
+            .draw_series(std::iter::once(Rectangle::new(
+                [(lo, 0.0), (lo, 0.0)],
+                curves.marker.filled(),
+            )))
+            .map_err(err)?;
+        chart
             .configure_series_labels()
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK.mix(0.4))
-            .position(SeriesLabelPosition::UpperLeft)
+            .position(SeriesLabelPosition::UpperRight)
             .draw()
             .map_err(err)?;
         root.present().map_err(err)?;
     }
+    curves.splice(&mut svg);
     Ok(svg)
 }
 
