@@ -140,3 +140,63 @@ fn the_examples_in_docs_print_what_they_show() {
     assert!(checked >= 10, "{checked} examples");
     assert!(stale.is_empty(), "{}", stale.join("\n"));
 }
+
+/// Every command written inline in running text (`` `theory-search rules` ``, `` `cargo run
+/// --release -- --order 4` ``) runs; a synopsis with placeholders (`[--order N]`, `…`, `FILE`)
+/// names a subcommand whose `--help` runs. Output directories go to a scratch place.
+#[test]
+fn every_inline_command_in_the_readme_and_docs_runs() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = std::env::temp_dir().join(format!("ts-inline-{}", std::process::id()));
+    let mut texts = vec![(root.join("README.md"), readme())];
+    for entry in std::fs::read_dir(root.join("docs")).unwrap() {
+        let path = entry.unwrap().path();
+        texts.push((path.clone(), std::fs::read_to_string(&path).unwrap()));
+    }
+    let mut ran = 0;
+    for (path, text) in &texts {
+        for (i, piece) in text.split('`').enumerate() {
+            // Odd pieces are inside backticks.
+            let Some(rest) = (i % 2 == 1)
+                .then(|| {
+                    piece
+                        .strip_prefix("theory-search ")
+                        .or_else(|| piece.strip_prefix("cargo run --release -- "))
+                })
+                .flatten()
+            else {
+                continue;
+            };
+            let words: Vec<&str> = rest.split_whitespace().collect();
+            let placeholder = |w: &&str| {
+                w.contains(['[', '…']) || (w.len() > 1 && w.chars().all(|c| c.is_ascii_uppercase()))
+            };
+            let mut args: Vec<String> = match words.iter().position(|w| placeholder(&w)) {
+                Some(first) => {
+                    let mut a: Vec<String> = words[..first]
+                        .iter()
+                        .take_while(|w| !w.starts_with('-'))
+                        .map(|w| w.to_string())
+                        .collect();
+                    a.push("--help".into());
+                    a
+                }
+                None => words.iter().map(|w| w.to_string()).collect(),
+            };
+            // `emit` without --out would write into this checkout.
+            if args.first().map(String::as_str) == Some("emit") && !args.contains(&"--help".into())
+            {
+                args.extend(["--out".into(), dir.join("emit").display().to_string()]);
+            }
+            let mut all = vec!["theory-search".to_string()];
+            all.extend(args);
+            let mut out = Vec::new();
+            if let Err(e) = theory_search::cli::run(all.clone(), &mut out) {
+                panic!("{}: `{piece}` ({all:?}): {e}", path.display());
+            }
+            ran += 1;
+        }
+    }
+    std::fs::remove_dir_all(&dir).ok();
+    assert!(ran >= 10, "{ran} inline commands");
+}
