@@ -171,7 +171,7 @@ fn every_inline_command_in_the_readme_and_docs_runs() {
             let placeholder = |w: &&str| {
                 w.contains(['[', '…']) || (w.len() > 1 && w.chars().all(|c| c.is_ascii_uppercase()))
             };
-            let mut args: Vec<String> = match words.iter().position(|w| placeholder(w)) {
+            let mut args: Vec<String> = match words.iter().position(placeholder) {
                 Some(first) => {
                     let mut a: Vec<String> = words[..first]
                         .iter()
