@@ -19,7 +19,7 @@ use crate::table::{render, Format};
 
 const OPERATORS_TEMPLATE: &str = include_str!("../templates/operators.rs.tera");
 
-/// The order of the checked-in tables (the seed's Table 1).
+/// The order of the checked-in tables (the paper's Table 1).
 pub const TABLE_ORDER: u32 = crate::model::DEFAULT_ORDER;
 
 /// The header every generated file starts with, in the comment syntax `comment` opens.

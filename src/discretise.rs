@@ -17,7 +17,7 @@
 //!   about the pin; cantilever: none).
 //!
 //! For the larva: `D2,c` (x, periodic, k = 1), `D2,f` (θ, free, k = 1), `D4` (y, z, free, k = 2),
-//! equal to the seed's Eq. 3–5.
+//! equal to the paper's Eq. 3–5.
 
 use serde::Serialize;
 
@@ -101,12 +101,12 @@ pub fn boundary_name(b: Boundary) -> String {
     b.name()
 }
 
-/// The seed's name for an operator of stencil order `k` with this boundary, if it has one.
+/// The paper's name for an operator of stencil order `k` with this boundary, if it has one.
 pub fn seed_name(k: u32, boundary: Boundary) -> Option<&'static str> {
     match (k, boundary) {
-        (1, Boundary::Periodic) => Some("D2,c, seed Eq. 3"),
-        (1, Boundary::FREE) => Some("D2,f, seed Eq. 4"),
-        (2, Boundary::FREE) => Some("D4, seed Eq. 5"),
+        (1, Boundary::Periodic) => Some("D2,c, paper Eq. 3"),
+        (1, Boundary::FREE) => Some("D2,f, paper Eq. 4"),
+        (2, Boundary::FREE) => Some("D4, paper Eq. 5"),
         _ => None,
     }
 }
@@ -190,7 +190,7 @@ pub struct Operator {
     pub boundary: String,
     /// Stencil order k (space derivatives).
     pub k: u32,
-    /// The seed's name for the operator, if it has one.
+    /// The paper's name for the operator, if it has one.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub seed_name: Option<&'static str>,
     /// Number of unknowns.

@@ -1,4 +1,4 @@
-//! Time evolution of the dissipative Hamilton's equations (seed Eq. 6) in modal coordinates.
+//! Time evolution of the dissipative Hamilton's equations (paper Eq. 6) in modal coordinates.
 //!
 //! With `q = Σ Qᵢ vᵢ` over the unit-norm modes of a field, every mode is a damped oscillator
 //! `Q̈ᵢ + 2γᵢQ̇ᵢ + ωᵢ²Qᵢ = Fᵢ(t) + ξᵢ(t)`, `ωᵢ = ω√λᵢ`, `γᵢ = ζᵢωᵢ = ζωλᵢ`. Nothing is integrated
@@ -14,7 +14,7 @@
 //!   `Σ∞ − e^{Ah}Σ∞e^{Aᵀh}`, `Σ∞ = diag(kT/ωᵢ², kT)`. Zero modes feel no friction, hence no noise.
 //!   The random stream is ChaCha8 from `seed`: the same seed gives the same run.
 //!
-//! The energy reported is `H = Σ ½(Pᵢ² + ωᵢ²Qᵢ²)`, the seed's Eq. 1 in modal coordinates.
+//! The energy reported is `H = Σ ½(Pᵢ² + ωᵢ²Qᵢ²)`, the paper's Eq. 1 in modal coordinates.
 
 use nalgebra::{Matrix2, Vector2};
 use rand::SeedableRng;

@@ -1,6 +1,6 @@
 //! Candidate terms under explicit bounds on their orders.
 //!
-//! The seed's Table 1 holds every pure power `(∂tᵃ∂sᵇφ)ⁿ` with δ ≤ 4, ε ≤ 4 and τ+σ ≤ 4
+//! The paper's Table 1 holds every pure power `(∂tᵃ∂sᵇφ)ⁿ` with δ ≤ 4, ε ≤ 4 and τ+σ ≤ 4
 //! (27 terms). `--order N` gives each density its [`Bounds`] from the model's [`BoundShape`];
 //! the candidates come out in canonical [`Term`] order, each once.
 
@@ -95,7 +95,7 @@ pub fn pure_powers(bounds: &Bounds) -> Vec<Term> {
 /// Which candidate terms to enumerate.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum Basis {
-    /// Pure powers of one derivative, `(∂tᵃ∂sᵇφ)ⁿ`: the seed's Table 1.
+    /// Pure powers of one derivative, `(∂tᵃ∂sᵇφ)ⁿ`: the paper's Table 1.
     #[default]
     Powers,
     /// Every product of derivative factors of the field, e.g. `∂t φ·∂s φ`, `φ·∂ss φ`.

@@ -283,7 +283,7 @@ fn analyses(
     Ok((l, r, notes))
 }
 
-/// `∂t∂s² x`: a derivative as the seed writes it in equations.
+/// `∂t∂s² x`: a derivative as the paper writes it in equations.
 pub fn derivative_text(d: Deriv, symbol: &str) -> String {
     let part = |c: &str, k: u32| match k {
         0 => String::new(),

@@ -9,7 +9,7 @@
 //! The table lists the lowest-order candidates (the Pareto front in (τ, σ)) among those that
 //! the symmetries all the fields share allow, each with every verdict. Of the admitted ones, the
 //! lowest are *kept* only if no free-field survivor of a participating field dominates them: at
-//! long wavelengths a dominated coupling is negligible (the seed's argument for a free theory).
+//! long wavelengths a dominated coupling is negligible (the paper's argument for a free theory).
 
 use crate::enumerate::{interaction_monomials, Bounds};
 use crate::model::{Density, Model};

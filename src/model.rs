@@ -2,7 +2,7 @@
 //! requirements each field imposes on each density. All of it is data (TOML), so another animal
 //! or another set of symmetries is another file, not other code.
 //!
-//! The embedded default is the Drosophila larva of the seed ([`Model::larva`]), read from
+//! The embedded default is the Drosophila larva of the paper ([`Model::larva`]), read from
 //! `tables/models/larva.toml`.
 
 use std::collections::BTreeMap;
@@ -326,7 +326,7 @@ impl fmt::Display for Density {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum BoundShape {
-    /// δ ≤ N, ε ≤ N, τ+σ ≤ N (the seed's Table 1).
+    /// δ ≤ N, ε ≤ N, τ+σ ≤ N (the paper's Table 1).
     TauPlusSigma,
     /// δ ≤ N, ε ≤ N, τ ≤ N, σ ≤ N.
     TauAndSigma,
@@ -405,7 +405,7 @@ pub enum ModelError {
 
 const LARVA: &str = include_str!("../tables/models/larva.toml");
 
-/// The default order of the expansion: the seed's Table 1 (N = 4).
+/// The default order of the expansion: the paper's Table 1 (N = 4).
 pub const DEFAULT_ORDER: u32 = 4;
 
 impl Model {

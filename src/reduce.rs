@@ -3,7 +3,7 @@
 //! A field *admits* a term that passes all the rules the model requires of that field. Of the
 //! admitted terms it keeps those on the Pareto front in (τ, σ): no other admitted term has
 //! τ′ ≤ τ and σ′ ≤ σ with one of them strict. These survivors dominate at long length and time
-//! scales. The survivors become a density with free coefficients, written the seed's way:
+//! scales. The survivors become a density with free coefficients, written the paper's way:
 //! `L_x = ½(∂t x)² − ½ c_x (∂s x)²`, `R_x = c'_x (∂ts x)²`.
 
 use std::fmt;

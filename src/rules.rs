@@ -690,7 +690,7 @@ fn standard_kinetic(term: &Term) -> Result<(), Failure> {
 fn dissipative(term: &Term) -> Result<(), Failure> {
     // R is a function of the velocity field v = ∂tφ and its space derivatives: every factor
     // carries exactly one time derivative. (For pure powers: "a first time derivative and no
-    // higher one", as in the seed; for products it also rules out ∂sφ·∂tsφ = ∂t(½(∂sφ)²),
+    // higher one", as in the paper; for products it also rules out ∂sφ·∂tsφ = ∂t(½(∂sφ)²),
     // which would act as a stiffness, not as damping.)
     match term.max_time_order() {
         0 => Err(Failure::new(

@@ -1,9 +1,9 @@
-//! Render analyses as the seed's Table 1 and its Rayleigh twin: aligned Unicode text, Markdown,
+//! Render analyses as the paper's Table 1 and its Rayleigh twin: aligned Unicode text, Markdown,
 //! CSV, JSON (the contract other tools read) and a LaTeX `tabular`.
 //!
 //! Every cell comes from an [`Analysis`]; nothing here decides anything. A mark `x` means the term
 //! satisfies the requirement (rule columns) or survives in that field's density (field columns),
-//! as in the seed.
+//! as in the paper.
 
 use std::io::{self, Write};
 
@@ -116,7 +116,7 @@ fn title(a: &Analysis) -> String {
 }
 
 fn requirement_line(model: &Model, a: &Analysis) -> String {
-    // Group fields with the same requirements, as the seed does ("x, θ: …; y, z: …").
+    // Group fields with the same requirements, as the paper does ("x, θ: …; y, z: …").
     let mut groups: Vec<(Vec<String>, Vec<&str>)> = Vec::new();
     for f in &model.fields {
         let codes: Vec<&str> = model

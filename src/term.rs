@@ -2,7 +2,7 @@
 //!
 //! A [`Term`] is `∏ᵢ (∂tᵃⁱ∂sᵇⁱ φ_{fᵢ})^{nᵢ}`. It is kept canonical (factors merged, sorted, powers ≥ 1),
 //! so two terms are equal exactly when they are the same monomial. Its four orders follow from
-//! rescaling φ → a·φ, t → t·t₀, s → s·s₀ (seed Eq. 36–37):
+//! rescaling φ → a·φ, t → t·t₀, s → s·s₀ (paper Eq. 36–37):
 //!
 //! * δ, the derivative order: the highest `a + b` of any factor;
 //! * ε, the amplitude order: `Σ n`;
@@ -76,7 +76,7 @@ impl PartialOrd for Factor {
     }
 }
 
-/// The four orders of a term (seed Appendix A).
+/// The four orders of a term (paper Appendix A).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Orders {
     /// δ: highest derivative order of any factor.
@@ -591,7 +591,7 @@ mod tests {
 
     #[test]
     fn orders_follow_the_seed_example() {
-        // Seed Eq. 36–37: (∂⁵x/∂t²∂s³)² has ε = 2, τ = 4, σ = 6.
+        // paper Eq. 36–37: (∂⁵x/∂t²∂s³)² has ε = 2, τ = 4, σ = 6.
         let o = Term::power(2, 3, 2).orders();
         assert_eq!((o.delta, o.epsilon, o.tau, o.sigma), (5, 2, 4, 6));
     }

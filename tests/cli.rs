@@ -142,10 +142,10 @@ fn equations_command_prints_every_format() {
 fn operators_command_prints_the_seeds_operators() {
     let (code, out, err) = run(&["operators", "--points", "12"]);
     assert_eq!(code, 0, "{err}");
-    assert!(out.contains("x · lagrangian · (∂s x)² · periodic boundary · 11×11 · D = Σ (Δ¹x)² = D2,c, seed Eq. 3"), "{out}");
-    assert!(out.contains("= D2,f, seed Eq. 4"));
+    assert!(out.contains("x · lagrangian · (∂s x)² · periodic boundary · 11×11 · D = Σ (Δ¹x)² = D2,c, paper Eq. 3"), "{out}");
+    assert!(out.contains("= D2,f, paper Eq. 4"));
     assert!(out.contains(
-        "y · lagrangian · (∂ss y)² · free boundary · 12×12 · D = Σ (Δ²y)² = D4, seed Eq. 5"
+        "y · lagrangian · (∂ss y)² · free boundary · 12×12 · D = Σ (Δ²y)² = D4, paper Eq. 5"
     ));
     assert!(out.contains("  -2  5 -4  1  0  0  0  0  0  0  0  0\n"));
 

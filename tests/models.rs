@@ -55,7 +55,7 @@ fn the_worm_has_a_free_axial_field() {
         (x.field.as_str(), x.boundary.as_str(), x.size),
         ("x", "free", 12)
     );
-    assert_eq!(x.seed_name, Some("D2,f, seed Eq. 4"));
+    assert_eq!(x.seed_name, Some("D2,f, paper Eq. 4"));
     let modes = field_modes(&worm, 4, 12, &Params::default(), None, false).unwrap();
     // Free ends: no cos/sin pairs any more.
     assert!(modes[0].degenerate_pairs.is_empty());

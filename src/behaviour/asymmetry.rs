@@ -1,6 +1,6 @@
 //! Forward/backward asymmetry (App. C): a degenerate axial pair with the cubic dissipative
 //! self-interaction `Ẍᵢ + ω²Xᵢ = c·φ̇·Xᵢ`, `φ̇ = X₁Ẋ₂ − X₂Ẋ₁`. The travelling wave
-//! `X₁ = A cos ω_s t, X₂ = A sin ω_s t` has `φ̇ = A²ω_s`, hence `ω_s² + cA²ω_s − ω² = 0`. The seed
+//! `X₁ = A cos ω_s t, X₂ = A sin ω_s t` has `φ̇ = A²ω_s`, hence `ω_s² + cA²ω_s − ω² = 0`. The paper
 //! prints `cAω_s` (Eq. 94–96), which agrees only at A = 1; we solve the correct equation and
 //! confirm both roots by integrating the nonlinear pair (RK4) and measuring the phase advance.
 

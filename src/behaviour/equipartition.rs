@@ -1,4 +1,4 @@
-//! Equipartition from dynamics (seed App. B): a Langevin run's principal components beside the
+//! Equipartition from dynamics (paper App. B): a Langevin run's principal components beside the
 //! modes of one field.
 
 use super::{positive, principal_components, role_fields, BehaviourError};
@@ -28,7 +28,7 @@ pub struct EquipartitionCheck {
 pub const EQUIPARTITION_BUDGET: f64 = 2e10;
 
 /// Run the Langevin dynamics of the theory at temperature `kt` and compare the PCA of the
-/// postures of field `index` (the lateral field by default) with its modes (seed App. B:
+/// postures of field `index` (the lateral field by default) with its modes (paper App. B:
 /// equipartition from dynamics). Only that field is simulated: the others do not couple.
 pub fn equipartition_from_dynamics(
     theory: &Theory,

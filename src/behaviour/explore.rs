@@ -1,11 +1,11 @@
-//! Unbiased exploration (seed §3.3.4): planar postures with Gaussian modal coordinates, the
+//! Unbiased exploration (paper §3.3.4): planar postures with Gaussian modal coordinates, the
 //! 3-point bend distribution and β refitted from the sampled variances.
 
 use super::{positive, role_fields, BehaviourError};
 use crate::report::{check_finite, csv_numbers, number, to_json, NonFinite, Report};
 use crate::theory::Theory;
 
-/// Unbiased exploration (seed §3.3.4): planar postures with Gaussian modal coordinates.
+/// Unbiased exploration (paper §3.3.4): planar postures with Gaussian modal coordinates.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct Exploration {
     /// Points along the body.

@@ -1,4 +1,4 @@
-//! Behaviour models of the seed built on the modes, one file each:
+//! Behaviour models of the paper built on the modes, one file each:
 //!
 //! * [`asymmetry`]: forward/backward waves of the self-interacting axial pair (App. C);
 //! * [`mathieu`]: axial–transverse parametric resonance, the Floquet chart (App. D);

@@ -1,4 +1,4 @@
-//! Peristalsis and rolling (seed App. I): the minimum-energy orbit of a degenerate pair at
+//! Peristalsis and rolling (paper App. I): the minimum-energy orbit of a degenerate pair at
 //! fixed momentum M, run undamped with the exact propagators.
 
 use super::{finite, positive, role_fields, BehaviourError, PhaseUnwrap};

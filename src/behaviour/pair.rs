@@ -1,11 +1,11 @@
-//! Statistical mechanics of a degenerate pair at fixed momentum (seed §3.3.3–3.3.4, App. J):
+//! Statistical mechanics of a degenerate pair at fixed momentum (paper §3.3.3–3.3.4, App. J):
 //! partition function, free energy, amplitudes, and a Metropolis sampler to check them.
 
 use super::{finite, positive, BehaviourError};
 use crate::report::{check_finite, csv_numbers, number, to_json, NonFinite, Report};
 
 /// Statistics of a degenerate pair at inverse temperature β with conserved momentum M
-/// (seed §3.3.3–3.3.4, App. J). Phase-space density ∝ exp(−β[p_A² + M²/A² + ω²A²]/2) on
+/// (paper §3.3.3–3.3.4, App. J). Phase-space density ∝ exp(−β[p_A² + M²/A² + ω²A²]/2) on
 /// A > 0, φ ∈ [0, 2π), p_A ∈ ℝ.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct PairStatistics {

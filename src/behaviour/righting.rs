@@ -1,11 +1,11 @@
-//! Self-righting (seed §3.3.1, App. H): the two-stage model of Fig. 3.
+//! Self-righting (paper §3.3.1, App. H): the two-stage model of Fig. 3.
 //!
 //! The torsion field θ (the model's `torsion` role, free ends) starts inverted and at rest: every segment at
 //! θ₀ (π by default), which is the zero mode alone. Arc length runs from the tail (point 0) to
 //! the head (point N − 1).
 //! 1. **Twist.** A constant generalised force Q = −ω₁²θ₀/a on the first torsional mode, with
 //!    a = v₁(head), moves that mode's equilibrium to Θ₁* = −θ₀/a, where the head is upright. The
-//!    head obeys the seed's Eq. 20, θ̈_h + 2ζ₁ω₁θ̇_h + ω₁²θ_h = 0. No force acts on the zero mode,
+//!    head obeys the paper's Eq. 20, θ̈_h + 2ζ₁ω₁θ̇_h + ω₁²θ_h = 0. No force acts on the zero mode,
 //!    so the mean rotation stays θ₀: the head and tail twist in opposite directions.
 //! 2. **Attach and release.** When |θ_h| ≤ δ the mouth hooks hold the head where it is and the
 //!    force is released. As in App. H only two degrees of freedom move: Θ₁ relaxes passively
@@ -18,7 +18,7 @@
 //! (E never grows without a force). Invariants: `alignment_times` is indexed tail to head, the
 //! head's entry is the attachment time, and `righting_time` is their maximum.
 //!
-//! The seed says righting is fastest at critical damping ζ₁ = 1. What holds exactly is that the
+//! The paper says righting is fastest at critical damping ζ₁ = 1. What holds exactly is that the
 //! slowest decay rate of the first mode, ζ₁ω₁ (ζ₁ ≤ 1) or ω₁(ζ₁ − √(ζ₁² − 1)) (ζ₁ ≥ 1), peaks at
 //! ζ₁ = 1, and that among responses without overshoot (ζ₁ ≥ 1) critical damping is fastest. At a
 //! finite tolerance a slightly underdamped mode rights sooner, by ringing through δ, as in the
@@ -50,8 +50,8 @@ pub struct RightingSettings {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Attachment {
-    /// The seed's App. H: the free first mode relaxes, the overall rotation keeps the head put.
-    Seed,
+    /// The paper's App. H: the free first mode relaxes, the overall rotation keeps the head put.
+    Paper,
     /// The whole chain with the head held fixed (D2,f without the head's row and column).
     Pinned,
 }
@@ -64,7 +64,7 @@ impl Default for RightingSettings {
             mode_damping: Some(1.0),
             max_periods: 1e4,
             frames_per_stage: 200,
-            attachment: Attachment::Seed,
+            attachment: Attachment::Paper,
         }
     }
 }
@@ -203,7 +203,7 @@ pub fn self_righting(
     // Stage 2: the head is held, the torque released, and the body relaxes as a sum of damped
     // modes, each carried by the exact propagator.
     let relax = match settings.attachment {
-        Attachment::Seed => {
+        Attachment::Paper => {
             let shape: Vec<f64> = v1.iter().map(|v| v - a).collect();
             let q: f64 = v1.iter().zip(&at_attach).map(|(v, th)| v * th).sum();
             let p: f64 = v1.iter().zip(&rates).map(|(v, w)| v * w).sum();

@@ -1,4 +1,4 @@
-//! Rearing and hunching (seed §3.3.2): a constant generalised force on the first non-zero mode
+//! Rearing and hunching (paper §3.3.2): a constant generalised force on the first non-zero mode
 //! of one field, from rest, beside the analytic step response.
 
 use super::{finite, positive, BehaviourError};

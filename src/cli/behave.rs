@@ -37,9 +37,9 @@ pub struct Args {
     /// Initial orientation of the body in radians (self-righting; π is upside down).
     #[arg(long, default_value_t = std::f64::consts::PI, allow_hyphen_values = true)]
     theta0: f64,
-    /// Relaxation after attachment (self-righting): the seed's two-degree-of-freedom model,
+    /// Relaxation after attachment (self-righting): the paper's two-degree-of-freedom model,
     /// or the whole chain with the head held.
-    #[arg(long, value_enum, default_value_t = AttachmentKind::Seed)]
+    #[arg(long, value_enum, default_value_t = AttachmentKind::Paper)]
     attachment: AttachmentKind,
     /// Also run these first-mode damping ratios and tabulate their righting times.
     #[arg(long, value_delimiter = ',', value_name = "ZETA,…")]
@@ -70,7 +70,10 @@ enum BehaveKind {
 /// Relaxation models of `behave self-righting`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 enum AttachmentKind {
-    Seed,
+    /// The paper's model (App. H); `seed` is its old name.
+    #[value(alias = "seed")]
+    Paper,
+    /// The whole chain with the head held.
     Pinned,
 }
 
@@ -107,7 +110,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
                 tolerance: args.tolerance,
                 mode_damping: args.mode_damping.or((!explicit).then_some(1.0)),
                 attachment: match args.attachment {
-                    AttachmentKind::Seed => Attachment::Seed,
+                    AttachmentKind::Paper => Attachment::Paper,
                     AttachmentKind::Pinned => Attachment::Pinned,
                 },
                 ..Default::default()

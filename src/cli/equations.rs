@@ -14,7 +14,7 @@ use crate::report::Report;
 pub struct Args {
     #[command(flatten)]
     model: ModelArgs,
-    /// Candidate terms: pure powers (the seed's) or every monomial.
+    /// Candidate terms: pure powers (the paper's) or every monomial.
     #[arg(long, value_enum, default_value_t = Basis::Powers)]
     basis: Basis,
     /// Output format.

@@ -34,7 +34,7 @@ mod table;
 
 /// Derive the physics of a soft slender body from symmetry alone.
 ///
-/// With no subcommand, prints the candidate-term tables (the seed's Table 1 and its Rayleigh
+/// With no subcommand, prints the candidate-term tables (the paper's Table 1 and its Rayleigh
 /// twin) and the surviving densities of the embedded Drosophila larva model. Every command
 /// that depends on the body takes `--model FILE` (another body) and `--order N`.
 #[derive(Debug, Parser)]
@@ -68,22 +68,22 @@ enum Command {
     /// Reduce each field's admitted monomials modulo total derivatives: the independent terms
     /// and the relations used.
     Parts(parts::Args),
-    /// Forward/backward wave frequencies of the self-interacting axial pair (seed App. C).
+    /// Forward/backward wave frequencies of the self-interacting axial pair (paper App. C).
     Asymmetry(asymmetry::Args),
-    /// Floquet stability chart of the Mathieu equation Φ̈ + λ²[1 − 2ε cos ωt]Φ = 0 (seed App. D).
+    /// Floquet stability chart of the Mathieu equation Φ̈ + λ²[1 − 2ε cos ωt]Φ = 0 (paper App. D).
     Mathieu(mathieu::Args),
-    /// Peristalsis or rolling (the minimum-energy orbit of a degenerate pair, seed App. I),
+    /// Peristalsis or rolling (the minimum-energy orbit of a degenerate pair, paper App. I),
     /// rearing or hunching (a constant force on the first dorsoventral or axial mode, §3.3.2), or
     /// self-righting (twist, mouth-hook attachment, release and relaxation, §3.3.1, App. H).
     Behave(behave::Args),
-    /// Statistical mechanics of the modes (seed App. J).
+    /// Statistical mechanics of the modes (paper App. J).
     Stats(stats::Args),
     /// Write the SVG figures (mode shapes, spectrum, self-righting, rearing and hunching,
     /// asymmetry, equipartition, peristalsis, rolling, free energy, 3-point bend, Mathieu
     /// chart) of a body into a directory.
     Figures(figures::Args),
     /// Fit the theory to tracked midlines or segment lengths: modal projection, PCA, spectra,
-    /// ω and β (seed §2.4, Fig. 2).
+    /// ω and β (paper §2.4, Fig. 2).
     Fit(fit::Args),
     /// Count the candidate terms of each density at every order up to a maximum.
     Count(count::Args),

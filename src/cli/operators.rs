@@ -12,7 +12,7 @@ pub const MAX_PRINT_POINTS: usize = 2000;
 /// Arguments of `operators`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Number of points along the body (the seed uses 12). Dense matrices are printed up to
+    /// Number of points along the body (the paper uses 12). Dense matrices are printed up to
     /// 2000 points.
     #[arg(long, short, value_name = "N",
           value_parser = clap::value_parser!(u64).range(1..=MAX_PRINT_POINTS as u64))]

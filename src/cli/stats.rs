@@ -29,7 +29,7 @@ enum StatsCommand {
         #[arg(long, value_enum, default_value_t = Output::Text)]
         format: Output,
     },
-    /// Langevin run, PCA of one field's postures, and the modes beside it (seed App. B).
+    /// Langevin run, PCA of one field's postures, and the modes beside it (paper App. B).
     Equipartition {
         /// The field (id); default: the model's lateral field.
         #[arg(long)]

@@ -13,7 +13,7 @@ use crate::table::{write, Format};
 pub struct Args {
     #[command(flatten)]
     model: ModelArgs,
-    /// Candidate terms: pure powers (the seed's Table 1) or every monomial (products of factors).
+    /// Candidate terms: pure powers (the paper's Table 1) or every monomial (products of factors).
     #[arg(long, value_enum, default_value_t = Basis::Powers)]
     basis: Basis,
     /// Which density to print.

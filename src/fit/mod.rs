@@ -1,4 +1,4 @@
-//! Fit the theory to tracked data (seed §2.3.4–2.4, Fig. 2): modal projection, PCA, spectra,
+//! Fit the theory to tracked data (paper §2.3.4–2.4, Fig. 2): modal projection, PCA, spectra,
 //! and the frequency and temperature scales.
 //!
 //! **Input.** One frame per line, numbers separated by commas or white space; blank lines, `#`
@@ -32,7 +32,7 @@
 //!   S·x: periodic for D2,c (N = K + 1 points, head and tail one point), or of a free chain of
 //!   K + 1 points for a model whose axial field has free ends.
 //!
-//! Angles and strains drop translation and rotation (the zero modes), as the seed does. The modal
+//! Angles and strains drop translation and rotation (the zero modes), as the paper does. The modal
 //! coordinates are the least-squares solution of S·q = o: Qᵢ = (S vᵢ)·o / λᵢ for each non-zero
 //! mode when the observations cover the body, because the S vᵢ are orthogonal with
 //! |S vᵢ|² = λᵢ.
@@ -50,7 +50,7 @@
 //! i and mode shape j. In the plain Euclidean angle space, equipartition gives an *isotropic*
 //! covariance S D⁺ Sᵀ/β ∝ I, so principal components there are undetermined at equilibrium. The
 //! plain angle-space shares are reported beside it (`angle_pca_variance_share`) for comparison
-//! with the seed's eigenmaggots.
+//! with the paper's eigenmaggots.
 //!
 //! **Spectra and fits.** Welch's method: Hann window of W frames, half overlap, each segment
 //! mean-removed, one-sided density. For each mode it reports the peak (parabolic interpolation
@@ -172,7 +172,7 @@ pub struct FitSettings {
     /// Fix ω instead of fitting it.
     pub omega: Option<f64>,
     /// Lengths only: the segments around the whole body when only the first K were measured
-    /// (the seed's seven abdominal segments); `None` when the K segments close the ring.
+    /// (the paper's seven abdominal segments); `None` when the K segments close the ring.
     pub ring: Option<usize>,
     /// Gaps of at most this many lost frames are bridged linearly; longer ones split the runs.
     pub fill_gaps: usize,

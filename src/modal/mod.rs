@@ -916,7 +916,7 @@ pub fn continuum_beta(k: u32, boundary: Boundary, i: usize) -> Option<f64> {
     }
 }
 
-/// The seed's Eq. 17 approximation of D4's i-th non-zero eigenvalue (i = 1, 2, …):
+/// The paper's Eq. 17 approximation of D4's i-th non-zero eigenvalue (i = 1, 2, …):
 /// 16 sin⁴(πi/(2(N−1))).
 pub fn seed_eq17(i: usize, points: usize) -> f64 {
     16.0 * (PI * i as f64 / (2.0 * (points as f64 - 1.0)))
@@ -1104,7 +1104,7 @@ pub struct Mode {
     pub zero_mode: Option<String>,
 }
 
-/// A beam's i-th non-zero eigenvalue beside its continuum limit (and, free–free, the seed's
+/// A beam's i-th non-zero eigenvalue beside its continuum limit (and, free–free, the paper's
 /// Eq. 17).
 #[derive(Debug, Clone)]
 pub struct BeamComparison {
@@ -1112,7 +1112,7 @@ pub struct BeamComparison {
     pub index: usize,
     /// The numerical eigenvalue.
     pub eigenvalue: f64,
-    /// 16 sin⁴(πi/(2(N−1))): the seed's Eq. 17, for the free–free beam only.
+    /// 16 sin⁴(πi/(2(N−1))): the paper's Eq. 17, for the free–free beam only.
     pub seed_eq17: Option<f64>,
     /// (βᵢL)⁴/(N−1)⁴.
     pub continuum: f64,

@@ -215,8 +215,8 @@ fn text_notes(f: &FieldModes, eq17: bool, with_beam: bool, out: &mut Chunked) ->
     if eq17 {
         // Eq. 17's limit (iπ)⁴ against the beam's (β₁L)⁴, for the first mode.
         let gap = 100.0 * ((std::f64::consts::PI / super::beam_beta(1)).powi(4) - 1.0);
-        out.say(format_args!("  Eq. 17 is the seed's 16 sin⁴(πi/(2(N−1))); the beam limit is (βᵢL)⁴/(N−1)⁴ with cos βL cosh βL = 1."));
-        out.say(format_args!("{}", format!("  As N grows the numerics converge to the beam limit; Eq. 17 tends to (iπ)⁴/(N−1)⁴ and stays off\n  ({gap:+.1} % for the first mode): the seed's claim that it becomes exact is false.").replace('-', "−")));
+        out.say(format_args!("  Eq. 17 is the paper's 16 sin⁴(πi/(2(N−1))); the beam limit is (βᵢL)⁴/(N−1)⁴ with cos βL cosh βL = 1."));
+        out.say(format_args!("{}", format!("  As N grows the numerics converge to the beam limit; Eq. 17 tends to (iπ)⁴/(N−1)⁴ and stays off\n  ({gap:+.1} % for the first mode): the paper's claim that it becomes exact is false.").replace('-', "−")));
     } else if with_beam {
         out.say(format_args!(
             "  The beam limit is (βᵢL)⁴/(N−1)⁴ of the continuous Euler–Bernoulli beam with these ends ({}).",
