@@ -167,12 +167,27 @@ fn tick(v: f64) -> String {
     text.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
-/// The corner of the plot holding the fewest data points (a third of each axis), for the legend.
-fn emptiest_corner(
+/// Where the legend goes, and the y range that leaves room for it: the corner whose legend-sized
+/// box holds the fewest data points; when every corner holds some, the y axis grows upward by
+/// the legend's height so it sits above the data (upper right). `plot` is the plotting area's
+/// size in pixels.
+fn legend_place(
     p: &Panel,
+    plot: (f64, f64),
     xr: &std::ops::Range<f64>,
     yr: &std::ops::Range<f64>,
-) -> SeriesLabelPosition {
+) -> (SeriesLabelPosition, std::ops::Range<f64>) {
+    let labels: Vec<&str> = p
+        .series
+        .iter()
+        .map(|s| s.name.as_str())
+        .chain(p.markers.iter().map(|m| m.1.as_str()))
+        .filter(|n| !n.is_empty())
+        .collect();
+    let chars = labels.iter().map(|l| l.chars().count()).max().unwrap_or(0);
+    // plotters' legend: 11 px text rows about 15 px apart, a 16 px swatch, padding.
+    let fw = ((chars as f64 * 6.5 + 50.0) / plot.0).min(0.9);
+    let fh = ((labels.len() as f64 * 15.0 + 14.0) / plot.1).min(0.6);
     let (w, h) = (xr.end - xr.start, yr.end - yr.start);
     let count = |right: bool, upper: bool| {
         p.series
@@ -181,12 +196,12 @@ fn emptiest_corner(
             .filter(|&&(x, y)| {
                 let fx = (x - xr.start) / w;
                 let fy = (y - yr.start) / h;
-                (if right { fx > 0.6 } else { fx < 0.4 })
-                    && (if upper { fy > 0.55 } else { fy < 0.45 })
+                (if right { fx > 1.0 - fw } else { fx < fw })
+                    && (if upper { fy > 1.0 - fh } else { fy < fh })
             })
             .count()
     };
-    [
+    let (pos, n) = [
         (SeriesLabelPosition::UpperRight, count(true, true)),
         (SeriesLabelPosition::UpperLeft, count(false, true)),
         (SeriesLabelPosition::LowerRight, count(true, false)),
@@ -194,8 +209,13 @@ fn emptiest_corner(
     ]
     .into_iter()
     .min_by_key(|(_, n)| *n)
-    .map(|(pos, _)| pos)
-    .unwrap_or(SeriesLabelPosition::UpperRight)
+    .unwrap_or((SeriesLabelPosition::UpperRight, 0));
+    if n == 0 || labels.is_empty() {
+        return (pos, yr.clone());
+    }
+    // Headroom: the data keep the lower 1 − fh of the axis.
+    let top = yr.start + h / (1.0 - fh);
+    (SeriesLabelPosition::UpperRight, yr.start..top)
 }
 
 fn color(i: usize) -> RGBColor {
@@ -297,6 +317,13 @@ fn draw(area: &Area, p: &Panel, id: usize) -> Result<Curves, FigureError> {
         p.series.iter().flat_map(|s| s.points.iter().map(|q| q.1)),
         p.zero || bars,
     );
+    // The plotting area: the panel less the label areas, caption and margins below.
+    let (pw, ph) = area.dim_in_pixel();
+    let plot = (
+        (pw as f64 - 56.0 - 16.0).max(50.0),
+        (ph as f64 - 36.0 - 16.0 - 30.0).max(50.0),
+    );
+    let (legend_at, yr) = legend_place(p, plot, &xr, &yr);
     let mut chart = ChartBuilder::on(area)
         .caption(p.title, ("sans-serif", 16))
         .margin(8)
@@ -385,7 +412,7 @@ fn draw(area: &Area, p: &Panel, id: usize) -> Result<Curves, FigureError> {
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK.mix(0.4))
             .label_font(("sans-serif", 11))
-            .position(emptiest_corner(p, &xr, &yr))
+            .position(legend_at)
             .draw()
             .map_err(err)?;
     }
