@@ -463,3 +463,30 @@ fn the_command_falls_back_to_the_exact_equations() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The modal commands need a linear equation: on the tethered filament they refuse in one line
+/// with a usage exit code, naming the term they cannot discretise.
+#[test]
+fn modal_commands_refuse_the_tethered_model_cleanly() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/models/tethered.toml");
+    for command in [
+        &["modes", "-p", "12"][..],
+        &["simulate", "-p", "8", "--steps", "3"],
+        &["behave", "rearing"],
+    ] {
+        let model = ["--model", path];
+        let args: Vec<String> = ["theory-search"]
+            .iter()
+            .chain(command)
+            .chain(&model)
+            .map(|s| s.to_string())
+            .collect();
+        let err = theory_search::cli::run(args, &mut Vec::new()).unwrap_err();
+        assert_eq!(err.exit_code(), 2, "{command:?}: {err}");
+        let text = err.to_string();
+        assert!(
+            text.contains("cannot discretise φ") && !text.contains('\n'),
+            "{text}"
+        );
+    }
+}
