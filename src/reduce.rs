@@ -384,9 +384,18 @@ fn missing_parts(
         }
         // Look for the first order at which the field admits such a term at all.
         // Pure powers are few at every order; monomials grow too fast to look far ahead.
+        // The look-ahead stays within the candidate budget (order 8 looking at order 12 would
+        // decide 13 million Rayleigh products).
+        let within = |k: u32| {
+            let bounds = Bounds::for_order(model.density(density).bound, k);
+            count_products(&bounds, 1) <= MAX_CANDIDATES
+        };
         let horizon = match basis {
             Basis::Powers => MAX_ORDER,
-            Basis::Monomials => (order + MONOMIAL_LOOK_AHEAD).min(MAX_ORDER),
+            Basis::Monomials => (order + 1..=(order + MONOMIAL_LOOK_AHEAD).min(MAX_ORDER))
+                .take_while(|&k| within(k))
+                .last()
+                .unwrap_or(order),
         };
         let first = (order + 1..=horizon).find_map(|k| {
             let bounds = Bounds::for_order(model.density(density).bound, k);
@@ -410,6 +419,9 @@ fn missing_parts(
             Some((k, term)) => format!(
                 "{letter}_{symbol}: no {part} term survives at order {order}; the first admitted one, {}, needs --order {k}",
                 term.render(&|_| symbol.clone())
+            ),
+            None if basis == Basis::Monomials => format!(
+                "{letter}_{symbol}: no {part} term is admitted at any order up to {horizon} (monomials are searched at most {MONOMIAL_LOOK_AHEAD} orders ahead, within the {MAX_CANDIDATES}-candidate limit)"
             ),
             None => format!(
                 "{letter}_{symbol}: no {part} term is admitted at any order up to {horizon}"
