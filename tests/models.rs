@@ -125,7 +125,7 @@ u = ["DIS"]
         .unwrap();
     assert_eq!(
         a.fields[0].missing,
-        ["L_u: no potential term is admitted at any order up to 7"]
+        ["L_u: no potential term is admitted at any order up to 7 (monomials are searched at most 4 orders ahead, within the 1000000-candidate limit)"]
     );
     let a = analyse(&never, Density::Lagrangian, 3).unwrap();
     assert_eq!(
