@@ -177,25 +177,15 @@ pub fn interaction_monomials(bounds: &Bounds, k: u8) -> Vec<Term> {
 /// canonical order without a comparison sort: the walk yields each (δ, ε) class already in
 /// factor-lexicographic order, and a stable bucketing by (δ, ε) puts the classes in order.
 fn products(bounds: &Bounds, fields: &[u8]) -> Vec<Term> {
-    let d = bounds.delta;
-    let mut kinds: Vec<Factor> = iproduct!(fields.iter().copied(), 0..=d, 0..=d)
-        .filter(|&(_, a, b)| a + b <= d)
-        .map(|(field, a, b)| Factor {
-            field,
-            deriv: Deriv::new(a, b),
-            power: 1,
-        })
-        .collect();
-    // Factor order with the power fixed: the order a canonical term lists its factors in.
-    kinds.sort();
     let mut found = Vec::new();
-    let zero = Orders {
-        delta: 0,
-        epsilon: 0,
-        tau: 0,
-        sigma: 0,
-    };
-    walk(&kinds, 0, &mut Vec::new(), zero, bounds, &mut found);
+    walk(
+        &kinds(bounds, fields),
+        0,
+        &mut Vec::new(),
+        ZERO,
+        bounds,
+        &mut |o, prefix| found.push((*o, Term::from_canonical(prefix.to_vec()))),
+    );
     // Stable counting sort by (δ, ε).
     let width = bounds.epsilon as usize + 1;
     let key = |o: &Orders| o.delta as usize * width + o.epsilon as usize;
@@ -215,22 +205,114 @@ fn products(bounds: &Bounds, fields: &[u8]) -> Vec<Term> {
     slots.into_iter().flatten().collect()
 }
 
+const ZERO: Orders = Orders {
+    delta: 0,
+    epsilon: 0,
+    tau: 0,
+    sigma: 0,
+};
+
+/// The factor kinds of a walk, in the order a canonical term lists its factors (by field, then
+/// derivative order), with where each one's field ends.
+struct Kinds {
+    list: Vec<Factor>,
+    /// The index of the first kind of the next field.
+    next_field: Vec<usize>,
+}
+
+/// The factor kinds of `fields` within `bounds`.
+fn kinds(bounds: &Bounds, fields: &[u8]) -> Kinds {
+    let d = bounds.delta;
+    let mut list: Vec<Factor> = iproduct!(fields.iter().copied(), 0..=d, 0..=d)
+        .filter(|&(_, a, b)| a + b <= d)
+        .map(|(field, a, b)| Factor {
+            field,
+            deriv: Deriv::new(a, b),
+            power: 1,
+        })
+        .collect();
+    list.sort();
+    let next_field = (0..list.len())
+        .map(|j| {
+            (j..list.len())
+                .find(|&k| list[k].field != list[j].field)
+                .unwrap_or(list.len())
+        })
+        .collect();
+    Kinds { list, next_field }
+}
+
+/// The single-field products of [`monomials`], in the same canonical order, handed to `f` one at
+/// a time: for tables too large to hold as terms. They are kept compactly while the walk runs
+/// (4 bytes a factor, bucketed by (δ, ε)), then built and handed out bucket by bucket.
+pub fn for_each_monomial(bounds: &Bounds, f: &mut dyn FnMut(Term)) {
+    let width = bounds.epsilon as usize + 1;
+    let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); (bounds.delta as usize + 1) * width];
+    walk(
+        &kinds(bounds, &[0]),
+        0,
+        &mut Vec::new(),
+        ZERO,
+        bounds,
+        &mut |o, prefix| {
+            let bucket = &mut buckets[o.delta as usize * width + o.epsilon as usize];
+            bucket.push(prefix.len() as u32);
+            // Orders are at most MAX_ORDER = 32, so each part fits a byte.
+            bucket.extend(
+                prefix
+                    .iter()
+                    .map(|p| p.deriv.t << 16 | p.deriv.s << 8 | p.power),
+            );
+        },
+    );
+    for bucket in buckets {
+        let mut rest = bucket.as_slice();
+        while let Some((&n, tail)) = rest.split_first() {
+            let (packed, next) = tail.split_at(n as usize);
+            let factors = packed
+                .iter()
+                .map(|&p| Factor {
+                    field: 0,
+                    deriv: Deriv::new(p >> 16, p >> 8 & 0xff),
+                    power: p & 0xff,
+                })
+                .collect();
+            f(Term::from_canonical(factors));
+            rest = next;
+        }
+    }
+}
+
 /// Depth-first in factor-lexicographic order: a prefix comes before its extensions, and the
 /// extensions by kind j and power n follow in (j, n) order, which is exactly how canonical
 /// terms compare factor by factor. Prunes as soon as a product is out of bounds (every order
 /// only grows as factors are added).
 fn walk(
-    kinds: &[Factor],
+    kinds: &Kinds,
     from: usize,
     prefix: &mut Vec<Factor>,
     orders: Orders,
     bounds: &Bounds,
-    out: &mut Vec<(Orders, Term)>,
+    emit: &mut dyn FnMut(&Orders, &[Factor]),
 ) {
     if !prefix.is_empty() {
-        out.push((orders, Term::from_canonical(prefix.clone())));
+        emit(&orders, prefix);
     }
-    for (j, kind) in kinds.iter().enumerate().skip(from) {
+    if orders.epsilon >= bounds.epsilon {
+        // No factor fits any more: the many leaves at full power end here.
+        return;
+    }
+    // The highest derivative order one more factor may have within the τ, σ budgets.
+    let left = |bound: Option<u32>, used: u32| bound.map_or(u32::MAX, |b| b.saturating_sub(used));
+    let room = left(bounds.tau_plus_sigma, orders.tau + orders.sigma)
+        .min(left(bounds.tau, orders.tau).saturating_add(left(bounds.sigma, orders.sigma)));
+    let mut j = from;
+    while let Some(kind) = kinds.list.get(j) {
+        if kind.deriv.order() > room {
+            // A field's kinds go up in order: none of this field's later kinds fits either.
+            j = kinds.next_field[j];
+            continue;
+        }
         let (a, b) = (kind.deriv.t, kind.deriv.s);
         for n in 1.. {
             let o = Orders {
@@ -243,9 +325,10 @@ fn walk(
                 break;
             }
             prefix.push(Factor { power: n, ..*kind });
-            walk(kinds, j + 1, prefix, o, bounds, out);
+            walk(kinds, j + 1, prefix, o, bounds, emit);
             prefix.pop();
         }
+        j += 1;
     }
 }
 
@@ -315,6 +398,18 @@ impl crate::report::Report for CountReport {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn streamed_monomials_are_the_monomials_in_order() {
+        for shape in [BoundShape::TauPlusSigma, BoundShape::TauAndSigma] {
+            for order in 1..=6 {
+                let bounds = Bounds::for_order(shape, order);
+                let mut streamed = Vec::new();
+                for_each_monomial(&bounds, &mut |t| streamed.push(t));
+                assert_eq!(streamed, monomials(&bounds), "{shape:?} {order}");
+            }
+        }
+    }
 
     #[test]
     fn table_one_has_27_rows() {

@@ -132,12 +132,24 @@ pub fn check_work(
     order: u32,
     basis: Basis,
 ) -> Result<(), OrderError> {
+    check_work_within(model, densities, order, basis, MAX_CANDIDATES)
+}
+
+/// [`check_work`] with another candidate limit (a streamed table's, [`MAX_STREAMED`]).
+pub fn check_work_within(
+    model: &Model,
+    densities: &[Density],
+    order: u32,
+    basis: Basis,
+    limit: u128,
+) -> Result<(), OrderError> {
     if order == 0 || order > MAX_ORDER {
         return Err(OrderError::OutOfRange(order));
     }
     if basis == Basis::Monomials {
         for &d in densities {
-            check_candidates(order, &Bounds::for_order(model.density(d).bound, order), 1)?;
+            let bounds = Bounds::for_order(model.density(d).bound, order);
+            check_candidates_within(order, &bounds, 1, limit)?;
         }
     }
     Ok(())
@@ -145,8 +157,17 @@ pub fn check_work(
 
 /// Refuse an enumeration of more than [`MAX_CANDIDATES`] products of `fields` fields.
 pub fn check_candidates(order: u32, bounds: &Bounds, fields: u32) -> Result<(), OrderError> {
+    check_candidates_within(order, bounds, fields, MAX_CANDIDATES)
+}
+
+fn check_candidates_within(
+    order: u32,
+    bounds: &Bounds,
+    fields: u32,
+    limit: u128,
+) -> Result<(), OrderError> {
     let count = count_products(bounds, fields);
-    if count > MAX_CANDIDATES {
+    if count > limit {
         return Err(OrderError::TooManyCandidates {
             what: if fields == 1 {
                 "monomials".into()
@@ -161,7 +182,7 @@ pub fn check_candidates(order: u32, bounds: &Bounds, fields: u32) -> Result<(), 
             },
             order,
             count,
-            limit: MAX_CANDIDATES,
+            limit,
         });
     }
     Ok(())
@@ -209,8 +230,11 @@ pub struct Analysis {
     pub basis: Basis,
     /// The rules shown as columns.
     pub columns: Vec<&'static Rule>,
-    /// Every candidate, canonical order.
+    /// Every candidate, canonical order; empty for a streamed analysis ([`analyse_streamed`]),
+    /// whose rows [`for_each_row`] decides again as they are written.
     pub rows: Vec<Row>,
+    /// How many candidates (`rows.len()` when they are held).
+    pub candidates: usize,
     /// One result per field, model order.
     pub fields: Vec<FieldResult>,
 }
@@ -255,40 +279,60 @@ pub fn lowest_order(terms: &[Term]) -> Vec<Term> {
         .collect()
 }
 
-/// Candidates, verdicts and admission per field, without reduction. Each rule is prepared once
-/// for the order (its images of the factor kinds), then decided on every candidate.
+/// The rules of a density prepared once for an order (their images of the factor kinds), with
+/// each field's requirements as a mask over the columns: what deciding a candidate needs.
+struct Decider {
+    columns: Vec<&'static Rule>,
+    prepared: Vec<PreparedRule>,
+    masks: Vec<u64>,
+}
+
+impl Decider {
+    fn new(model: &Model, density: Density, bounds: &Bounds) -> Decider {
+        let columns = model.columns(density);
+        let prepared = columns.iter().map(|r| r.prepare(bounds.delta)).collect();
+        let masks = model
+            .fields
+            .iter()
+            .map(|f| {
+                let req = model.requirements(density, &f.id);
+                Marks::from_iter(columns.iter().map(|c| req.iter().any(|r| r.code == c.code))).bits
+            })
+            .collect();
+        Decider {
+            columns,
+            prepared,
+            masks,
+        }
+    }
+
+    /// The row of `term`: its verdicts and which fields admit it.
+    fn row(&self, term: Term) -> Row {
+        let passed = Marks::from_iter(self.prepared.iter().map(|r| r.passes(&term)));
+        let admitted = Marks::from_iter(self.masks.iter().map(|&m| passed.bits & m == m));
+        Row {
+            orders: term.orders(),
+            term,
+            passed,
+            admitted,
+            included: Marks::default(),
+        }
+    }
+}
+
+/// Candidates, verdicts and admission per field, without reduction.
 fn decide(
     model: &Model,
     density: Density,
     bounds: &Bounds,
     basis: Basis,
 ) -> (Vec<&'static Rule>, Vec<Row>) {
-    let columns = model.columns(density);
-    let prepared: Vec<PreparedRule> = columns.iter().map(|r| r.prepare(bounds.delta)).collect();
-    // Each field's requirements as a mask over the columns.
-    let masks: Vec<u64> = model
-        .fields
-        .iter()
-        .map(|f| {
-            let req = model.requirements(density, &f.id);
-            Marks::from_iter(columns.iter().map(|c| req.iter().any(|r| r.code == c.code))).bits
-        })
-        .collect();
+    let decider = Decider::new(model, density, bounds);
     let rows = candidates(basis, bounds)
         .into_iter()
-        .map(|term| {
-            let passed = Marks::from_iter(prepared.iter().map(|r| r.passes(&term)));
-            let admitted = Marks::from_iter(masks.iter().map(|&m| passed.bits & m == m));
-            Row {
-                orders: term.orders(),
-                term,
-                passed,
-                admitted,
-                included: Marks::default(),
-            }
-        })
+        .map(|term| decider.row(term))
         .collect();
-    (columns, rows)
+    (decider.columns, rows)
 }
 
 /// Enumerate, decide and reduce `density` of `model` at `order`, on pure powers (Table 1).
@@ -306,25 +350,19 @@ pub fn analyse_basis(
     check_work(model, &[density], order, basis)?;
     let bounds = Bounds::for_order(model.density(density).bound, order);
     let (columns, mut rows) = decide(model, density, &bounds, basis);
-    let mut fields = Vec::new();
-    for (i, field) in model.fields.iter().enumerate() {
-        let admitted: Vec<Term> = rows
-            .iter()
-            .filter(|r| r.admitted[i])
-            .map(|r| r.term.clone())
-            .collect();
-        let survivors = survivors(&admitted, model.density(density).dominance, density);
-        let missing = missing_parts(model, density, order, basis, i, &survivors);
-        fields.push(FieldResult {
-            field: field.clone(),
-            density: coefficients(density, field, &survivors),
-            admitted,
-            survivors,
-            missing,
-        });
-    }
+    let admitted = (0..model.fields.len())
+        .map(|i| {
+            rows.iter()
+                .filter(|r| r.admitted[i])
+                .map(|r| r.term.clone())
+                .collect()
+        })
+        .collect();
+    let fields = field_results(model, density, order, basis, admitted);
     for row in &mut rows {
-        row.included = Marks::from_iter(fields.iter().map(|f| f.survivors.contains(&row.term)));
+        row.included = Marks::from_iter(
+            (0..fields.len()).map(|i| row.admitted[i] && fields[i].survivors.contains(&row.term)),
+        );
     }
     Ok(Analysis {
         density,
@@ -332,9 +370,107 @@ pub fn analyse_basis(
         bounds,
         basis,
         columns,
+        candidates: rows.len(),
         rows,
         fields,
     })
+}
+
+/// Each field's survivors, density and missing parts from the terms it admits.
+fn field_results(
+    model: &Model,
+    density: Density,
+    order: u32,
+    basis: Basis,
+    admitted: Vec<Vec<Term>>,
+) -> Vec<FieldResult> {
+    model
+        .fields
+        .iter()
+        .zip(admitted)
+        .enumerate()
+        .map(|(i, (field, admitted))| {
+            let survivors = survivors(&admitted, model.density(density).dominance, density);
+            let missing = missing_parts(model, density, order, basis, i, &survivors);
+            FieldResult {
+                field: field.clone(),
+                density: coefficients(density, field, &survivors),
+                admitted,
+                survivors,
+                missing,
+            }
+        })
+        .collect()
+}
+
+/// The most monomials a streamed table decides and writes (text or CSV, about ten seconds);
+/// held analyses stop at [`MAX_CANDIDATES`].
+pub const MAX_STREAMED: u128 = 20_000_000;
+
+/// The single-field monomial analysis of `density` at `order` without holding its rows: every
+/// candidate is decided once to find what each field admits (only those are kept), and decided
+/// again by [`for_each_row`] as the table is written. For tables past [`MAX_CANDIDATES`].
+pub fn analyse_streamed(
+    model: &Model,
+    density: Density,
+    order: u32,
+) -> Result<Analysis, OrderError> {
+    check_work_within(model, &[density], order, Basis::Monomials, MAX_STREAMED)?;
+    let bounds = Bounds::for_order(model.density(density).bound, order);
+    let decider = Decider::new(model, density, &bounds);
+    let mut admitted: Vec<Vec<Term>> = vec![Vec::new(); model.fields.len()];
+    let mut candidates = 0;
+    crate::enumerate::for_each_monomial(&bounds, &mut |term| {
+        candidates += 1;
+        let row = decider.row(term);
+        for (i, list) in admitted.iter_mut().enumerate() {
+            if row.admitted[i] {
+                list.push(row.term.clone());
+            }
+        }
+    });
+    let fields = field_results(model, density, order, Basis::Monomials, admitted);
+    Ok(Analysis {
+        density,
+        order,
+        bounds,
+        basis: Basis::Monomials,
+        columns: decider.columns,
+        rows: Vec::new(),
+        candidates,
+        fields,
+    })
+}
+
+/// Every row of `analysis` in canonical order, to `f`: the held rows, or for a streamed analysis
+/// each candidate enumerated and decided again (with its survivor marks). After an error from
+/// `f` the rest are skipped.
+pub fn for_each_row(
+    model: &Model,
+    analysis: &Analysis,
+    f: &mut dyn FnMut(&Row) -> std::io::Result<()>,
+) -> std::io::Result<()> {
+    if analysis.rows.len() == analysis.candidates {
+        return analysis.rows.iter().try_for_each(f);
+    }
+    let decider = Decider::new(model, analysis.density, &analysis.bounds);
+    let survivors: Vec<std::collections::HashSet<&Term>> = analysis
+        .fields
+        .iter()
+        .map(|f| f.survivors.iter().collect())
+        .collect();
+    let mut result = Ok(());
+    crate::enumerate::for_each_monomial(&analysis.bounds, &mut |term| {
+        if result.is_ok() {
+            let mut row = decider.row(term);
+            // Only an admitted term can survive: most rows need no lookup.
+            row.included = Marks::from_iter(
+                (0..survivors.len()).map(|i| row.admitted[i] && survivors[i].contains(&row.term)),
+            );
+            result = f(&row);
+        }
+    });
+    result
 }
 
 /// The lowest-order terms of `admitted`: all competing together (canonical order), or each part

@@ -13,7 +13,8 @@ use serde_json::Value;
 use crate::report::{Aligned, Chunked};
 
 use crate::model::{Density, Model};
-use crate::reduce::{prefactor_text, sign_joiner, Analysis, FieldResult};
+use crate::reduce::{for_each_row, prefactor_text, sign_joiner, Analysis, FieldResult, Row};
+use crate::term::Term;
 
 /// An output format of the table command.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -40,66 +41,73 @@ fn mark(b: bool) -> &'static str {
     }
 }
 
-/// One density's table as cells: the header, and each row's cells into a reused vector (a term's
-/// text once, numbers from a small table, marks static; no string per cell, as the monomial
-/// tables have 10⁵ rows).
+/// One density's table as cells, row by row through [`for_each_row`] (held rows, or a streamed
+/// analysis decided again): the header, numbers from a small table, marks static, each term
+/// rendered by `term` into one reused string. No string per cell: the monomial tables run to
+/// 10⁷ rows.
 struct Cells<'a> {
-    header: Vec<String>,
-    terms: Vec<String>,
-    numbers: Vec<String>,
+    model: &'a Model,
     analysis: &'a Analysis,
+    header: Vec<String>,
+    numbers: Vec<String>,
+    term: fn(&Term, &mut String),
 }
 
 impl<'a> Cells<'a> {
-    fn new(model: &Model, a: &'a Analysis, term: impl Fn(&crate::term::Term) -> String) -> Self {
+    fn new(model: &'a Model, a: &'a Analysis, term: fn(&Term, &mut String)) -> Self {
         let mut header: Vec<String> = ["term", "δ", "ε", "τ", "σ"].map(String::from).to_vec();
         header.extend(a.columns.iter().map(|r| r.code.to_string()));
         header.extend(model.fields.iter().map(|f| f.symbol.clone()));
-        let top = a
-            .rows
-            .iter()
-            .map(|r| {
-                let o = r.orders;
-                o.delta.max(o.epsilon).max(o.tau).max(o.sigma)
-            })
-            .max()
-            .unwrap_or(0);
+        // δ, ε and τ, σ (at most ε·δ) of any candidate within the bounds.
+        let top = a.bounds.epsilon * a.bounds.delta.max(1);
         Cells {
-            header,
-            terms: a.rows.iter().map(|r| term(&r.term)).collect(),
-            numbers: (0..=top).map(|v| v.to_string()).collect(),
+            model,
             analysis: a,
+            header,
+            numbers: (0..=top).map(|v| v.to_string()).collect(),
+            term,
         }
     }
 
-    /// The cells of row `i`, into `row`.
-    fn row<'b>(&'b self, i: usize, row: &mut Vec<&'b str>) {
-        let r = &self.analysis.rows[i];
-        let o = r.orders;
-        row.clear();
-        row.push(&self.terms[i]);
-        for v in [o.delta, o.epsilon, o.tau, o.sigma] {
-            row.push(&self.numbers[v as usize]);
-        }
-        for b in r.passed.iter().chain(r.included.iter()) {
-            row.push(mark(b));
-        }
-    }
-
-    fn len(&self) -> usize {
-        self.terms.len()
+    /// Each row's cells, in order, to `f`.
+    fn each(&self, f: &mut dyn FnMut(&Row, &[&str]) -> io::Result<()>) -> io::Result<()> {
+        let mut text = String::new();
+        for_each_row(self.model, self.analysis, &mut |r| {
+            text.clear();
+            (self.term)(&r.term, &mut text);
+            let o = r.orders;
+            let mut row: Vec<&str> = Vec::with_capacity(self.header.len());
+            row.push(&text);
+            for v in [o.delta, o.epsilon, o.tau, o.sigma] {
+                row.push(&self.numbers[v as usize]);
+            }
+            for b in r.passed.iter().chain(r.included.iter()) {
+                row.push(mark(b));
+            }
+            f(r, &row)
+        })
     }
 
     /// Every row as one line: `open`, the cells joined by `sep`, `close`.
     fn joined(&self, out: &mut Chunked, (open, sep, close): (&str, &str, &str)) -> io::Result<()> {
-        let mut row = Vec::new();
-        for i in 0..self.len() {
-            self.row(i, &mut row);
+        self.each(&mut |_, row| {
             out.say(format_args!("{open}{}{close}", row.join(sep)));
-            out.spill()?;
-        }
-        Ok(())
+            out.spill()
+        })
     }
+}
+
+/// A term in LaTeX math, `$…$`.
+fn latex_term(t: &Term, out: &mut String) {
+    out.push('$');
+    out.push_str(&t.render_latex(&|_| "\\phi".to_string()));
+    out.push('$');
+}
+
+/// A term's text form (what `Display` writes).
+fn plain(t: &Term, out: &mut String) {
+    // Writing to a String cannot fail.
+    let _ = t.write_text(out);
 }
 
 fn title(a: &Analysis) -> String {
@@ -109,9 +117,7 @@ fn title(a: &Analysis) -> String {
     };
     format!(
         "{} density: {} {kind} with {}",
-        a.density,
-        a.rows.len(),
-        a.bounds
+        a.density, a.candidates, a.bounds
     )
 }
 
@@ -151,25 +157,24 @@ fn notes(a: &Analysis) -> Vec<String> {
 /// density's survivors and notes; written line by line to `out`.
 fn text(model: &Model, analyses: &[Analysis], out: &mut Chunked) -> io::Result<()> {
     for a in analyses {
-        let cells = Cells::new(model, a, |t| t.to_string());
+        let cells = Cells::new(model, a, plain);
         out.say(format_args!(
             "{}\n{}\n",
             title(a),
             requirement_line(model, a)
         ));
+        // Two passes over the rows: the column widths, then the lines.
         let mut layout = Aligned::new(&cells.header);
-        let mut row = Vec::new();
-        for i in 0..cells.len() {
-            cells.row(i, &mut row);
-            layout.fit(&row);
-        }
+        cells.each(&mut |_, row| {
+            layout.fit(row);
+            Ok(())
+        })?;
         layout.line(&cells.header, out.buf());
         layout.rule(out.buf());
-        for i in 0..cells.len() {
-            cells.row(i, &mut row);
-            layout.line(&row, out.buf());
-            out.spill()?;
-        }
+        cells.each(&mut |_, row| {
+            layout.line(row, out.buf());
+            out.spill()
+        })?;
         out.buf().push('\n');
     }
     for (k, a) in analyses.iter().enumerate() {
@@ -192,7 +197,7 @@ fn text(model: &Model, analyses: &[Analysis], out: &mut Chunked) -> io::Result<(
 
 fn markdown(model: &Model, analyses: &[Analysis], out: &mut Chunked) -> io::Result<()> {
     for (k, a) in analyses.iter().enumerate() {
-        let cells = Cells::new(model, a, |t| t.to_string());
+        let cells = Cells::new(model, a, plain);
         out.say(format_args!(
             "## {}\n\n{}.\n",
             title(a),
@@ -241,30 +246,33 @@ fn csv_rows(model: &Model, analyses: &[Analysis], out: &mut dyn io::Write) -> cs
     header.extend(model.fields.iter().map(|f| f.id.clone()));
     let mut w = csv::Writer::from_writer(io::BufWriter::with_capacity(1 << 16, out));
     w.write_record(&header)?;
-    let bit = |b: bool| if b { "1" } else { "0" };
+    let bit = |b: bool| -> &'static str {
+        if b {
+            "1"
+        } else {
+            "0"
+        }
+    };
     for a in analyses {
-        let cells = Cells::new(model, a, |t| t.to_string());
-        let mut row: Vec<&str> = Vec::new();
+        let cells = Cells::new(model, a, plain);
         let column: Vec<Option<usize>> = codes
             .iter()
             .map(|code| a.columns.iter().position(|c| c.code == *code))
             .collect();
-        for (i, r) in a.rows.iter().enumerate() {
-            row.clear();
-            row.push(a.density.key());
-            row.push(&cells.terms[i]);
-            let o = r.orders;
-            for v in [o.delta, o.epsilon, o.tau, o.sigma] {
-                row.push(&cells.numbers[v as usize]);
-            }
-            for c in &column {
-                row.push(c.map_or("", |i| bit(r.passed[i])));
-            }
-            for b in r.included.iter() {
-                row.push(bit(b));
-            }
-            w.write_record(&row)?;
-        }
+        cells
+            .each(&mut |r, cells| {
+                // The density, the term and its four orders, then 1/0 marks.
+                let mut row: Vec<&str> = vec![a.density.key()];
+                row.extend_from_slice(&cells[..5]);
+                for c in &column {
+                    row.push(c.map_or("", |i| bit(r.passed[i])));
+                }
+                for b in r.included.iter() {
+                    row.push(bit(b));
+                }
+                w.write_record(&row).map_err(crate::report::csv_io)
+            })
+            .map_err(csv::Error::from)?;
     }
     Ok(w.flush()?)
 }
@@ -514,9 +522,7 @@ fn latex(model: &Model, analyses: &[Analysis], out: &mut Chunked) -> io::Result<
         "% Generated by theory-search; needs no package beyond LaTeX itself."
     ));
     for (k, a) in analyses.iter().enumerate() {
-        let cells = Cells::new(model, a, |t| {
-            format!("${}$", t.render_latex(&|_| "\\phi".to_string()))
-        });
+        let cells = Cells::new(model, a, latex_term);
         out.say(format_args!("% {}", title(a)));
         out.say(format_args!(
             "\\begin{{tabular}}{{l|cccc|{}|{}}}\n\\hline",

@@ -4,8 +4,11 @@ use std::io::Write;
 
 use super::{written, CliError, ModelArgs};
 use crate::enumerate::Basis;
+use crate::enumerate::MAX_CANDIDATES;
 use crate::model::Density;
-use crate::reduce::analyse_basis;
+use crate::reduce::{
+    analyse_basis, analyse_streamed, check_work, check_work_within, OrderError, MAX_STREAMED,
+};
 use crate::table::{write, Format};
 
 /// Arguments of the table (the default command).
@@ -49,18 +52,46 @@ impl DensityChoice {
 /// Print the tables.
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     let model = args.model.load()?;
-    crate::reduce::check_work(
-        &model,
-        args.density.densities(),
-        args.model.order,
-        args.basis,
-    )
-    .map_err(CliError::usage)?;
+    let order = args.model.order;
+    // Text and CSV tables of monomials past the held limit are decided twice and never held.
+    let streams =
+        args.basis == Basis::Monomials && matches!(args.format, Format::Text | Format::Csv);
+    let limit = if streams {
+        MAX_STREAMED
+    } else {
+        MAX_CANDIDATES
+    };
+    check_work_within(&model, args.density.densities(), order, args.basis, limit)
+        .map_err(|e| match e {
+            // Held formats stop earlier than the streamed ones: say so.
+            OrderError::TooManyCandidates {
+                what,
+                order,
+                count,
+                limit,
+                ..
+            } if !streams && args.basis == Basis::Monomials && count <= MAX_STREAMED => {
+                OrderError::TooManyCandidates {
+                    what,
+                    advice: ", --format text or csv (they stream), or --basis powers",
+                    order,
+                    count,
+                    limit,
+                }
+            }
+            e => e,
+        })
+        .map_err(CliError::usage)?;
     let analyses = args
         .density
         .densities()
         .iter()
-        .map(|&d| analyse_basis(&model, d, args.model.order, args.basis))
+        .map(|&d| match check_work(&model, &[d], order, args.basis) {
+            Err(OrderError::TooManyCandidates { .. }) if streams => {
+                analyse_streamed(&model, d, order)
+            }
+            _ => analyse_basis(&model, d, order, args.basis),
+        })
         .collect::<Result<Vec<_>, _>>()
         .map_err(CliError::usage)?;
     written(write(&model, &analyses, args.format, out))
