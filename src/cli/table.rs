@@ -53,9 +53,8 @@ impl DensityChoice {
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     let model = args.model.load()?;
     let order = args.model.order;
-    // Text and CSV tables of monomials past the held limit are decided twice and never held.
-    let streams =
-        args.basis == Basis::Monomials && matches!(args.format, Format::Text | Format::Csv);
+    // Monomial tables past the held limit are decided twice and never held (all but JSON).
+    let streams = args.basis == Basis::Monomials && !matches!(args.format, Format::Json);
     let limit = if streams {
         MAX_STREAMED
     } else {
@@ -73,7 +72,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
             } if !streams && args.basis == Basis::Monomials && count <= MAX_STREAMED => {
                 OrderError::TooManyCandidates {
                     what,
-                    advice: ", --format text or csv (they stream), or --basis powers",
+                    advice: ", another --format (text, csv, markdown and latex stream), or --basis powers",
                     order,
                     count,
                     limit,
