@@ -14,7 +14,7 @@
 use crate::enumerate::{interaction_monomials, Bounds};
 use crate::model::{Density, Model};
 use crate::reduce::{analyse, check_candidates, dominates, lowest_order, OrderError};
-use crate::rules::{self, Check, Verdict};
+use crate::rules::{self, Check, PreparedRule, Verdict};
 use crate::term::Term;
 
 /// One verdict in an interaction row: the rule, which field it was applied to (None: the whole
@@ -82,9 +82,10 @@ fn look_ahead(
         if k > bounds.epsilon || spent > LOOK_AHEAD_CANDIDATES {
             return Err(next - 1);
         }
+        let admission = Admission::new(model, density, ids, &bounds);
         let admitted: Vec<Term> = interaction_monomials(&bounds, k as u8)
             .into_iter()
-            .filter(|t| admitted_by(model, density, ids, t))
+            .filter(|t| admission.admits(t))
             .collect();
         if !admitted.is_empty() {
             return Ok((next, lowest_order(&admitted)));
@@ -150,23 +151,46 @@ fn verdicts(model: &Model, density: Density, fields: &[String], term: &Term) -> 
     out
 }
 
-/// The same decision as `verdicts(…)` all passing, without building explanations.
-fn admitted_by(model: &Model, density: Density, fields: &[String], term: &Term) -> bool {
-    let structural = model
-        .density(density)
-        .interaction
-        .iter()
-        .filter_map(|c| rules::rule(c))
-        .all(|r| r.passes(term));
-    structural
-        && fields.iter().enumerate().all(|(i, field)| {
-            symmetry_codes(model, density, field).iter().all(|code| {
-                match rules::rule(code).map(|r| r.check) {
-                    Some(Check::Symmetry(tr)) => tr.is_invariant_field(term, i as u8 + 1),
-                    _ => true,
-                }
-            })
-        })
+/// The same decision as `verdicts(…)` all passing, without building explanations: the rules
+/// prepared once for the bounds (their images of the factor kinds), decided per term.
+struct Admission {
+    /// Structural rules on the whole product.
+    structural: Vec<PreparedRule>,
+    /// Each participating field's symmetries, applied to that field alone.
+    fields: Vec<Vec<PreparedRule>>,
+}
+
+impl Admission {
+    fn new(model: &Model, density: Density, ids: &[String], bounds: &Bounds) -> Admission {
+        let prepare = |codes: Vec<&str>| -> Vec<PreparedRule> {
+            codes
+                .into_iter()
+                .filter_map(rules::rule)
+                .map(|r| r.prepare(bounds.delta))
+                .collect()
+        };
+        let interaction = model
+            .density(density)
+            .interaction
+            .iter()
+            .map(String::as_str);
+        Admission {
+            structural: prepare(interaction.collect()),
+            fields: ids
+                .iter()
+                .map(|id| prepare(symmetry_codes(model, density, id)))
+                .collect(),
+        }
+    }
+
+    fn admits(&self, term: &Term) -> bool {
+        self.structural.iter().all(|r| r.passes(term))
+            && self
+                .fields
+                .iter()
+                .enumerate()
+                .all(|(i, rules)| rules.iter().all(|r| r.passes_field(term, i as u8 + 1)))
+    }
 }
 
 /// Every subset of `0..n` with at least two elements, smaller sets first.
@@ -230,13 +254,14 @@ pub fn interactions(
             let own = symmetry_codes(model, density, id);
             shared.retain(|c| own.contains(c));
         }
+        let shared_rules: Vec<PreparedRule> = shared
+            .iter()
+            .filter_map(|c| rules::rule(c))
+            .map(|r| r.prepare(bounds.delta))
+            .collect();
         let allowed_by_shared: Vec<Term> = candidates
             .iter()
-            .filter(|t| {
-                shared
-                    .iter()
-                    .all(|code| rules::rule(code).is_none_or(|r| r.passes(t)))
-            })
+            .filter(|t| shared_rules.iter().all(|r| r.passes(t)))
             .cloned()
             .collect();
         let rows = lowest_order(&allowed_by_shared)
@@ -246,9 +271,10 @@ pub fn interactions(
                 term,
             })
             .collect();
+        let admission = Admission::new(model, density, &ids, &bounds);
         let all_admitted: Vec<Term> = candidates
             .iter()
-            .filter(|t| admitted_by(model, density, &ids, t))
+            .filter(|t| admission.admits(t))
             .cloned()
             .collect();
         let admitted = lowest_order(&all_admitted);

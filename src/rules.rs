@@ -101,18 +101,14 @@ impl Rule {
     /// Does `term` satisfy the rule? The same decision as [`Rule::verdict`], without building
     /// the explanation, and without expanding the product: a transformation of field f maps each
     /// factor ∂^αf to ±∂^αf (+ p·∂^αg when it shifts). What it does to each *factor kind*
-    /// (f, α) is found once by applying it to that factor alone ([`FactorImage`], cached); the
-    /// product is invariant exactly when no factor of f is shifted (the p¹ coefficient
+    /// (f, α) is found by applying it to that factor alone ([`FactorImage`]); the product is
+    /// invariant exactly when no factor of f is shifted (the p¹ coefficient
     /// Σ nᵢ·(∂^αᵢ g)·∏ⱼ≠ᵢ… vanishes only then: its terms are distinct monomials) and the signs
     /// of f's factors, each to its power, multiply to +1. [`Rule::passes_by_expansion`] is the
-    /// whole-product computation the tests compare this with.
-    pub fn passes(&self, term: &Term) -> bool {
-        match &self.check {
-            Check::Structural(pred) => pred(term).is_ok(),
-            Check::Symmetry(tr) => {
-                by_factor_kinds(term, |f| factor_image(self.code, tr, f.field, f.deriv))
-            }
-        }
+    /// whole-product computation the tests compare this with. For many terms, prepare the rule
+    /// once ([`Rule::prepare`]).
+    pub fn passes(&'static self, term: &Term) -> bool {
+        self.prepare(0).passes(term)
     }
 
     /// The rule made ready for many terms whose factors have derivative order ≤ `max_order`:
@@ -179,24 +175,40 @@ impl PreparedRule {
     pub fn passes(&self, term: &Term) -> bool {
         match &self.rule.check {
             Check::Structural(pred) => pred(term).is_ok(),
-            Check::Symmetry(tr) => by_factor_kinds(term, |f| {
-                let (a, b) = (f.deriv.t as usize, f.deriv.s as usize);
-                match self.images.get(a * self.stride + b) {
-                    Some(&image) if b < self.stride => image,
-                    // Beyond the prepared orders: derive it now.
-                    _ => factor_image(self.rule.code, tr, f.field, f.deriv),
-                }
-            }),
+            Check::Symmetry(tr) => by_factor_kinds(term, None, |f| self.image(tr, f)),
+        }
+    }
+
+    /// Is `term` unchanged when only placeholder `field` is transformed (a symmetry of one
+    /// field of an interaction term)? Structural rules judge the whole term.
+    pub fn passes_field(&self, term: &Term, field: u8) -> bool {
+        match &self.rule.check {
+            Check::Structural(pred) => pred(term).is_ok(),
+            Check::Symmetry(tr) => by_factor_kinds(term, Some(field), |f| self.image(tr, f)),
+        }
+    }
+
+    fn image(&self, tr: &Transformation, f: &Factor) -> FactorImage {
+        let (a, b) = (f.deriv.t as usize, f.deriv.s as usize);
+        match self.images.get(a * self.stride + b) {
+            Some(&image) if b < self.stride => image,
+            // Beyond the prepared orders: derive it now.
+            _ => image_of_factor(tr, f.field, f.deriv),
         }
     }
 }
 
 /// A symmetry's verdict on a product from its factors' images: invariant exactly when no factor
 /// is shifted and, field by field, the signs of the factors (each to its power) multiply to +1.
-fn by_factor_kinds(term: &Term, image: impl Fn(&Factor) -> FactorImage) -> bool {
+/// With `only`, just that field's factors are transformed.
+fn by_factor_kinds(term: &Term, only: Option<u8>, image: impl Fn(&Factor) -> FactorImage) -> bool {
     let mut sign = 1i64;
     let mut field = None;
-    for f in term.factors() {
+    for f in term
+        .factors()
+        .iter()
+        .filter(|f| only.is_none_or(|o| o == f.field))
+    {
         if field != Some(f.field) {
             // Factors are sorted by field: a field's sign is complete when the next begins.
             if sign != 1 {
@@ -220,24 +232,6 @@ enum FactorImage {
     Signed(i64),
     /// ∂^αf picks up a shift p·∂^αg ≠ 0.
     Shifted,
-}
-
-thread_local! {
-    /// Factor images by (rule code, field, derivative): few kinds serve every product.
-    static FACTOR_IMAGES: std::cell::RefCell<std::collections::HashMap<(&'static str, u8, Deriv), FactorImage>> =
-        std::cell::RefCell::new(std::collections::HashMap::new());
-}
-
-/// The image of the factor ∂^αf under `tr` (to first order in its parameter), by applying it
-/// to the one-factor term and comparing with ±the factor; cached per rule.
-fn factor_image(code: &'static str, tr: &Transformation, field: u8, deriv: Deriv) -> FactorImage {
-    let key = (code, field, deriv);
-    if let Some(k) = FACTOR_IMAGES.with(|m| m.borrow().get(&key).copied()) {
-        return k;
-    }
-    let image = image_of_factor(tr, field, deriv);
-    FACTOR_IMAGES.with(|m| m.borrow_mut().insert(key, image));
-    image
 }
 
 /// Apply `tr` (to first order in its parameter) to the one-factor term ∂^α`field` and compare

@@ -113,6 +113,17 @@ fn factor_kind_verdicts_agree_with_expanding_the_product() {
                     "{} on {term}",
                     rule.code
                 );
+                // One field at a time (interaction terms), against expanding the product.
+                if let theory_search::rules::Check::Symmetry(tr) = rule.check {
+                    for field in term.fields() {
+                        assert_eq!(
+                            ready.passes_field(term, field),
+                            tr.is_invariant_field(term, field),
+                            "{} on field {field} of {term}",
+                            rule.code
+                        );
+                    }
+                }
                 assert_eq!(
                     rule.passes(term),
                     rule.passes_by_expansion(term),
