@@ -7,9 +7,19 @@
 use std::fmt;
 
 use itertools::iproduct;
+use serde::{Deserialize, Serialize};
 
-use crate::model::BoundShape;
 use crate::term::{Deriv, Factor, Orders, Term};
+
+/// How `--order N` bounds the candidate terms of a density.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum BoundShape {
+    /// δ ≤ N, ε ≤ N, τ+σ ≤ N (the paper's Table 1).
+    TauPlusSigma,
+    /// δ ≤ N, ε ≤ N, τ ≤ N, σ ≤ N.
+    TauAndSigma,
+}
 
 /// The largest `--order` the tool accepts. Far beyond any physical use (the long-wavelength
 /// survivors settle at order 4), it keeps every coefficient of the exact expansions within i64.
@@ -329,69 +339,6 @@ fn walk(
             prefix.pop();
         }
         j += 1;
-    }
-}
-
-/// `count`: the candidate terms of each density at orders 1 … N.
-pub struct CountReport {
-    /// The model's name.
-    pub model: String,
-    /// The basis counted.
-    pub basis: Basis,
-    /// (order, Lagrangian, Rayleigh) counts.
-    pub rows: Vec<(u32, u128, u128)>,
-}
-
-impl CountReport {
-    /// Count the candidates of `model` in `basis` at orders 1 … `max_order`: monomials by the
-    /// generating function (no enumeration, so order 32 is instant), pure powers (few) by
-    /// listing them.
-    pub fn new(model: &crate::model::Model, basis: Basis, max_order: u32) -> CountReport {
-        use crate::model::Density;
-        let count = |d: Density, order: u32| {
-            let bounds = Bounds::for_order(model.density(d).bound, order);
-            match basis {
-                Basis::Monomials => count_products(&bounds, 1),
-                Basis::Powers => candidates(basis, &bounds).len() as u128,
-            }
-        };
-        CountReport {
-            model: model.name.clone(),
-            basis,
-            rows: (1..=max_order)
-                .map(|o| {
-                    (
-                        o,
-                        count(Density::Lagrangian, o),
-                        count(Density::Rayleigh, o),
-                    )
-                })
-                .collect(),
-        }
-    }
-}
-
-impl crate::report::Report for CountReport {
-    fn text(&self) -> String {
-        let name = match self.basis {
-            Basis::Powers => "powers",
-            Basis::Monomials => "monomials",
-        };
-        let mut text = format!(
-            "order  lagrangian  rayleigh   ({name} basis, model {})\n",
-            self.model
-        );
-        for (order, l, r) in &self.rows {
-            text += &format!("{order:>5}  {l:>10}  {r:>8}\n");
-        }
-        text
-    }
-
-    fn json(&self) -> serde_json::Value {
-        serde_json::json!({
-            "model": self.model,
-            "rows": self.rows.iter().map(|(o, l, r)| serde_json::json!({"order": o, "lagrangian": l, "rayleigh": r})).collect::<Vec<_>>(),
-        })
     }
 }
 

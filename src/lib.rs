@@ -10,6 +10,7 @@
 
 pub mod banded;
 pub mod behaviour;
+pub mod catalogue;
 pub mod cli;
 pub mod codegen;
 pub mod discretise;

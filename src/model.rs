@@ -10,6 +10,7 @@ use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
+pub use crate::enumerate::BoundShape;
 use crate::rules::{self, Rule};
 
 /// The condition at one end of a non-periodic field.
@@ -320,16 +321,6 @@ impl fmt::Display for Density {
             Density::Rayleigh => "Rayleigh",
         })
     }
-}
-
-/// How `--order N` bounds the candidate terms of a density.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum BoundShape {
-    /// δ ≤ N, ε ≤ N, τ+σ ≤ N (the paper's Table 1).
-    TauPlusSigma,
-    /// δ ≤ N, ε ≤ N, τ ≤ N, σ ≤ N.
-    TauAndSigma,
 }
 
 /// What a model says about one density.

@@ -770,62 +770,6 @@ pub fn rule(code: &str) -> Option<&'static Rule> {
     REGISTRY.iter().find(|r| r.code == code)
 }
 
-/// What `model` requires of each field in each density, with the field's role, and how many
-/// of the field's candidates at `order` each required rule strikes out (a candidate can fail
-/// several).
-pub fn requirements_markdown(
-    model: &crate::model::Model,
-    order: u32,
-) -> Result<String, crate::reduce::OrderError> {
-    use crate::model::Density;
-    let mut out = format!(
-        "\n# Requirements of the {} model at order {order}\n",
-        model.name
-    );
-    for density in Density::ALL {
-        let a = crate::reduce::analyse(model, density, order)?;
-        let codes: Vec<&str> = a.columns.iter().map(|r| r.code).collect();
-        out += &format!(
-            "\n## {density} ({} candidates)\n\n| field | role | requires | {} |\n|---|---|---|{}\n",
-            a.rows.len(),
-            codes.join(" | "),
-            "---|".repeat(codes.len())
-        );
-        for f in &model.fields {
-            let required = model.requirements(density, &f.id);
-            let struck: Vec<String> = a
-                .columns
-                .iter()
-                .enumerate()
-                .map(|(c, rule)| {
-                    if required.iter().any(|r| r.code == rule.code) {
-                        a.rows
-                            .iter()
-                            .filter(|row| !row.passed[c])
-                            .count()
-                            .to_string()
-                    } else {
-                        "·".into()
-                    }
-                })
-                .collect();
-            out += &format!(
-                "| {} | {} | {} | {} |\n",
-                f.id,
-                f.role.map(|r| r.name()).unwrap_or("—"),
-                required
-                    .iter()
-                    .map(|r| r.code)
-                    .collect::<Vec<_>>()
-                    .join(" "),
-                struck.join(" | ")
-            );
-        }
-    }
-    out += "\nA number is how many candidates the rule strikes out for that field; · means the field does not require it.\n";
-    Ok(out)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -24,6 +24,6 @@ pub struct Args {
 /// Count and print.
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     let model = load_model(&args.model)?;
-    let counts = crate::enumerate::CountReport::new(&model, args.basis, args.max_order);
+    let counts = crate::catalogue::CountReport::new(&model, args.basis, args.max_order);
     write_out(out, &crate::report::Report::text(&counts))
 }

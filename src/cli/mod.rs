@@ -359,12 +359,21 @@ where
                 | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => write_out(out, &rendered),
                 _ => {
                     // Clap's message runs up to the first blank line; keep it, on one line.
+                    // Clap's suggestions ("tip: a similar subcommand exists") follow the blank
+                    // line; they are kept too.
                     let head: Vec<&str> = rendered
                         .lines()
                         .take_while(|l| !l.trim().is_empty())
                         .map(str::trim)
                         .collect();
-                    let joined = head.join(" ");
+                    let tips = rendered
+                        .lines()
+                        .map(str::trim)
+                        .filter(|l| l.starts_with("tip:"));
+                    let joined = std::iter::once(head.join(" "))
+                        .chain(tips.map(str::to_string))
+                        .collect::<Vec<_>>()
+                        .join("; ");
                     let msg = joined.strip_prefix("error: ").unwrap_or(&joined);
                     Err(CliError::Usage(format!("{msg} (see --help)")))
                 }

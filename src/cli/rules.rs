@@ -21,11 +21,11 @@ pub struct Args {
 
 /// Print the registry (and the model's requirements).
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
-    let mut text = crate::codegen::rules_markdown();
+    let mut text = crate::codegen::header("<!--", " -->") + &crate::catalogue::rules_markdown();
     if args.model.is_some() || args.order.is_some() {
         let model = load_model(&args.model)?;
         let order = args.order.unwrap_or(crate::model::DEFAULT_ORDER);
-        text += &crate::rules::requirements_markdown(&model, order).map_err(CliError::usage)?;
+        text += &crate::catalogue::requirements_markdown(&model, order).map_err(CliError::usage)?;
     }
     write_out(out, &text)
 }

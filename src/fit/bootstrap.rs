@@ -11,7 +11,6 @@
 
 use rand::{RngExt, SeedableRng};
 
-use super::pool::Animal;
 use super::stats::Stats;
 use super::{FitReport, FitSettings};
 
@@ -43,20 +42,6 @@ pub struct Intervals {
     /// The smallest cosine of the principal angles between the first k components and the
     /// first k modes, k = 1, 2, ….
     pub subspace_cosine: Vec<[f64; 2]>,
-}
-
-/// The units a bootstrap draws: the animals, or the one animal's runs.
-pub(super) fn units(animals: &[Animal]) -> (Vec<&Stats>, &'static str) {
-    let with_frames: Vec<&Animal> = animals.iter().filter(|a| a.stats.count > 0.0).collect();
-    if with_frames.len() > 1 {
-        (with_frames.iter().map(|a| &a.stats).collect(), "animals")
-    } else {
-        let runs = with_frames
-            .first()
-            .map(|a| a.pieces.iter().filter(|p| p.count > 0.0).collect())
-            .unwrap_or_default();
-        (runs, "runs")
-    }
 }
 
 /// Student's t quantile at probability 0.975 with `nu` degrees of freedom: exact for 1 and 2,

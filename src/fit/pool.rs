@@ -15,8 +15,11 @@ use super::read::{
 };
 use super::stats::{Plan, Run, Stats};
 use super::{
-    bootstrap, summarise, AnimalFit, FitError, FitReport, FitSettings, InputFormat, InputKind,
-    Projector, Recording, Units,
+    animal::{units, Animal},
+    bootstrap,
+    summary::summarise,
+    AnimalFit, FitError, FitReport, FitSettings, InputFormat, InputKind, Projector, Recording,
+    Units,
 };
 use crate::modal::Params;
 use crate::model::Model;
@@ -48,16 +51,6 @@ impl Input<'_> {
 
 /// The per-frame callback of a streaming fit: projector, time, modal coordinates.
 pub type Each<'a> = &'a mut dyn FnMut(&Projector, f64, &[f64]) -> Result<(), String>;
-
-/// One animal's accumulated frames.
-pub(super) struct Animal {
-    pub(super) name: String,
-    pub(super) stats: Stats,
-    /// Its runs, kept for a bootstrap over runs.
-    pub(super) pieces: Vec<Stats>,
-    pub(super) counts: Recording,
-    pub(super) interval: Option<f64>,
-}
 
 /// What a worker hands back for one input.
 struct Read {
@@ -114,7 +107,7 @@ pub fn fit_inputs(
     settings: &FitSettings,
     each: Option<Each<'_>>,
 ) -> Result<FitReport, FitError> {
-    super::check_settings(settings)?;
+    super::settings::check_settings(settings)?;
     if inputs.is_empty() {
         return Err(FitError::Invalid("no recordings to fit".into()));
     }
@@ -530,7 +523,7 @@ impl Pool {
             ));
         }
         if ctx.settings.bootstrap > 0 {
-            let units = bootstrap::units(&self.kept);
+            let units = units(&self.kept);
             let fit = |s: &Stats| fit_stats(proj, ctx, s, interval).ok();
             match bootstrap::intervals(&units, ctx.settings, fit) {
                 Ok(i) => report.intervals = Some(i),

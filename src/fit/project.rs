@@ -1,0 +1,344 @@
+//! From a frame to modal coordinates: resampling, turning angles or strains, and the
+//! projector onto the field's modes (the observation map of the module header).
+
+use super::{FitError, FitSettings, InputKind, MAX_POINTS};
+use crate::modal::{field_modes, Params};
+use crate::model::Model;
+
+/// Resample a polyline to `n` points equally spaced in arc length.
+fn resample(points: &[(f64, f64)], n: usize) -> Result<Vec<(f64, f64)>, String> {
+    let mut cum = vec![0.0];
+    for w in points.windows(2) {
+        let d = ((w[1].0 - w[0].0).powi(2) + (w[1].1 - w[0].1).powi(2)).sqrt();
+        cum.push(cum.last().unwrap_or(&0.0) + d);
+    }
+    let total = *cum.last().unwrap_or(&0.0);
+    if total <= 0.0 {
+        return Err("the midline has zero length".into());
+    }
+    let mut out = Vec::with_capacity(n);
+    let mut seg = 0;
+    for i in 0..n {
+        let s = total * i as f64 / (n - 1) as f64;
+        while seg + 2 < cum.len() && cum[seg + 1] < s {
+            seg += 1;
+        }
+        let len = cum[seg + 1] - cum[seg];
+        let u = if len > 0.0 {
+            ((s - cum[seg]) / len).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let (a, b) = (points[seg], points[seg + 1]);
+        out.push((a.0 + u * (b.0 - a.0), a.1 + u * (b.1 - a.1)));
+    }
+    Ok(out)
+}
+
+/// Turning angles between consecutive segments of a polyline (radians, in (−π, π]).
+pub fn turning_angles(points: &[(f64, f64)]) -> Result<Vec<f64>, String> {
+    let seg: Vec<(f64, f64)> = points
+        .windows(2)
+        .map(|w| (w[1].0 - w[0].0, w[1].1 - w[0].1))
+        .collect();
+    if seg.iter().any(|s| s.0 == 0.0 && s.1 == 0.0) {
+        return Err("two consecutive midline points coincide".into());
+    }
+    Ok(seg
+        .windows(2)
+        .map(|w| {
+            let cross = w[0].0 * w[1].1 - w[0].1 * w[1].0;
+            let dot = w[0].0 * w[1].0 + w[0].1 * w[1].1;
+            cross.atan2(dot)
+        })
+        .collect())
+}
+
+/// The observation o of one frame: turning angles (midline) or strains (lengths).
+fn observe(
+    kind: InputKind,
+    values: &[f64],
+    n: usize,
+    reference: Option<f64>,
+) -> Result<Vec<f64>, String> {
+    match kind {
+        InputKind::Midline => {
+            let pts: Vec<(f64, f64)> = values.chunks(2).map(|c| (c[0], c[1])).collect();
+            let pts = if pts.len() == n {
+                pts
+            } else {
+                resample(&pts, n)?
+            };
+            turning_angles(&pts)
+        }
+        InputKind::Lengths => {
+            if values.iter().any(|&l| l <= 0.0) {
+                return Err("segment lengths must be positive".into());
+            }
+            let h = reference.unwrap_or_else(|| values.iter().sum::<f64>() / values.len() as f64);
+            Ok(values.iter().map(|l| l / h - 1.0).collect())
+        }
+    }
+}
+
+/// The map from one frame's values to the modal coordinates of the observed field's non-zero
+/// modes: Qⱼ = (S vⱼ)·o/λⱼ (see the module header).
+#[derive(Debug, Clone)]
+pub struct Projector {
+    /// Input kind.
+    pub kind: InputKind,
+    /// Points (midline) or segments (lengths) per input frame.
+    pub input_points: usize,
+    /// Model points N.
+    pub points: usize,
+    /// The observed field's id.
+    pub field: String,
+    /// The observed field's scale suffix.
+    pub scale: String,
+    /// Index of the first non-zero mode.
+    pub first_mode: usize,
+    /// λⱼ of the non-zero modes.
+    pub eigenvalues: Vec<f64>,
+    /// The row of the least-squares solve for each fitted mode, over the observations:
+    /// (S vⱼ)/λⱼ when the observations cover the body.
+    pub rows: Vec<Vec<f64>>,
+    /// (S vⱼ) over the observations, for each fitted mode.
+    pub design: Vec<Vec<f64>>,
+    /// The non-zero mode shapes on the model's points.
+    pub shapes: Vec<Vec<f64>>,
+    /// Lengths: the rest length strains are measured against (`fit` takes the first frame's
+    /// mean). `None` divides each frame by its own mean, which is exact on a closed ring but
+    /// hides the total stretch of a free chain.
+    pub reference_length: Option<f64>,
+}
+
+impl Projector {
+    /// The projector for frames of `width` values after time.
+    pub fn new(
+        model: &Model,
+        params: &Params,
+        settings: &FitSettings,
+        width: usize,
+    ) -> Result<Projector, FitError> {
+        let invalid = |s: String| FitError::Invalid(s);
+        let (k_in, n) = dimensions(settings, width)?;
+        let field_index = observed_field(model, settings)?;
+        // Only the observed field's modes: another field's limits must not refuse this fit.
+        let all = field_modes(
+            &model.only(field_index),
+            settings.order,
+            n,
+            params,
+            None,
+            true,
+        )
+        .map_err(|e| invalid(e.to_string()))?;
+        let fm = &all[0];
+        let shapes = fm
+            .spectrum
+            .shapes
+            .as_ref()
+            .ok_or_else(|| invalid("no mode shapes".into()))?;
+        let rows = crate::discretise::stencil_rows(fm.k, fm.field.boundary, n)
+            .map_err(|e| invalid(e.to_string()))?;
+        let expected = match settings.kind {
+            InputKind::Midline => n - 2,
+            InputKind::Lengths => n - 1,
+        };
+        if rows.len() != expected {
+            return Err(invalid(format!(
+            "field {} ({:?}, k = {}) has {} difference rows on {n} points, but the {} give {expected} observations",
+            fm.field.id,
+            fm.field.boundary,
+            fm.k,
+            rows.len(),
+            match settings.kind {
+                InputKind::Midline => "turning angles",
+                InputKind::Lengths => "segment strains",
+            }
+        )));
+        }
+        let first_mode = fm.spectrum.nullity;
+        // Stencil rows index the unknowns; shapes are on the body, after the held tail points.
+        let held = fm.spectrum.held.0;
+        let size = shapes.nrows();
+        let m = fm.spectrum.size - first_mode;
+        if m == 0 {
+            return Err(invalid("the field has no non-zero modes".into()));
+        }
+        let all_lambdas: Vec<f64> = fm.spectrum.eigenvalues[first_mode..].to_vec();
+        // The observed rows of S: all of them, or the first K segments of a longer ring.
+        let observed = match settings.kind {
+            InputKind::Midline => rows.len(),
+            InputKind::Lengths => k_in,
+        };
+        let partial = observed < rows.len();
+        // A partial ring fits at most K − 1 modes (the constant takes one more unknown), never
+        // half of a degenerate pair.
+        let mut fitted = m;
+        if partial {
+            fitted = m.min(observed - 1);
+            let same = |i: usize, j: usize| {
+                (all_lambdas[i] - all_lambdas[j]).abs() <= 1e-9 * all_lambdas[i]
+            };
+            if fitted < m && fitted > 0 && same(fitted - 1, fitted) {
+                fitted -= 1;
+            }
+            if fitted == 0 {
+                return Err(invalid(format!(
+                    "{observed} measured segments of a ring of {} resolve no whole mode",
+                    rows.len()
+                )));
+            }
+        }
+        let lambdas: Vec<f64> = all_lambdas[..fitted].to_vec();
+        // design[j][i] = (S vⱼ)ᵢ over the observed rows.
+        let design: Vec<Vec<f64>> = (0..fitted)
+            .map(|j| {
+                rows[..observed]
+                    .iter()
+                    .map(|r| {
+                        r.iter()
+                            .map(|&(i, w)| w as f64 * shapes[(i + held, first_mode + j)])
+                            .sum::<f64>()
+                    })
+                    .collect()
+            })
+            .collect();
+        let projector: Vec<Vec<f64>> = if partial {
+            least_squares_rows(&design)?
+        } else {
+            // The S vⱼ are orthogonal with |S vⱼ|² = λⱼ: Qⱼ = (S vⱼ)·o/λⱼ.
+            design
+                .iter()
+                .zip(&lambdas)
+                .map(|(d, l)| d.iter().map(|x| x / l).collect())
+                .collect()
+        };
+        Ok(Projector {
+            kind: settings.kind,
+            input_points: k_in,
+            points: n,
+            field: fm.field.id.clone(),
+            scale: fm.field.scale().to_string(),
+            first_mode,
+            rows: projector,
+            design,
+            shapes: (0..fitted)
+                .map(|j| (0..size).map(|p| shapes[(p, first_mode + j)]).collect())
+                .collect(),
+            eigenvalues: lambdas,
+            reference_length: None,
+        })
+    }
+
+    /// The modal coordinates of one frame's values.
+    pub fn modal(&self, values: &[f64]) -> Result<Vec<f64>, String> {
+        let o = observe(self.kind, values, self.points, self.reference_length)?;
+        Ok(self
+            .rows
+            .iter()
+            .map(|p| p.iter().zip(&o).map(|(a, b)| a * b).sum())
+            .collect())
+    }
+
+    /// The model point spacing of one frame in the data's length unit: arc length over N − 1
+    /// (midlines), the rest segment length (lengths).
+    pub fn spacing(&self, values: &[f64]) -> f64 {
+        match self.kind {
+            InputKind::Midline => {
+                let length: f64 = values
+                    .chunks(2)
+                    .collect::<Vec<_>>()
+                    .windows(2)
+                    .map(|w| (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1]))
+                    .sum();
+                length / (self.points - 1) as f64
+            }
+            InputKind::Lengths => self
+                .reference_length
+                .unwrap_or_else(|| values.iter().sum::<f64>() / values.len() as f64),
+        }
+    }
+}
+
+/// Values per frame → (measured points or segments K, model points N), checked.
+fn dimensions(settings: &FitSettings, width: usize) -> Result<(usize, usize), FitError> {
+    let invalid = |s: String| FitError::Invalid(s);
+    let line = |why: String| FitError::Line { line: 0, why };
+    let (k_in, n) = match settings.kind {
+        InputKind::Midline => {
+            if width % 2 != 0 {
+                return Err(line(format!(
+                    "a midline frame is t then x y pairs: {width} values after t is odd"
+                )));
+            }
+            if settings.points < 3 {
+                return Err(invalid(format!(
+                    "a midline needs at least 3 model points for one turning angle, not {}",
+                    settings.points
+                )));
+            }
+            (width / 2, settings.points)
+        }
+        InputKind::Lengths => {
+            let ring = settings.ring.unwrap_or(width);
+            if ring < width {
+                return Err(invalid(format!(
+                    "the ring of {ring} segments cannot hold the {width} measured ones"
+                )));
+            }
+            (width, ring.saturating_add(1))
+        }
+    };
+    if n > MAX_POINTS {
+        return Err(invalid(format!(
+            "{k_in} segments make a ring of {n} points; at most {MAX_POINTS}"
+        )));
+    }
+    let min_k = if settings.kind == InputKind::Midline {
+        5
+    } else {
+        3
+    };
+    if k_in < min_k {
+        return Err(line(format!(
+            "{k_in} points per frame; at least {min_k} are needed"
+        )));
+    }
+    Ok((k_in, n))
+}
+
+/// The model field the data observe: `--field`, or the role the input kind implies.
+fn observed_field(model: &Model, settings: &FitSettings) -> Result<usize, FitError> {
+    let invalid = |s: String| FitError::Invalid(s);
+    Ok(match &settings.field {
+        Some(id) => model
+            .fields
+            .iter()
+            .position(|f| &f.id == id)
+            .ok_or_else(|| invalid(format!("the model has no field {id:?}")))?,
+        None => {
+            let behaviour = match settings.kind {
+                InputKind::Midline => "fit (midlines)",
+                InputKind::Lengths => "fit (lengths)",
+            };
+            crate::behaviour::role_fields(model, behaviour).map_err(|e| invalid(e.to_string()))?[0]
+        }
+    })
+}
+
+/// The rows of (BᵀB)⁻¹Bᵀ for B = [design | 1], the constant absorbing the unknown mean strain of
+/// a partial ring; the constant's own row is dropped.
+fn least_squares_rows(design: &[Vec<f64>]) -> Result<Vec<Vec<f64>>, FitError> {
+    let (m, k) = (design.len(), design[0].len());
+    let b = nalgebra::DMatrix::from_fn(k, m + 1, |i, j| if j < m { design[j][i] } else { 1.0 });
+    let normal = b.transpose() * &b;
+    let chol = nalgebra::Cholesky::new(normal).ok_or_else(|| {
+        FitError::Invalid("the measured segments do not separate the fitted modes".into())
+    })?;
+    let solved = chol.solve(&b.transpose());
+    Ok((0..m)
+        .map(|j| solved.row(j).iter().cloned().collect())
+        .collect())
+}

@@ -1,0 +1,423 @@
+//! What a fit reports (pooled, per animal, per mode) and how it is written: text, JSON, CSV.
+
+use super::animal::Animal;
+use super::bootstrap::Intervals;
+use super::{InputKind, Units};
+use crate::report::{check_finite, csv_numbers, to_json, NonFinite, Report};
+
+/// How complete a recording was.
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize)]
+pub struct Recording {
+    /// Recordings (animals) pooled.
+    pub recordings: usize,
+    /// Rows read (frames, lost or not).
+    pub frames_read: usize,
+    /// Frames the tracker lost (rows with a missing value, and frames the time steps skip).
+    pub frames_lost: usize,
+    /// Lost frames bridged linearly (`--fill-gaps`).
+    pub frames_filled: usize,
+    /// Gaps that split the recording.
+    pub gaps: usize,
+    /// Runs of consecutive frames between gaps.
+    pub runs: usize,
+    /// The longest run, in frames.
+    pub longest_run: usize,
+}
+
+/// One mode's fit.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ModeFit {
+    /// Mode index (zero modes included).
+    pub index: usize,
+    /// λᵢ.
+    pub eigenvalue: f64,
+    /// Variance of Qᵢ.
+    pub variance: f64,
+    /// Peak frequency (cycles per time unit).
+    pub peak_frequency: f64,
+    /// Spectral centroid (cycles per time unit).
+    pub centroid_frequency: f64,
+    /// Measured angular frequency used in the fit, 2π × the chosen estimate.
+    pub angular_frequency: f64,
+    /// The fitted theory's ω√λᵢ.
+    pub theory_angular_frequency: f64,
+}
+
+/// The result of a fit. The JSON contract's keys come first.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct FitReport {
+    /// Frames used (read and usable, plus any bridged).
+    pub frames: usize,
+    /// Points (midline) or segments (lengths) per frame in the input.
+    pub points: usize,
+    /// PCA variance shares, descending, over the non-zero modes.
+    pub pca_variance_share: Vec<f64>,
+    /// Equipartition shares λᵢ⁻¹/Σλⱼ⁻¹, ascending λ.
+    pub theory_variance_share: Vec<f64>,
+    /// |cos| between principal component i and non-zero mode shape j.
+    pub overlap: Vec<Vec<f64>>,
+    /// The fitted (or fixed) frequency scale.
+    pub omega: f64,
+    /// The fitted inverse temperature, lengths in units of the spacing.
+    pub beta: f64,
+    /// Input kind.
+    pub kind: InputKind,
+    /// Observed field.
+    pub field: String,
+    /// The observed field's scale suffix (its `omega_<scale>` parameter).
+    pub scale: String,
+    /// Model points N.
+    pub model_points: usize,
+    /// Sampling interval.
+    pub sample_interval: f64,
+    /// Welch window used (frames) and segments averaged.
+    pub welch: (usize, usize),
+    /// For principal component k: the length of its projection onto the eigenspace of mode k
+    /// (the whole degenerate pair when λₖ is shared, so a rotated cos/sin pair still scores 1).
+    pub mode_overlap: Vec<f64>,
+    /// Variance shares of the PCA of the plain angles (or strains).
+    pub angle_pca_variance_share: Vec<f64>,
+    /// Per non-zero mode.
+    pub modes: Vec<ModeFit>,
+    /// Modes used for ω and β.
+    pub fitted_modes: usize,
+    /// Frequencies of the spectra (cycles per time unit).
+    #[serde(skip)]
+    pub frequencies: Vec<f64>,
+    /// Welch PSD of each non-zero modal coordinate.
+    #[serde(skip)]
+    pub psd: Vec<Vec<f64>>,
+    /// Principal components as columns over the mode shapes: `components[i][j]` = component of
+    /// PC i along mode j.
+    #[serde(skip)]
+    pub components: Vec<Vec<f64>>,
+    /// The non-zero mode shapes on the model's points, `shapes[j][p]`.
+    #[serde(skip)]
+    pub shapes: Vec<Vec<f64>>,
+    /// What the recording held: frames read, lost, bridged; gaps and runs.
+    pub recording: Recording,
+    /// Cautions about what the numbers can mean for this input.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
+    /// With several animals: each one's own fit, beside the pooled one above.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub animals: Vec<AnimalFit>,
+    /// Units of the recording's columns.
+    pub units: Units,
+    /// The mean model point spacing h = (body length)/(N − 1) (midlines) or rest segment
+    /// length (lengths), in the coordinates' unit: modal amplitudes are in units of h.
+    pub spacing: f64,
+    /// The first k principal components against the first k modes, k = 1, 2, ….
+    pub subspace: Vec<Subspace>,
+    /// 95 % bootstrap intervals (`--bootstrap`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub intervals: Option<Intervals>,
+    /// The arguments that make `simulate` use the fitted scales (see [`FitReport::onward`]).
+    pub onward: Vec<String>,
+}
+
+/// The first k principal components against the first k theory modes.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Subspace {
+    /// k.
+    pub k: usize,
+    /// The smallest cosine of the principal angles between the two k-dimensional subspaces
+    /// (1: the same subspace).
+    pub cosine: f64,
+    /// Variance share the first k theory modes capture.
+    pub modes_capture: f64,
+    /// Variance share the first k principal components capture (the most any k directions can).
+    pub components_capture: f64,
+}
+
+/// One animal's own fit, in a pooled fit of several.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct AnimalFit {
+    /// The animal's name (file, and track id within it).
+    pub recording: String,
+    /// Frames used.
+    pub frames: usize,
+    /// Frames lost.
+    pub frames_lost: usize,
+    /// Its ω (`None` when it cannot be fitted alone).
+    pub omega: Option<f64>,
+    /// Its β.
+    pub beta: Option<f64>,
+    /// Its first principal component's variance share.
+    pub first_share: Option<f64>,
+    /// Its PCA variance shares, descending.
+    pub pca_variance_share: Vec<f64>,
+    /// Its components' overlaps with their modes.
+    pub mode_overlap: Vec<f64>,
+    /// Why it could not be fitted alone (it still counts in the pool).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
+}
+
+impl AnimalFit {
+    /// The summary of `report`, the fit of animal `name` alone.
+    pub fn of(name: &str, counts: &Recording, report: &FitReport) -> AnimalFit {
+        AnimalFit {
+            recording: name.to_string(),
+            frames: report.frames,
+            frames_lost: counts.frames_lost,
+            omega: Some(report.omega),
+            beta: Some(report.beta),
+            first_share: report.pca_variance_share.first().copied(),
+            pca_variance_share: report.pca_variance_share.clone(),
+            mode_overlap: report.mode_overlap.clone(),
+            note: None,
+        }
+    }
+
+    pub(super) fn failed(animal: &Animal, why: &str) -> AnimalFit {
+        AnimalFit {
+            recording: animal.name.clone(),
+            frames: animal.stats.count as usize,
+            frames_lost: animal.counts.frames_lost,
+            omega: None,
+            beta: None,
+            first_share: None,
+            pca_variance_share: Vec::new(),
+            mode_overlap: Vec::new(),
+            note: Some(why.to_string()),
+        }
+    }
+}
+
+impl Report for FitReport {
+    fn check(&self) -> Result<(), NonFinite> {
+        check_finite(self)
+    }
+
+    fn json(&self) -> serde_json::Value {
+        to_json(self)
+    }
+
+    fn csv(&self) -> Option<String> {
+        let r = self;
+        Some(csv_numbers(
+            &[
+                "mode",
+                "eigenvalue",
+                "pca_share",
+                "theory_share",
+                "overlap",
+                "variance",
+                "peak_frequency",
+                "centroid_frequency",
+                "angular_frequency",
+                "theory_angular_frequency",
+            ],
+            r.modes.iter().enumerate().map(|(k, m)| {
+                vec![
+                    m.index as f64,
+                    m.eigenvalue,
+                    r.pca_variance_share[k],
+                    r.theory_variance_share[k],
+                    r.overlap[k][k],
+                    m.variance,
+                    m.peak_frequency,
+                    m.centroid_frequency,
+                    m.angular_frequency,
+                    m.theory_angular_frequency,
+                ]
+            }),
+        ))
+    }
+
+    fn text(&self) -> String {
+        let r = self;
+        let what = match r.kind {
+            InputKind::Midline => format!("{}-point midlines", r.points),
+            InputKind::Lengths => format!("{} segment lengths", r.points),
+        };
+        let time = r.units.time.as_deref().unwrap_or("time unit");
+        let length = r.units.length.as_deref().unwrap_or("length unit");
+        let mut t = format!(
+            "Fit of {} frames of {what} (sampling interval {} {time}) to field {} on N = {}\n\
+             \x20 ω = {:.6} rad/{time} (least squares over modes {}–{}), β = {:.6} {time}² (amplitudes in point spacings h = {:.6} {length}; β/h² = {:.6} {time}²/{length}²)\n",
+            r.frames,
+            (r.sample_interval * 1e9).round() / 1e9,
+            r.field,
+            r.model_points,
+            r.omega,
+            r.modes[0].index,
+            r.modes[r.fitted_modes - 1].index,
+            r.beta,
+            r.spacing,
+            r.beta / (r.spacing * r.spacing),
+        );
+        if let Some(i) = &r.intervals {
+            t += &format!(
+                "  95 % intervals ({} replicates over {} {}, {} fitted): ω [{:.6}, {:.6}], β [{:.6}, {:.6}]\n",
+                i.replicates, i.units, i.resampled, i.fitted, i.omega[0], i.omega[1], i.beta[0], i.beta[1]
+            );
+        }
+        let rec = &r.recording;
+        t += &format!(
+            "  recording: {} animal(s), {} frames read, {} lost ({} bridged), {} gaps, {} runs, longest {} frames\n",
+            rec.recordings, rec.frames_read, rec.frames_lost, rec.frames_filled, rec.gaps, rec.runs, rec.longest_run
+        );
+        t += &format!(
+            "  Welch: window {} frames, {} segments\n  mode        λ   PCA share  equipartition  overlap with mode   peak f  centroid f   measured ω  theory ω√λ\n",
+            r.welch.0, r.welch.1
+        );
+        for (k, m) in r.modes.iter().enumerate() {
+            t += &format!(
+                "  {:>4} {:>8.5} {:>9.3} % {:>12.3} % {:>18.5} {:>8.5} {:>11.5} {:>12.5} {:>11.5}\n",
+                m.index,
+                m.eigenvalue,
+                100.0 * r.pca_variance_share[k],
+                100.0 * r.theory_variance_share[k],
+                r.mode_overlap[k],
+                m.peak_frequency,
+                m.centroid_frequency,
+                m.angular_frequency,
+                m.theory_angular_frequency,
+            );
+        }
+        t += "  overlap: |cos(PCₖ, vₖ)|, or the projection onto the pair's plane when λₖ is degenerate\n";
+        t += &subspace_text(r);
+        for w in &r.warnings {
+            t += &format!("  warning: {w}\n");
+        }
+        t += &animals_text(&r.animals);
+        let shares: Vec<String> = r
+            .angle_pca_variance_share
+            .iter()
+            .map(|s| format!("{:.1}", 100.0 * s))
+            .collect();
+        t += &format!(
+            "  PCA of the plain angles (%, the paper's eigenmaggots; equipartition makes them equal): {}\n",
+            shares.join(" ")
+        );
+        t += &format!(
+            "  onward (times in {time}, lengths in point spacings): theory-search simulate --points {} {}\n",
+            r.model_points,
+            r.onward.join(" ")
+        );
+        t
+    }
+}
+
+impl FitReport {
+    /// The per-animal table as CSV (the `csv` crate's writer): animal, frames, lost, ω, β, then
+    /// each component's share and overlap; empty cells for an animal not fitted alone.
+    pub fn animals_csv(&self) -> String {
+        let m = self.modes.len();
+        let mut w = csv::Writer::from_writer(Vec::new());
+        let mut header: Vec<String> = ["animal", "frames", "frames_lost", "omega", "beta", "note"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        header.extend((1..=m).map(|k| format!("pca_share_{k}")));
+        header.extend((1..=m).map(|k| format!("overlap_{k}")));
+        let opt = |v: Option<f64>| v.map(|x| x.to_string()).unwrap_or_default();
+        let mut rows = vec![header];
+        for a in &self.animals {
+            let mut row = vec![
+                a.recording.clone(),
+                a.frames.to_string(),
+                a.frames_lost.to_string(),
+                opt(a.omega),
+                opt(a.beta),
+                a.note.clone().unwrap_or_default(),
+            ];
+            for list in [&a.pca_variance_share, &a.mode_overlap] {
+                row.extend((0..m).map(|k| opt(list.get(k).copied())));
+            }
+            rows.push(row);
+        }
+        for r in rows {
+            // Writing to memory cannot fail.
+            w.write_record(&r).ok();
+        }
+        String::from_utf8(w.into_inner().unwrap_or_default()).unwrap_or_default()
+    }
+
+    /// The arguments that make `simulate` (and, without `--temperature`, `behave` and `modes`)
+    /// use the fitted scales: `--param omega_<scale>=ω --temperature 1/β`.
+    pub fn onward_arguments(&self) -> Vec<String> {
+        vec![
+            "--param".into(),
+            format!("omega_{}={}", self.scale, self.omega),
+            "--temperature".into(),
+            format!("{}", 1.0 / self.beta),
+        ]
+    }
+}
+
+/// The subspace agreement lines: first k components against first k modes.
+fn subspace_text(r: &FitReport) -> String {
+    let row = |f: &dyn Fn(&Subspace) -> String| -> String {
+        r.subspace.iter().map(f).collect::<Vec<_>>().join(" ")
+    };
+    let mut t = format!(
+        "  first k = 1…{}: cos of the widest principal angle between components and modes: {}\n",
+        r.subspace.len(),
+        row(&|s| format!("{:.4}", s.cosine))
+    );
+    t += &format!(
+        "    variance captured by the first k modes: {} %; by the first k components: {} %\n",
+        row(&|s| format!("{:.1}", 100.0 * s.modes_capture)),
+        row(&|s| format!("{:.1}", 100.0 * s.components_capture))
+    );
+    if let Some(i) = &r.intervals {
+        let span = |v: &[[f64; 2]], scale: f64| -> String {
+            v.iter()
+                .map(|[a, b]| format!("[{:.3}, {:.3}]", scale * a, scale * b))
+                .collect::<Vec<_>>()
+                .join(" ")
+        };
+        t += &format!(
+            "    95 %: PCA shares (%) {}\n    95 %: overlaps {}\n    95 %: subspace cosines {}\n",
+            span(&i.pca_variance_share, 100.0),
+            span(&i.mode_overlap, 1.0),
+            span(&i.subspace_cosine, 1.0)
+        );
+    }
+    t
+}
+
+/// Each animal's own fit, one line each.
+fn animals_text(animals: &[AnimalFit]) -> String {
+    if animals.is_empty() {
+        return String::new();
+    }
+    let mut t = format!(
+        "  each animal alone ({} pooled above):\n  {:<40} {:>7} {:>6} {:>10} {:>12} {:>9}\n",
+        animals.len(),
+        "animal",
+        "frames",
+        "lost",
+        "ω",
+        "β",
+        "PC 1"
+    );
+    for a in animals {
+        match (a.omega, a.beta, a.first_share) {
+            (Some(w), Some(b), Some(p)) => {
+                t += &format!(
+                    "  {:<40} {:>7} {:>6} {:>10.5} {:>12.5} {:>7.2} %\n",
+                    a.recording,
+                    a.frames,
+                    a.frames_lost,
+                    w,
+                    b,
+                    100.0 * p
+                )
+            }
+            _ => {
+                t += &format!(
+                    "  {:<40} {:>7} {:>6}  not fitted alone: {}\n",
+                    a.recording,
+                    a.frames,
+                    a.frames_lost,
+                    a.note.as_deref().unwrap_or("")
+                )
+            }
+        }
+    }
+    t
+}

@@ -1,0 +1,197 @@
+//! What a fit is asked to do: input kinds and formats, units, the settings and their limits
+//! (checked before any data are read).
+
+use super::FitError;
+
+/// The most model points a fit takes (every mode shape is kept).
+/// Each frame's projection costs about N² (modes × observations), so model points stay at most
+/// 500 (a quarter of a million operations a frame).
+pub const MAX_POINTS: usize = 500;
+
+/// The longest Welch window, in frames.
+pub const MAX_WINDOW: usize = 1 << 20;
+
+/// What the columns after time hold.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum InputKind {
+    /// `x₁ y₁ … x_K y_K`: midline points, tail to head.
+    Midline,
+    /// `ℓ₁ … ℓ_K`: segment lengths around the body.
+    Lengths,
+}
+
+/// How a mode's frequency is read off its spectrum.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Estimator {
+    /// The strongest peak (rhythmic behaviour).
+    Peak,
+    /// The spectral centroid (aperiodic behaviour).
+    Centroid,
+}
+
+/// How an input is laid out.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum InputFormat {
+    /// From the content: `{` opens WCON, DeepLabCut's header rows mark its CSV, else plain.
+    Auto,
+    /// Plain CSV or white space, one frame per line (DeepLabCut's header rows recognised).
+    Csv,
+    /// WCON (tracker-commons JSON).
+    Wcon,
+}
+
+/// Units of the recording's time and length columns, as the file or the user names them.
+#[derive(Debug, Clone, Default, PartialEq, Eq, serde::Serialize)]
+pub struct Units {
+    /// Time unit (ω is in radians per this unit).
+    pub time: Option<String>,
+    /// Length unit of the coordinates.
+    pub length: Option<String>,
+}
+
+impl std::fmt::Display for Units {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "time in {}, lengths in {}",
+            self.time.as_deref().unwrap_or("the time column's unit"),
+            self.length.as_deref().unwrap_or("the coordinates' unit")
+        )
+    }
+}
+
+/// A name from a recording (a track id): printable, at most 64 characters.
+pub fn checked_name(text: &str) -> Result<String, String> {
+    let ok =
+        !text.is_empty() && text.chars().count() <= 64 && text.chars().all(|c| !c.is_control());
+    ok.then(|| text.to_string())
+        .ok_or_else(|| format!("{text:.40?} is not a track id (1 to 64 printable characters)"))
+}
+
+/// A unit name: printable, without quotes, at most 32 characters.
+pub fn checked_unit(text: &str) -> Result<String, String> {
+    let ok = text.chars().count() <= 32
+        && text
+            .chars()
+            .all(|c| !c.is_control() && !matches!(c, '"' | '\\' | '<' | '>' | '&'));
+    ok.then(|| text.to_string())
+        .ok_or_else(|| format!("{text:.40?} is not a unit (at most 32 printable characters)"))
+}
+
+/// Settings of a fit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FitSettings {
+    /// Input columns.
+    pub kind: InputKind,
+    /// Field of the model the data observe; `None`: the lateral field for midlines, the axial
+    /// one for lengths (by role).
+    pub field: Option<String>,
+    /// Order of the theory whose operator the data are projected on.
+    pub order: u32,
+    /// Model points N for midlines (lengths use K + 1).
+    pub points: usize,
+    /// Welch window W in frames.
+    pub window: usize,
+    /// Frequency estimator.
+    pub estimator: Estimator,
+    /// Non-zero modes used to fit ω and β.
+    pub fit_modes: usize,
+    /// Fix ω instead of fitting it.
+    pub omega: Option<f64>,
+    /// Lengths only: the segments around the whole body when only the first K were measured
+    /// (the paper's seven abdominal segments); `None` when the K segments close the ring.
+    pub ring: Option<usize>,
+    /// Gaps of at most this many lost frames are bridged linearly; longer ones split the runs.
+    pub fill_gaps: usize,
+    /// The data list the head first (most trackers); the model's head is its last point.
+    pub head_first: bool,
+    /// Frames per second of a DeepLabCut file (its rows carry frame indices, not time).
+    pub fps: Option<f64>,
+    /// DeepLabCut points tracked below this likelihood count as lost.
+    pub min_likelihood: f64,
+    /// Layout of the inputs.
+    pub format: InputFormat,
+    /// The first column of a CSV is a track id: each track is one animal.
+    pub track_column: bool,
+    /// Bootstrap replicates for 95 % intervals (0: none).
+    pub bootstrap: usize,
+    /// Seed of the bootstrap draws.
+    pub seed: u64,
+    /// Time unit of the recordings (overrides a WCON file's).
+    pub time_unit: Option<String>,
+    /// Length unit of the recordings (overrides a WCON file's).
+    pub length_unit: Option<String>,
+}
+
+impl FitSettings {
+    /// Defaults for `kind`: the lateral field on 12 points (midline) or the axial one (lengths),
+    /// order 4, W = 256, the first four modes, the peak estimator.
+    pub fn new(kind: InputKind) -> Self {
+        FitSettings {
+            kind,
+            field: None,
+            order: crate::model::DEFAULT_ORDER,
+            points: 12,
+            window: 256,
+            estimator: Estimator::Peak,
+            fit_modes: 4,
+            omega: None,
+            ring: None,
+            fill_gaps: 0,
+            head_first: true,
+            fps: None,
+            min_likelihood: 0.6,
+            format: InputFormat::Auto,
+            track_column: false,
+            bootstrap: 0,
+            seed: 1,
+            time_unit: None,
+            length_unit: None,
+        }
+    }
+}
+
+/// The settings' limits, checked before any data are read.
+pub(super) fn check_settings(settings: &FitSettings) -> Result<(), FitError> {
+    let invalid = |s: String| FitError::Invalid(s);
+    if let Some(f) = settings.fps {
+        if !(f.is_finite() && f > 0.0) {
+            return Err(invalid(format!("--fps must be a positive number, not {f}")));
+        }
+    }
+    if !(0.0..=1.0).contains(&settings.min_likelihood) {
+        return Err(invalid(format!(
+            "--min-likelihood must be between 0 and 1, not {}",
+            settings.min_likelihood
+        )));
+    }
+    if settings.points > MAX_POINTS {
+        return Err(invalid(format!(
+            "at most {MAX_POINTS} model points, not {}",
+            settings.points
+        )));
+    }
+    if settings.window > MAX_WINDOW {
+        return Err(invalid(format!(
+            "the Welch window can be at most {MAX_WINDOW} frames, not {}",
+            settings.window
+        )));
+    }
+    if settings.window < 8 {
+        return Err(invalid(format!(
+            "the Welch window must be at least 8 frames, not {}",
+            settings.window
+        )));
+    }
+    if settings.fit_modes == 0 {
+        return Err(invalid("fit at least one mode".into()));
+    }
+    if let Some(w) = settings.omega {
+        if !(w.is_finite() && w > 0.0) {
+            return Err(invalid(format!("ω must be a positive number, not {w}")));
+        }
+    }
+    Ok(())
+}

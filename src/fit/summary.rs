@@ -1,0 +1,220 @@
+//! From accumulated moments to a report: PCA, overlaps, shares, spectral peaks, and the ω and
+//! β fits.
+
+use super::project::Projector;
+use super::stats;
+use super::{Estimator, FitError, FitReport, FitSettings, ModeFit, Recording, Subspace, Units};
+
+/// Peak (with parabolic refinement) and centroid of a one-sided spectrum, above zero frequency.
+pub fn spectral_peak_and_centroid(freqs: &[f64], psd: &[f64]) -> (f64, f64) {
+    let df = if freqs.len() > 1 {
+        freqs[1] - freqs[0]
+    } else {
+        0.0
+    };
+    let k = (1..psd.len())
+        .max_by(|&a, &b| psd[a].total_cmp(&psd[b]))
+        .unwrap_or(0);
+    let mut peak = freqs.get(k).copied().unwrap_or(0.0);
+    if k >= 1 && k + 1 < psd.len() {
+        // The vertex of the parabola through the log powers: a Hann-windowed peak is close to a
+        // Gaussian there, so this is nearly unbiased where the plain parabola is off by up to a
+        // tenth of a bin.
+        let (a, b, c) = (psd[k - 1].ln(), psd[k].ln(), psd[k + 1].ln());
+        let den = a - 2.0 * b + c;
+        // Refine only a true local maximum; the vertex then lies within half a bin.
+        if b >= a && b >= c && den < 0.0 && den.is_finite() {
+            peak += (0.5 * (a - c) / den).clamp(-0.5, 0.5) * df;
+        }
+    }
+    let (num, den) = freqs
+        .iter()
+        .zip(psd)
+        .skip(1)
+        .fold((0.0, 0.0), |(n, d), (f, p)| (n + f * p, d + p));
+    (peak, if den > 0.0 { num / den } else { 0.0 })
+}
+
+/// PCA, overlaps, shares, frequencies and the ω and β fits from the accumulated moments.
+pub(super) fn summarise(
+    proj: &Projector,
+    settings: &FitSettings,
+    cov: Vec<Vec<f64>>,
+    interval: f64,
+    spectra: stats::Spectra,
+) -> Result<FitReport, FitError> {
+    let invalid = |s: String| FitError::Invalid(s);
+    let stats::Spectra {
+        window: used_window,
+        segments,
+        frequencies,
+        psd,
+    } = spectra;
+    let lambdas = &proj.eigenvalues;
+    let (m, first_mode) = (lambdas.len(), proj.first_mode);
+
+    // PCA in the body metric: eigen of cov(Q), descending.
+    let (pca_share, components) = descending_eigen(&cov);
+    let (angle_share, _) = descending_eigen(&angle_covariance(&proj.design, &cov));
+    let inv: f64 = lambdas.iter().map(|l| 1.0 / l).sum();
+    let theory_share: Vec<f64> = lambdas.iter().map(|l| 1.0 / l / inv).collect();
+    let overlap: Vec<Vec<f64>> = components
+        .iter()
+        .map(|c| c.iter().map(|x| x.abs()).collect())
+        .collect();
+    let mode_overlap = pair_overlaps(lambdas, &components);
+    let subspace = subspaces(&cov, &pca_share, &components);
+    let mut modes: Vec<ModeFit> = (0..m)
+        .map(|j| {
+            let (peak, centroid) = spectral_peak_and_centroid(&frequencies, &psd[j]);
+            let f = match settings.estimator {
+                Estimator::Peak => peak,
+                Estimator::Centroid => centroid,
+            };
+            ModeFit {
+                index: first_mode + j,
+                eigenvalue: lambdas[j],
+                variance: cov[j][j],
+                peak_frequency: peak,
+                centroid_frequency: centroid,
+                angular_frequency: 2.0 * std::f64::consts::PI * f,
+                theory_angular_frequency: 0.0,
+            }
+        })
+        .collect();
+    let used = settings.fit_modes.min(m);
+    let fitted = &modes[..used];
+    let omega = settings.omega.unwrap_or_else(|| {
+        fitted
+            .iter()
+            .map(|x| x.angular_frequency * x.eigenvalue.sqrt())
+            .sum::<f64>()
+            / fitted.iter().map(|x| x.eigenvalue).sum::<f64>()
+    });
+    if !(omega.is_finite() && omega > 0.0) {
+        return Err(invalid(
+            "no frequency could be measured (flat spectra): give --omega".into(),
+        ));
+    }
+    let spread: f64 = fitted
+        .iter()
+        .map(|x| omega * omega * x.eigenvalue * x.variance)
+        .sum();
+    if spread <= 0.0 {
+        return Err(invalid(
+            "the postures do not vary: no temperature can be fitted".into(),
+        ));
+    }
+    let beta = used as f64 / spread;
+    for x in &mut modes {
+        x.theory_angular_frequency = omega * x.eigenvalue.sqrt();
+    }
+    Ok(FitReport {
+        frames: 0,
+        recording: Recording::default(),
+        warnings: Vec::new(),
+        animals: Vec::new(),
+        units: Units::default(),
+        spacing: 0.0,
+        subspace,
+        intervals: None,
+        onward: Vec::new(),
+        points: proj.input_points,
+        pca_variance_share: pca_share,
+        theory_variance_share: theory_share,
+        overlap,
+        omega,
+        beta,
+        kind: settings.kind,
+        field: proj.field.clone(),
+        scale: proj.scale.clone(),
+        model_points: proj.points,
+        sample_interval: interval,
+        welch: (used_window, segments),
+        mode_overlap,
+        angle_pca_variance_share: angle_share,
+        modes,
+        fitted_modes: used,
+        frequencies,
+        psd,
+        components,
+        shapes: proj.shapes.clone(),
+    })
+}
+
+/// Plain angle-space covariance (S V) cov(Q) (S V)ᵀ over the observations, `design[i]` = S vᵢ.
+fn angle_covariance(design: &[Vec<f64>], cov: &[Vec<f64>]) -> Vec<Vec<f64>> {
+    let m = design.len();
+    let obs = design[0].len();
+    (0..obs)
+        .map(|a| {
+            (0..obs)
+                .map(|b| {
+                    let mut s = 0.0;
+                    for i in 0..m {
+                        for j in 0..m {
+                            s += design[i][a] * cov[i][j] * design[j][b];
+                        }
+                    }
+                    s
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// The first k principal components against the first k modes, for k up to 6: the smallest
+/// singular value of the k × k block of components over modes is the cosine of the largest
+/// principal angle; the captured variances are the modes' variances and the components'
+/// shares, summed.
+fn subspaces(cov: &[Vec<f64>], pca_share: &[f64], components: &[Vec<f64>]) -> Vec<Subspace> {
+    let m = cov.len();
+    let trace: f64 = (0..m).map(|j| cov[j][j]).sum();
+    (1..=m.min(6))
+        .map(|k| {
+            let block = nalgebra::DMatrix::from_fn(k, k, |i, j| components[i][j]);
+            let cosine = block
+                .singular_values()
+                .iter()
+                .copied()
+                .fold(f64::INFINITY, f64::min)
+                .clamp(0.0, 1.0);
+            let modes: f64 = (0..k).map(|j| cov[j][j]).sum();
+            Subspace {
+                k,
+                cosine,
+                modes_capture: if trace > 0.0 { modes / trace } else { 0.0 },
+                components_capture: pca_share[..k].iter().sum(),
+            }
+        })
+        .collect()
+}
+
+/// Each principal component's overlap with its mode, or with the plane of its degenerate pair.
+fn pair_overlaps(lambdas: &[f64], components: &[Vec<f64>]) -> Vec<f64> {
+    let m = lambdas.len();
+    let degenerate = |i: usize, j: usize| (lambdas[i] - lambdas[j]).abs() <= 1e-9 * lambdas[i];
+    components
+        .iter()
+        .enumerate()
+        .map(|(k, c)| {
+            (0..m)
+                .filter(|&j| degenerate(k, j))
+                .map(|j| c[j] * c[j])
+                .sum::<f64>()
+                .sqrt()
+        })
+        .collect()
+}
+
+/// Eigenvalue shares (descending) and eigenvectors (rows, same order) of a symmetric matrix.
+fn descending_eigen(a: &[Vec<f64>]) -> (Vec<f64>, Vec<Vec<f64>>) {
+    let (values, vectors) = crate::behaviour::principal_components(a)
+        .unwrap_or_else(|_| (vec![0.0; a.len()], vec![vec![0.0; a.len()]; a.len()]));
+    let total: f64 = values.iter().map(|v| v.max(0.0)).sum();
+    let shares = values
+        .iter()
+        .map(|v| if total > 0.0 { v.max(0.0) / total } else { 0.0 })
+        .collect();
+    (shares, vectors)
+}
