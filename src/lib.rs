@@ -23,6 +23,7 @@ pub mod generated;
 pub mod interaction;
 pub mod modal;
 pub mod model;
+pub mod params;
 pub mod parts;
 pub mod reduce;
 pub mod report;
