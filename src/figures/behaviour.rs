@@ -1,0 +1,536 @@
+//! Figures of the behaviour models: self-righting, rearing and hunching, asymmetry,
+//! equipartition, peristalsis and rolling, free energy, the 3-point bend, the Mathieu chart.
+
+use plotters::prelude::*;
+
+use super::plot::*;
+use super::{err, FigureError, FigureSettings};
+use crate::behaviour::{self, PairKind, RightingSettings};
+use crate::theory::Theory;
+
+pub(super) fn bh(e: behaviour::BehaviourError) -> FigureError {
+    match e {
+        e @ (behaviour::BehaviourError::Role(_) | behaviour::BehaviourError::Body(_)) => {
+            FigureError::Body(e.to_string())
+        }
+        other => err(other),
+    }
+}
+
+/// Fig. 3: the two stages of self-righting.
+pub(super) fn self_righting(theory: &Theory) -> Result<String, FigureError> {
+    let n = theory.points;
+    let settings = RightingSettings::default();
+    let r = behaviour::self_righting(theory, &settings).map_err(bh)?;
+    let pick = |g: &dyn Fn(&behaviour::RightingFrame) -> f64| -> Vec<(f64, f64)> {
+        r.frames.iter().map(|f| (f.t, g(f))).collect()
+    };
+    let attach = vec![(r.attachment_time, "mouth hooks attach".to_string())];
+    let t = "time t (1/ω_t)";
+    let mut panels = vec![
+        panel(
+            "generalised torque on the first torsional mode",
+            t,
+            "Q",
+            vec![series("", pick(&|f| f.torque), Mark::Line)],
+        ),
+        panel(
+            "first twisting mode",
+            t,
+            "Θ₁",
+            vec![series("", pick(&|f| f.mode), Mark::Line)],
+        ),
+        panel(
+            "mean rotation of the segments",
+            t,
+            "mean θ (rad)",
+            vec![series("", pick(&|f| f.mean_rotation), Mark::Line)],
+        ),
+    ];
+    let segments = (0..n)
+        .filter(|j| n <= 8 || j % (n / 6).max(1) == 0 || *j == n - 1)
+        .map(|j| {
+            let name = if j == n - 1 {
+                "head".to_string()
+            } else if j == 0 {
+                "tail".to_string()
+            } else {
+                format!("segment {j}")
+            };
+            series(name, pick(&|f| f.angles[j]), Mark::Line)
+        })
+        .collect();
+    panels.push(panel("rotation of each segment", t, "θⱼ (rad)", segments));
+    let align = r
+        .alignment_times
+        .iter()
+        .enumerate()
+        .map(|(j, &a)| (j as f64, a))
+        .collect();
+    let align_title = format!("time to align within δ = {} rad", settings.tolerance);
+    panels.push(panel(
+        &align_title,
+        "segment j (0 = tail)",
+        "alignment time (1/ω_t)",
+        vec![series("", align, Mark::Dots)],
+    ));
+    let zs: Vec<f64> = curve(0.3, 3.0, 18, |z| z).iter().map(|p| p.0).collect();
+    let points = behaviour::righting_sweep(theory, &settings, &zs).map_err(bh)?;
+    let attach_at = points
+        .iter()
+        .map(|p| (p.mode_damping, p.attachment_time))
+        .collect();
+    let righted_at = points
+        .iter()
+        .map(|p| (p.mode_damping, p.righting_time))
+        .collect();
+    let mut sweep = panel(
+        "righting time against the first mode's damping",
+        "damping ratio ζ₁",
+        "time (1/ω_t)",
+        vec![
+            series("body aligned", righted_at, Mark::Line),
+            series("hooks attach", attach_at, Mark::Dashed),
+        ],
+    );
+    sweep.markers = vec![(1.0, "critical damping".into())];
+    sweep.zero = true;
+    panels.push(sweep);
+    for p in panels.iter_mut().take(4) {
+        p.markers = attach.clone();
+        p.zero = true;
+    }
+    panels[4].zero = true;
+    render(
+        &format!(
+            "Self-righting, N = {n}, ζ₁ = {} (paper Fig. 3); attach at {:.1}, righted at {:.1}",
+            r.damping_ratio, r.attachment_time, r.righting_time
+        ),
+        (1000, 1050),
+        (3, 2),
+        &panels,
+    )
+}
+
+/// Fig. 4: a constant force on the first dorsoventral bending mode (rearing) and on the first
+/// axial mode (hunching): the transient and the shifted equilibrium shape.
+pub(super) fn rearing_hunching(theory: &Theory) -> Result<String, FigureError> {
+    let n = theory.points;
+    let mut panels = Vec::new();
+    let field = |behaviour: &str| -> Result<(usize, String), FigureError> {
+        let i = behaviour::role_fields(&theory.model, behaviour)
+            .map_err(|e| FigureError::Body(e.to_string()))?[0];
+        let f = &theory.model.fields[i];
+        let role = f.role.map(|r| r.name()).unwrap_or_default();
+        Ok((i, format!("{role} {}", f.symbol)))
+    };
+    let (rear, hunch) = (field("behave rearing")?, field("behave hunching")?);
+    let labels = [("rearing", rear.0, rear.1), ("hunching", hunch.0, hunch.1)];
+    // Each run again over its own settling time, so a fast mode's panel shows its settling
+    // at the same resolution (400 samples) as a slow one's.
+    let runs = labels
+        .iter()
+        .map(|(what, index, _)| {
+            let r = behaviour::step_response(theory, what, *index, 0.02, 2000.0)?;
+            match settling_end(&r.transient, r.equilibrium) {
+                end if end > 0.0 && end < 1500.0 => {
+                    behaviour::step_response(theory, what, *index, 0.02, end)
+                }
+                _ => Ok(r),
+            }
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(bh)?;
+    let titles: Vec<(String, String)> = labels
+        .iter()
+        .zip(&runs)
+        .map(|((what, _, _), r)| {
+            (
+                format!("{what}: force 0.02 on mode {}", r.mode),
+                format!("{what}: shifted equilibrium Q*·vᵢ"),
+            )
+        })
+        .collect();
+    for (((_, _, axis), r), (t1, t2)) in labels.iter().zip(&runs).zip(&titles) {
+        let q = vec![
+            (0.0, r.equilibrium),
+            (r.transient.last().map_or(1.0, |x| x.0), r.equilibrium),
+        ];
+        let mut a = panel(
+            t1,
+            "time t (1/ω)",
+            "modal coordinate Q",
+            vec![
+                series("transient", r.transient.clone(), Mark::Line),
+                series("Q* = F/ωᵢ²", q, Mark::Dashed),
+            ],
+        );
+        a.zero = true;
+        let shape = r
+            .shape
+            .iter()
+            .enumerate()
+            .map(|(j, v)| (j as f64, *v))
+            .collect();
+        let mut b = panel(
+            t2,
+            "segment j (0 = tail)",
+            axis,
+            vec![series("", shape, Mark::Line)],
+        );
+        b.zero = true;
+        panels.push(a);
+        panels.push(b);
+    }
+    render(
+        &format!("Rearing and hunching, N = {n} (paper §3.3.2, Fig. 4)"),
+        (1000, 760),
+        (2, 2),
+        &panels,
+    )
+}
+
+/// A third past the transient's settling time (the last moment it is more than 1 % of Q* away
+/// from Q*): a fast mode settles in a tenth of a slow one's time, and its panel should show the
+/// settling, not a flat line.
+pub(super) fn settling_end(transient: &[(f64, f64)], equilibrium: f64) -> f64 {
+    let tolerance = 0.01 * equilibrium.abs();
+    transient
+        .iter()
+        .rev()
+        .find(|&&(_, q)| (q - equilibrium).abs() > tolerance)
+        .map_or(0.0, |p| p.0 * 4.0 / 3.0)
+}
+
+/// App. C: forward and backward frequencies of the self-interacting axial pair against the
+/// amplitude, with the nonlinear pair's simulated frequencies.
+pub(super) fn asymmetry() -> Result<String, FigureError> {
+    let c = -std::f64::consts::FRAC_1_SQRT_2;
+    let roots = |a: f64| behaviour::asymmetry_roots(c, a, 1.0);
+    let mut sim = (Vec::new(), Vec::new());
+    for a in [0.25, 0.5, 0.75, 1.0, 1.25, 1.5] {
+        let x = behaviour::asymmetry(c, a, 1.0).map_err(bh)?;
+        sim.0.push((a, x.simulated_forward));
+        sim.1.push((a, x.simulated_backward));
+    }
+    let mut p = panel(
+        "roots of ω_s² + cA²ω_s − ω² = 0, c = −√2/2, ω = 1",
+        "wave amplitude A",
+        "travelling-wave frequency ω_s (units of ω)",
+        vec![
+            series(
+                "forward root",
+                curve(0.0, 1.6, 160, |a| roots(a).0),
+                Mark::Line,
+            ),
+            series(
+                "backward root",
+                curve(0.0, 1.6, 160, |a| roots(a).1),
+                Mark::Line,
+            ),
+            series("simulated forward", sim.0, Mark::Dots),
+            series("simulated backward", sim.1, Mark::Dots),
+        ],
+    );
+    p.zero = true;
+    render(
+        "Forward/backward asymmetry of the axial pair (paper App. C, corrected cA²)",
+        (760, 520),
+        (1, 1),
+        &[p],
+    )
+}
+
+/// App. B: PCA of Langevin postures against the modes and the equipartition shares.
+pub(super) fn equipartition(
+    theory: &Theory,
+    settings: &FigureSettings,
+) -> Result<String, FigureError> {
+    let n = theory.points;
+    let kt = 0.5;
+    // 200 000 steps, fewer on long bodies so that the figure takes seconds (the title says how
+    // many postures went in).
+    let steps = ((2e9 / (n as f64).powi(2)) as u64).clamp(1000, 200_000);
+    let c = behaviour::equipartition_from_dynamics(theory, None, steps, kt, settings.seed)
+        .map_err(bh)?;
+    let k = |v: &[f64], f: fn(f64) -> f64| -> Vec<(f64, f64)> {
+        v.iter()
+            .enumerate()
+            .map(|(i, x)| ((i + 1) as f64, f(*x)))
+            .collect()
+    };
+    let mut shares = panel(
+        "variance share of each principal component",
+        "component k (k-th non-zero mode)",
+        "log₁₀ share",
+        vec![
+            series(
+                "PCA of simulated postures",
+                k(&c.pca_variance_share, f64::log10),
+                Mark::Dots,
+            ),
+            series(
+                "equipartition λₖ⁻¹/Σλ⁻¹",
+                k(&c.theory_variance_share, f64::log10),
+                Mark::Line,
+            ),
+        ],
+    );
+    shares.zero = true;
+    let mut overlap = panel(
+        "|cos| between principal component k and mode k",
+        "component k",
+        "overlap",
+        vec![series("", k(&c.overlap, |x| x), Mark::Dots)],
+    );
+    overlap.zero = true;
+    render(
+        &format!(
+            "Equipartition from Langevin dynamics: {} postures of y, N = {n}, kT = {kt} (paper App. B)",
+            c.frames
+        ),
+        (1000, 420),
+        (1, 2),
+        &[shares, overlap],
+    )
+}
+
+/// Figs. 6–7: a degenerate pair's minimum-energy orbit, the body it moves, and its densities.
+pub(super) fn pair(
+    theory: &Theory,
+    kind: PairKind,
+    settings: &FigureSettings,
+) -> Result<String, FigureError> {
+    let n = theory.points;
+    let m = 0.1;
+    let o = behaviour::pair_orbit(theory, kind, m, 2.0).map_err(bh)?;
+    let orbit: Vec<(f64, f64)> = o.trajectory.iter().map(|&(_, a, b)| (a, b)).collect();
+    let postures = o
+        .postures
+        .iter()
+        .map(|(t, a, b)| {
+            let pts = match kind {
+                PairKind::Peristalsis => {
+                    a.iter().enumerate().map(|(j, v)| (j as f64, *v)).collect()
+                }
+                PairKind::Rolling => a.iter().zip(b).map(|(y, z)| (*y, *z)).collect(),
+            };
+            series(format!("t = {t:.2}"), pts, Mark::Line)
+        })
+        .collect();
+    // p(A) ∝ exp(−β(M²/A² + ω²A²)/2) on A > 0, normalised by quadrature.
+    let beta: f64 = 100.0;
+    let w = o.omega;
+    let amax = (0.4 / w).sqrt() + 5.0 / (w * beta.sqrt());
+    let mut dens = Vec::new();
+    for (k, mm) in [0.0, 0.05, 0.1, 0.2].iter().enumerate() {
+        let g = |a: f64| behaviour::pair_amplitude_weight(w, beta, *mm, a);
+        let z = behaviour::integrate(&g, 0.0, amax * 2.0, 1e-12);
+        dens.push(series(
+            format!("M = {mm}"),
+            curve(0.0, amax, 200, |a| g(a) / z),
+            if k == 2 { Mark::Line } else { Mark::Dashed },
+        ));
+    }
+    let s = behaviour::sample_pair(w, beta, m, settings.samples, settings.seed).map_err(bh)?;
+    let (hist, bw) = histogram(&s.amplitude, 40);
+    dens.push(series(format!("Metropolis, M = {m}"), hist, Mark::Bars(bw)));
+    let (what, pfield, title) = match kind {
+        PairKind::Peristalsis => (
+            "Peristalsis",
+            "axial displacement x",
+            "travelling compression wave",
+        ),
+        PairKind::Rolling => (
+            "Rolling",
+            "dorsoventral z",
+            "midline seen along the axis: a C-bend turning",
+        ),
+    };
+    let px = match kind {
+        PairKind::Peristalsis => "segment j (0 = tail)",
+        PairKind::Rolling => "mediolateral y",
+    };
+    let mut orbit_panel = panel(
+        "minimum-energy orbit A* = √(|M|/ω)",
+        "Q_a",
+        "Q_b",
+        vec![series("", orbit, Mark::Line)],
+    );
+    orbit_panel.zero = true;
+    let mut dens_panel = panel("amplitude density at β = 100", "amplitude A", "p(A)", dens);
+    dens_panel.zero = true;
+    render(
+        &format!(
+            "{what}: pair frequency ω = {:.4}, M = {m}, N = {n} (paper Figs. 6–7)",
+            o.omega
+        ),
+        (1200, 420),
+        (1, 3),
+        &[orbit_panel, panel(title, px, pfield, postures), dens_panel],
+    )
+}
+
+/// Fig. 8A: the free energy of a pair across M = 0.
+pub(super) fn free_energy(theory: &Theory) -> Result<String, FigureError> {
+    let o = behaviour::pair_orbit(theory, PairKind::Peristalsis, 0.1, 1.0).map_err(bh)?;
+    let mut lines = Vec::new();
+    for beta in [1.0, 3.0, 10.0] {
+        let mut pts = Vec::new();
+        for (m, _) in curve(-1.0, 1.0, 200, |m| m) {
+            pts.push((
+                m,
+                behaviour::pair_statistics(o.omega, beta, m)
+                    .map_err(bh)?
+                    .free_energy,
+            ));
+        }
+        lines.push(series(format!("β = {beta}"), pts, Mark::Line));
+    }
+    render(
+        &format!(
+            "Free energy of the first axial pair, ω = {:.4} (paper Fig. 8A)",
+            o.omega
+        ),
+        (700, 480),
+        (1, 1),
+        &[panel(
+            "F(M) = ln(βω/2π²)/β + |M|ω: a kink at M = 0",
+            "conserved momentum M",
+            "free energy F",
+            lines,
+        )],
+    )
+}
+
+/// Fig. 8D: the 3-point bend angle of unbiased exploration against its linearised Gaussian.
+pub(super) fn bend_angle(
+    theory: &Theory,
+    settings: &FigureSettings,
+) -> Result<String, FigureError> {
+    let n = theory.points;
+    let beta = 10_000.0;
+    let e = behaviour::explore(theory, beta, settings.samples, settings.seed).map_err(bh)?;
+    let deg: Vec<f64> = e.bend.iter().map(|b| b.to_degrees()).collect();
+    let (hist, w) = histogram(&deg, 60);
+    let sd = e.bend_sd_linear.to_degrees();
+    let lim = 4.0 * sd;
+    let gauss = curve(-lim, lim, 200, |x| {
+        (-0.5 * (x / sd).powi(2)).exp() / (sd * (2.0 * std::f64::consts::PI).sqrt())
+    });
+    render(
+        &format!("3-point body bend in unbiased exploration, β = {beta}, N = {n} (paper Fig. 8D)"),
+        (700, 480),
+        (1, 1),
+        &[panel(
+            "tail–midpoint–head turning angle",
+            "bend angle (degrees)",
+            "density (1/degree)",
+            vec![
+                series(
+                    format!("{} sampled postures", e.bend.len()),
+                    hist,
+                    Mark::Bars(w),
+                ),
+                series("linearised Gaussian", gauss, Mark::Line),
+            ],
+        )],
+    )
+}
+
+/// App. D: the Mathieu stability chart with the first tongue's small-ε edges.
+pub(super) fn mathieu() -> Result<String, FigureError> {
+    let (nx, ny, emax) = (161usize, 61usize, 0.6);
+    let (lo, hi) = (0.5, 4.5);
+    let chart_points = behaviour::stability_chart(1.0, (lo, hi), emax, (nx, ny)).map_err(bh)?;
+    let mut svg = String::new();
+    let mut curves = Curves::new(0);
+    {
+        let root = SVGBackend::with_string(&mut svg, (800, 520)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(
+                "Mathieu stability: Φ̈ + λ²[1 − 2ε cos ωt]Φ = 0 (paper App. D)",
+                ("sans-serif", 18),
+            )
+            .margin(10)
+            .x_label_area_size(40)
+            .y_label_area_size(50)
+            .build_cartesian_2d(lo..hi, 0.0..emax)
+            .map_err(err)?;
+        chart
+            .configure_mesh()
+            .x_desc("drive frequency ω/λ")
+            .y_desc("modulation depth ε")
+            .light_line_style(WHITE)
+            .draw()
+            .map_err(err)?;
+        let (dx, dy) = ((hi - lo) / (nx - 1) as f64, emax / (ny - 1) as f64);
+        chart
+            .draw_series(chart_points.iter().filter(|p| !p.stable).map(|p| {
+                let (x, y) = (p.frequency_ratio, p.epsilon);
+                Rectangle::new(
+                    [(x - dx / 2.0, y - dy / 2.0), (x + dx / 2.0, y + dy / 2.0)],
+                    RGBColor(214, 39, 40).mix(0.5).filled(),
+                )
+            }))
+            .map_err(err)?
+            .label("unstable (|tr M| > 2)")
+            .legend(|(x, y)| {
+                Rectangle::new(
+                    [(x, y - 5), (x + 16, y + 5)],
+                    RGBColor(214, 39, 40).mix(0.5).filled(),
+                )
+            });
+        let pixels = chart.plotting_area().get_pixel_range();
+        for (sign, name) in [(-1.0, "2√(1 − ε)"), (1.0, "2√(1 + ε)")] {
+            let edge: Vec<(f64, f64)> = curve(0.0, emax, 100, |e| e)
+                .into_iter()
+                .map(|(e, _)| (2.0 * (1.0 + sign * e).sqrt(), e))
+                .collect();
+            curves.add(&edge, &pixels, (&(lo..hi), &(0.0..emax)), (BLACK, false));
+            chart
+                .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
+                .map_err(err)?
+                .label(format!("first tongue edge {name}"))
+                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLACK));
+        }
+        chart
+            .draw_series(std::iter::once(Rectangle::new(
+                [(lo, 0.0), (lo, 0.0)],
+                curves.marker.filled(),
+            )))
+            .map_err(err)?;
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK.mix(0.4))
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()
+            .map_err(err)?;
+        root.present().map_err(err)?;
+    }
+    curves.splice(&mut svg);
+    Ok(svg)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::settling_end;
+
+    #[test]
+    fn a_transient_ends_a_third_past_its_settling_time() {
+        // Q(t) = 1 − e^{−t}cos t settles within 1 % at t ≈ ln 100 ≈ 4.6, sampled to t = 100.
+        let transient: Vec<(f64, f64)> = (0..=10_000)
+            .map(|i| {
+                let t = i as f64 / 100.0;
+                (t, 1.0 - (-t).exp() * t.cos())
+            })
+            .collect();
+        let end = settling_end(&transient, 1.0);
+        assert!(end > 4.0 * 4.0 / 3.0 && end < 4.7 * 4.0 / 3.0, "{end}");
+        // One that never leaves its equilibrium has nothing to show; one that never settles, all.
+        assert_eq!(settling_end(&[(0.0, 1.0), (1.0, 1.0)], 1.0), 0.0);
+        assert_eq!(settling_end(&transient, 5.0), 100.0 * 4.0 / 3.0);
+    }
+}

@@ -1,0 +1,159 @@
+//! Figures of a fit: principal components against mode shapes, and the summary panels.
+
+use super::plot::*;
+use super::FigureError;
+
+/// The fit's principal components against the mode shapes (Fig. 2A style).
+fn fit_shapes(r: &crate::fit::FitReport) -> Result<String, FigureError> {
+    let shown = r.modes.len().min(4);
+    let mut shape_panels = Vec::new();
+    let titles: Vec<String> = (0..shown)
+        .map(|k| {
+            format!(
+                "PC {} against mode {} (overlap {:.4})",
+                k + 1,
+                r.modes[k].index,
+                r.mode_overlap[k]
+            )
+        })
+        .collect();
+    for (k, title) in titles.iter().enumerate() {
+        let mode: Vec<f64> = r.shapes[k].clone();
+        // The PC on the model's points, signed to agree with the mode.
+        let mut pc: Vec<f64> = (0..mode.len())
+            .map(|p| {
+                (0..r.shapes.len())
+                    .map(|j| r.components[k][j] * r.shapes[j][p])
+                    .sum()
+            })
+            .collect();
+        if pc.iter().zip(&mode).map(|(a, b)| a * b).sum::<f64>() < 0.0 {
+            pc.iter_mut().for_each(|v| *v = -*v);
+        }
+        let pts = |v: &[f64]| v.iter().enumerate().map(|(p, x)| (p as f64, *x)).collect();
+        shape_panels.push(panel(
+            title,
+            "point j (0 = tail)",
+            "unit-norm shape",
+            vec![
+                series("mode shape", pts(&mode), Mark::Line),
+                series("principal component", pts(&pc), Mark::Dashed),
+            ],
+        ));
+    }
+    render(
+        &format!(
+            "Principal components of {} frames against the theory's modes",
+            r.frames
+        ),
+        (1000, 760),
+        (2, 2),
+        &shape_panels,
+    )
+}
+
+/// The fit's figures (Fig. 2 style): principal components against mode shapes, variance shares,
+/// spectra, and measured against fitted modal frequencies.
+pub fn fit_figures(r: &crate::fit::FitReport) -> Result<Vec<(&'static str, String)>, FigureError> {
+    let shown = r.modes.len().min(4);
+    let shapes = fit_shapes(r)?;
+    let idx = |k: usize| r.modes[k].index as f64;
+    let share = |v: &[f64]| -> Vec<(f64, f64)> {
+        v.iter()
+            .enumerate()
+            .map(|(k, s)| (idx(k), 100.0 * s))
+            .collect()
+    };
+    let mut shares = panel(
+        "variance share of each principal component",
+        "mode index i",
+        "share (%)",
+        vec![
+            series("PCA of the data", share(&r.pca_variance_share), Mark::Dots),
+            series(
+                "equipartition λᵢ⁻¹/Σλⱼ⁻¹",
+                share(&r.theory_variance_share),
+                Mark::Line,
+            ),
+        ],
+    );
+    shares.zero = true;
+    let mut freq = panel(
+        "modal frequencies",
+        "mode index i",
+        "angular frequency (rad per time unit)",
+        vec![
+            series(
+                "measured",
+                (0..r.modes.len())
+                    .map(|k| (idx(k), r.modes[k].angular_frequency))
+                    .collect(),
+                Mark::Dots,
+            ),
+            series(
+                format!("ω√λᵢ, ω = {:.4}", r.omega),
+                (0..r.modes.len())
+                    .map(|k| (idx(k), r.modes[k].theory_angular_frequency))
+                    .collect(),
+                Mark::Line,
+            ),
+        ],
+    );
+    freq.zero = true;
+    let ratio = |f: &dyn Fn(&crate::fit::ModeFit) -> f64| -> Vec<(f64, f64)> {
+        let first = f(&r.modes[0]);
+        (0..r.modes.len())
+            .map(|k| (idx(k), f(&r.modes[k]) / first))
+            .collect()
+    };
+    let mut ratios = panel(
+        "frequency ratios ωᵢ/ω₁ (independent of ω)",
+        "mode index i",
+        "ωᵢ / ω of the first mode",
+        vec![
+            series("measured", ratio(&|m| m.angular_frequency), Mark::Dots),
+            series(
+                "theory √(λᵢ/λ₁)",
+                ratio(&|m| m.eigenvalue.sqrt()),
+                Mark::Line,
+            ),
+        ],
+    );
+    ratios.zero = true;
+    let spectra: Vec<Series> = (0..shown)
+        .map(|k| {
+            let pts = r
+                .frequencies
+                .iter()
+                .zip(&r.psd[k])
+                .skip(1)
+                .filter(|(_, p)| **p > 0.0)
+                .map(|(f, p)| (*f, p.log10()))
+                .collect();
+            series(format!("mode {}", r.modes[k].index), pts, Mark::Line)
+        })
+        .collect();
+    let summary = render(
+        &format!(
+            "Fit of {} frames: ω = {:.4}, β = {:.4} (paper Fig. 2)",
+            r.frames, r.omega, r.beta
+        ),
+        (1000, 780),
+        (2, 2),
+        &[
+            shares,
+            panel(
+                "Welch spectra of the modal coordinates",
+                "frequency (cycles per time unit)",
+                "log₁₀ PSD",
+                spectra,
+            ),
+            freq,
+            ratios,
+        ],
+    )?;
+    Ok(vec![
+        ("fit_shapes.svg", shapes),
+        ("fit_summary.svg", summary),
+    ])
+}

@@ -1,0 +1,166 @@
+//! SVG figures of the modes and the behaviour models (the paper's Figs. 2, 3, 6, 7, 8 and the
+//! Mathieu chart of App. D), drawn with plotters' SVG backend.
+//!
+//! Text goes into the SVG as `<text>` elements, so no font library is needed to write a figure
+//! (plotters' own font features stay off). Every figure is computed here from the library, never
+//! read from a file; all quantities are dimensionless (time in units of the field's 1/ω, the
+//! default scales ω = 1, ζ = 0.1 unless `params` says otherwise) and each axis says so.
+
+use std::path::{Path, PathBuf};
+
+mod behaviour;
+mod fit;
+mod modes;
+mod plot;
+
+use crate::behaviour::PairKind;
+use crate::theory::Theory;
+use behaviour::{
+    asymmetry, bend_angle, equipartition, free_energy, mathieu, pair, rearing_hunching,
+    self_righting,
+};
+pub use fit::fit_figures;
+use modes::{mode_shapes, spectrum};
+
+/// Why a figure could not be made.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum FigureError {
+    /// A setting out of range, an unknown figure, or a model that cannot make it.
+    #[error("{0}")]
+    Invalid(String),
+    /// The body cannot make this figure: it lacks a field role or the structure the figure's
+    /// behaviour needs.
+    #[error("{0}")]
+    Body(String),
+    /// A file or directory could not be written.
+    #[error("{0}")]
+    Io(String),
+}
+
+pub(super) fn err(e: impl std::fmt::Display) -> FigureError {
+    FigureError::Invalid(e.to_string())
+}
+
+/// Settings shared by the figures.
+#[derive(Debug, Clone)]
+pub struct FigureSettings {
+    /// Points along the body.
+    pub points: usize,
+    /// Seed of the sampled figures.
+    pub seed: u64,
+    /// Samples of the sampled figures (pair density, 3-point bend).
+    pub samples: usize,
+}
+
+impl Default for FigureSettings {
+    fn default() -> Self {
+        FigureSettings {
+            points: 12,
+            seed: 1,
+            samples: 100_000,
+        }
+    }
+}
+
+/// The figures, by file name, in the order they are made.
+pub const FIGURES: [&str; 11] = [
+    "mode_shapes.svg",
+    "spectrum.svg",
+    "self_righting.svg",
+    "rearing_hunching.svg",
+    "asymmetry.svg",
+    "equipartition.svg",
+    "peristalsis.svg",
+    "rolling.svg",
+    "free_energy.svg",
+    "bend_angle.svg",
+    "mathieu.svg",
+];
+
+/// Make figure `name` (one of [`FIGURES`]) as SVG text.
+pub fn figure(
+    name: &str,
+    theory: &Theory,
+    settings: &FigureSettings,
+) -> Result<String, FigureError> {
+    match name {
+        "mode_shapes.svg" => mode_shapes(theory),
+        "spectrum.svg" => spectrum(theory),
+        "self_righting.svg" => self_righting(theory),
+        "rearing_hunching.svg" => rearing_hunching(theory),
+        "asymmetry.svg" => asymmetry(),
+        "equipartition.svg" => equipartition(theory, settings),
+        "peristalsis.svg" => pair(theory, PairKind::Peristalsis, settings),
+        "rolling.svg" => pair(theory, PairKind::Rolling, settings),
+        "free_energy.svg" => free_energy(theory),
+        "bend_angle.svg" => bend_angle(theory, settings),
+        "mathieu.svg" => mathieu(),
+        _ => Err(FigureError::Invalid(format!(
+            "unknown figure {name:?} (figures: {})",
+            FIGURES.join(", ")
+        ))),
+    }
+}
+
+/// What [`write_figures`] did: the files written, and the figures skipped because the model
+/// lacks a role they need (with the reason).
+#[derive(Debug, Default)]
+pub struct Written {
+    /// Paths written.
+    pub written: Vec<PathBuf>,
+    /// (figure, why) of each figure the body cannot make.
+    pub skipped: Vec<(String, String)>,
+}
+
+/// Write the figures `names` (from [`FIGURES`]) into `dir` (created if missing), calling
+/// `progress` before each one. Unknown names are refused before anything is written. When
+/// several are asked, a figure the body cannot make (a missing role, no degenerate pair, …) is
+/// skipped and reported; a single one asked for is an error.
+pub fn write_figures(
+    dir: &Path,
+    names: &[&str],
+    theory: &Theory,
+    settings: &FigureSettings,
+    mut progress: impl FnMut(&str),
+) -> Result<Written, FigureError> {
+    if let Some(bad) = names.iter().find(|n| !FIGURES.contains(n)) {
+        return Err(FigureError::Invalid(format!(
+            "unknown figure {bad:?} (figures: {})",
+            FIGURES.join(", ")
+        )));
+    }
+    create_dir(dir)?;
+    let mut out = Written::default();
+    for name in names {
+        progress(name);
+        match figure(name, theory, settings) {
+            Ok(svg) => out.written.push(write_svg(dir, name, &svg)?),
+            Err(FigureError::Body(why)) if names.len() > 1 => {
+                out.skipped.push((name.to_string(), why))
+            }
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(out)
+}
+
+fn create_dir(dir: &Path) -> Result<(), FigureError> {
+    std::fs::create_dir_all(dir)
+        .map_err(|e| FigureError::Io(format!("cannot create {}: {e}", dir.display())))
+}
+
+fn write_svg(dir: &Path, name: &str, svg: &str) -> Result<PathBuf, FigureError> {
+    let path = dir.join(name);
+    std::fs::write(&path, svg)
+        .map_err(|e| FigureError::Io(format!("cannot write {}: {e}", path.display())))?;
+    Ok(path)
+}
+
+/// Write [`fit_figures`] into `dir`.
+pub fn write_fit(dir: &Path, r: &crate::fit::FitReport) -> Result<Vec<PathBuf>, FigureError> {
+    create_dir(dir)?;
+    fit_figures(r)?
+        .iter()
+        .map(|(name, svg)| write_svg(dir, name, svg))
+        .collect()
+}

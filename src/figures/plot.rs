@@ -1,0 +1,409 @@
+//! The plotting kit every figure uses: series and panels, ranges and ticks, legends placed
+//! where they hide no data, and the SVG they are drawn into.
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::{err, FigureError};
+
+pub(super) type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
+
+/// How a series is drawn.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Mark {
+    Line,
+    Dashed,
+    Dots,
+    /// Histogram bars of the given width; points are (left edge, height).
+    Bars(f64),
+}
+
+pub(super) struct Series {
+    pub(super) name: String,
+    pub(super) points: Vec<(f64, f64)>,
+    pub(super) mark: Mark,
+}
+
+pub(super) fn series(name: impl Into<String>, points: Vec<(f64, f64)>, mark: Mark) -> Series {
+    Series {
+        name: name.into(),
+        points,
+        mark,
+    }
+}
+
+/// Series drawn exactly over an earlier one join its legend entry ("y = z"), so no curve is
+/// hidden without a word.
+pub(super) fn merge_identical(all: Vec<Series>) -> Vec<Series> {
+    let mut out: Vec<Series> = Vec::new();
+    for s in all {
+        match out
+            .iter_mut()
+            .find(|o| o.points == s.points && o.mark == s.mark)
+        {
+            Some(o) => o.name = format!("{} = {}", o.name, s.name),
+            None => out.push(s),
+        }
+    }
+    out
+}
+
+pub(super) struct Panel<'a> {
+    pub(super) title: &'a str,
+    pub(super) x: &'a str,
+    pub(super) y: &'a str,
+    pub(super) series: Vec<Series>,
+    /// Vertical marker lines (x, label).
+    pub(super) markers: Vec<(f64, String)>,
+    /// Force the y range to include 0.
+    pub(super) zero: bool,
+}
+
+pub(super) fn panel<'a>(title: &'a str, x: &'a str, y: &'a str, series: Vec<Series>) -> Panel<'a> {
+    Panel {
+        title,
+        x,
+        y,
+        series,
+        markers: Vec::new(),
+        zero: false,
+    }
+}
+
+/// The padded range of `values` (never empty).
+pub(super) fn range(values: impl Iterator<Item = f64>, zero: bool) -> std::ops::Range<f64> {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in values.filter(|v| v.is_finite()) {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if zero {
+        lo = lo.min(0.0);
+        hi = hi.max(0.0);
+    }
+    if !lo.is_finite() {
+        return 0.0..1.0;
+    }
+    let pad = if hi > lo {
+        0.05 * (hi - lo)
+    } else {
+        0.5 * lo.abs().max(1.0)
+    };
+    (lo - pad)..(hi + pad)
+}
+
+/// A tick label: whole numbers without ".0", no "-0", at most four significant decimals.
+pub(super) fn tick(v: f64) -> String {
+    if v.abs() < 1e-12 {
+        return "0".into();
+    }
+    if (v - v.round()).abs() < 1e-9 * v.abs().max(1.0) && v.abs() < 1e9 {
+        return format!("{}", v.round() as i64);
+    }
+    let text = format!("{v:.4}");
+    text.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+/// Where the legend goes, and the y range that leaves room for it: the corner whose legend-sized
+/// box holds the fewest data points; when every corner holds some, the y axis grows upward by
+/// the legend's height so it sits above the data (upper right). `plot` is the plotting area's
+/// size in pixels.
+pub(super) fn legend_place(
+    p: &Panel,
+    plot: (f64, f64),
+    xr: &std::ops::Range<f64>,
+    yr: &std::ops::Range<f64>,
+) -> (SeriesLabelPosition, std::ops::Range<f64>) {
+    let labels: Vec<&str> = p
+        .series
+        .iter()
+        .map(|s| s.name.as_str())
+        .chain(p.markers.iter().map(|m| m.1.as_str()))
+        .filter(|n| !n.is_empty())
+        .collect();
+    let chars = labels.iter().map(|l| l.chars().count()).max().unwrap_or(0);
+    // plotters' legend: 11 px text rows about 15 px apart, a 16 px swatch, padding.
+    let fw = ((chars as f64 * 6.5 + 50.0) / plot.0).min(0.9);
+    let fh = ((labels.len() as f64 * 15.0 + 14.0) / plot.1).min(0.6);
+    let (w, h) = (xr.end - xr.start, yr.end - yr.start);
+    let count = |right: bool, upper: bool| {
+        p.series
+            .iter()
+            .flat_map(|s| s.points.iter())
+            .filter(|&&(x, y)| {
+                let fx = (x - xr.start) / w;
+                let fy = (y - yr.start) / h;
+                (if right { fx > 1.0 - fw } else { fx < fw })
+                    && (if upper { fy > 1.0 - fh } else { fy < fh })
+            })
+            .count()
+    };
+    let (pos, n) = [
+        (SeriesLabelPosition::UpperRight, count(true, true)),
+        (SeriesLabelPosition::UpperLeft, count(false, true)),
+        (SeriesLabelPosition::LowerRight, count(true, false)),
+        (SeriesLabelPosition::LowerLeft, count(false, false)),
+    ]
+    .into_iter()
+    .min_by_key(|(_, n)| *n)
+    .unwrap_or((SeriesLabelPosition::UpperRight, 0));
+    if n == 0 || labels.is_empty() {
+        return (pos, yr.clone());
+    }
+    // Headroom: the data keep the lower 1 − fh of the axis.
+    let top = yr.start + h / (1.0 - fh);
+    (SeriesLabelPosition::UpperRight, yr.start..top)
+}
+
+pub(super) fn color(i: usize) -> RGBColor {
+    const COLORS: [RGBColor; 8] = [
+        RGBColor(31, 119, 180),
+        RGBColor(214, 39, 40),
+        RGBColor(44, 160, 44),
+        RGBColor(255, 127, 14),
+        RGBColor(148, 103, 189),
+        RGBColor(140, 86, 75),
+        RGBColor(227, 119, 194),
+        RGBColor(127, 127, 127),
+    ];
+    COLORS[i % COLORS.len()]
+}
+
+/// Curves drawn at sub-pixel precision: plotters' SVG backend rounds every coordinate to a whole
+/// pixel (jagged shallow curves), so lines are written as SVG polylines with float coordinates
+/// by the figure itself, at the place in the drawing order a zero-size marker of a unique
+/// colour holds for them (under the legend, over the grid).
+pub(super) struct Curves {
+    /// The marker's colour, `#0102xx`.
+    pub(super) marker: RGBColor,
+    /// The `<polyline>` elements.
+    pub(super) svg: String,
+}
+
+impl Curves {
+    pub(super) fn new(id: usize) -> Curves {
+        Curves {
+            marker: RGBColor(1, 2, (id % 250) as u8 + 3),
+            svg: String::new(),
+        }
+    }
+
+    /// One polyline of data `points` through the chart's linear map to pixels.
+    pub(super) fn add(
+        &mut self,
+        points: &[(f64, f64)],
+        pixels: &(std::ops::Range<i32>, std::ops::Range<i32>),
+        ranges: (&std::ops::Range<f64>, &std::ops::Range<f64>),
+        (color, dashed): (RGBColor, bool),
+    ) {
+        use std::fmt::Write as _;
+        // plotters' own map: x from the first to the last pixel column, y from the bottom row up.
+        let (x0, x1) = (pixels.0.start as f64, (pixels.0.end - 1) as f64);
+        let (y0, y1) = ((pixels.1.end - 1) as f64, pixels.1.start as f64);
+        let (xr, yr) = ranges;
+        let dash = if dashed {
+            " stroke-dasharray=\"6 4\""
+        } else {
+            ""
+        };
+        let RGBColor(r, g, b) = color;
+        let _ = write!(
+            self.svg,
+            "<polyline fill=\"none\" stroke=\"#{r:02X}{g:02X}{b:02X}\" stroke-width=\"2\"{dash} points=\""
+        );
+        for &(x, y) in points {
+            let px = x0 + (x1 - x0) * (x - xr.start) / (xr.end - xr.start);
+            let py = y0 + (y1 - y0) * (y - yr.start) / (yr.end - yr.start);
+            if px.is_finite() && py.is_finite() {
+                let _ = write!(self.svg, "{px:.2},{py:.2} ");
+            }
+        }
+        self.svg.push_str("\"/>\n");
+    }
+
+    /// Put the curves where the marker is in `svg` (the marker goes).
+    pub(super) fn splice(&self, svg: &mut String) {
+        let RGBColor(r, g, b) = self.marker;
+        let tag = format!("fill=\"#{r:02X}{g:02X}{b:02X}\"");
+        if let Some(at) = svg.find(&tag) {
+            let start = svg[..at].rfind('<').unwrap_or(at);
+            let end = svg[at..].find("/>").map_or(at, |e| at + e + 2);
+            let end = if svg[end..].starts_with('\n') {
+                end + 1
+            } else {
+                end
+            };
+            svg.replace_range(start..end, &self.svg);
+        }
+    }
+}
+
+/// Draw one panel: axes with labels, its series and a legend; its line series come back as
+/// [`Curves`] to splice into the SVG.
+pub(super) fn draw(area: &Area, p: &Panel, id: usize) -> Result<Curves, FigureError> {
+    let mut curves = Curves::new(id);
+    let xs = p.series.iter().flat_map(|s| {
+        s.points.iter().flat_map(move |q| match s.mark {
+            Mark::Bars(w) => vec![q.0, q.0 + w],
+            _ => vec![q.0],
+        })
+    });
+    let xr = range(xs.chain(p.markers.iter().map(|m| m.0)), false);
+    let bars = p.series.iter().any(|s| matches!(s.mark, Mark::Bars(_)));
+    let yr = range(
+        p.series.iter().flat_map(|s| s.points.iter().map(|q| q.1)),
+        p.zero || bars,
+    );
+    // The plotting area: the panel less the label areas, caption and margins below.
+    let (pw, ph) = area.dim_in_pixel();
+    let plot = (
+        (pw as f64 - 56.0 - 16.0).max(50.0),
+        (ph as f64 - 36.0 - 16.0 - 30.0).max(50.0),
+    );
+    let (legend_at, yr) = legend_place(p, plot, &xr, &yr);
+    let mut chart = ChartBuilder::on(area)
+        .caption(p.title, ("sans-serif", 16))
+        .margin(8)
+        .x_label_area_size(36)
+        .y_label_area_size(56)
+        .build_cartesian_2d(xr.clone(), yr.clone())
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc(p.x)
+        .y_desc(p.y)
+        .x_label_formatter(&|v| tick(*v))
+        .y_label_formatter(&|v| tick(*v))
+        .light_line_style(WHITE)
+        .draw()
+        .map_err(err)?;
+    for (i, s) in p.series.iter().enumerate() {
+        let c = color(i);
+        // The legend swatch is drawn as the series is: a line, two dashes, a dot, a bar.
+        let mark = s.mark;
+        let legend = move |(x, y): (i32, i32)| {
+            let at = EmptyElement::at((x, y));
+            match mark {
+                Mark::Line => {
+                    at + PathElement::new(vec![(0, 0), (8, 0)], c.stroke_width(2))
+                        + PathElement::new(vec![(8, 0), (16, 0)], c.stroke_width(2))
+                }
+                Mark::Dashed => {
+                    at + PathElement::new(vec![(0, 0), (6, 0)], c.stroke_width(2))
+                        + PathElement::new(vec![(10, 0), (16, 0)], c.stroke_width(2))
+                }
+                Mark::Dots => {
+                    at + PathElement::new(vec![(8, 0), (8, 0)], c)
+                        + PathElement::new(vec![(5, 0), (11, 0)], c.stroke_width(5))
+                }
+                Mark::Bars(_) => {
+                    at + PathElement::new(vec![(2, 0), (14, 0)], c.mix(0.45).stroke_width(8))
+                        + PathElement::new(vec![(2, 0), (2, 0)], c)
+                }
+            }
+        };
+        let pixels = chart.plotting_area().get_pixel_range();
+        let drawn =
+            match s.mark {
+                Mark::Line | Mark::Dashed => {
+                    let dashed = matches!(s.mark, Mark::Dashed);
+                    curves.add(&s.points, &pixels, (&xr, &yr), (c, dashed));
+                    // Nothing drawn by plotters: the series only takes its legend entry.
+                    chart
+                        .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
+                        .map_err(err)?
+                }
+                Mark::Dots => chart
+                    .draw_series(s.points.iter().map(|&q| Circle::new(q, 3, c.filled())))
+                    .map_err(err)?,
+                Mark::Bars(w) => chart
+                    .draw_series(s.points.iter().map(|&(x, h)| {
+                        Rectangle::new([(x, 0.0), (x + w, h)], c.mix(0.45).filled())
+                    }))
+                    .map_err(err)?,
+            };
+        if !s.name.is_empty() {
+            drawn.label(s.name.as_str()).legend(legend);
+        }
+    }
+    for (x, label) in &p.markers {
+        chart
+            .draw_series(LineSeries::new(
+                vec![(*x, yr.start), (*x, yr.end)],
+                BLUE.mix(0.6),
+            ))
+            .map_err(err)?
+            .label(label.as_str())
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLUE.mix(0.6)));
+    }
+    // The curves' place: after the grid and markers, before the legend.
+    chart
+        .draw_series(std::iter::once(Rectangle::new(
+            [(xr.start, yr.start), (xr.start, yr.start)],
+            curves.marker.filled(),
+        )))
+        .map_err(err)?;
+    if p.series.iter().any(|s| !s.name.is_empty()) || !p.markers.is_empty() {
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK.mix(0.4))
+            .label_font(("sans-serif", 11))
+            .position(legend_at)
+            .draw()
+            .map_err(err)?;
+    }
+    Ok(curves)
+}
+
+/// Render panels in a grid of `rows × cols` under a title, returning the SVG text.
+pub(super) fn render(
+    title: &str,
+    size: (u32, u32),
+    grid: (usize, usize),
+    panels: &[Panel],
+) -> Result<String, FigureError> {
+    let mut svg = String::new();
+    let mut curves = Vec::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let root = root.titled(title, ("sans-serif", 20)).map_err(err)?;
+        for (id, (area, p)) in root.split_evenly(grid).iter().zip(panels).enumerate() {
+            curves.push(draw(area, p, id)?);
+        }
+        root.present().map_err(err)?;
+    }
+    for c in &curves {
+        c.splice(&mut svg);
+    }
+    Ok(svg)
+}
+
+/// Curves of `f` on `n + 1` points of [a, b].
+pub(super) fn curve(a: f64, b: f64, n: usize, f: impl Fn(f64) -> f64) -> Vec<(f64, f64)> {
+    (0..=n)
+        .map(|i| {
+            let x = a + (b - a) * i as f64 / n as f64;
+            (x, f(x))
+        })
+        .collect()
+}
+
+/// A normalised histogram of `values` on `bins` bins: (left edges, density), width.
+pub(super) fn histogram(values: &[f64], bins: usize) -> (Vec<(f64, f64)>, f64) {
+    let r = range(values.iter().cloned(), false);
+    let w = (r.end - r.start) / bins as f64;
+    let mut counts = vec![0usize; bins];
+    for v in values.iter().filter(|v| v.is_finite()) {
+        let k = (((v - r.start) / w) as usize).min(bins - 1);
+        counts[k] += 1;
+    }
+    let total = values.len().max(1) as f64 * w;
+    let pts = counts
+        .iter()
+        .enumerate()
+        .map(|(k, &c)| (r.start + k as f64 * w, c as f64 / total))
+        .collect();
+    (pts, w)
+}
