@@ -21,6 +21,7 @@ pub mod figures;
 pub mod fit;
 pub mod generated;
 pub mod interaction;
+pub mod markup;
 pub mod modal;
 pub mod model;
 pub mod params;

@@ -10,6 +10,7 @@ use std::io::{self, Write};
 use serde::ser::{Serialize, SerializeMap, Serializer};
 use serde_json::Value;
 
+use crate::markup::latex_symbol;
 use crate::report::{Aligned, Chunked};
 
 use crate::model::{Density, Model};
@@ -458,36 +459,6 @@ pub fn write_json(model: &Model, analyses: &[Analysis], out: &mut dyn io::Write)
     serde_json::to_writer_pretty(&mut w, &JsonReport { model, analyses })?;
     w.write_all(b"\n")?;
     w.flush()
-}
-
-const GREEK: [(char, &str); 12] = [
-    ('φ', "\\phi"),
-    ('θ', "\\theta"),
-    ('ψ', "\\psi"),
-    ('χ', "\\chi"),
-    ('α', "\\alpha"),
-    ('β', "\\beta"),
-    ('γ', "\\gamma"),
-    ('ξ', "\\xi"),
-    ('η', "\\eta"),
-    ('ρ', "\\rho"),
-    ('κ', "\\kappa"),
-    ('ζ', "\\zeta"),
-];
-
-/// A symbol in LaTeX math: Greek letters to commands, the rest unchanged.
-pub fn latex_symbol(s: &str) -> String {
-    s.chars()
-        .map(|c| {
-            GREEK
-                .iter()
-                .find(|(g, _)| *g == c)
-                .map(|(_, l)| format!("{l} "))
-                .unwrap_or_else(|| c.to_string())
-        })
-        .collect::<String>()
-        .trim_end()
-        .to_string()
 }
 
 fn latex_formula(density: Density, f: &FieldResult) -> String {

@@ -1,0 +1,287 @@
+//! Continuum equations of motion derived from the surviving densities.
+//!
+//! For each field, with `v = ∂tφ`, the dissipative Euler–Lagrange equation is
+//!
+//! ```text
+//! δL/δφ = δR/δv,      δF/δu = Σ_α (−1)^|α| ∂^α ∂F/∂(∂^α u)
+//! ```
+//!
+//! (integration by parts, boundary terms dropped). For a quadratic term `C·∂^αφ·∂^βφ` the
+//! variational derivative is `C[(−1)^|α| + (−1)^|β|] ∂^{α+β}φ`; a Rayleigh factor `∂^αφ` with
+//! `α_t ≥ 1` is `∂^{α−t}v`. The standard kinetic term `½(∂tφ)²` gives `−∂t²φ`; solving for it
+//! gives `∂t²φ = Σ sign·prefactor·coefficient·∂tᵗ∂sˢφ`, exact. For the larva:
+//! `∂t²x = c_x ∂s²x + 2c'_x ∂t∂s²x` and `∂t²y = −c_y ∂s⁴y − 2c'_y ∂t∂s⁴y`.
+//! The printed coefficients fold the rational prefactor into the free parameter; the prefactor
+//! is kept in [`RhsTerm::prefactor`]. Whether a parameter's sign is fixed is derived, with its
+//! reason, by [`SignClaim`].
+
+use std::collections::BTreeMap;
+
+use num_rational::Rational64;
+use num_traits::{Signed, Zero};
+
+use crate::enumerate::Basis;
+use crate::model::{Density, Field, Model};
+use crate::reduce::{analyse_basis, Analysis, DensityTerm, OrderError};
+use crate::term::{Deriv, Term};
+
+mod nonlinear;
+mod render;
+pub use nonlinear::{derive_nonlinear, NonlinearEquation, PolyTerm};
+pub use render::{derivative_text, json, EquationReport, NonlinearReport, Shown};
+
+/// One term `sign · prefactor · coefficient · ∂tᵗ∂sˢφ` of a right-hand side.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RhsTerm {
+    /// Derivative of the field.
+    pub deriv: Deriv,
+    /// +1 or −1.
+    pub sign: i64,
+    /// Exact positive prefactor, folded into `coefficient` when printed.
+    pub prefactor: Rational64,
+    /// The free parameter (`c_x`, `c'_x`).
+    pub coefficient: String,
+    /// What fixes the parameter's sign, if anything.
+    pub claim: SignClaim,
+}
+
+/// Whether a parameter's sign is fixed, and by what.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(tag = "sign", content = "reason", rename_all = "kebab-case")]
+pub enum SignClaim {
+    /// Positive as printed, for the reason given.
+    Positive(&'static str),
+    /// Negative as printed would be stable: the parameter must be negative.
+    Negative(&'static str),
+    /// Either sign is allowed, for the reason given.
+    Free(&'static str),
+}
+
+impl SignClaim {
+    /// Derived from the dispersion relation of ∂t²φ = Σ: with φ ∝ e^{i(qs−ωt)}, a term
+    /// c·∂sᵇφ (b even) adds (−1)^{b/2} c qᵇ to −ω², and c·∂t∂sᵇφ adds a damping rate. The lowest
+    /// and highest even b of each kind dominate as q → 0 and q → ∞, so their signs are fixed:
+    /// the stable sign is (−1)^{b/2+1}. Odd b is odd under s → −s and no square's variation:
+    /// nothing fixes it. Other terms are bounded only jointly.
+    fn of(deriv: Deriv, sign: i64, extreme: bool) -> SignClaim {
+        if deriv.s % 2 == 1 {
+            return SignClaim::Free("odd in ∂s, not the variation of a square: neither energy nor dissipation fixes its sign, and s → −s flips it");
+        }
+        let reason = match deriv.t {
+            0 if extreme => "the energy must be bounded below, ω² > 0 as q → 0 and as q → ∞",
+            1 if extreme => "dissipation cannot be negative, by the second law",
+            0 | 1 => {
+                return SignClaim::Free(
+                    "stability bounds it only together with the other terms of its kind",
+                )
+            }
+            _ => return SignClaim::Free("no energy or dissipation argument here fixes it"),
+        };
+        let stable = if (deriv.s / 2) % 2 == 0 { -1 } else { 1 };
+        if sign == stable {
+            SignClaim::Positive(reason)
+        } else {
+            SignClaim::Negative(reason)
+        }
+    }
+
+    /// `c_x > 0 (reason)`.
+    pub fn describe(&self, coefficient: &str) -> String {
+        match self {
+            SignClaim::Positive(r) => format!("{coefficient} > 0: {r}"),
+            SignClaim::Negative(r) => format!("{coefficient} < 0: {r}"),
+            SignClaim::Free(r) => format!("{coefficient} of either sign: {r}"),
+        }
+    }
+}
+
+/// `∂t²φ = Σ rhs` for one field.
+#[derive(Debug, Clone)]
+pub struct Equation {
+    /// The field.
+    pub field: Field,
+    /// Right-hand side, by ascending time then space derivative.
+    pub rhs: Vec<RhsTerm>,
+}
+
+/// Why the equations cannot be written.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum EquationError {
+    /// The order is out of range.
+    #[error(transparent)]
+    Order(#[from] OrderError),
+    /// No standard kinetic term survives, so there is no `∂t²φ` to solve for.
+    #[error("field {field}: no kinetic term (∂t {field})² survives at order {order}, so there is no ∂t²{field} to solve for")]
+    NoKinetic {
+        /// Field id.
+        field: String,
+        /// The order asked for.
+        order: u32,
+    },
+    /// A surviving term is not quadratic: its equation would not be linear.
+    #[error("field {field}: surviving term {term} is not quadratic; only linear equations of motion are derived")]
+    NotQuadratic {
+        /// Field id.
+        field: String,
+        /// The term.
+        term: String,
+    },
+}
+
+/// A linear combination `Σ value·parameter·∂^D φ`, keyed by (derivative, parameter).
+pub type Linear = BTreeMap<(Deriv, Option<String>), Rational64>;
+
+fn add(into: &mut Linear, deriv: Deriv, param: &Option<String>, value: Rational64) {
+    let e = into
+        .entry((deriv, param.clone()))
+        .or_insert_with(Rational64::zero);
+    *e += value;
+    if e.is_zero() {
+        into.remove(&(deriv, param.clone()));
+    }
+}
+
+fn parity(d: Deriv) -> Rational64 {
+    Rational64::from_integer(if d.order() % 2 == 0 { 1 } else { -1 })
+}
+
+/// The two derivatives of a quadratic single-field term (equal for a square), or `None`.
+pub fn quadratic_parts(term: &Term) -> Option<(Deriv, Deriv)> {
+    match term.factors() {
+        [f] if f.power == 2 => Some((f.deriv, f.deriv)),
+        [f, g] if f.power == 1 && g.power == 1 && f.field == g.field => Some((f.deriv, g.deriv)),
+        _ => None,
+    }
+}
+
+fn plus(a: Deriv, b: Deriv) -> Deriv {
+    Deriv::new(a.t + b.t, a.s + b.s)
+}
+
+/// δL/δφ of `C·term` (Lagrangian) or δR/δv of it (Rayleigh), added to `into`.
+/// `C = sign·prefactor·parameter`.
+pub fn variational_derivative(density: Density, dt: &DensityTerm, into: &mut Linear) -> bool {
+    let Some((a, b)) = quadratic_parts(&dt.term) else {
+        return false;
+    };
+    let c = dt.prefactor * Rational64::from_integer(dt.sign);
+    for (x, y) in [(a, b), (b, a)] {
+        match density {
+            // ∂F/∂(∂^x φ) = C·∂^y φ; then (−1)^|x| ∂^x of it.
+            Density::Lagrangian => add(into, plus(x, y), &dt.parameter, c * parity(x)),
+            // Only factors holding ∂t depend on v: ∂^x φ = ∂^{x−t} v.
+            Density::Rayleigh if x.t >= 1 => {
+                let xv = Deriv::new(x.t - 1, x.s);
+                add(into, plus(xv, y), &dt.parameter, c * parity(xv))
+            }
+            Density::Rayleigh => {}
+        }
+    }
+    true
+}
+
+fn field_equation(
+    l: &Analysis,
+    r: &Analysis,
+    index: usize,
+    order: u32,
+) -> Result<Equation, EquationError> {
+    let field = l.fields[index].field.clone();
+    // δL/δφ − δR/δv = 0, as one linear combination.
+    let mut total = Linear::new();
+    for (analysis, sign) in [(l, 1), (r, -1)] {
+        let mut part = Linear::new();
+        for dt in &analysis.fields[index].density {
+            if !variational_derivative(analysis.density, dt, &mut part) {
+                return Err(EquationError::NotQuadratic {
+                    field: field.id.clone(),
+                    term: dt.term.render(&|_| field.symbol.clone()),
+                });
+            }
+        }
+        for ((d, p), v) in part {
+            add(&mut total, d, &p, v * Rational64::from_integer(sign));
+        }
+    }
+    let tt = (Deriv::new(2, 0), None);
+    let lead = total.remove(&tt).unwrap_or_else(Rational64::zero);
+    if lead.is_zero() {
+        return Err(EquationError::NoKinetic {
+            field: field.symbol.clone(),
+            order,
+        });
+    }
+    let mut rhs: Vec<RhsTerm> = total
+        .into_iter()
+        .map(|((deriv, param), v)| {
+            let value = -v / lead;
+            RhsTerm {
+                deriv,
+                sign: if value.is_negative() { -1 } else { 1 },
+                prefactor: value.abs(),
+                coefficient: param.unwrap_or_else(|| "1".to_string()),
+                claim: SignClaim::Free(""),
+            }
+        })
+        .collect();
+    rhs.sort_by_key(|t| (t.deriv.t, t.deriv.s));
+    // The lowest and highest even space order among the terms of each time order.
+    let extremes = |t: u32| {
+        let even = rhs
+            .iter()
+            .filter(|r| r.deriv.t == t && r.deriv.s % 2 == 0)
+            .map(|r| r.deriv.s);
+        (even.clone().min(), even.max())
+    };
+    let bounds: Vec<(Option<u32>, Option<u32>)> = (0..=2).map(extremes).collect();
+    for r in &mut rhs {
+        let (lo, hi) = bounds
+            .get(r.deriv.t as usize)
+            .copied()
+            .unwrap_or((None, None));
+        let extreme = Some(r.deriv.s) == lo || Some(r.deriv.s) == hi;
+        r.claim = SignClaim::of(r.deriv, r.sign, extreme);
+    }
+    Ok(Equation { field, rhs })
+}
+
+/// The equations of motion of every field of `model` at `order`, plus the analyses' notes.
+pub fn derive(model: &Model, order: u32) -> Result<(Vec<Equation>, Vec<String>), EquationError> {
+    derive_basis(model, order, Basis::Powers)
+}
+
+/// The equations of motion when the candidates are `basis`.
+pub fn derive_basis(
+    model: &Model,
+    order: u32,
+    basis: Basis,
+) -> Result<(Vec<Equation>, Vec<String>), EquationError> {
+    let (l, r, notes) = analyses(model, order, basis)?;
+    let equations = (0..model.fields.len())
+        .map(|i| field_equation(&l, &r, i, order))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok((equations, notes))
+}
+
+/// Both densities' analyses and what they say is missing.
+fn analyses(
+    model: &Model,
+    order: u32,
+    basis: Basis,
+) -> Result<(Analysis, Analysis, Vec<String>), EquationError> {
+    crate::reduce::check_work(
+        model,
+        &[Density::Lagrangian, Density::Rayleigh],
+        order,
+        basis,
+    )?;
+    let l = analyse_basis(model, Density::Lagrangian, order, basis)?;
+    let r = analyse_basis(model, Density::Rayleigh, order, basis)?;
+    let notes = l
+        .fields
+        .iter()
+        .chain(&r.fields)
+        .flat_map(|f| f.missing.clone())
+        .collect();
+    Ok((l, r, notes))
+}

@@ -1,0 +1,120 @@
+//! The general derivation: the exact Euler–Lagrange expression of every surviving term,
+//! nonlinear ones included, with the Rayleigh density taken through the velocity jet.
+
+use std::collections::BTreeMap;
+
+use num_rational::Rational64;
+use num_traits::Zero;
+
+use super::{analyses, EquationError};
+use crate::enumerate::Basis;
+use crate::model::{Density, Field, Model};
+use crate::term::Deriv;
+
+/// One term `value · coefficient · Π ∂^α φ` of a nonlinear right-hand side.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PolyTerm {
+    /// The product of field derivatives (sorted, with powers); empty is the constant 1.
+    pub monomial: crate::parts::Mono,
+    /// Exact signed rational factor.
+    pub value: Rational64,
+    /// The free parameter (`c_x`), or `1`.
+    pub coefficient: String,
+}
+
+/// `∂t²φ = Σ rhs` for one field, any polynomial density: the exact Euler–Lagrange equation.
+#[derive(Debug, Clone)]
+pub struct NonlinearEquation {
+    /// The field.
+    pub field: Field,
+    /// Right-hand side, by parameter then monomial.
+    pub rhs: Vec<PolyTerm>,
+}
+
+/// The exact equations of motion of any surviving densities, quadratic or not:
+/// ∂t²φ = E(L − ½(∂tφ)²) − δR/δv, with E the full Euler–Lagrange operator
+/// ([`crate::parts::euler_lagrange`]) and δR/δv the Euler operator in s of the velocity
+/// v = ∂tφ ([`crate::parts::space_euler`]). A term whose contribution vanishes (a total
+/// derivative, as a linear ∂ssφ) is dropped with a note.
+pub fn derive_nonlinear(
+    model: &Model,
+    order: u32,
+    basis: Basis,
+) -> Result<(Vec<NonlinearEquation>, Vec<String>), EquationError> {
+    use crate::parts::{euler_lagrange, mono_of, space_euler, JetPoly};
+    let (l, r, mut notes) = analyses(model, order, basis)?;
+    let mut equations = Vec::new();
+    for (i, field) in model.fields.iter().enumerate() {
+        // Σ over parameters of the E(L) − δR/δv polynomials.
+        let mut total: BTreeMap<Option<String>, JetPoly> = BTreeMap::new();
+        for (analysis, sign) in [(&l, 1), (&r, -1)] {
+            for dt in &analysis.fields[i].density {
+                let c = dt.prefactor * Rational64::from_integer(dt.sign * sign);
+                let p: JetPoly = [(mono_of(&dt.term), c)].into_iter().collect();
+                let e = match analysis.density {
+                    Density::Lagrangian => euler_lagrange(&p),
+                    Density::Rayleigh => {
+                        let parts = space_euler(&p);
+                        if parts.keys().any(|&a| a != 1) {
+                            notes.push(format!(
+                                "R_{}: {} depends on more than the velocity jet; only its dependence on ∂t{} enters",
+                                field.symbol,
+                                dt.term.render(&|_| field.symbol.clone()),
+                                field.symbol
+                            ));
+                        }
+                        parts.get(&1).cloned().unwrap_or_default()
+                    }
+                };
+                if e.is_empty() {
+                    notes.push(format!(
+                        "{}_{}: {} contributes nothing to the equation (a total derivative) and is dropped",
+                        analysis.density.letter(),
+                        field.symbol,
+                        dt.term.render(&|_| field.symbol.clone())
+                    ));
+                }
+                let into = total.entry(dt.parameter.clone()).or_default();
+                for (m, v) in e {
+                    let entry = into.entry(m.clone()).or_insert_with(Rational64::zero);
+                    *entry += v;
+                    if entry.is_zero() {
+                        into.remove(&m);
+                    }
+                }
+            }
+        }
+        let acceleration: crate::parts::Mono = vec![(Deriv::new(2, 0), 1)];
+        let lead = total
+            .get_mut(&None)
+            .and_then(|p| p.remove(&acceleration))
+            .unwrap_or_else(Rational64::zero);
+        if lead.is_zero() {
+            return Err(EquationError::NoKinetic {
+                field: field.symbol.clone(),
+                order,
+            });
+        }
+        let rhs: Vec<PolyTerm> = total
+            .into_iter()
+            .flat_map(|(param, p)| {
+                let coefficient = param.unwrap_or_else(|| "1".into());
+                p.into_iter().map(move |(monomial, v)| PolyTerm {
+                    monomial,
+                    value: -v / lead,
+                    coefficient: coefficient.clone(),
+                })
+            })
+            .collect();
+        let mut rhs: Vec<PolyTerm> = rhs;
+        rhs.sort_by_key(|t| {
+            let degree: u32 = t.monomial.iter().map(|(_, n)| n).sum();
+            (degree, t.monomial.clone(), t.coefficient.clone())
+        });
+        equations.push(NonlinearEquation {
+            field: field.clone(),
+            rhs,
+        });
+    }
+    Ok((equations, notes))
+}
