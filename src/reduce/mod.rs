@@ -6,52 +6,23 @@
 //! scales. The survivors become a density with free coefficients, written the paper's way:
 //! `L_x = ½(∂t x)² − ½ c_x (∂s x)²`, `R_x = c'_x (∂ts x)²`.
 
-use std::fmt;
-
 use num_rational::Rational64;
-use num_traits::{One, Signed};
+use num_traits::One;
 
 use crate::enumerate::{candidates, count_products, Basis, Bounds, MAX_CANDIDATES, MAX_ORDER};
 use crate::model::{Density, Dominance, Field, Model};
-use crate::rules::{PreparedRule, Rule, Verdict};
+use crate::rules::{PreparedRule, Rule};
 use crate::term::{Orders, Term};
+
+mod budget;
+mod render;
+mod stream;
+pub use budget::{check_candidates, check_work, check_work_within, OrderError};
+pub use render::{prefactor_text, sign_joiner};
+pub use stream::{analyse_streamed, for_each_row, MAX_STREAMED};
 
 /// How many orders past the requested one a missing part is looked for on the monomial basis.
 const MONOMIAL_LOOK_AHEAD: u32 = 4;
-
-/// An order the engine will not analyse.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-pub enum OrderError {
-    /// Outside `1..=MAX_ORDER`.
-    #[error("order {0} is out of range: use an order from 1 to {MAX_ORDER}")]
-    OutOfRange(u32),
-    /// The basis has too many candidates at this order.
-    #[error("order {order} has {count} candidate {what}, more than the {limit} the tool enumerates: use a lower order{advice}")]
-    TooManyCandidates {
-        /// What the candidates are (`monomials`, `products of 2 fields`).
-        what: String,
-        /// More advice, where the command has another way (`or --basis powers`).
-        advice: &'static str,
-        /// The order asked for.
-        order: u32,
-        /// How many candidates it has.
-        count: u128,
-        /// The limit.
-        limit: u128,
-    },
-    /// The interaction tables would decide too many products in all.
-    #[error("the {density} interaction tables at order {order} decide {count} candidate products over every set of fields, more than the {limit} budget (about ten seconds): use a lower order or one --density")]
-    TooManyInteractions {
-        /// Which density.
-        density: String,
-        /// The order asked for.
-        order: u32,
-        /// How many products in all.
-        count: u128,
-        /// The budget.
-        limit: u128,
-    },
-}
 
 /// One candidate term with its verdicts.
 #[derive(Debug, Clone)]
@@ -121,71 +92,6 @@ impl std::ops::Index<usize> for Marks {
             &false
         }
     }
-}
-
-/// Refuse, from counts alone and before any term is built, an analysis of `densities` at
-/// `order` that is out of range or over the candidate limit: a command analysing both densities
-/// checks both first, so it never decides one only to refuse the other.
-pub fn check_work(
-    model: &Model,
-    densities: &[Density],
-    order: u32,
-    basis: Basis,
-) -> Result<(), OrderError> {
-    check_work_within(model, densities, order, basis, MAX_CANDIDATES)
-}
-
-/// [`check_work`] with another candidate limit (a streamed table's, [`MAX_STREAMED`]).
-pub fn check_work_within(
-    model: &Model,
-    densities: &[Density],
-    order: u32,
-    basis: Basis,
-    limit: u128,
-) -> Result<(), OrderError> {
-    if order == 0 || order > MAX_ORDER {
-        return Err(OrderError::OutOfRange(order));
-    }
-    if basis == Basis::Monomials {
-        for &d in densities {
-            let bounds = Bounds::for_order(model.density(d).bound, order);
-            check_candidates_within(order, &bounds, 1, limit)?;
-        }
-    }
-    Ok(())
-}
-
-/// Refuse an enumeration of more than [`MAX_CANDIDATES`] products of `fields` fields.
-pub fn check_candidates(order: u32, bounds: &Bounds, fields: u32) -> Result<(), OrderError> {
-    check_candidates_within(order, bounds, fields, MAX_CANDIDATES)
-}
-
-fn check_candidates_within(
-    order: u32,
-    bounds: &Bounds,
-    fields: u32,
-    limit: u128,
-) -> Result<(), OrderError> {
-    let count = count_products(bounds, fields);
-    if count > limit {
-        return Err(OrderError::TooManyCandidates {
-            what: if fields == 1 {
-                "monomials".into()
-            } else {
-                format!("products of {fields} fields")
-            },
-            // One field's densities have the powers basis; products of fields do not.
-            advice: if fields == 1 {
-                " or --basis powers"
-            } else {
-                ""
-            },
-            order,
-            count,
-            limit,
-        });
-    }
-    Ok(())
 }
 
 /// A term of a surviving density with its coefficient `sign · prefactor · parameter`.
@@ -403,76 +309,6 @@ fn field_results(
         .collect()
 }
 
-/// The most monomials a streamed table decides and writes (text or CSV, about ten seconds);
-/// held analyses stop at [`MAX_CANDIDATES`].
-pub const MAX_STREAMED: u128 = 20_000_000;
-
-/// The single-field monomial analysis of `density` at `order` without holding its rows: every
-/// candidate is decided once to find what each field admits (only those are kept), and decided
-/// again by [`for_each_row`] as the table is written. For tables past [`MAX_CANDIDATES`].
-pub fn analyse_streamed(
-    model: &Model,
-    density: Density,
-    order: u32,
-) -> Result<Analysis, OrderError> {
-    check_work_within(model, &[density], order, Basis::Monomials, MAX_STREAMED)?;
-    let bounds = Bounds::for_order(model.density(density).bound, order);
-    let decider = Decider::new(model, density, &bounds);
-    let mut admitted: Vec<Vec<Term>> = vec![Vec::new(); model.fields.len()];
-    let mut candidates = 0;
-    crate::enumerate::for_each_monomial(&bounds, &mut |term| {
-        candidates += 1;
-        let row = decider.row(term);
-        for (i, list) in admitted.iter_mut().enumerate() {
-            if row.admitted[i] {
-                list.push(row.term.clone());
-            }
-        }
-    });
-    let fields = field_results(model, density, order, Basis::Monomials, admitted);
-    Ok(Analysis {
-        density,
-        order,
-        bounds,
-        basis: Basis::Monomials,
-        columns: decider.columns,
-        rows: Vec::new(),
-        candidates,
-        fields,
-    })
-}
-
-/// Every row of `analysis` in canonical order, to `f`: the held rows, or for a streamed analysis
-/// each candidate enumerated and decided again (with its survivor marks). After an error from
-/// `f` the rest are skipped.
-pub fn for_each_row(
-    model: &Model,
-    analysis: &Analysis,
-    f: &mut dyn FnMut(&Row) -> std::io::Result<()>,
-) -> std::io::Result<()> {
-    if analysis.rows.len() == analysis.candidates {
-        return analysis.rows.iter().try_for_each(f);
-    }
-    let decider = Decider::new(model, analysis.density, &analysis.bounds);
-    let survivors: Vec<std::collections::HashSet<&Term>> = analysis
-        .fields
-        .iter()
-        .map(|f| f.survivors.iter().collect())
-        .collect();
-    let mut result = Ok(());
-    crate::enumerate::for_each_monomial(&analysis.bounds, &mut |term| {
-        if result.is_ok() {
-            let mut row = decider.row(term);
-            // Only an admitted term can survive: most rows need no lookup.
-            row.included = Marks::from_iter(
-                (0..survivors.len()).map(|i| row.admitted[i] && survivors[i].contains(&row.term)),
-            );
-            result = f(&row);
-        }
-    });
-    result
-}
-
 /// The lowest-order terms of `admitted`: all competing together (canonical order), or each part
 /// of the density among its own kind ([`Dominance::ByPart`]; kinetic terms first, each part in
 /// canonical order).
@@ -604,72 +440,6 @@ fn coefficients(density: Density, field: &Field, survivors: &[Term]) -> Vec<Dens
             }
         })
         .collect()
-}
-
-/// What goes before the `index`-th term of a sum: `" "`, `" −"`, `" + "` or `" − "`, with `minus`
-/// the minus sign to use (`−` in text, `-` in LaTeX).
-pub fn sign_joiner(index: usize, negative: bool, minus: &str) -> String {
-    match (index, negative) {
-        (0, false) => " ".to_string(),
-        (0, true) => format!(" {minus}"),
-        (_, false) => " + ".to_string(),
-        (_, true) => format!(" {minus} "),
-    }
-}
-
-/// `½`, `1`, `3/2`: an exact prefactor as people write it.
-pub fn prefactor_text(r: Rational64) -> String {
-    if r == Rational64::new(1, 2) {
-        "½".to_string()
-    } else if r.is_one() {
-        String::new()
-    } else {
-        r.abs().to_string()
-    }
-}
-
-impl Row {
-    /// Why the term fails column `i` of `analysis` (recomputed: rows keep only the decision).
-    pub fn why(&self, analysis: &Analysis, i: usize) -> Option<String> {
-        match analysis.columns[i].verdict(&self.term) {
-            Verdict::Pass => None,
-            Verdict::Reject { why, .. } => Some(why),
-        }
-    }
-}
-
-impl FieldResult {
-    /// The surviving density as a formula, e.g. `L_x = ½(∂t x)² − ½ c_x (∂s x)²`.
-    pub fn formula(&self, density: Density) -> String {
-        let sym = &self.field.symbol;
-        let mut out = format!("{}_{sym} =", density.letter());
-        if self.density.is_empty() {
-            return out + " 0";
-        }
-        for (i, dt) in self.density.iter().enumerate() {
-            let sign = sign_joiner(i, dt.sign < 0, "−");
-            let mut coef = prefactor_text(dt.prefactor);
-            if let Some(p) = &dt.parameter {
-                if !coef.is_empty() {
-                    coef.push(' ');
-                }
-                coef += p;
-                coef.push(' ');
-            }
-            let term = dt.term.render(&|_| sym.clone());
-            out += &format!("{sign}{coef}{term}");
-        }
-        out
-    }
-}
-
-impl fmt::Display for Analysis {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        for field in &self.fields {
-            writeln!(f, "{}", field.formula(self.density))?;
-        }
-        Ok(())
-    }
 }
 
 #[cfg(test)]
