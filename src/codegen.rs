@@ -11,7 +11,7 @@ use std::process::{Command, Stdio};
 
 use serde::Serialize;
 
-use crate::discretise::{boundary_name, min_points, plan, stencil};
+use crate::discretise::{plan, stencil};
 use crate::model::{Boundary, Density, Model};
 use crate::reduce::analyse;
 use crate::table::{render, Format};
@@ -51,11 +51,23 @@ struct OperatorContext {
     field_lit: String,
     meaning: String,
     density_lit: String,
-    boundary_lit: String,
+    /// The typed [`Boundary`] as a Rust expression (no text from the model).
+    boundary_expr: String,
     periodic: bool,
     term_lit: String,
     k: u32,
     stencil: String,
+}
+
+/// A boundary as the Rust expression that builds it in generated code.
+fn boundary_expr(b: Boundary) -> String {
+    match b {
+        Boundary::Periodic => "Boundary::Periodic".into(),
+        Boundary::Ends { tail, head } if tail == head => format!("Boundary::both(End::{tail:?})"),
+        Boundary::Ends { tail, head } => {
+            format!("Boundary::Ends {{ tail: End::{tail:?}, head: End::{head:?} }}")
+        }
+    }
 }
 
 /// A Rust string literal holding `s`, quotes included: Rust's own escaping.
@@ -101,7 +113,7 @@ fn stencil_context(boundary: Boundary, k: u32) -> StencilContext {
         upper: name.to_uppercase(),
         name,
         users: Vec::new(),
-        boundary: boundary_name(boundary),
+        boundary: boundary.name(),
         periodic: boundary == Boundary::Periodic,
         k,
         len: w.len(),
@@ -110,7 +122,7 @@ fn stencil_context(boundary: Boundary, k: u32) -> StencilContext {
             .map(|c| format!("{c}.0"))
             .collect::<Vec<_>>()
             .join(", "),
-        min: min_points(boundary, k),
+        min: boundary.min_points(k),
         size_expr,
         index_body,
         positions,
@@ -171,7 +183,7 @@ pub fn operators_source(model: &Model, order: u32) -> Result<String, String> {
             field_lit: literal(&p.field),
             meaning: comment(&format!("{} ({}): {term}", p.field, field.meaning)),
             density_lit: literal(p.density.key()),
-            boundary_lit: literal(&boundary_name(p.boundary)),
+            boundary_expr: boundary_expr(p.boundary),
             periodic: p.boundary == Boundary::Periodic,
             term_lit: literal(&term),
             k: p.k,
@@ -183,6 +195,7 @@ pub fn operators_source(model: &Model, order: u32) -> Result<String, String> {
         .map_err(|e| format!("template: {e}"))?;
     let mut ctx = tera::Context::new();
     ctx.insert("stencils", &stencils);
+    ctx.insert("any_ends", &ops.iter().any(|o| !o.periodic));
     ctx.insert("ops", &ops);
     ctx.insert("model", &comment(&model.name));
     ctx.insert("order", &order);

@@ -72,35 +72,6 @@ pub fn stencil(k: u32) -> Vec<i64> {
     w
 }
 
-/// Number of unknowns for `points` points: periodic fields tie the head to the tail, held ends
-/// drop their held points.
-pub fn size(k: u32, boundary: Boundary, points: usize) -> usize {
-    match boundary {
-        Boundary::Periodic => points.saturating_sub(1),
-        Boundary::Ends { .. } => {
-            let (tail, head) = boundary.held(k);
-            points.saturating_sub(tail + head)
-        }
-    }
-}
-
-/// The least number of points a stencil of order `k` needs: one whole stencil and at least one
-/// unknown (two around a ring).
-pub fn min_points(boundary: Boundary, k: u32) -> usize {
-    match boundary {
-        Boundary::Periodic => k as usize + 2,
-        Boundary::Ends { .. } => {
-            let (tail, head) = boundary.held(k);
-            (k as usize + 1).max(tail + head + 1)
-        }
-    }
-}
-
-/// Name of a boundary condition.
-pub fn boundary_name(b: Boundary) -> String {
-    b.name()
-}
-
 /// The paper's name for an operator of stencil order `k` with this boundary, if it has one.
 pub fn seed_name(k: u32, boundary: Boundary) -> Option<&'static str> {
     match (k, boundary) {
@@ -122,16 +93,16 @@ pub fn stencil_rows(
     boundary: Boundary,
     points: usize,
 ) -> Result<Vec<Vec<(usize, i64)>>, DiscretiseError> {
-    if points < min_points(boundary, k) {
+    if points < boundary.min_points(k) {
         return Err(DiscretiseError::TooFewPoints {
             points,
             k,
-            boundary: boundary_name(boundary),
-            min: min_points(boundary, k),
+            boundary: boundary.name(),
+            min: boundary.min_points(k),
         });
     }
     let w = stencil(k);
-    let n = size(k, boundary, points);
+    let n = boundary.unknowns(k, points);
     let rows = match boundary {
         Boundary::Periodic => (0..n)
             .map(|p| {
@@ -165,7 +136,7 @@ pub fn operator_matrix(
     boundary: Boundary,
     points: usize,
 ) -> Result<Vec<Vec<i64>>, DiscretiseError> {
-    let n = size(k, boundary, points);
+    let n = boundary.unknowns(k, points);
     let mut m = vec![vec![0i64; n]; n];
     for row in stencil_rows(k, boundary, points)? {
         for &(i, a) in &row {
@@ -291,7 +262,7 @@ pub fn operators(
                     field,
                     density: density.key().into(),
                     term: term.to_string(),
-                    boundary: boundary_name(boundary),
+                    boundary: boundary.name(),
                     k,
                     seed_name: seed_name(k, boundary),
                     size: matrix.len(),

@@ -10,6 +10,7 @@
 
 pub mod banded;
 pub mod behaviour;
+pub mod boundary;
 pub mod catalogue;
 pub mod cli;
 pub mod codegen;

@@ -6,8 +6,8 @@
 #![allow(clippy::approx_constant)]
 
 use faer::Mat;
-use theory_search::discretise::{operator_matrix, size, stencil_rows};
-use theory_search::modal::{continuum_beta, nullity, spectrum, subspace, Method};
+use theory_search::discretise::{operator_matrix, stencil_rows};
+use theory_search::modal::{continuum_beta, spectrum, subspace, Method};
 use theory_search::model::{Boundary, End};
 
 fn all_ends() -> Vec<Boundary> {
@@ -47,7 +47,7 @@ fn every_end_combination_matches_dense_faer() {
                 // Zero modes come out of the boundary.
                 let zeros = want.iter().filter(|l| l.abs() < 1e-9).count();
                 assert_eq!(s.nullity, zeros, "{b} k={k} N={points}");
-                assert_eq!(nullity(k, b), zeros);
+                assert_eq!(b.nullity(k), zeros);
                 // Shapes are eigenvectors: ‖Dv − λv‖ small.
                 let shapes = s.shapes.unwrap();
                 let m = operator_matrix(k, b, points).unwrap();
@@ -81,16 +81,16 @@ fn a_cantilever_has_no_zero_mode_and_pinned_free_one() {
         tail: End::Free,
         head: End::Clamped,
     };
-    assert_eq!(nullity(2, cantilever), 0);
+    assert_eq!(cantilever.nullity(2), 0);
     let pinned_free = Boundary::Ends {
         tail: End::Pinned,
         head: End::Free,
     };
-    assert_eq!(nullity(2, pinned_free), 1);
+    assert_eq!(pinned_free.nullity(2), 1);
     assert_eq!(nullity(2, Boundary::FREE), 2);
     assert_eq!(nullity(1, Boundary::CLAMPED), 0);
     // Held points are not unknowns; every row still has k + 1 points of the body.
-    assert_eq!(size(2, cantilever, 20), 18);
+    assert_eq!(cantilever.unknowns(2, 20), 18);
     assert_eq!(stencil_rows(2, cantilever, 20).unwrap().len(), 18);
 }
 
@@ -143,7 +143,7 @@ fn continuum_limits_of_the_textbook_beams() {
             // Within 0.2 % at N = 2000, the error shrinking as N doubles.
             let mut last = f64::INFINITY;
             for points in [500, 1000, 2000] {
-                let s = spectrum(2, b, points, Some(nullity(2, b) + 4), false).unwrap();
+                let s = spectrum(2, b, points, Some(b.nullity(2) + 4), false).unwrap();
                 let worst = (0..4)
                     .map(|i| {
                         let lam = s.eigenvalues[s.nullity + i];
@@ -192,7 +192,7 @@ fn string_closed_forms() {
         }
     }
     for b in all_ends() {
-        let s = spectrum(1, b, 4000, Some(nullity(1, b) + 3), false).unwrap();
+        let s = spectrum(1, b, 4000, Some(b.nullity(1) + 3), false).unwrap();
         for i in 0..3 {
             let got = beta(1, s.eigenvalues[s.nullity + i], 4000);
             let want = continuum_beta(1, b, i + 1).unwrap();
@@ -207,7 +207,7 @@ fn the_structured_method_agrees_with_dense_and_holds_long_bodies() {
         for b in all_ends() {
             for points in [9usize, 30, 61] {
                 let want = dense_oracle(k, b, points);
-                let count = (nullity(k, b) + 3).min(want.len());
+                let count = (b.nullity(k) + 3).min(want.len());
                 let s = subspace(k, b, points, count, true).unwrap();
                 for (got, w) in s.eigenvalues.iter().zip(&want) {
                     assert!(

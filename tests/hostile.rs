@@ -25,6 +25,15 @@ fn hostile(symbol: &str, meaning: &str, name: &str) -> String {
 }
 
 const STUB: &str = r#"
+pub mod boundary {
+    #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+    pub enum End { Free, Pinned, Clamped }
+    #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+    pub enum Boundary { Periodic, Ends { tail: End, head: End } }
+    impl Boundary {
+        pub const fn both(end: End) -> Boundary { Boundary::Ends { tail: end, head: end } }
+    }
+}
 pub mod generated {
     #[derive(Debug)]
     pub enum OperatorError { TooFewPoints { points: usize, min: usize } }
@@ -34,7 +43,7 @@ pub mod generated {
         pub field: &'static str,
         pub density: &'static str,
         pub term: &'static str,
-        pub boundary: &'static str,
+        pub boundary: crate::boundary::Boundary,
         pub k: u32,
         pub size: fn(usize) -> Result<usize, OperatorError>,
         pub apply: ApplyFn,

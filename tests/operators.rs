@@ -6,7 +6,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use num_rational::Rational64;
-use theory_search::discretise::{min_points, operator_matrix, operators, stencil};
+use theory_search::discretise::{operator_matrix, operators, stencil};
 use theory_search::generated::operators::OPERATORS;
 use theory_search::generated::OperatorError;
 use theory_search::model::{Boundary, End, Model};
@@ -239,7 +239,7 @@ fn operators_are_symmetric_psd_with_the_expected_null_spaces() {
     ];
     let mut seed = 0x2545_F491_4F6C_DD1Du64;
     for (k, boundary, nullity) in cases {
-        for points in [min_points(boundary, k), 7, 12, 25] {
+        for points in [boundary.min_points(k), 7, 12, 25] {
             let m = operator_matrix(k, boundary, points).unwrap();
             let n = m.len();
             for i in 0..n {
@@ -337,7 +337,11 @@ fn generated_code_agrees_with_the_engine() {
         for (op, generated) in ops.iter().zip(OPERATORS) {
             assert_eq!(
                 (op.field.as_str(), op.density.as_str(), op.boundary.as_str()),
-                (generated.field, generated.density, generated.boundary)
+                (
+                    generated.field,
+                    generated.density,
+                    generated.boundary.name().as_str()
+                )
             );
             let n = (generated.size)(points).unwrap();
             assert_eq!(n, op.size);

@@ -47,7 +47,7 @@ pub struct GeneratedOperator {
     /// The surviving term it comes from.
     pub term: &'static str,
     /// Boundary condition.
-    pub boundary: &'static str,
+    pub boundary: crate::boundary::Boundary,
     /// Stencil order.
     pub k: u32,
     /// Number of unknowns on N points.

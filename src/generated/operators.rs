@@ -6,6 +6,7 @@
 //! number of points, `banded_*` (non-periodic only) its upper bands, `bands[d][i] = D[i][i + d]`.
 
 use super::{Banded, GeneratedOperator, OperatorError, Stencil};
+use crate::boundary::{Boundary, End};
 
 /// Stencil `Δ^1` with the periodic boundary, used by:
 /// - `x · lagrangian · (∂s x)²`
@@ -113,7 +114,7 @@ pub const OPERATORS: &[GeneratedOperator] = &[
         field: "x",
         density: "lagrangian",
         term: "(∂s x)²",
-        boundary: "periodic",
+        boundary: Boundary::Periodic,
         k: 1,
         size: size_periodic_k1,
         apply: apply_periodic_k1,
@@ -125,7 +126,7 @@ pub const OPERATORS: &[GeneratedOperator] = &[
         field: "x",
         density: "rayleigh",
         term: "(∂ts x)²",
-        boundary: "periodic",
+        boundary: Boundary::Periodic,
         k: 1,
         size: size_periodic_k1,
         apply: apply_periodic_k1,
@@ -137,7 +138,7 @@ pub const OPERATORS: &[GeneratedOperator] = &[
         field: "theta",
         density: "lagrangian",
         term: "(∂s θ)²",
-        boundary: "free",
+        boundary: Boundary::both(End::Free),
         k: 1,
         size: size_free_k1,
         apply: apply_free_k1,
@@ -149,7 +150,7 @@ pub const OPERATORS: &[GeneratedOperator] = &[
         field: "theta",
         density: "rayleigh",
         term: "(∂ts θ)²",
-        boundary: "free",
+        boundary: Boundary::both(End::Free),
         k: 1,
         size: size_free_k1,
         apply: apply_free_k1,
@@ -161,7 +162,7 @@ pub const OPERATORS: &[GeneratedOperator] = &[
         field: "y",
         density: "lagrangian",
         term: "(∂ss y)²",
-        boundary: "free",
+        boundary: Boundary::both(End::Free),
         k: 2,
         size: size_free_k2,
         apply: apply_free_k2,
@@ -173,7 +174,7 @@ pub const OPERATORS: &[GeneratedOperator] = &[
         field: "y",
         density: "rayleigh",
         term: "(∂tss y)²",
-        boundary: "free",
+        boundary: Boundary::both(End::Free),
         k: 2,
         size: size_free_k2,
         apply: apply_free_k2,
@@ -185,7 +186,7 @@ pub const OPERATORS: &[GeneratedOperator] = &[
         field: "z",
         density: "lagrangian",
         term: "(∂ss z)²",
-        boundary: "free",
+        boundary: Boundary::both(End::Free),
         k: 2,
         size: size_free_k2,
         apply: apply_free_k2,
@@ -197,7 +198,7 @@ pub const OPERATORS: &[GeneratedOperator] = &[
         field: "z",
         density: "rayleigh",
         term: "(∂tss z)²",
-        boundary: "free",
+        boundary: Boundary::both(End::Free),
         k: 2,
         size: size_free_k2,
         apply: apply_free_k2,

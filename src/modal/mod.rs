@@ -46,7 +46,7 @@ pub use subspace::subspace;
 pub use trace::trace_polynomial;
 
 use crate::banded::BandedSym;
-use crate::discretise::{boundary_name, min_points, size, stencil_rows};
+use crate::discretise::stencil_rows;
 use crate::generated::operators::OPERATORS;
 use crate::model::Boundary;
 use closed::{d4, free_second_difference, held_second_difference, periodic};
@@ -146,24 +146,12 @@ impl Spectrum {
     }
 }
 
-/// Number of structural zero modes of a k-th difference operator with this boundary: the
-/// polynomials of degree < k that vanish on the held points (constants around a ring).
-pub fn nullity(k: u32, boundary: Boundary) -> usize {
-    match boundary {
-        Boundary::Periodic => 1,
-        Boundary::Ends { .. } => {
-            let (tail, head) = boundary.held(k);
-            (k as usize).saturating_sub(tail + head)
-        }
-    }
-}
-
 /// An orthonormal basis of the null space on the unknowns of a non-periodic operator:
 /// `Π_h (j − h) · jᵐ` over the held points h, m = 0…nullity − 1, in a centred, scaled variable.
 pub fn null_basis(k: u32, boundary: Boundary, points: usize) -> Vec<Vec<f64>> {
-    let count = nullity(k, boundary);
+    let count = boundary.nullity(k);
     let (tail, head) = boundary.held(k);
-    let n = size(k, boundary, points);
+    let n = boundary.unknowns(k, points);
     let centre = (points as f64 - 1.0) / 2.0;
     let scale = centre.max(1.0);
     let t = |q: usize| (q as f64 - centre) / scale;
@@ -201,15 +189,14 @@ pub fn banded_operator(k: u32, boundary: Boundary, points: usize) -> Result<Band
             "a periodic operator is not banded".into(),
         ));
     }
-    let name = boundary_name(boundary);
     let generated = OPERATORS
         .iter()
-        .find(|o| o.k == k && o.boundary == name)
+        .find(|o| o.k == k && o.boundary == boundary)
         .and_then(|o| o.banded);
     if let Some(build) = generated {
         let b = build(points).map_err(|_| ModalError::TooFewPoints {
             points,
-            min: min_points(boundary, k),
+            min: boundary.min_points(k),
         })?;
         return Ok(BandedSym {
             n: b.size,
@@ -218,9 +205,9 @@ pub fn banded_operator(k: u32, boundary: Boundary, points: usize) -> Result<Band
     }
     let rows = stencil_rows(k, boundary, points).map_err(|_| ModalError::TooFewPoints {
         points,
-        min: min_points(boundary, k),
+        min: boundary.min_points(k),
     })?;
-    let n = size(k, boundary, points);
+    let n = boundary.unknowns(k, points);
     let p = k as usize;
     let mut bands: Vec<Vec<f64>> = (0..=p).map(|d| vec![0.0; n.saturating_sub(d)]).collect();
     for row in rows {
@@ -265,7 +252,7 @@ pub fn spectrum(
     limit: Option<usize>,
     shapes: bool,
 ) -> Result<Spectrum, ModalError> {
-    let min = min_points(boundary, k);
+    let min = boundary.min_points(k);
     if points < min {
         return Err(ModalError::TooFewPoints { points, min });
     }
@@ -275,7 +262,7 @@ pub fn spectrum(
             why: format!("the modal solver takes at most {MAX_POINTS}"),
         });
     }
-    let n = size(k, boundary, points);
+    let n = boundary.unknowns(k, points);
     let count = limit.unwrap_or(n).min(n);
     let (tail, head) = boundary.held(k);
     let s = match (boundary, k) {

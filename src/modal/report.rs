@@ -10,7 +10,6 @@ use std::io::{self, Write};
 use serde::ser::{Serialize, SerializeMap, Serializer};
 
 use super::{BeamComparison, FieldModes, Mode};
-use crate::discretise::boundary_name;
 use crate::model::Model;
 use crate::report::{Aligned, Chunked, NonFinite, Report};
 
@@ -139,7 +138,7 @@ fn text_field(f: &FieldModes, out: &mut Chunked) -> io::Result<()> {
         "\n{} ({}) · {} boundary · Δ{} operator, {} modes ({}) · ω_{scale} = {}, ζ_{scale} = {} · Σλ⁻¹ = {}",
         f.field.id,
         f.field.meaning,
-        boundary_name(f.field.boundary),
+        f.field.boundary.name(),
         crate::term::superscript(f.k),
         sp.size,
         sp.method.name(),
@@ -220,7 +219,7 @@ fn text_notes(f: &FieldModes, eq17: bool, with_beam: bool, out: &mut Chunked) ->
     } else if with_beam {
         out.say(format_args!(
             "  The beam limit is (βᵢL)⁴/(N−1)⁴ of the continuous Euler–Bernoulli beam with these ends ({}).",
-            boundary_name(f.field.boundary)
+            f.field.boundary.name()
         ));
     }
     if let Some(v) = &f.spectrum.shapes {
@@ -274,7 +273,7 @@ impl Serialize for JsonField<'_> {
         let modes = || f.modes.iter();
         let mut m = s.serialize_map(None)?;
         m.serialize_entry("field", &f.field.id)?;
-        m.serialize_entry("boundary", &boundary_name(f.field.boundary))?;
+        m.serialize_entry("boundary", &f.field.boundary.name())?;
         m.serialize_entry("size", &f.spectrum.size)?;
         m.serialize_entry("method", &f.spectrum.method.name())?;
         m.serialize_entry("omega", &f.omega)?;

@@ -4,11 +4,11 @@
 use faer::Mat;
 
 use super::{
-    columns_to_mat, normalise, null_basis, nullity, trace_polynomial, Method, ModalError, Spectrum,
+    columns_to_mat, normalise, null_basis, trace_polynomial, Method, ModalError, Spectrum,
     MAX_DENSE,
 };
 use crate::banded::BandedR;
-use crate::discretise::{boundary_name, min_points, size, stencil_rows};
+use crate::discretise::stencil_rows;
 use crate::generated::operators::OPERATORS;
 use crate::model::Boundary;
 
@@ -21,8 +21,8 @@ pub(super) fn general(
     count: usize,
     want_shapes: bool,
 ) -> Result<Spectrum, ModalError> {
-    let n = size(k, boundary, points);
-    let wanted = count.saturating_sub(nullity(k, boundary));
+    let n = boundary.unknowns(k, points);
+    let wanted = count.saturating_sub(boundary.nullity(k));
     let block = subspace_block(wanted);
     if boundary != Boundary::Periodic && n > 400 && block * 3 <= n {
         return subspace_on_unknowns(k, boundary, points, count, want_shapes);
@@ -32,7 +32,7 @@ pub(super) fn general(
             points,
             why: format!(
                 "{count} modes of a {} operator of order {k} need the dense solver, which takes at most {MAX_DENSE} unknowns; ask for at most {} modes",
-                boundary_name(boundary),
+                boundary.name(),
                 (n / 6).saturating_sub(2).max(1)
             ),
         });
@@ -58,10 +58,11 @@ pub(super) fn dense(
     count: usize,
     want_shapes: bool,
 ) -> Result<Spectrum, ModalError> {
-    let n = size(k, boundary, points);
+    let n = boundary.unknowns(k, points);
     // The generated dense builder when the crate has this operator, else the exact matrix.
-    let name = boundary_name(boundary);
-    let generated = OPERATORS.iter().find(|o| o.k == k && o.boundary == name);
+    let generated = OPERATORS
+        .iter()
+        .find(|o| o.k == k && o.boundary == boundary);
     let rows: Vec<Vec<f64>> = match generated {
         Some(o) => (o.dense)(points).map_err(|e| ModalError::Solver(e.to_string()))?,
         None => crate::discretise::operator_matrix(k, boundary, points)
@@ -76,7 +77,7 @@ pub(super) fn dense(
     let evd = m
         .self_adjoint_eigen(faer::Side::Lower)
         .map_err(|e| ModalError::Solver(format!("{e:?}")))?;
-    let null = nullity(k, boundary);
+    let null = boundary.nullity(k);
     let u = evd.U();
     // Non-zero modes: eigenvalues refined as stencil energies of the eigenvectors, which gives
     // the small ones to relative accuracy (the solver's own are accurate to ε‖D‖ absolute).
@@ -220,7 +221,7 @@ pub(super) fn subspace_on_unknowns(
     count: usize,
     want_shapes: bool,
 ) -> Result<Spectrum, ModalError> {
-    let min = min_points(boundary, k);
+    let min = boundary.min_points(k);
     if points < min {
         return Err(ModalError::TooFewPoints { points, min });
     }
@@ -229,7 +230,7 @@ pub(super) fn subspace_on_unknowns(
             "a periodic operator is not banded".into(),
         ));
     }
-    let n = size(k, boundary, points);
+    let n = boundary.unknowns(k, points);
     let rows = stencil_rows(k, boundary, points).map_err(|e| ModalError::Solver(e.to_string()))?;
     let z = null_basis(k, boundary, points);
     let r = regularised_factor(&rows, &z, n, k)?;

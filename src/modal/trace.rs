@@ -6,8 +6,6 @@ use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, ToPrimitive, Zero};
 
-use super::nullity;
-use crate::discretise::min_points;
 use crate::model::Boundary;
 
 /// Coefficients c₀ = 1, c₁ … cₙ of det(xI − A) by Berkowitz's division-free algorithm, exact
@@ -38,7 +36,7 @@ fn characteristic_polynomial(a: &[Vec<i64>]) -> Vec<BigInt> {
 fn exact_trace_at(k: u32, boundary: Boundary, points: usize) -> Option<BigRational> {
     let m = crate::discretise::operator_matrix(k, boundary, points).ok()?;
     let c = characteristic_polynomial(&m);
-    let rank = m.len() - nullity(k, boundary);
+    let rank = m.len() - boundary.nullity(k);
     if rank == 0 || c.get(rank)?.is_zero() {
         return None;
     }
@@ -60,7 +58,7 @@ fn big_to_f64(x: &BigRational) -> f64 {
 pub fn trace_polynomial(k: u32, boundary: Boundary, points: usize) -> Option<f64> {
     // Degree at most 2k + 1; the first N's past the smallest body may still be special.
     let degree = 2 * k as usize + 1;
-    let start = min_points(boundary, k) + k as usize + 2;
+    let start = boundary.min_points(k) + k as usize + 2;
     let values: Vec<BigRational> = (start..start + degree + 3)
         .map(|n| exact_trace_at(k, boundary, n))
         .collect::<Option<_>>()?;
