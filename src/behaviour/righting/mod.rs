@@ -24,9 +24,13 @@
 //! finite tolerance a slightly underdamped mode rights sooner, by ringing through δ, as in the
 //! classical settling-time problem.
 
+mod pinned;
+mod report;
+use pinned::{pinned_modes, RelaxMode};
+pub use report::RightingReport;
+
 use super::{finite, positive, role_fields, BehaviourError};
 use crate::dynamics::{run, Config, Forcing, Halt, Initial};
-use crate::report::{check_finite, csv_numbers, to_json, NonFinite, Report};
 use crate::theory::Theory;
 
 /// Settings of a self-righting run.
@@ -503,163 +507,4 @@ pub fn righting_sweep(
             })
         })
         .collect()
-}
-
-/// `behave self-righting`: one run and an optional sweep over ζ₁.
-#[derive(Debug, Clone)]
-pub struct RightingReport {
-    /// The run.
-    pub righting: Righting,
-    /// The sweep (empty when none was asked).
-    pub sweep: Vec<SweepPoint>,
-}
-
-impl Report for RightingReport {
-    fn check(&self) -> Result<(), NonFinite> {
-        check_finite(&self.righting)?;
-        check_finite(&self.sweep)
-    }
-
-    fn text(&self) -> String {
-        let r = &self.righting;
-        let regime = if (r.damping_ratio - 1.0).abs() <= 1e-9 {
-            "critical"
-        } else if r.damping_ratio < 1.0 {
-            "underdamped"
-        } else {
-            "overdamped"
-        };
-        let mut t = format!(
-            "Self-righting on N = {}: first torsional mode ω₁ = {:.9}, ζ₁ = {:.6} ({regime}), a = v₁(head) = {:.9}\n\
-             \x20 stage 1: constant torque Q = −ω₁²θ₀/a = {:.9} on Θ₁ from θ₀ = {:.6}\n\
-             \x20   the head follows Eq. 20 to {:.1e}; the mean rotation moves by {:.1e}\n\
-             \x20   mouth hooks attach at t = {:.4} (head within δ = {} rad)\n\
-             \x20 stage 2 ({:?}): torque released; slowest relaxing mode ω = {:.6}, ζ = {:.4}; overshoot {:.4}\n\
-             \x20   body aligned within δ at t = {:.4}\n\
-             \x20 alignment time per segment (0 = tail … {} = head):\n",
-            r.points,
-            r.frequency,
-            r.damping_ratio,
-            r.head_coefficient,
-            r.torque,
-            r.theta0,
-            r.head_error,
-            r.rotation_before_attachment,
-            r.attachment_time,
-            r.tolerance,
-            r.attachment,
-            r.relaxation.0,
-            r.relaxation.1,
-            r.overshoot,
-            r.righting_time,
-            r.points - 1,
-        );
-        for (j, a) in r.alignment_times.iter().enumerate() {
-            t += &format!("  {j:>6}  {a:.4}\n");
-        }
-        if !self.sweep.is_empty() {
-            t += "  sweep of ζ₁:\n      ζ₁   attach   righted  overshoot  decay rate\n";
-            for p in &self.sweep {
-                t += &format!(
-                    "  {:>6.3}  {:>7.3}  {:>8.3}  {:>9.4}  {:>10.6}\n",
-                    p.mode_damping, p.attachment_time, p.righting_time, p.overshoot, p.decay_rate,
-                );
-            }
-        }
-        t
-    }
-
-    fn json(&self) -> serde_json::Value {
-        let mut v = to_json(&self.righting);
-        if !self.sweep.is_empty() {
-            v["sweep"] = to_json(&self.sweep);
-        }
-        v
-    }
-
-    fn csv(&self) -> Option<String> {
-        let r = &self.righting;
-        let mut header: Vec<String> = ["t", "torque", "mode", "mean_rotation"]
-            .iter()
-            .map(|h| h.to_string())
-            .collect();
-        header.extend((0..r.points).map(|j| format!("theta_{j}")));
-        Some(csv_numbers(
-            &header,
-            r.frames.iter().map(|f| {
-                let mut row = vec![f.t, f.torque, f.mode, f.mean_rotation];
-                row.extend(&f.angles);
-                row
-            }),
-        ))
-    }
-}
-
-/// One damped mode of the relaxation after attachment: its shape over all points (zero at the
-/// head) and its state at attachment.
-struct RelaxMode {
-    omega: f64,
-    gamma: f64,
-    shape: Vec<f64>,
-    /// max |shape|: how far this mode can move any point per unit of Q.
-    reach: f64,
-    q: f64,
-    p: f64,
-}
-
-impl RelaxMode {
-    fn new(omega: f64, gamma: f64, shape: Vec<f64>, q: f64, p: f64) -> RelaxMode {
-        let reach = shape.iter().map(|s| s.abs()).fold(0.0, f64::max);
-        RelaxMode {
-            omega,
-            gamma,
-            shape,
-            reach,
-            q,
-            p,
-        }
-    }
-}
-
-/// The modes of the torsion chain with the head held: the model's operator (stencil order `k`)
-/// with the head end held and the tail free, with the model's stiffness-proportional damping
-/// (γ = ζωλ), started from the state at attachment (the head stops there).
-#[allow(clippy::too_many_arguments)]
-fn pinned_modes(
-    k: u32,
-    n: usize,
-    head: usize,
-    omega: f64,
-    zeta: f64,
-    angles: &[f64],
-    rates: &[f64],
-    hold: f64,
-) -> Result<Vec<RelaxMode>, BehaviourError> {
-    use crate::model::{Boundary, End};
-    debug_assert_eq!(head, n - 1, "arc length runs from the tail to the head");
-    let held = Boundary::Ends {
-        tail: End::Free,
-        head: End::Clamped,
-    };
-    let s = crate::modal::spectrum(k, held, n, None, true)
-        .map_err(|e| BehaviourError::new(e.to_string()))?;
-    let shapes = s
-        .shapes
-        .ok_or_else(|| BehaviourError::new("no mode shapes"))?;
-    // Unknown u is point u: the held points are at the head.
-    Ok(s.eigenvalues
-        .iter()
-        .enumerate()
-        .map(|(m, &lambda)| {
-            let mut shape = vec![0.0; n];
-            let (mut q, mut p) = (0.0, 0.0);
-            for u in 0..s.size {
-                let w = shapes[(u, m)];
-                shape[u] = w;
-                q += w * (angles[u] - hold);
-                p += w * rates[u];
-            }
-            RelaxMode::new(omega * lambda.sqrt(), zeta * omega * lambda, shape, q, p)
-        })
-        .collect())
 }
