@@ -1,20 +1,38 @@
-//! Everything the tool generates into the repository, and the one helper that keeps it fresh.
-//!
-//! [`generated_files`] lists each generated file with the contents the engine gives *now*;
-//! `theory-search emit` writes them, and the freshness test calls [`ensure_file_contents`] for
-//! every one, so a checked-in table can never drift from the engine that made it.
+//! Rust source generated from the engine's operators: the tera template rendered with the
+//! stencils the surviving terms need, then formatted by rustfmt. Text from a model file goes in
+//! only as escaped string literals or comments.
 
-use std::fs;
 use std::io::Write;
-use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
 use serde::Serialize;
 
+use crate::discretise::DiscretiseError;
 use crate::discretise::{plan, stencil};
-use crate::model::{Boundary, Density, Model};
-use crate::reduce::analyse;
-use crate::table::{render, Format};
+use crate::model::{Boundary, Model};
+
+/// Why generated code could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum CodegenError {
+    /// The operators cannot be planned (order, unsupported terms).
+    #[error(transparent)]
+    Plan(#[from] DiscretiseError),
+    /// The template did not render.
+    #[error("template: {0:?}")]
+    Template(#[from] tera::Error),
+    /// rustfmt could not be started.
+    #[error("cannot run rustfmt (install it with `rustup component add rustfmt`): {0}")]
+    NoRustfmt(#[source] std::io::Error),
+    /// Talking to rustfmt failed.
+    #[error("rustfmt failed: {0}")]
+    Rustfmt(#[source] std::io::Error),
+    /// rustfmt refused the code (its message, cut to a few lines).
+    #[error("rustfmt rejected the generated code: {0}")]
+    Rejected(String),
+    /// rustfmt wrote bytes that are not UTF-8.
+    #[error("rustfmt wrote non-UTF-8: {0}")]
+    NotUtf8(#[from] std::string::FromUtf8Error),
+}
 
 const OPERATORS_TEMPLATE: &str = include_str!("../templates/operators.rs.tera");
 
@@ -130,41 +148,39 @@ fn stencil_context(boundary: Boundary, k: u32) -> StencilContext {
 }
 
 /// Format Rust source with rustfmt (which ships with the toolchain).
-pub fn rustfmt(source: &str) -> Result<String, String> {
+pub fn rustfmt(source: &str) -> Result<String, CodegenError> {
     let mut child = Command::new("rustfmt")
         .args(["--edition", "2021", "--emit", "stdout"])
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
-        .map_err(|e| {
-            format!("cannot run rustfmt (install it with `rustup component add rustfmt`): {e}")
-        })?;
-    child
-        .stdin
-        .take()
-        .ok_or("rustfmt has no stdin")?
-        .write_all(source.as_bytes())
-        .map_err(|e| format!("cannot write to rustfmt: {e}"))?;
-    let out = child
-        .wait_with_output()
-        .map_err(|e| format!("rustfmt failed: {e}"))?;
+        .map_err(CodegenError::NoRustfmt)?;
+    if let Some(mut stdin) = child.stdin.take() {
+        stdin
+            .write_all(source.as_bytes())
+            .map_err(CodegenError::Rustfmt)?;
+    }
+    let out = child.wait_with_output().map_err(CodegenError::Rustfmt)?;
     if !out.status.success() {
-        return Err(format!(
-            "rustfmt rejected the generated code: {}",
-            String::from_utf8_lossy(&out.stderr)
+        let why = String::from_utf8_lossy(&out.stderr);
+        return Err(CodegenError::Rejected(
+            why.lines().take(20).collect::<Vec<_>>().join("\n"),
         ));
     }
-    String::from_utf8(out.stdout).map_err(|e| format!("rustfmt wrote non-UTF-8: {e}"))
+    Ok(String::from_utf8(out.stdout)?)
 }
 
 /// The Rust source of the operators of `model` at `order`, rendered through the tera template
 /// and formatted.
-pub fn operators_source(model: &Model, order: u32) -> Result<String, String> {
+pub fn operators_source(model: &Model, order: u32) -> Result<String, CodegenError> {
     let mut stencils: Vec<StencilContext> = Vec::new();
     let mut ops: Vec<OperatorContext> = Vec::new();
-    for p in plan(model, order).map_err(|e| e.to_string())? {
-        let field = model.field(&p.field).ok_or("plan names a model field")?;
+    for p in plan(model, order)? {
+        // The plan names the model's own fields.
+        let Some(field) = model.field(&p.field) else {
+            continue;
+        };
         let term = p.term.render(&|_| field.symbol.clone());
         let name = format!("{}_k{}", p.boundary.slug(), p.k);
         let index = match stencils.iter().position(|s| s.name == name) {
@@ -191,83 +207,13 @@ pub fn operators_source(model: &Model, order: u32) -> Result<String, String> {
         });
     }
     let mut tera = tera::Tera::new();
-    tera.add_raw_template("operators.rs", OPERATORS_TEMPLATE)
-        .map_err(|e| format!("template: {e}"))?;
+    tera.add_raw_template("operators.rs", OPERATORS_TEMPLATE)?;
     let mut ctx = tera::Context::new();
     ctx.insert("stencils", &stencils);
     ctx.insert("any_ends", &ops.iter().any(|o| !o.periodic));
     ctx.insert("ops", &ops);
     ctx.insert("model", &comment(&model.name));
     ctx.insert("order", &order);
-    let source = tera
-        .render("operators.rs", &ctx)
-        .map_err(|e| format!("template: {e:?}"))?;
+    let source = tera.render("operators.rs", &ctx)?;
     rustfmt(&source)
-}
-
-/// Every generated file, relative to the crate root, with the contents the engine gives now for
-/// the embedded larva model at [`TABLE_ORDER`] (what is checked in).
-pub fn generated_files() -> Result<Vec<(PathBuf, String)>, String> {
-    generated_files_for(&Model::larva(), TABLE_ORDER)
-}
-
-/// Every generated file for `model` at `order`.
-pub fn generated_files_for(model: &Model, order: u32) -> Result<Vec<(PathBuf, String)>, String> {
-    let model = model.clone();
-    let analysis = |d| {
-        analyse(&model, d, order)
-            .map(|a| vec![a])
-            .map_err(|e| e.to_string())
-    };
-    let md = |d| -> Result<String, String> {
-        Ok(header("<!--", " -->") + "\n" + &render(&model, &analysis(d)?, Format::Markdown))
-    };
-    let mut both = analysis(Density::Lagrangian)?;
-    both.extend(analysis(Density::Rayleigh)?);
-    Ok(vec![
-        (
-            PathBuf::from("src/generated/operators.rs"),
-            operators_source(&model, order)?,
-        ),
-        (PathBuf::from("tables/table1.md"), md(Density::Lagrangian)?),
-        (PathBuf::from("tables/rayleigh.md"), md(Density::Rayleigh)?),
-        (
-            PathBuf::from("tables/table1.json"),
-            render(&model, &both, Format::Json),
-        ),
-        (
-            PathBuf::from("tables/rules.md"),
-            (header("<!--", " -->") + &crate::catalogue::rules_markdown()),
-        ),
-    ])
-}
-
-/// Make sure `path` holds `contents`. If it does not, write it and return an error saying so,
-/// so a test fails once and the fix is to commit the regenerated file.
-pub fn ensure_file_contents(path: &Path, contents: &str) -> Result<(), String> {
-    if fs::read_to_string(path).ok().as_deref() == Some(contents) {
-        return Ok(());
-    }
-    if let Some(dir) = path.parent() {
-        fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    }
-    fs::write(path, contents).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-    Err(format!(
-        "{} was not up to date with the engine and has been regenerated; review and commit it",
-        path.display()
-    ))
-}
-
-/// Write every generated file for `model` at `order` under `root`; returns the paths written.
-pub fn emit(root: &Path, model: &Model, order: u32) -> Result<Vec<PathBuf>, String> {
-    let mut written = Vec::new();
-    for (rel, contents) in generated_files_for(model, order)? {
-        let path = root.join(&rel);
-        if let Some(dir) = path.parent() {
-            fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-        }
-        fs::write(&path, contents).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-        written.push(path);
-    }
-    Ok(written)
 }

@@ -139,7 +139,10 @@ fn verdicts(model: &Model, density: Density, fields: &[String], term: &Term) -> 
             };
             let verdict = match tr.check_invariant_field(term, placeholder) {
                 Ok(()) => Verdict::Pass,
-                Err(why) => Verdict::Reject { rule: code, why },
+                Err(why) => Verdict::Reject {
+                    rule: code,
+                    why: why.to_string(),
+                },
             };
             out.push(PairVerdict {
                 rule: code,

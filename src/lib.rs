@@ -8,6 +8,7 @@
 //! (writes [`generated`]) → [`modal`] (with [`banded`]) → [`dynamics`] → [`behaviour`] → [`table`] / [`cli`].
 #![warn(missing_docs)]
 
+pub mod artifacts;
 pub mod banded;
 pub mod behaviour;
 pub mod boundary;

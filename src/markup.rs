@@ -30,3 +30,24 @@ pub fn latex_symbol(s: &str) -> String {
         .trim_end()
         .to_string()
 }
+
+/// The most characters of untrusted input an error message quotes.
+pub const QUOTE_LIMIT: usize = 80;
+
+/// `s` quoted for an error message, cut to [`QUOTE_LIMIT`] characters (`"abc…" (1048576
+/// characters)` when longer), so a megabyte of input is never echoed back.
+pub fn clip(s: &str) -> String {
+    let len = s.chars().count();
+    if len <= QUOTE_LIMIT {
+        format!("{s:?}")
+    } else {
+        let head: String = s.chars().take(QUOTE_LIMIT).collect();
+        format!("{:?} ({len} characters)", head + "…")
+    }
+}
+
+/// A cell of a Markdown table: `|` and `\\` escaped, so text from a model file never adds a
+/// column.
+pub fn markdown_cell(s: &str) -> String {
+    s.replace('\\', "\\\\").replace('|', "\\|")
+}

@@ -313,24 +313,24 @@ impl Model {
                 self.fields.len()
             )));
         }
-        text("name", &self.name, 64).map_err(&invalid)?;
-        text("description", &self.description, 500).map_err(&invalid)?;
+        text("name", &self.name, 64).map_err(|e| invalid(e.to_string()))?;
+        text("description", &self.description, 500).map_err(|e| invalid(e.to_string()))?;
         for (i, f) in self.fields.iter().enumerate() {
-            identifier("field id", &f.id).map_err(&invalid)?;
+            identifier("field id", &f.id).map_err(|e| invalid(e.to_string()))?;
             let key = |k: &str| format!("field {:?} {k}", f.id);
-            text(&key("symbol"), &f.symbol, 16).map_err(&invalid)?;
+            text(&key("symbol"), &f.symbol, 16).map_err(|e| invalid(e.to_string()))?;
             if f.symbol.trim().is_empty() || f.symbol.chars().any(char::is_whitespace) {
                 return Err(invalid(format!(
                     "{} must be non-empty, without spaces",
                     key("symbol")
                 )));
             }
-            text(&key("meaning"), &f.meaning, 200).map_err(&invalid)?;
+            text(&key("meaning"), &f.meaning, 200).map_err(|e| invalid(e.to_string()))?;
             if let Some(scale) = &f.scale {
-                identifier(&key("scale"), scale).map_err(&invalid)?;
+                identifier(&key("scale"), scale).map_err(|e| invalid(e.to_string()))?;
             }
             for z in &f.zero_modes {
-                text(&key("zero mode name"), z, 100).map_err(&invalid)?;
+                text(&key("zero mode name"), z, 100).map_err(|e| invalid(e.to_string()))?;
             }
             if self.fields[..i].iter().any(|g| g.id == f.id) {
                 return Err(invalid(format!("field id {:?} is declared twice", f.id)));
@@ -397,32 +397,94 @@ impl Model {
 /// The most fields a model may declare (interactions grow as 2^fields).
 pub const MAX_FIELDS: usize = 8;
 
+/// Why a piece of model text is refused.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum TextError {
+    /// A control character (it could end a line of generated code or CSV).
+    #[error("{key} contains the control character U+{code:04X}")]
+    Control {
+        /// Which text.
+        key: String,
+        /// The character's code point.
+        code: u32,
+    },
+    /// An invisible formatting character (bidirectional overrides and isolates, zero-width
+    /// characters, line separators): rustc refuses them in generated code, and a reader cannot
+    /// see them.
+    #[error("{key} contains the invisible formatting character U+{code:04X}")]
+    Invisible {
+        /// Which text.
+        key: String,
+        /// The character's code point.
+        code: u32,
+    },
+    /// Longer than its limit.
+    #[error("{key} has {len} characters; at most {max}")]
+    TooLong {
+        /// Which text.
+        key: String,
+        /// Its length in characters.
+        len: usize,
+        /// The limit.
+        max: usize,
+    },
+    /// Not an identifier.
+    #[error("{key} {} must be an ASCII letter or '_' then letters, digits or '_' (at most 32)", crate::markup::clip(.value))]
+    NotIdentifier {
+        /// Which text.
+        key: String,
+        /// The text.
+        value: String,
+    },
+}
+
+/// Characters that change how text is displayed without being seen: bidirectional controls
+/// (U+202A–U+202E, U+2066–U+2069, U+061C, U+200E, U+200F), zero-width and joiner characters,
+/// word joiners and invisible operators, the byte-order mark, the soft hyphen, and the line
+/// and paragraph separators.
+pub fn is_invisible(c: char) -> bool {
+    matches!(c,
+        '\u{00AD}' | '\u{061C}' | '\u{180E}' | '\u{200B}'..='\u{200F}' | '\u{2028}'..='\u{202E}'
+        | '\u{2060}'..='\u{206F}' | '\u{FEFF}' | '\u{FFF9}'..='\u{FFFB}')
+}
+
 /// Model text (names, symbols, meanings) reaches generated code, CSV and SVG: it must be
-/// printable (no control characters) and at most `max` characters.
-fn text(key: &str, value: &str, max: usize) -> Result<(), String> {
+/// printable (no control or invisible formatting characters) and at most `max` characters.
+fn text(key: &str, value: &str, max: usize) -> Result<(), TextError> {
     if let Some(c) = value.chars().find(|c| c.is_control()) {
-        return Err(format!(
-            "{key} contains the control character U+{:04X}",
-            c as u32
-        ));
+        return Err(TextError::Control {
+            key: key.into(),
+            code: c as u32,
+        });
+    }
+    if let Some(c) = value.chars().find(|&c| is_invisible(c)) {
+        return Err(TextError::Invisible {
+            key: key.into(),
+            code: c as u32,
+        });
     }
     let len = value.chars().count();
     if len > max {
-        return Err(format!("{key} has {len} characters; at most {max}"));
+        return Err(TextError::TooLong {
+            key: key.into(),
+            len,
+            max,
+        });
     }
     Ok(())
 }
 
 /// Ids and scale names: an ASCII letter or `_`, then letters, digits or `_`, at most 32.
-fn identifier(key: &str, value: &str) -> Result<(), String> {
+fn identifier(key: &str, value: &str) -> Result<(), TextError> {
     let mut chars = value.chars();
     let first_ok = chars
         .next()
         .is_some_and(|c| c.is_ascii_alphabetic() || c == '_');
     if !first_ok || !chars.all(|c| c.is_ascii_alphanumeric() || c == '_') || value.len() > 32 {
-        return Err(format!(
-            "{key} {value:?} must be an ASCII letter or '_' then letters, digits or '_' (at most 32)"
-        ));
+        return Err(TextError::NotIdentifier {
+            key: key.into(),
+            value: value.into(),
+        });
     }
     Ok(())
 }
@@ -432,6 +494,15 @@ pub fn one_line(s: &str) -> String {
     s.split('\n')
         .map(str::trim)
         .filter(|l| !l.is_empty() && l.chars().any(|c| c.is_alphanumeric()))
+        .map(|l| {
+            // A quoted line of input is cut: a 1 MB line is not echoed back.
+            let limit = 2 * crate::markup::QUOTE_LIMIT;
+            if l.chars().count() > limit {
+                l.chars().take(limit).collect::<String>() + "…"
+            } else {
+                l.to_string()
+            }
+        })
         .collect::<Vec<_>>()
         .join("; ")
 }

@@ -107,8 +107,46 @@ pub enum TermError {
         /// The text that was given.
         text: String,
         /// What is wrong with it.
-        why: String,
+        why: ParseWhy,
     },
+}
+
+/// What is wrong with the text of a term.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ParseWhy {
+    /// Nothing but white space.
+    #[error("empty text")]
+    Empty,
+    /// An exponent past `u32`.
+    #[error("exponent {0} is too large")]
+    ExponentTooLarge(String),
+    /// `∂` with neither t nor s.
+    #[error("'∂' must be followed by t or s")]
+    NoVariable,
+    /// No `φ` where the field belongs.
+    #[error("expected the field φ")]
+    NoField,
+    /// `^` with no digits after it.
+    #[error("'^' must be followed by digits")]
+    NoDigits,
+    /// A field index past `u8`.
+    #[error("field index {0} is out of range")]
+    FieldIndex(String),
+    /// `(` without `)`.
+    #[error("missing ')'")]
+    MissingParen,
+    /// `∂t φ²`: ambiguous.
+    #[error("put a derivative in parentheses to raise it to a power: (∂t φ)²")]
+    PowerOfDerivative,
+    /// A character after the factor.
+    #[error("unexpected {0:?}")]
+    Unexpected(char),
+    /// A zero power.
+    #[error("a factor's power must be at least 1")]
+    ZeroPower,
+    /// No factor with a positive power.
+    #[error("{0}")]
+    Term(Box<TermError>),
 }
 
 impl Term {
@@ -361,18 +399,18 @@ impl FromStr for Term {
     type Err = TermError;
 
     fn from_str(text: &str) -> Result<Term, TermError> {
-        let fail = |why: &str| TermError::Parse {
+        let fail = |why: ParseWhy| TermError::Parse {
             text: text.to_string(),
-            why: why.to_string(),
+            why,
         };
         if text.trim().is_empty() {
-            return Err(fail("empty text"));
+            return Err(fail(ParseWhy::Empty));
         }
         let mut factors = Vec::new();
         for part in text.split(['·', '*']) {
-            factors.push(parse_factor(part).map_err(|why| fail(&why))?);
+            factors.push(parse_factor(part).map_err(fail)?);
         }
-        Term::new(factors).map_err(|e| fail(&e.to_string()))
+        Term::new(factors).map_err(|e| fail(ParseWhy::Term(Box::new(e))))
     }
 }
 
@@ -412,7 +450,7 @@ impl Cursor<'_> {
     }
 
     /// An exponent: superscript digits, or `^` and ASCII digits. `None` if there is none.
-    fn exponent(&mut self) -> Result<Option<u32>, String> {
+    fn exponent(&mut self) -> Result<Option<u32>, ParseWhy> {
         let mut digits = String::new();
         if self.eat('^') {
             while let Some(c) = self.chars.peek().copied().filter(char::is_ascii_digit) {
@@ -420,7 +458,7 @@ impl Cursor<'_> {
                 self.chars.next();
             }
             if digits.is_empty() {
-                return Err("'^' must be followed by digits".into());
+                return Err(ParseWhy::NoDigits);
             }
         } else {
             while let Some(i) = self
@@ -438,11 +476,11 @@ impl Cursor<'_> {
         digits
             .parse()
             .map(Some)
-            .map_err(|_| format!("exponent {digits} is too large"))
+            .map_err(|_| ParseWhy::ExponentTooLarge(digits))
     }
 
     /// The derivative after `∂` (or `d`): letters t and s, each with an optional exponent.
-    fn derivative(&mut self) -> Result<Deriv, String> {
+    fn derivative(&mut self) -> Result<Deriv, ParseWhy> {
         let mut d = Deriv::default();
         loop {
             let slot = match self.chars.peek() {
@@ -459,15 +497,15 @@ impl Cursor<'_> {
             *slot += self.exponent()?.unwrap_or(1);
         }
         if d.order() == 0 {
-            return Err("'∂' must be followed by t or s".into());
+            return Err(ParseWhy::NoVariable);
         }
         Ok(d)
     }
 
     /// A placeholder field: `φ`, `phi`, then an optional index (`₁` or `_1`).
-    fn field(&mut self) -> Result<u8, String> {
+    fn field(&mut self) -> Result<u8, ParseWhy> {
         if !(self.eat('φ') || self.eat_word("phi")) {
-            return Err("expected the field φ".into());
+            return Err(ParseWhy::NoField);
         }
         let mut digits = String::new();
         if self.chars.peek() == Some(&'_') {
@@ -489,14 +527,12 @@ impl Cursor<'_> {
         if digits.is_empty() {
             Ok(0)
         } else {
-            digits
-                .parse()
-                .map_err(|_| format!("field index {digits} is out of range"))
+            digits.parse().map_err(|_| ParseWhy::FieldIndex(digits))
         }
     }
 
     /// `∂… φ` or `φ`.
-    fn derivative_of_field(&mut self) -> Result<(Deriv, u8), String> {
+    fn derivative_of_field(&mut self) -> Result<(Deriv, u8), ParseWhy> {
         let deriv = if self.eat('∂') || self.eat('d') {
             self.derivative()?
         } else {
@@ -506,29 +542,29 @@ impl Cursor<'_> {
     }
 }
 
-fn parse_factor(text: &str) -> Result<Factor, String> {
+fn parse_factor(text: &str) -> Result<Factor, ParseWhy> {
     let mut c = Cursor {
         chars: text.chars().peekable(),
     };
     let (deriv, field, power) = if c.eat('(') {
         let (deriv, field) = c.derivative_of_field()?;
         if !c.eat(')') {
-            return Err("missing ')'".into());
+            return Err(ParseWhy::MissingParen);
         }
         (deriv, field, c.exponent()?.unwrap_or(1))
     } else {
         let (deriv, field) = c.derivative_of_field()?;
         let power = c.exponent()?;
         if deriv.order() > 0 && power.is_some() {
-            return Err("put a derivative in parentheses to raise it to a power: (∂t φ)²".into());
+            return Err(ParseWhy::PowerOfDerivative);
         }
         (deriv, field, power.unwrap_or(1))
     };
     if let Some(extra) = c.peek() {
-        return Err(format!("unexpected {extra:?}"));
+        return Err(ParseWhy::Unexpected(extra));
     }
     if power == 0 {
-        return Err("a factor's power must be at least 1".into());
+        return Err(ParseWhy::ZeroPower);
     }
     Ok(Factor {
         field,

@@ -87,8 +87,8 @@ fn a_cantilever_has_no_zero_mode_and_pinned_free_one() {
         head: End::Free,
     };
     assert_eq!(pinned_free.nullity(2), 1);
-    assert_eq!(nullity(2, Boundary::FREE), 2);
-    assert_eq!(nullity(1, Boundary::CLAMPED), 0);
+    assert_eq!(Boundary::FREE.nullity(2), 2);
+    assert_eq!(Boundary::CLAMPED.nullity(1), 0);
     // Held points are not unknowns; every row still has k + 1 points of the body.
     assert_eq!(cantilever.unknowns(2, 20), 18);
     assert_eq!(stencil_rows(2, cantilever, 20).unwrap().len(), 18);

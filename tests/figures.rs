@@ -125,7 +125,7 @@ fn readme_figure_is_fresh() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     let svg = figure("self_righting.svg", &larva(12), &FigureSettings::default()).unwrap();
     let path = root.join("tables/figures/self_righting.svg");
-    theory_search::codegen::ensure_file_contents(&path, &svg).unwrap();
+    theory_search::artifacts::ensure_file_contents(&path, &svg).unwrap();
 }
 
 /// Every figure rendered to pixels (resvg, without text): it parses, and its drawing covers

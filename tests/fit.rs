@@ -480,7 +480,7 @@ fn shipped_example_is_fresh_and_fits() {
     });
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tables/examples/midlines.csv");
-    theory_search::codegen::ensure_file_contents(&path, &text).unwrap();
+    theory_search::artifacts::ensure_file_contents(&path, &text).unwrap();
     let mut s = FitSettings::new(InputKind::Midline);
     s.window = 512;
     s.fit_modes = 3;

@@ -1,7 +1,7 @@
 //! The generated tables under `tables/` must be what the engine gives now.
 
 use std::path::Path;
-use theory_search::codegen::{ensure_file_contents, generated_files};
+use theory_search::artifacts::{ensure_file_contents, generated_files};
 
 #[test]
 fn generated_files_are_fresh() {

@@ -1,7 +1,7 @@
 //! Scenario: the shipped example models (larva, worm with a free axial field, planar x–y body)
 //! run through every stage: table, equations, operators, modes, emit.
 
-use theory_search::codegen::generated_files_for;
+use theory_search::artifacts::generated_files_for;
 use theory_search::discretise::operators;
 use theory_search::equations::derive;
 use theory_search::modal::{field_modes, Params};

@@ -32,7 +32,8 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
             PathBuf::from(".")
         }
     };
-    let written = crate::codegen::emit(&dir, &model, args.model.order).map_err(CliError::Output)?;
+    let written = crate::artifacts::emit(&dir, &model, args.model.order)
+        .map_err(|e| CliError::Output(e.to_string()))?;
     let text: String = written
         .iter()
         .map(|p| format!("wrote {}\n", p.display()))

@@ -17,7 +17,7 @@ use num_traits::One;
 use crate::term::{Deriv, Factor, Term};
 
 mod transform;
-pub use transform::{Poly, Shift, Transformation};
+pub use transform::{NotInvariant, Poly, Shift, Transformation};
 
 /// The verdict of one rule on one term.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -89,7 +89,7 @@ impl Rule {
     pub fn verdict(&self, term: &Term) -> Verdict {
         let outcome = match &self.check {
             Check::Structural(pred) => pred(term).map_err(|e| e.to_string()),
-            Check::Symmetry(tr) => tr.check_invariant(term),
+            Check::Symmetry(tr) => tr.check_invariant(term).map_err(|e| e.to_string()),
         };
         match outcome {
             Ok(()) => Verdict::Pass,

@@ -10,6 +10,20 @@ use num_traits::{One, Signed, Zero};
 
 use crate::term::{placeholder, superscript, Deriv, Factor, Term};
 
+/// How a transformation changes a term that is not invariant under it.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{transformation} changes {term}{} by {change}", if *.first_order { ", to first order," } else { "" })]
+pub struct NotInvariant {
+    /// The transformation, as applied to the field (`φ → −φ`).
+    pub transformation: String,
+    /// The term.
+    pub term: Term,
+    /// Whether only the first order in the shift's parameter was compared.
+    pub first_order: bool,
+    /// The image minus the term.
+    pub change: Poly,
+}
+
 /// A transformation of one field, `φ(s, t) → scale·φ(s_sign·s, t_sign·t) + p·sᵐtⁿ`, with `p`
 /// the symbolic parameter of an optional shift. An infinitesimal transformation is compared to
 /// first order in `p` only.
@@ -99,7 +113,7 @@ impl Transformation {
 
     /// `Ok` if `term` is invariant under the transformation of each field it involves; otherwise
     /// the change the transformation makes.
-    pub fn check_invariant(&self, term: &Term) -> Result<(), String> {
+    pub fn check_invariant(&self, term: &Term) -> Result<(), NotInvariant> {
         term.fields()
             .into_iter()
             .try_for_each(|field| self.check_invariant_field(term, field))
@@ -116,7 +130,7 @@ impl Transformation {
     }
 
     /// `Ok` if `term` is invariant when only placeholder field `field` is transformed.
-    pub fn check_invariant_field(&self, term: &Term, field: u8) -> Result<(), String> {
+    pub fn check_invariant_field(&self, term: &Term, field: u8) -> Result<(), NotInvariant> {
         let original = Poly::of_term(term);
         let change = self
             .apply(term, field)
@@ -124,15 +138,12 @@ impl Transformation {
         if change.is_zero() {
             return Ok(());
         }
-        let order = if self.infinitesimal {
-            ", to first order,"
-        } else {
-            ""
-        };
-        Err(format!(
-            "{} changes {term}{order} by {change}",
-            self.describe(field)
-        ))
+        Err(NotInvariant {
+            transformation: self.describe(field),
+            term: term.clone(),
+            first_order: self.infinitesimal,
+            change,
+        })
     }
 
     fn describe(&self, field: u8) -> String {
