@@ -10,6 +10,7 @@ fn generated_files_are_fresh() {
         .expect("generation works")
         .into_iter()
         .filter_map(|(rel, contents)| ensure_file_contents(&root.join(rel), &contents).err())
+        .map(|e| e.to_string())
         .collect();
     assert!(stale.is_empty(), "{}", stale.join("\n"));
 }
