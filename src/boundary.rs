@@ -7,6 +7,8 @@ use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
+use crate::markup::clip;
+
 /// The condition at one end of a non-periodic field.
 ///
 /// An end holds some of the field's lowest derivatives at zero and leaves the rest natural (no
@@ -147,28 +149,40 @@ impl Boundary {
     }
 
     /// Read one word or a `{ head, tail }` table.
-    fn from_spec(spec: BoundarySpec) -> Result<Boundary, String> {
-        let end = |word: &str, which: &str| {
-            End::parse(word).ok_or_else(|| {
-                let hint = if word == "periodic" {
-                    " (periodic ties both ends: write boundary = \"periodic\")"
-                } else {
-                    ""
-                };
-                format!("{which} end {word:?} is not one of free, pinned, clamped{hint}")
+    fn from_spec(spec: BoundarySpec) -> Result<Boundary, BoundaryError> {
+        let end = |word: &str, which: &'static str| {
+            End::parse(word).ok_or_else(|| BoundaryError::End {
+                which,
+                word: word.to_string(),
             })
         };
         match spec {
             BoundarySpec::Word(w) if w == "periodic" => Ok(Boundary::Periodic),
-            BoundarySpec::Word(w) => End::parse(&w).map(Boundary::both).ok_or_else(|| {
-                format!("boundary {w:?} is not one of periodic, free, pinned, clamped")
-            }),
+            BoundarySpec::Word(w) => End::parse(&w)
+                .map(Boundary::both)
+                .ok_or(BoundaryError::Word(w)),
             BoundarySpec::Ends { head, tail } => Ok(Boundary::Ends {
                 tail: end(&tail, "tail")?,
                 head: end(&head, "head")?,
             }),
         }
     }
+}
+
+/// A boundary a model file names that does not exist.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum BoundaryError {
+    /// Not one of the boundary words.
+    #[error("boundary {} is not one of periodic, free, pinned, clamped", clip(.0))]
+    Word(String),
+    /// Not one of the end words.
+    #[error("{which} end {} is not one of free, pinned, clamped{}", clip(.word), if .word == "periodic" { " (periodic ties both ends: write boundary = \"periodic\")" } else { "" })]
+    End {
+        /// `head` or `tail`.
+        which: &'static str,
+        /// The word given.
+        word: String,
+    },
 }
 
 /// A boundary as written in a model file.

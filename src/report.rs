@@ -72,9 +72,9 @@ pub fn emit(report: &dyn Report, format: Output, out: &mut dyn Write) -> Result<
 }
 
 /// `report` in `format` as a string, or why it has no such form.
-pub fn render(report: &dyn Report, format: Output) -> Result<String, String> {
+pub fn render(report: &dyn Report, format: Output) -> Result<String, EmitError> {
     let mut out = Vec::new();
-    emit(report, format, &mut out).map_err(|e| e.to_string())?;
+    emit(report, format, &mut out)?;
     Ok(String::from_utf8(out).unwrap_or_default())
 }
 

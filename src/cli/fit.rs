@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use super::{emit, CliError, ModelArgs};
 use crate::fit::{
     checked_unit, fit_inputs, Estimator, FitError, FitReport, FitSettings, Input, InputFormat,
-    InputKind, Projector, MAX_REPLICATES,
+    InputKind, Projector, SinkError, MAX_REPLICATES,
 };
 use crate::modal::Params;
 use crate::model::Model;
@@ -175,7 +175,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
         u.as_deref()
             .map(checked_unit)
             .transpose()
-            .map_err(CliError::Usage)
+            .map_err(CliError::usage)
     };
     settings.time_unit = unit(&args.time_unit)?;
     settings.length_unit = unit(&args.length_unit)?;
@@ -300,12 +300,25 @@ fn series_sink(series: Option<&Path>) -> Result<Series<'_>, CliError> {
         .transpose()
 }
 
+/// The modal series file could not be written.
+#[derive(Debug, thiserror::Error)]
+#[error("cannot write {}: {source}", .path.display())]
+struct SeriesError {
+    path: std::path::PathBuf,
+    source: csv::Error,
+}
+
 /// One frame's modal coordinates as a CSV record (t, q_<mode>, …), header first.
-fn write_series(sink: &mut Series<'_>, p: &Projector, t: f64, q: &[f64]) -> Result<(), String> {
+fn write_series(sink: &mut Series<'_>, p: &Projector, t: f64, q: &[f64]) -> Result<(), SinkError> {
     let Some((path, out, started)) = sink.as_mut() else {
         return Ok(());
     };
-    let fail = |e: csv::Error| format!("cannot write {}: {e}", path.display());
+    let fail = |source: csv::Error| -> SinkError {
+        Box::new(SeriesError {
+            path: path.to_path_buf(),
+            source,
+        })
+    };
     if !*started {
         let mut names = vec!["t".to_string()];
         names.extend((0..q.len()).map(|j| format!("q_{}", p.first_mode + j)));

@@ -87,29 +87,56 @@ fn intervals_of(rows: &[Vec<f64>], tail: f64) -> Vec<[f64; 2]> {
         .collect()
 }
 
+/// Why no bootstrap was drawn (a warning in the report, not an error).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum NoBootstrap {
+    /// Fewer than two units to resample.
+    #[error("no bootstrap: it draws whole animals or whole runs, and there is {n} {unit}")]
+    TooFew {
+        /// Units available.
+        n: usize,
+        /// `run` or `animal`.
+        unit: &'static str,
+    },
+    /// So many units that fewer than 20 replicates fit the budget.
+    #[error("no bootstrap: {n} {resampled} are too many to resample within the budget")]
+    TooMany {
+        /// Units available.
+        n: usize,
+        /// `runs` or `animals`.
+        resampled: &'static str,
+    },
+    /// Too few resamples could be fitted.
+    #[error("no bootstrap: only {fitted} of {replicates} resamples could be fitted (too few frames per {unit})")]
+    Unfitted {
+        /// Resamples fitted.
+        fitted: usize,
+        /// Resamples drawn.
+        replicates: usize,
+        /// `run` or `animal`.
+        unit: &'static str,
+    },
+}
+
 /// B replicates (`settings.bootstrap`, seeded by `settings.seed`) of `fit` on resampled
 /// `units`; an explanation instead when they cannot be drawn.
 pub(super) fn intervals(
     (units, resampled): &(Vec<&Stats>, &'static str),
     settings: &FitSettings,
     fit: impl Fn(&Stats) -> Option<FitReport>,
-) -> Result<Intervals, String> {
+) -> Result<Intervals, NoBootstrap> {
     let n = units.len();
     if n < 2 {
-        return Err(format!(
-            "no bootstrap: it draws whole animals or whole runs, and there is {n} {}",
-            if *resampled == "runs" {
-                "run"
-            } else {
-                "animal"
-            }
-        ));
+        let unit = if *resampled == "runs" {
+            "run"
+        } else {
+            "animal"
+        };
+        return Err(NoBootstrap::TooFew { n, unit });
     }
     let replicates = settings.bootstrap.min(MAX_DRAWS / n);
     if replicates < 20 {
-        return Err(format!(
-            "no bootstrap: {n} {resampled} are too many to resample within the budget"
-        ));
+        return Err(NoBootstrap::TooMany { n, resampled });
     }
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(settings.seed);
     let (m, window) = (units[0].mean.len(), settings.window);
@@ -129,11 +156,15 @@ pub(super) fn intervals(
         }
     }
     if reports.len() < replicates / 2 {
-        return Err(format!(
-            "no bootstrap: only {} of {replicates} resamples could be fitted (too few frames per {})",
-            reports.len(),
-            &resampled[..resampled.len() - 1]
-        ));
+        return Err(NoBootstrap::Unfitted {
+            fitted: reports.len(),
+            replicates,
+            unit: if *resampled == "runs" {
+                "run"
+            } else {
+                "animal"
+            },
+        });
     }
     let column =
         |f: &dyn Fn(&FitReport) -> Vec<f64>| -> Vec<Vec<f64>> { reports.iter().map(f).collect() };

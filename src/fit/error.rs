@@ -1,11 +1,14 @@
 //! Why a fit cannot be made.
 
 /// Why a fit cannot be made.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[derive(Debug, thiserror::Error)]
 pub enum FitError {
+    /// The input could not be opened.
+    #[error("cannot read the input: cannot open it ({0})")]
+    Open(#[source] std::io::Error),
     /// The input could not be read.
     #[error("cannot read the input: {0}")]
-    Io(String),
+    Io(#[source] std::io::Error),
     /// A line is malformed.
     #[error("line {line}: {why}")]
     Line {
@@ -14,9 +17,9 @@ pub enum FitError {
         /// What is wrong.
         why: String,
     },
-    /// The per-frame sink of [`fit_each`] failed.
+    /// The per-frame sink of [`super::fit_each`] failed.
     #[error("{0}")]
-    Output(String),
+    Output(#[source] Box<dyn std::error::Error + Send + Sync>),
     /// A setting or the data as a whole is unusable.
     #[error("{0}")]
     Invalid(String),

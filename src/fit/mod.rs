@@ -74,7 +74,7 @@ mod summary;
 mod wcon;
 pub use bootstrap::{Intervals, MAX_REPLICATES};
 pub use error::FitError;
-pub use pool::{fit_inputs, Each, Input};
+pub use pool::{fit_inputs, Each, Input, SinkError};
 pub use project::{turning_angles, Projector};
 pub use read::{Frame, Track, MAX_LINE_BYTES, MAX_WHOLE_FILE};
 pub use report::{AnimalFit, FitReport, ModeFit, Recording, Subspace};
@@ -101,7 +101,7 @@ pub fn fit_each(
     model: &Model,
     params: &Params,
     settings: &FitSettings,
-    mut each: impl FnMut(&Projector, f64, &[f64]) -> Result<(), String>,
+    mut each: impl FnMut(&Projector, f64, &[f64]) -> Result<(), SinkError>,
 ) -> Result<FitReport, FitError> {
     let input = Input::Reader {
         name: String::new(),

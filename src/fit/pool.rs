@@ -50,7 +50,11 @@ impl Input<'_> {
 }
 
 /// The per-frame callback of a streaming fit: projector, time, modal coordinates.
-pub type Each<'a> = &'a mut dyn FnMut(&Projector, f64, &[f64]) -> Result<(), String>;
+pub type Each<'a> = &'a mut dyn FnMut(&Projector, f64, &[f64]) -> Result<(), SinkError>;
+
+/// Why the per-frame sink of [`super::fit_each`] failed (kept as the source of
+/// [`FitError::Output`]).
+pub type SinkError = Box<dyn std::error::Error + Send + Sync>;
 
 /// What a worker hands back for one input.
 struct Read {
@@ -191,10 +195,12 @@ fn parallel(inputs: Vec<Input<'_>>, ctx: &Context<'_>, pool: &mut Pool) -> Resul
 /// An error reading input `name`, named (unless the input has no name).
 fn with_name(e: FitError, name: &str) -> FitError {
     match e {
-        FitError::Io(_) | FitError::Line { .. } if !name.is_empty() => FitError::In {
-            name: name.to_string(),
-            why: Box::new(e),
-        },
+        FitError::Io(_) | FitError::Open(_) | FitError::Line { .. } if !name.is_empty() => {
+            FitError::In {
+                name: name.to_string(),
+                why: Box::new(e),
+            }
+        }
         other => other,
     }
 }
@@ -211,8 +217,7 @@ fn read_input(
         Input::Tracks(tracks) => return read_tracks_of(tracks, ctx, projs, each, Units::default()),
         Input::Reader { name, reader } => (name, reader),
         Input::File(path) => {
-            let file = std::fs::File::open(&path)
-                .map_err(|e| FitError::Io(format!("cannot open it ({e})")))?;
+            let file = std::fs::File::open(&path).map_err(FitError::Open)?;
             (
                 path.display().to_string(),
                 Box::new(std::io::BufReader::new(file)),
@@ -527,7 +532,7 @@ impl Pool {
             let fit = |s: &Stats| fit_stats(proj, ctx, s, interval).ok();
             match bootstrap::intervals(&units, ctx.settings, fit) {
                 Ok(i) => report.intervals = Some(i),
-                Err(why) => report.warnings.push(why),
+                Err(why) => report.warnings.push(why.to_string()),
             }
         }
         if self.fits.len() > 1 {

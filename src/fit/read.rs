@@ -6,6 +6,8 @@
 use std::io::BufRead;
 
 use super::{FitError, FitSettings, InputFormat};
+use crate::markup::clip;
+use crate::report::number;
 
 /// One frame of a track held in memory: time and values, `None` when the tracker lost it.
 #[derive(Debug, Clone, PartialEq)]
@@ -37,6 +39,29 @@ pub(super) trait Source {
 
 /// The sampling clock: the first time step is the interval; later steps must be whole numbers
 /// of it (within 1 %), the surplus being frames missing from the file.
+/// A time column that is not a uniform clock.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ClockError {
+    /// Time went backwards or stood still.
+    #[error("time {} does not increase (previous {})", number(*.t), number(*.last))]
+    NotIncreasing {
+        /// This frame's time.
+        t: f64,
+        /// The previous frame's time.
+        last: f64,
+    },
+    /// A step that is not a whole number of sampling intervals.
+    #[error("time step {} after t = {} is not a whole number of sampling intervals {}", number(*.gap), number(*.last), number(*.dt))]
+    Uneven {
+        /// The step.
+        gap: f64,
+        /// The previous frame's time.
+        last: f64,
+        /// The sampling interval (the first step).
+        dt: f64,
+    },
+}
+
 #[derive(Debug, Default)]
 pub(super) struct Clock {
     last_t: Option<f64>,
@@ -45,13 +70,13 @@ pub(super) struct Clock {
 
 impl Clock {
     /// Check the step to `t`; returns how many frames are missing before it.
-    pub(super) fn step(&mut self, t: f64) -> Result<usize, String> {
+    pub(super) fn step(&mut self, t: f64) -> Result<usize, ClockError> {
         let Some(last) = self.last_t.replace(t) else {
             return Ok(0);
         };
         let gap = t - last;
         if gap <= 0.0 {
-            return Err(format!("time {t} does not increase (previous {last})"));
+            return Err(ClockError::NotIncreasing { t, last });
         }
         let dt = *self.dt.get_or_insert(gap);
         let steps = (gap / dt).round();
@@ -59,9 +84,7 @@ impl Clock {
             // Frames missing before this one; a step of absurd length is one long gap.
             Ok((steps as usize).saturating_sub(1))
         } else {
-            Err(format!(
-                "time step {gap} after t = {last} is not a whole number of sampling intervals {dt}"
-            ))
+            Err(ClockError::Uneven { gap, last, dt })
         }
     }
 }
@@ -96,7 +119,7 @@ impl Source for TrackSource {
         if !frame.t.is_finite() {
             return Err(bad(format!("frame {}: time is not finite", self.index)));
         }
-        let missing_before = self.clock.step(frame.t).map_err(bad)?;
+        let missing_before = self.clock.step(frame.t).map_err(|e| bad(e.to_string()))?;
         let values = frame.values.filter(|v| v.iter().all(|x| x.is_finite()));
         Ok(Some(Row {
             t: frame.t,
@@ -189,7 +212,7 @@ impl<R: BufRead> FrameReader<R> {
         let read = (&mut self.reader)
             .take(MAX_LINE_BYTES as u64 + 1)
             .read_until(b'\n', &mut self.buf)
-            .map_err(|e| FitError::Io(e.to_string()))?;
+            .map_err(FitError::Io)?;
         if read == 0 {
             return Ok(None);
         }
@@ -248,7 +271,7 @@ impl<R: BufRead> FrameReader<R> {
                 if cells.len() < 2 {
                     return Err(bad("a track id and then time are needed".into()));
                 }
-                Some(super::checked_name(cells.remove(0)).map_err(bad)?)
+                Some(super::checked_name(cells.remove(0)).map_err(|e| bad(e.to_string()))?)
             } else {
                 None
             };
@@ -286,8 +309,9 @@ impl<R: BufRead> FrameReader<R> {
                 let v: f64 = if cell.is_empty() {
                     f64::NAN
                 } else {
-                    cell.parse()
-                        .map_err(|_| bad(format!("column {}: {cell:?} is not a number", c + 1)))?
+                    cell.parse().map_err(|_| {
+                        bad(format!("column {}: {} is not a number", c + 1, clip(cell)))
+                    })?
                 };
                 lost |= !v.is_finite();
                 values.push(v);
@@ -295,7 +319,7 @@ impl<R: BufRead> FrameReader<R> {
             let missing_before = if self.track {
                 0
             } else {
-                self.clock.step(t).map_err(bad)?
+                self.clock.step(t).map_err(|e| bad(e.to_string()))?
             };
             return Ok(Some(Row {
                 t,
@@ -366,7 +390,7 @@ pub(super) fn read_tracks<R: BufRead>(
 /// recognised by the line reader; anything else is plain CSV.
 pub(super) fn sniff(reader: &mut Box<dyn BufRead + Send + '_>) -> Result<InputFormat, FitError> {
     loop {
-        let buf = reader.fill_buf().map_err(|e| FitError::Io(e.to_string()))?;
+        let buf = reader.fill_buf().map_err(FitError::Io)?;
         let Some(&first) = buf.iter().find(|b| !b.is_ascii_whitespace()) else {
             if buf.is_empty() {
                 return Ok(InputFormat::Csv);
@@ -389,7 +413,7 @@ pub(super) fn whole(reader: Box<dyn BufRead + Send + '_>) -> Result<String, FitE
     let mut text = String::new();
     std::io::Read::take(reader, MAX_WHOLE_FILE + 1)
         .read_to_string(&mut text)
-        .map_err(|e| FitError::Io(e.to_string()))?;
+        .map_err(FitError::Io)?;
     if text.len() as u64 > MAX_WHOLE_FILE {
         return Err(FitError::Invalid(format!(
             "a WCON file is read whole; this one is larger than {MAX_WHOLE_FILE} bytes (split it into chunks)"

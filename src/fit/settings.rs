@@ -2,6 +2,7 @@
 //! (checked before any data are read).
 
 use super::FitError;
+use crate::markup::clip;
 
 /// The most model points a fit takes (every mode shape is kept).
 /// Each frame's projection costs about N² (modes × observations), so model points stay at most
@@ -62,22 +63,37 @@ impl std::fmt::Display for Units {
     }
 }
 
+/// A name from a recording or an argument that cannot be used.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum NameError {
+    /// Not a track id.
+    #[error("{} is not a track id (1 to 64 printable characters)", clip(.0))]
+    TrackId(String),
+    /// Not a unit name.
+    #[error("{} is not a unit (at most 32 printable characters)", clip(.0))]
+    Unit(String),
+}
+
+/// Printable: no control or invisible formatting character.
+fn printable(c: char) -> bool {
+    !c.is_control() && !crate::model::is_invisible(c)
+}
+
 /// A name from a recording (a track id): printable, at most 64 characters.
-pub fn checked_name(text: &str) -> Result<String, String> {
-    let ok =
-        !text.is_empty() && text.chars().count() <= 64 && text.chars().all(|c| !c.is_control());
+pub fn checked_name(text: &str) -> Result<String, NameError> {
+    let ok = !text.is_empty() && text.chars().count() <= 64 && text.chars().all(printable);
     ok.then(|| text.to_string())
-        .ok_or_else(|| format!("{text:.40?} is not a track id (1 to 64 printable characters)"))
+        .ok_or_else(|| NameError::TrackId(text.to_string()))
 }
 
 /// A unit name: printable, without quotes, at most 32 characters.
-pub fn checked_unit(text: &str) -> Result<String, String> {
+pub fn checked_unit(text: &str) -> Result<String, NameError> {
     let ok = text.chars().count() <= 32
         && text
             .chars()
-            .all(|c| !c.is_control() && !matches!(c, '"' | '\\' | '<' | '>' | '&'));
+            .all(|c| printable(c) && !matches!(c, '"' | '\\' | '<' | '>' | '&'));
     ok.then(|| text.to_string())
-        .ok_or_else(|| format!("{text:.40?} is not a unit (at most 32 printable characters)"))
+        .ok_or_else(|| NameError::Unit(text.to_string()))
 }
 
 /// Settings of a fit.

@@ -70,7 +70,7 @@ fn unit(units: &serde_json::Map<String, Value>, key: &str) -> Result<String, Fit
         .get(key)
         .and_then(Value::as_str)
         .ok_or_else(|| bad(format!("units has no string for {key:?}")))?;
-    super::checked_unit(u).map_err(bad)
+    super::checked_unit(u).map_err(|e| bad(e.to_string()))
 }
 
 /// A number or `null` (missing) as f64.
@@ -131,7 +131,7 @@ pub(super) fn parse(text: &str, name: &str, head_first: bool) -> Result<Wcon, Fi
             Some(Value::Number(n)) => n.to_string(),
             _ => return Err(bad(format!("data record {} has no id", r + 1))),
         };
-        let id = super::checked_name(&id).map_err(bad)?;
+        let id = super::checked_name(&id).map_err(|e| bad(e.to_string()))?;
         let frames = record_frames(record, r + 1, head_first, y_scale)?;
         let k = match index.get(&id) {
             Some(&k) => k,
