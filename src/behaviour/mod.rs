@@ -36,7 +36,7 @@ pub use pair::{
 };
 pub use righting::{
     decay_rate, righting_sweep, self_righting, Attachment, Righting, RightingFrame, RightingReport,
-    RightingSettings, SweepPoint,
+    RightingSettings, SweepPoint, MAX_SWEEP,
 };
 pub use step::{analytic_step, step_response, StepResponse};
 

@@ -9,41 +9,31 @@ use crate::behaviour::{
 };
 use crate::report::Output;
 
-/// Arguments of `behave`.
+/// Arguments of `behave`: one subcommand per behaviour, each with its own options.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Which behaviour.
-    #[arg(value_enum)]
-    kind: BehaveKind,
-    /// The constant modal force (rearing, hunching).
-    #[arg(long, default_value_t = 0.02, allow_hyphen_values = true)]
-    force: f64,
-    /// How long to follow the transient (rearing, hunching).
-    #[arg(long, default_value_t = 2000.0)]
-    duration: f64,
-    /// Conserved momentum M (its sign sets the direction).
-    #[arg(long, default_value_t = 0.1, allow_hyphen_values = true)]
-    momentum: f64,
-    /// Periods to run.
-    #[arg(long, default_value_t = 100.0)]
-    periods: f64,
-    /// Tolerance δ in radians for mouth-hook attachment and alignment (self-righting).
-    #[arg(long, default_value_t = 0.01)]
-    tolerance: f64,
-    /// Damping ratio ζ₁ of the first torsional mode (self-righting; default 1, critical,
-    /// unless the torsion field's ζ is given by --param or --params).
-    #[arg(long, value_name = "ZETA")]
-    mode_damping: Option<f64>,
-    /// Initial orientation of the body in radians (self-righting; π is upside down).
-    #[arg(long, default_value_t = std::f64::consts::PI, allow_hyphen_values = true)]
-    theta0: f64,
-    /// Relaxation after attachment (self-righting): the paper's two-degree-of-freedom model,
-    /// or the whole chain with the head held.
-    #[arg(long, value_enum, default_value_t = AttachmentKind::Paper)]
-    attachment: AttachmentKind,
-    /// Also run these first-mode damping ratios and tabulate their righting times.
-    #[arg(long, value_delimiter = ',', value_name = "ZETA,…")]
-    sweep: Vec<f64>,
+    #[command(subcommand)]
+    kind: Behaviour,
+}
+
+/// The behaviours, with the field roles each needs ([`crate::behaviour::ROLE_NEEDS`]).
+#[derive(Debug, clap::Subcommand)]
+enum Behaviour {
+    /// The first axial pair as a travelling wave (needs an axial field).
+    Peristalsis(OrbitArgs),
+    /// The first lateral and dorsoventral modes in quadrature (needs both).
+    Rolling(OrbitArgs),
+    /// A force on the first dorsoventral mode (needs a dorsoventral field).
+    Rearing(StepArgs),
+    /// A force on the first axial mode (needs an axial field).
+    Hunching(StepArgs),
+    /// Twist, attach and relax (needs a torsion field).
+    SelfRighting(RightingArgs),
+}
+
+/// What every behaviour takes: the body, and how to print.
+#[derive(Debug, clap::Args)]
+struct Common {
     #[command(flatten)]
     body: BodyArgs,
     /// Output format (csv: the time series).
@@ -51,20 +41,56 @@ pub struct Args {
     format: Output,
 }
 
-/// The behaviours of `behave`, with the field roles each needs
-/// ([`crate::behaviour::ROLE_NEEDS`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-enum BehaveKind {
-    /// The first axial pair as a travelling wave (needs an axial field).
-    Peristalsis,
-    /// The first lateral and dorsoventral modes in quadrature (needs both).
-    Rolling,
-    /// A force on the first dorsoventral mode (needs a dorsoventral field).
-    Rearing,
-    /// A force on the first axial mode (needs an axial field).
-    Hunching,
-    /// Twist, attach and relax (needs a torsion field).
-    SelfRighting,
+/// Options of the minimum-energy orbits of a degenerate pair.
+#[derive(Debug, clap::Args)]
+struct OrbitArgs {
+    /// Conserved momentum M (its sign sets the direction; 0 does not move, so the default is a
+    /// small travelling orbit).
+    #[arg(long, default_value_t = 0.1, allow_hyphen_values = true)]
+    momentum: f64,
+    /// Periods to run.
+    #[arg(long, default_value_t = 100.0)]
+    periods: f64,
+    #[command(flatten)]
+    common: Common,
+}
+
+/// Options of a step response.
+#[derive(Debug, clap::Args)]
+struct StepArgs {
+    /// The constant modal force.
+    #[arg(long, default_value_t = 0.02, allow_hyphen_values = true)]
+    force: f64,
+    /// How long to follow the transient.
+    #[arg(long, default_value_t = 2000.0)]
+    duration: f64,
+    #[command(flatten)]
+    common: Common,
+}
+
+/// Options of self-righting.
+#[derive(Debug, clap::Args)]
+struct RightingArgs {
+    /// Tolerance δ in radians for mouth-hook attachment and alignment.
+    #[arg(long, default_value_t = 0.01)]
+    tolerance: f64,
+    /// Damping ratio ζ₁ of the first torsional mode (default 1, critical, unless the torsion
+    /// field's ζ is given by --param or --params).
+    #[arg(long, value_name = "ZETA")]
+    mode_damping: Option<f64>,
+    /// Initial orientation of the body in radians (π is upside down).
+    #[arg(long, default_value_t = std::f64::consts::PI, allow_hyphen_values = true)]
+    theta0: f64,
+    /// Relaxation after attachment: the paper's two-degree-of-freedom model, or the whole chain
+    /// with the head held.
+    #[arg(long, value_enum, default_value_t = AttachmentKind::Paper)]
+    attachment: AttachmentKind,
+    /// Also run these first-mode damping ratios and tabulate their righting times (at most
+    /// 50 values).
+    #[arg(long, value_delimiter = ',', value_name = "ZETA,…")]
+    sweep: Vec<f64>,
+    #[command(flatten)]
+    common: Common,
 }
 
 /// Relaxation models of `behave self-righting`.
@@ -79,47 +105,47 @@ enum AttachmentKind {
 
 /// Run one behaviour.
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
-    let theory = args.body.theory()?;
-    match args.kind {
-        BehaveKind::Peristalsis | BehaveKind::Rolling => {
-            let kind = if args.kind == BehaveKind::Peristalsis {
-                PairKind::Peristalsis
-            } else {
-                PairKind::Rolling
-            };
-            let o = pair_orbit(&theory, kind, args.momentum, args.periods)?;
-            emit(out, &o, args.format)
-        }
-        BehaveKind::Rearing | BehaveKind::Hunching => {
-            let (name, behaviour) = if args.kind == BehaveKind::Rearing {
-                ("Rearing", "behave rearing")
-            } else {
-                ("Hunching", "behave hunching")
-            };
-            let field = role_fields(&theory.model, behaviour)?[0];
-            let r = step_response(&theory, name, field, args.force, args.duration)?;
-            emit(out, &r, args.format)
-        }
-        BehaveKind::SelfRighting => {
-            let torsion = role_fields(&theory.model, "behave self-righting")?[0];
-            let scale = theory.model.fields[torsion].scale();
-            // The model's own ζ when the user gave it, critical damping of ζ₁ otherwise.
-            let explicit = args.body.params.sets_zeta(&theory.params, scale);
-            let settings = RightingSettings {
-                theta0: args.theta0,
-                tolerance: args.tolerance,
-                mode_damping: args.mode_damping.or((!explicit).then_some(1.0)),
-                attachment: match args.attachment {
-                    AttachmentKind::Paper => Attachment::Paper,
-                    AttachmentKind::Pinned => Attachment::Pinned,
-                },
-                ..Default::default()
-            };
-            let r = RightingReport {
-                righting: self_righting(&theory, &settings)?,
-                sweep: righting_sweep(&theory, &settings, &args.sweep)?,
-            };
-            emit(out, &r, args.format)
-        }
+    match &args.kind {
+        Behaviour::Peristalsis(a) => orbit(a, PairKind::Peristalsis, out),
+        Behaviour::Rolling(a) => orbit(a, PairKind::Rolling, out),
+        Behaviour::Rearing(a) => step(a, "Rearing", "behave rearing", out),
+        Behaviour::Hunching(a) => step(a, "Hunching", "behave hunching", out),
+        Behaviour::SelfRighting(a) => righting(a, out),
     }
+}
+
+fn orbit(a: &OrbitArgs, kind: PairKind, out: &mut dyn Write) -> Result<(), CliError> {
+    let theory = a.common.body.theory()?;
+    let o = pair_orbit(&theory, kind, a.momentum, a.periods)?;
+    emit(out, &o, a.common.format)
+}
+
+fn step(a: &StepArgs, name: &str, behaviour: &str, out: &mut dyn Write) -> Result<(), CliError> {
+    let theory = a.common.body.theory()?;
+    let field = role_fields(&theory.model, behaviour)?[0];
+    let r = step_response(&theory, name, field, a.force, a.duration)?;
+    emit(out, &r, a.common.format)
+}
+
+fn righting(a: &RightingArgs, out: &mut dyn Write) -> Result<(), CliError> {
+    let theory = a.common.body.theory()?;
+    let torsion = role_fields(&theory.model, "behave self-righting")?[0];
+    let scale = theory.model.fields[torsion].scale();
+    // The model's own ζ when the user gave it, critical damping of ζ₁ otherwise.
+    let explicit = a.common.body.params.sets_zeta(&theory.params, scale);
+    let settings = RightingSettings {
+        theta0: a.theta0,
+        tolerance: a.tolerance,
+        mode_damping: a.mode_damping.or((!explicit).then_some(1.0)),
+        attachment: match a.attachment {
+            AttachmentKind::Paper => Attachment::Paper,
+            AttachmentKind::Pinned => Attachment::Pinned,
+        },
+        ..Default::default()
+    };
+    let r = RightingReport {
+        righting: self_righting(&theory, &settings)?,
+        sweep: righting_sweep(&theory, &settings, &a.sweep)?,
+    };
+    emit(out, &r, a.common.format)
 }

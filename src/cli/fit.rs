@@ -28,8 +28,9 @@ pub struct Args {
     /// one for lengths).
     #[arg(long)]
     field: Option<String>,
-    /// Model points N for midlines (resampled by arc length when the data have another K).
-    #[arg(long, default_value_t = 12)]
+    /// Model points N for midlines (resampled by arc length when the data have another K),
+    /// from 3 to 500.
+    #[arg(long, short, default_value_t = 12, value_name = "N")]
     points: usize,
     /// Welch window in frames.
     #[arg(long, default_value_t = 256)]

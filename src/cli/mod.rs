@@ -135,6 +135,14 @@ impl From<crate::behaviour::BehaviourError> for CliError {
     }
 }
 
+/// A number of points in `range`, read as `usize` (clap's ranged parser reads `u64`).
+fn points_parser(
+    range: std::ops::RangeInclusive<u64>,
+) -> impl clap::builder::TypedValueParser<Value = usize> {
+    use clap::builder::TypedValueParser;
+    clap::value_parser!(u64).range(range).map(|n| n as usize)
+}
+
 /// Which model, at which order.
 #[derive(Debug, Args)]
 struct ModelArgs {
@@ -177,8 +185,10 @@ impl ParamArgs {
 struct BodyArgs {
     #[command(flatten)]
     model: ModelArgs,
-    /// Points along the body.
-    #[arg(long, default_value_t = 12)]
+    /// Points along the body, from the least the model's operators take (3 for the larva; the
+    /// error names it) to 2000.
+    #[arg(long, short, default_value_t = 12, value_name = "N",
+          value_parser = points_parser(1..=crate::dynamics::MAX_SIM_POINTS as u64))]
     points: usize,
     #[command(flatten)]
     params: ParamArgs,
@@ -219,8 +229,10 @@ struct PairArgs {
     omega: Option<f64>,
     #[command(flatten)]
     model: ModelArgs,
-    /// Points along the body whose axial pair sets ω (default 12 with --model).
-    #[arg(long)]
+    /// Points along the body whose axial pair sets ω (default 12 with --model): at least what
+    /// the model's operators need (3 for the larva), up to 2000.
+    #[arg(long, short, value_name = "N",
+          value_parser = points_parser(1..=crate::dynamics::MAX_SIM_POINTS as u64))]
     points: Option<usize>,
     #[command(flatten)]
     params: ParamArgs,

@@ -15,8 +15,9 @@ const MAX_SHAPE_VALUES: usize = 20_000_000;
 /// Arguments of `modes`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Number of points along the body (the paper uses 12), up to 10 000 000 with --modes K; the
-    /// full spectrum up to 1 000 000 (about ten seconds).
+    /// Number of points along the body (the paper uses 12): at least what the model's operators
+    /// need (3 for the larva; the error names it), up to 10 000 000 with --modes K; the full
+    /// spectrum up to 1 000 000 (about ten seconds).
     #[arg(long, short, value_name = "N",
           value_parser = clap::value_parser!(u64).range(1..=crate::modal::MAX_POINTS as u64))]
     points: u64,

@@ -12,8 +12,8 @@ pub const MAX_PRINT_POINTS: usize = 2000;
 /// Arguments of `operators`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Number of points along the body (the paper uses 12). Dense matrices are printed up to
-    /// 2000 points.
+    /// Number of points along the body (the paper uses 12): at least what the model's operators
+    /// need (3 for the larva; the error names it), up to 2000 (dense matrices are printed).
     #[arg(long, short, value_name = "N",
           value_parser = clap::value_parser!(u64).range(1..=MAX_PRINT_POINTS as u64))]
     points: u64,

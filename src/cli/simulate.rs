@@ -11,7 +11,8 @@ use crate::dynamics::{
 /// Arguments of `simulate`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Number of points along the body (the paper uses 12), up to 2000.
+    /// Number of points along the body (the paper uses 12): at least what the model's operators
+    /// need (3 for the larva; the error names it), up to 2000.
     #[arg(long, short, value_name = "N",
           value_parser = clap::value_parser!(u64).range(1..=crate::dynamics::MAX_SIM_POINTS as u64))]
     points: u64,

@@ -483,12 +483,22 @@ pub struct SweepPoint {
     pub decay_rate: f64,
 }
 
-/// [`self_righting`] at each first-mode damping ratio of `dampings`, other settings as given.
+/// The most damping ratios one sweep runs (each is a whole self-righting run, about 0.1 s).
+pub const MAX_SWEEP: usize = 50;
+
+/// [`self_righting`] at each first-mode damping ratio of `dampings` (at most [`MAX_SWEEP`]),
+/// other settings as given.
 pub fn righting_sweep(
     theory: &Theory,
     settings: &RightingSettings,
     dampings: &[f64],
 ) -> Result<Vec<SweepPoint>, BehaviourError> {
+    if dampings.len() > MAX_SWEEP {
+        return Err(BehaviourError::new(format!(
+            "--sweep takes at most {MAX_SWEEP} damping ratios, not {} (each is a full run)",
+            dampings.len()
+        )));
+    }
     dampings
         .iter()
         .map(|&z| {
