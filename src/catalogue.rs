@@ -4,6 +4,7 @@
 //! that the engine never imports its own reports.
 
 use crate::enumerate::{candidates, count_products, Basis, Bounds};
+use crate::markup::markdown_cell;
 use crate::model::{Density, Model};
 use crate::reduce::{analyse, OrderError};
 use crate::rules::REGISTRY;
@@ -27,56 +28,168 @@ pub fn rules_markdown() -> String {
     out
 }
 
-/// What `model` requires of each field in each density, with the field's role, and how many
-/// of the field's candidates at `order` each required rule strikes out (a candidate can fail
-/// several).
-pub fn requirements_markdown(model: &Model, order: u32) -> Result<String, OrderError> {
-    let mut out = format!(
-        "\n# Requirements of the {} model at order {order}\n",
-        model.name
-    );
-    for density in Density::ALL {
-        let a = analyse(model, density, order)?;
-        let codes: Vec<&str> = a.columns.iter().map(|r| r.code).collect();
-        out += &format!(
-            "\n## {density} ({} candidates)\n\n| field | role | requires | {} |\n|---|---|---|{}\n",
-            a.rows.len(),
-            codes.join(" | "),
-            "---|".repeat(codes.len())
-        );
-        for f in &model.fields {
-            let required = model.requirements(density, &f.id);
-            let struck: Vec<String> = a
-                .columns
+/// What a model requires of one field in one density.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct FieldRequirement {
+    /// Field id.
+    pub field: String,
+    /// Its role, if any.
+    pub role: Option<&'static str>,
+    /// The rule codes it requires.
+    pub requires: Vec<&'static str>,
+    /// Per table column: how many candidates that rule strikes out for the field (None: the
+    /// field does not require it).
+    pub struck: Vec<Option<usize>>,
+}
+
+/// What a model requires in one density.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct DensityRequirements {
+    /// `lagrangian` or `rayleigh`.
+    pub density: &'static str,
+    /// Candidates at the order.
+    pub candidates: usize,
+    /// The rule codes of the table's columns.
+    pub columns: Vec<&'static str>,
+    /// Each field's requirements.
+    pub fields: Vec<FieldRequirement>,
+}
+
+/// What `model` requires of each field in each density at `order`, with how many of the
+/// field's candidates each required rule strikes out (a candidate can fail several).
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Requirements {
+    /// The model's name.
+    pub model: String,
+    /// The order.
+    pub order: u32,
+    /// Lagrangian, then Rayleigh.
+    pub densities: Vec<DensityRequirements>,
+}
+
+impl Requirements {
+    /// Decide every candidate of both densities.
+    pub fn new(model: &Model, order: u32) -> Result<Requirements, OrderError> {
+        let mut densities = Vec::new();
+        for density in Density::ALL {
+            let a = analyse(model, density, order)?;
+            let fields = model
+                .fields
                 .iter()
-                .enumerate()
-                .map(|(c, rule)| {
-                    if required.iter().any(|r| r.code == rule.code) {
-                        a.rows
-                            .iter()
-                            .filter(|row| !row.passed[c])
-                            .count()
-                            .to_string()
-                    } else {
-                        "·".into()
+                .map(|f| {
+                    let required = model.requirements(density, &f.id);
+                    let struck = a
+                        .columns
+                        .iter()
+                        .enumerate()
+                        .map(|(c, rule)| {
+                            required
+                                .iter()
+                                .any(|r| r.code == rule.code)
+                                .then(|| a.rows.iter().filter(|row| !row.passed[c]).count())
+                        })
+                        .collect();
+                    FieldRequirement {
+                        field: f.id.clone(),
+                        role: f.role.map(|r| r.name()),
+                        requires: required.iter().map(|r| r.code).collect(),
+                        struck,
                     }
                 })
                 .collect();
-            out += &format!(
-                "| {} | {} | {} | {} |\n",
-                f.id,
-                f.role.map(|r| r.name()).unwrap_or("—"),
-                required
-                    .iter()
-                    .map(|r| r.code)
-                    .collect::<Vec<_>>()
-                    .join(" "),
-                struck.join(" | ")
-            );
+            densities.push(DensityRequirements {
+                density: density.key(),
+                candidates: a.rows.len(),
+                columns: a.columns.iter().map(|r| r.code).collect(),
+                fields,
+            });
         }
+        Ok(Requirements {
+            model: model.name.clone(),
+            order,
+            densities,
+        })
     }
-    out += "\nA number is how many candidates the rule strikes out for that field; · means the field does not require it.\n";
-    Ok(out)
+
+    /// As Markdown: one table per density.
+    pub fn markdown(&self) -> String {
+        let mut out = format!(
+            "\n# Requirements of the {} model at order {}\n",
+            markdown_cell(&self.model),
+            self.order
+        );
+        for (d, density) in self.densities.iter().zip(Density::ALL) {
+            out += &format!(
+                "\n## {density} ({} candidates)\n\n| field | role | requires | {} |\n|---|---|---|{}\n",
+                d.candidates,
+                d.columns.join(" | "),
+                "---|".repeat(d.columns.len())
+            );
+            for f in &d.fields {
+                let struck: Vec<String> = f
+                    .struck
+                    .iter()
+                    .map(|s| s.map_or("·".to_string(), |n| n.to_string()))
+                    .collect();
+                out += &format!(
+                    "| {} | {} | {} | {} |\n",
+                    f.field,
+                    f.role.unwrap_or("—"),
+                    f.requires.join(" "),
+                    struck.join(" | ")
+                );
+            }
+        }
+        out += "\nA number is how many candidates the rule strikes out for that field; · means the field does not require it.\n";
+        out
+    }
+}
+
+/// `rules`: the registry, and with a model what it requires.
+pub struct RulesReport {
+    /// The header generated files carry, if any (the Markdown page is also `tables/rules.md`).
+    pub header: String,
+    /// A model's requirements, when asked.
+    pub requirements: Option<Requirements>,
+}
+
+impl crate::report::Report for RulesReport {
+    fn text(&self) -> String {
+        let mut text = self.header.clone() + &rules_markdown();
+        if let Some(r) = &self.requirements {
+            text += &r.markdown();
+        }
+        text
+    }
+
+    fn json(&self) -> serde_json::Value {
+        let rules: Vec<_> = REGISTRY
+            .iter()
+            .map(|r| {
+                serde_json::json!({
+                    "code": r.code,
+                    "name": r.name,
+                    "meaning": r.meaning,
+                    "decided_by": r.decided_by(),
+                })
+            })
+            .collect();
+        serde_json::json!({"rules": rules, "requirements": self.requirements})
+    }
+
+    fn csv(&self) -> Option<String> {
+        Some(crate::report::csv_table(
+            &["code", "name", "meaning", "decided_by"],
+            REGISTRY.iter().map(|r| {
+                vec![
+                    r.code.to_string(),
+                    r.name.to_string(),
+                    r.meaning.to_string(),
+                    r.decided_by(),
+                ]
+            }),
+        ))
+    }
 }
 
 /// `count`: the candidate terms of each density at orders 1 … N.
@@ -131,6 +244,15 @@ impl crate::report::Report for CountReport {
             text += &format!("{order:>5}  {l:>10}  {r:>8}\n");
         }
         text
+    }
+
+    fn csv(&self) -> Option<String> {
+        Some(crate::report::csv_table(
+            &["order", "lagrangian", "rayleigh"],
+            self.rows
+                .iter()
+                .map(|(o, l, r)| vec![o.to_string(), l.to_string(), r.to_string()]),
+        ))
     }
 
     fn json(&self) -> serde_json::Value {

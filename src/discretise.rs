@@ -297,6 +297,34 @@ pub struct OperatorReport<'a> {
 }
 
 impl crate::report::Report for OperatorReport<'_> {
+    /// The non-zero entries, one row each.
+    fn csv(&self) -> Option<String> {
+        Some(crate::report::csv_table(
+            &[
+                "field", "density", "term", "boundary", "k", "row", "column", "value",
+            ],
+            self.operators.iter().flat_map(|op| {
+                op.matrix.iter().enumerate().flat_map(move |(i, row)| {
+                    row.iter()
+                        .enumerate()
+                        .filter(|(_, v)| **v != 0)
+                        .map(move |(j, v)| {
+                            vec![
+                                op.field.clone(),
+                                op.density.clone(),
+                                op.term.clone(),
+                                op.boundary.clone(),
+                                op.k.to_string(),
+                                i.to_string(),
+                                j.to_string(),
+                                v.to_string(),
+                            ]
+                        })
+                })
+            }),
+        ))
+    }
+
     fn text(&self) -> String {
         let mut out = format!(
             "Difference operators of the {} model on N = {} points:\n",

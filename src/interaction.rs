@@ -412,3 +412,104 @@ impl Interactions {
         out
     }
 }
+
+/// `interactions`: the analyses of one or both densities of a model, as one printable result.
+pub struct InteractionsReport<'a> {
+    /// The model.
+    pub model: &'a Model,
+    /// One analysis per density asked for.
+    pub analyses: Vec<Interactions>,
+}
+
+impl InteractionsReport<'_> {
+    /// Every verdict of every candidate row as (density, fields, term, rule, field, passed).
+    fn verdict_rows(&self) -> Vec<Vec<String>> {
+        let mut rows = Vec::new();
+        for a in &self.analyses {
+            for c in &a.couplings {
+                let name = |k: u8| self.model.symbol(&c.fields[k as usize - 1]);
+                for row in &c.rows {
+                    for v in &row.verdicts {
+                        rows.push(vec![
+                            a.density.key().to_string(),
+                            c.fields.join(" "),
+                            row.term.render(&name),
+                            v.rule.to_string(),
+                            v.field.clone().unwrap_or_default(),
+                            v.verdict.passed().to_string(),
+                        ]);
+                    }
+                }
+            }
+        }
+        rows
+    }
+}
+
+impl crate::report::Report for InteractionsReport<'_> {
+    fn text(&self) -> String {
+        self.analyses
+            .iter()
+            .map(|a| a.text(self.model) + "\n")
+            .collect()
+    }
+
+    fn json(&self) -> serde_json::Value {
+        use serde_json::json;
+        let analyses: Vec<_> = self
+            .analyses
+            .iter()
+            .map(|a| {
+                let couplings: Vec<_> = a
+                    .couplings
+                    .iter()
+                    .map(|c| {
+                        let name = |k: u8| self.model.symbol(&c.fields[k as usize - 1]);
+                        let terms = |ts: &[Term]| -> Vec<String> {
+                            ts.iter().map(|t| t.render(&name)).collect()
+                        };
+                        let rows: Vec<_> = c
+                            .rows
+                            .iter()
+                            .map(|r| {
+                                let verdicts: Vec<_> = r
+                                    .verdicts
+                                    .iter()
+                                    .map(|v| json!({"rule": v.rule, "field": v.field, "passed": v.verdict.passed()}))
+                                    .collect();
+                                json!({"term": r.term.render(&name), "admitted": r.admitted(), "verdicts": verdicts})
+                            })
+                            .collect();
+                        let later = match &c.later {
+                            Some(Ok((order, ts))) => json!({"order": order, "terms": terms(ts)}),
+                            Some(Err(last)) => json!({"none_up_to": last}),
+                            None => serde_json::Value::Null,
+                        };
+                        json!({
+                            "fields": c.fields,
+                            "shared": c.shared,
+                            "rows": rows,
+                            "admitted": terms(&c.admitted),
+                            "kept": terms(&c.kept),
+                            "later": later,
+                        })
+                    })
+                    .collect();
+                json!({
+                    "density": a.density.key(),
+                    "order": a.order,
+                    "free": a.is_free(),
+                    "couplings": couplings,
+                })
+            })
+            .collect();
+        json!({"model": self.model.name, "analyses": analyses})
+    }
+
+    fn csv(&self) -> Option<String> {
+        Some(crate::report::csv_table(
+            &["density", "fields", "term", "rule", "field", "passed"],
+            self.verdict_rows(),
+        ))
+    }
+}

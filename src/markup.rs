@@ -16,15 +16,21 @@ const GREEK: [(char, &str); 12] = [
     ('ζ', "\\zeta"),
 ];
 
-/// A symbol in LaTeX math: Greek letters to commands, the rest unchanged.
+/// A symbol in LaTeX math: Greek letters to commands, LaTeX's special characters escaped, the
+/// rest unchanged.
 pub fn latex_symbol(s: &str) -> String {
     s.chars()
         .map(|c| {
-            GREEK
-                .iter()
-                .find(|(g, _)| *g == c)
-                .map(|(_, l)| format!("{l} "))
-                .unwrap_or_else(|| c.to_string())
+            if let Some((_, l)) = GREEK.iter().find(|(g, _)| *g == c) {
+                return format!("{l} ");
+            }
+            match c {
+                '\\' => "\\backslash ".into(),
+                '{' | '}' | '$' | '&' | '%' | '#' | '_' => format!("\\{c}"),
+                '^' => "\\hat{} ".into(),
+                '~' => "\\sim ".into(),
+                c => c.to_string(),
+            }
         })
         .collect::<String>()
         .trim_end()

@@ -475,3 +475,105 @@ pub fn text(model: &Model, density: Density, order: u32, fields: &[FieldReductio
     }
     out
 }
+
+/// `parts`: the reductions of one or both densities of a model, as one printable result.
+pub struct PartsReport<'a> {
+    /// The model.
+    pub model: &'a Model,
+    /// The order.
+    pub order: u32,
+    /// (density, each field's reduction) per density asked for.
+    pub reductions: Vec<(Density, Vec<FieldReduction>)>,
+}
+
+impl PartsReport<'_> {
+    /// One row per admitted term: density, field, term, whether it is kept, and what it
+    /// reduces to (empty when kept).
+    fn rows(&self) -> Vec<Vec<String>> {
+        let mut rows = Vec::new();
+        for (density, fields) in &self.reductions {
+            for f in fields {
+                let symbol = self.model.symbol(&f.field);
+                let r = |t: &Term| t.render(&|_| symbol.clone());
+                for b in &f.blocks {
+                    for t in &b.kept {
+                        rows.push(vec![
+                            density.key().into(),
+                            f.field.clone(),
+                            r(t),
+                            "true".into(),
+                            String::new(),
+                        ]);
+                    }
+                    for rel in &b.relations {
+                        rows.push(vec![
+                            density.key().into(),
+                            f.field.clone(),
+                            r(&rel.term),
+                            "false".into(),
+                            rel.text(&symbol),
+                        ]);
+                    }
+                }
+            }
+        }
+        rows
+    }
+}
+
+impl crate::report::Report for PartsReport<'_> {
+    fn text(&self) -> String {
+        self.reductions
+            .iter()
+            .map(|(d, fields)| text(self.model, *d, self.order, fields) + "\n")
+            .collect()
+    }
+
+    fn json(&self) -> serde_json::Value {
+        use serde_json::json;
+        let densities: Vec<_> = self
+            .reductions
+            .iter()
+            .map(|(d, fields)| {
+                let fields: Vec<_> = fields
+                    .iter()
+                    .map(|f| {
+                        let symbol = self.model.symbol(&f.field);
+                        let r = |t: &Term| t.render(&|_| symbol.clone());
+                        let mut kept: Vec<Term> = f.blocks.iter().flat_map(|b| b.kept.clone()).collect();
+                        kept.sort();
+                        let relations: Vec<_> = f
+                            .blocks
+                            .iter()
+                            .flat_map(|b| &b.relations)
+                            .map(|rel| {
+                                let combination: Vec<_> = rel
+                                    .combination
+                                    .iter()
+                                    .map(|(c, t)| json!({"coefficient": c.to_string(), "term": r(t)}))
+                                    .collect();
+                                json!({"term": r(&rel.term), "combination": combination})
+                            })
+                            .collect();
+                        json!({
+                            "field": f.field,
+                            "admitted": f.blocks.iter().map(|b| b.admitted.len()).sum::<usize>(),
+                            "independent": kept.iter().map(r).collect::<Vec<_>>(),
+                            "lowest_order": crate::reduce::lowest_order(&kept).iter().map(r).collect::<Vec<_>>(),
+                            "relations": relations,
+                        })
+                    })
+                    .collect();
+                json!({"density": d.key(), "fields": fields})
+            })
+            .collect();
+        json!({"model": self.model.name, "order": self.order, "densities": densities})
+    }
+
+    fn csv(&self) -> Option<String> {
+        Some(crate::report::csv_table(
+            &["density", "field", "term", "independent", "reduces_to"],
+            self.rows(),
+        ))
+    }
+}

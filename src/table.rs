@@ -10,7 +10,7 @@ use std::io::{self, Write};
 use serde::ser::{Serialize, SerializeMap, Serializer};
 use serde_json::Value;
 
-use crate::markup::latex_symbol;
+use crate::markup::{latex_symbol, markdown_cell};
 use crate::report::{Aligned, Chunked};
 
 use crate::model::{Density, Model};
@@ -204,7 +204,8 @@ fn markdown(model: &Model, analyses: &[Analysis], out: &mut Chunked) -> io::Resu
             title(a),
             requirement_line(model, a)
         ));
-        out.say(format_args!("| {} |", cells.header.join(" | ")));
+        let header: Vec<String> = cells.header.iter().map(|h| markdown_cell(h)).collect();
+        out.say(format_args!("| {} |", header.join(" | ")));
         out.say(format_args!("|{}", "---|".repeat(cells.header.len())));
         cells.joined(out, ("| ", " | ", " |"))?;
         out.say(format_args!(

@@ -3,8 +3,9 @@
 use std::io::Write;
 use std::path::PathBuf;
 
-use super::{load_model, write_out, CliError};
+use super::{emit, load_model, CliError};
 use crate::enumerate::{Basis, MAX_ORDER};
+use crate::report::Output;
 
 /// Arguments of `count`.
 #[derive(Debug, clap::Args)]
@@ -19,11 +20,14 @@ pub struct Args {
     /// A model file (TOML) instead of the embedded larva model.
     #[arg(long, value_name = "FILE")]
     model: Option<PathBuf>,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Output::Text)]
+    format: Output,
 }
 
 /// Count and print.
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     let model = load_model(&args.model)?;
     let counts = crate::catalogue::CountReport::new(&model, args.basis, args.max_order);
-    write_out(out, &crate::report::Report::text(&counts))
+    emit(out, &counts, args.format)
 }

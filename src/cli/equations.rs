@@ -2,12 +2,12 @@
 
 use std::io::Write;
 
-use super::{write_out, CliError, ModelArgs};
+use super::{emit, write_out, CliError, ModelArgs};
 use crate::enumerate::Basis;
 use crate::equations::{
     derive_basis, derive_nonlinear, EquationError, EquationReport, NonlinearReport,
 };
-use crate::report::Report;
+use crate::report::{Output, Report};
 
 /// Arguments of `equations`.
 #[derive(Debug, clap::Args)]
@@ -25,9 +25,29 @@ pub struct Args {
 /// Output formats of `equations`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 enum EquationFormat {
+    /// Aligned text for reading.
     Text,
+    /// LaTeX `align*` lines.
     Latex,
+    /// JSON (serde).
     Json,
+    /// CSV: one row per right-hand-side term.
+    Csv,
+}
+
+/// Write an equations report in `format`.
+fn write(
+    out: &mut dyn Write,
+    report: &dyn Report,
+    latex: impl FnOnce() -> String,
+    format: EquationFormat,
+) -> Result<(), CliError> {
+    match format {
+        EquationFormat::Latex => write_out(out, &latex()),
+        EquationFormat::Text => emit(out, report, Output::Text),
+        EquationFormat::Json => emit(out, report, Output::Json),
+        EquationFormat::Csv => emit(out, report, Output::Csv),
+    }
 }
 
 /// Derive and print the equations.
@@ -45,14 +65,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
                 equations,
                 notes,
             };
-            let text = match args.format {
-                EquationFormat::Text => r.text(),
-                EquationFormat::Latex => r.latex(),
-                EquationFormat::Json => {
-                    serde_json::to_string_pretty(&r.json()).unwrap_or_default() + "\n"
-                }
-            };
-            return write_out(out, &text);
+            return write(out, &r, || r.latex(), args.format);
         }
         other => other.map_err(CliError::usage)?,
     };
@@ -62,10 +75,5 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
         equations,
         notes,
     };
-    let text = match args.format {
-        EquationFormat::Text => r.text(),
-        EquationFormat::Latex => r.latex(),
-        EquationFormat::Json => serde_json::to_string_pretty(&r.json()).unwrap_or_default() + "\n",
-    };
-    write_out(out, &text)
+    write(out, &r, || r.latex(), args.format)
 }

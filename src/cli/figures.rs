@@ -9,9 +9,10 @@ use crate::figures::{write_figures, FigureError, FigureSettings, FIGURES};
 /// Arguments of `figures`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Directory to write into (created if missing).
-    #[arg(long, value_name = "DIR")]
-    out: PathBuf,
+    /// Directory to write the SVG files into (created if missing); `fit --figures DIR` names
+    /// its figure folder the same way. `--out` is an alias.
+    #[arg(long, value_name = "DIR", visible_alias = "out")]
+    figures: PathBuf,
     /// Only this figure (e.g. `mode_shapes.svg`; the `.svg` may be left off).
     #[arg(long, value_name = "NAME")]
     only: Option<String>,
@@ -46,7 +47,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
         Some(names.len() as u64),
         indicatif::ProgressDrawTarget::stderr(),
     );
-    let written = write_figures(&args.out, &names, &theory, &settings, |name| {
+    let written = write_figures(&args.figures, &names, &theory, &settings, |name| {
         bar.set_message(name.to_string());
         bar.inc(1);
     });

@@ -3,7 +3,9 @@
 use std::io::Write;
 
 use super::table::DensityChoice;
-use super::{write_out, CliError, ModelArgs};
+use super::{emit, CliError, ModelArgs};
+use crate::interaction::InteractionsReport;
+use crate::report::Output;
 
 /// Arguments of `interactions`.
 #[derive(Debug, clap::Args)]
@@ -13,6 +15,9 @@ pub struct Args {
     /// Which density.
     #[arg(long, value_enum, default_value_t = DensityChoice::Both)]
     density: DensityChoice,
+    /// Output format (csv: one row per verdict).
+    #[arg(long, value_enum, default_value_t = Output::Text)]
+    format: Output,
 }
 
 /// Decide and print the interaction tables.
@@ -23,12 +28,16 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
         crate::interaction::check_interaction_work(&model, d, args.model.order)
             .map_err(CliError::usage)?;
     }
-    let mut text = String::new();
+    let mut analyses = Vec::new();
     for &d in args.density.densities() {
-        let i = crate::interaction::interactions(&model, d, args.model.order)
-            .map_err(CliError::usage)?;
-        text += &i.text(&model);
-        text.push('\n');
+        analyses.push(
+            crate::interaction::interactions(&model, d, args.model.order)
+                .map_err(CliError::usage)?,
+        );
     }
-    write_out(out, &text)
+    let report = InteractionsReport {
+        model: &model,
+        analyses,
+    };
+    emit(out, &report, args.format)
 }

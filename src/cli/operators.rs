@@ -27,8 +27,12 @@ pub struct Args {
 /// Output formats of `operators`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 enum OperatorFormat {
+    /// Aligned text: each dense matrix.
     Text,
+    /// JSON, streamed from the operators.
     Json,
+    /// CSV: one row per non-zero entry.
+    Csv,
 }
 
 /// Print the operators.
@@ -43,6 +47,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     };
     match args.format {
         OperatorFormat::Text => write_out(out, &r.text()),
+        OperatorFormat::Csv => super::emit(out, &r, crate::report::Output::Csv),
         // Streamed from the operators themselves: no JSON value tree of N² numbers in memory.
         OperatorFormat::Json => {
             let doc = crate::discretise::OperatorsJson {

@@ -3,7 +3,9 @@
 use std::io::Write;
 
 use super::table::DensityChoice;
-use super::{write_out, CliError, ModelArgs};
+use super::{emit, CliError, ModelArgs};
+use crate::parts::PartsReport;
+use crate::report::Output;
 
 /// Arguments of `parts`.
 #[derive(Debug, clap::Args)]
@@ -13,17 +15,24 @@ pub struct Args {
     /// Which density.
     #[arg(long, value_enum, default_value_t = DensityChoice::Lagrangian)]
     density: DensityChoice,
+    /// Output format (csv: one row per admitted monomial).
+    #[arg(long, value_enum, default_value_t = Output::Text)]
+    format: Output,
 }
 
 /// Reduce and print.
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     let model = args.model.load()?;
-    let mut text = String::new();
+    let mut reductions = Vec::new();
     for &d in args.density.densities() {
         let fields =
             crate::parts::reduce_model(&model, d, args.model.order).map_err(CliError::usage)?;
-        text += &crate::parts::text(&model, d, args.model.order, &fields);
-        text.push('\n');
+        reductions.push((d, fields));
     }
-    write_out(out, &text)
+    let report = PartsReport {
+        model: &model,
+        order: args.model.order,
+        reductions,
+    };
+    emit(out, &report, args.format)
 }

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use super::{load_params, CliError, ModelArgs, ParamArgs};
 use crate::dynamics::{
-    sample_header, sample_row, simulate, Config, DynamicsError, Forcing, Halt, Initial,
+    sample_header, sample_row, simulate, Config, DynamicsError, Forcing, Halt, Initial, Sample,
 };
 
 /// Arguments of `simulate`.
@@ -40,13 +40,81 @@ pub struct Args {
     /// Seed of the noise (same seed, same run).
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Write the CSV here instead of standard output.
+    /// Write the series here instead of standard output.
     #[arg(long, value_name = "FILE")]
     out: Option<PathBuf>,
+    /// Output format: CSV (a header, then one row per sample) or JSON (`columns` and `rows`),
+    /// both streamed as the run goes.
+    #[arg(long, value_enum, default_value_t = SeriesFormat::Csv)]
+    format: SeriesFormat,
     #[command(flatten)]
     params: ParamArgs,
     #[command(flatten)]
     model: ModelArgs,
+}
+
+/// How a time series is written (it is streamed, so there is no aligned text form).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum SeriesFormat {
+    /// CSV: a header, then one row per sample.
+    Csv,
+    /// JSON: `{"columns": […], "rows": [[…], …]}`.
+    Json,
+}
+
+/// Where samples go: a CSV writer, or JSON rows written one by one.
+enum Sink<'a> {
+    Csv(csv::Writer<&'a mut dyn Write>),
+    Json(std::io::BufWriter<&'a mut dyn Write>, bool),
+}
+
+impl Sink<'_> {
+    /// Write the header (before the first sample) and one sample.
+    fn sample(&mut self, header: Option<Vec<String>>, s: &Sample) -> Result<(), Halt> {
+        match self {
+            Sink::Csv(csv) => {
+                if let Some(h) = header {
+                    csv.write_record(h).map_err(csv_halt)?;
+                }
+                csv.write_record(sample_row(s)).map_err(csv_halt)
+            }
+            Sink::Json(out, any) => {
+                if let Some(h) = header {
+                    write!(out, "{{\"columns\": ").map_err(Halt::Io)?;
+                    serde_json::to_writer(&mut *out, &h).map_err(|e| Halt::Io(e.into()))?;
+                    write!(out, ", \"rows\": [").map_err(Halt::Io)?;
+                }
+                let row: Vec<f64> = [s.t, s.energy]
+                    .into_iter()
+                    .chain(s.positions.iter().chain(&s.modal).flatten().copied())
+                    .collect();
+                out.write_all(if *any { b",\n" } else { b"\n" })
+                    .map_err(Halt::Io)?;
+                *any = true;
+                serde_json::to_writer(&mut *out, &row).map_err(|e| Halt::Io(e.into()))
+            }
+        }
+    }
+
+    /// Close the document and flush.
+    fn finish(self) -> std::io::Result<()> {
+        match self {
+            Sink::Csv(mut csv) => csv.flush(),
+            Sink::Json(mut out, any) => {
+                if any {
+                    out.write_all(b"\n]}\n")?;
+                }
+                out.flush()
+            }
+        }
+    }
+}
+
+fn csv_halt(e: csv::Error) -> Halt {
+    match e.into_kind() {
+        csv::ErrorKind::Io(io) => Halt::Io(io),
+        other => Halt::Fail(format!("{other:?}")),
+    }
 }
 
 /// `FIELD:MODE=values`: the field, the mode and the comma-separated numbers, with `counts` the
@@ -149,21 +217,17 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
         None => out,
     };
     let ids: Vec<&str> = model.fields.iter().map(|f| f.id.as_str()).collect();
-    let mut csv = csv::Writer::from_writer(sink);
-    let mut first = true;
-    let csv_error = |e: csv::Error| match e.into_kind() {
-        csv::ErrorKind::Io(io) => Halt::Io(io),
-        other => Halt::Fail(format!("{other:?}")),
+    let mut sink = match args.format {
+        SeriesFormat::Csv => Sink::Csv(csv::Writer::from_writer(sink)),
+        SeriesFormat::Json => Sink::Json(std::io::BufWriter::new(sink), false),
     };
+    let mut first = true;
     let result = simulate(&model, &params, &config, |s| {
-        if first {
-            csv.write_record(sample_header(&ids, s))
-                .map_err(csv_error)?;
-            first = false;
-        }
-        csv.write_record(sample_row(s)).map_err(csv_error)
+        let header = first.then(|| sample_header(&ids, s));
+        first = false;
+        sink.sample(header, s)
     });
-    let flushed = csv.flush();
+    let flushed = sink.finish();
     match result {
         // A closed pipe (`| head`) ends the run quietly.
         Err(DynamicsError::Output(std::io::ErrorKind::BrokenPipe, _)) => Ok(()),

@@ -18,7 +18,9 @@ enum StatsCommand {
     /// Unbiased exploration: Gaussian planar postures of the lateral field, the 3-point bend
     /// distribution, β refitted.
     Explore {
-        /// Inverse temperature β (in units where ω_b = 1 and the body length is 1).
+        /// Inverse temperature β of the whole body, in units where ω_b = 1 and the body length
+        /// is 1 (the default is cold enough for small-angle postures; `stats pair` takes the β
+        /// of one pair in its own units, default 1).
         #[arg(long, default_value_t = 10_000.0, allow_hyphen_values = true)]
         beta: f64,
         #[command(flatten)]
@@ -51,10 +53,12 @@ enum StatsCommand {
     },
     /// A degenerate pair at fixed momentum M: Z, F, A*, ⟨A⟩; with --samples also a Metropolis run.
     Pair {
-        /// Inverse temperature β.
+        /// Inverse temperature β of the pair, in units of its energy scale (the whole body's β
+        /// of `stats explore` is another quantity).
         #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
         beta: f64,
-        /// Conserved momentum M.
+        /// Conserved momentum M (default 0, the resting ensemble; `behave peristalsis` and
+        /// `rolling` default to 0.1, since an orbit at M = 0 does not move).
         #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
         momentum: f64,
         /// Draw this many Metropolis samples.

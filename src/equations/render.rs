@@ -210,6 +210,26 @@ impl crate::report::Report for EquationReport<Equation> {
     fn json(&self) -> Value {
         json(self.order, &self.equations, &self.notes)
     }
+
+    /// One row per right-hand-side term: field, the derivative's orders, sign, exact prefactor
+    /// and the free parameter.
+    fn csv(&self) -> Option<String> {
+        Some(crate::report::csv_table(
+            &["field", "t", "s", "sign", "prefactor", "coefficient"],
+            self.equations.iter().flat_map(|e| {
+                e.rhs.iter().map(|t| {
+                    vec![
+                        e.field.id.clone(),
+                        t.deriv.t.to_string(),
+                        t.deriv.s.to_string(),
+                        t.sign.to_string(),
+                        t.prefactor.to_string(),
+                        t.coefficient.clone(),
+                    ]
+                })
+            }),
+        ))
+    }
 }
 
 /// `c·(∂s y)²·∂ss y` with the field's symbol.
@@ -298,6 +318,23 @@ impl crate::report::Report for NonlinearReport {
             "equations": self.equations.iter().map(|e| e.json()).collect::<Vec<_>>(),
             "notes": self.notes,
         })
+    }
+
+    /// One row per right-hand-side term: field, exact value, parameter and the monomial.
+    fn csv(&self) -> Option<String> {
+        Some(crate::report::csv_table(
+            &["field", "value", "coefficient", "monomial"],
+            self.equations.iter().flat_map(|e| {
+                e.rhs.iter().map(|t| {
+                    vec![
+                        e.field.id.clone(),
+                        t.value.to_string(),
+                        t.coefficient.clone(),
+                        monomial_text(&t.monomial, &e.field.symbol),
+                    ]
+                })
+            }),
+        ))
     }
 }
 
