@@ -354,13 +354,33 @@ fn written(result: std::io::Result<()>) -> Result<(), CliError> {
     }
 }
 
+/// For an unknown subcommand: the subcommands of the command it was given to, as
+/// `commands: a, b, …` (clap suggests only a close one).
+fn subcommand_choices(args: &[std::ffi::OsString]) -> Option<String> {
+    use clap::CommandFactory;
+    let mut cmd = Cli::command();
+    for a in args.iter().skip(1) {
+        let Some(next) = a.to_str().and_then(|a| cmd.find_subcommand(a)).cloned() else {
+            break;
+        };
+        cmd = next;
+    }
+    let names: Vec<&str> = cmd
+        .get_subcommands()
+        .map(|c| c.get_name())
+        .filter(|n| *n != "help")
+        .collect();
+    (!names.is_empty()).then(|| format!("commands: {}", names.join(", ")))
+}
+
 /// Parse `args` (program name first), run, and write the output to `out`.
 pub fn run<I, T>(args: I, out: &mut dyn Write) -> Result<(), CliError>
 where
     I: IntoIterator<Item = T>,
     T: Into<std::ffi::OsString> + Clone,
 {
-    let cli = match Cli::try_parse_from(args) {
+    let args: Vec<std::ffi::OsString> = args.into_iter().map(Into::into).collect();
+    let cli = match Cli::try_parse_from(&args) {
         Ok(cli) => cli,
         Err(e) => {
             use clap::error::ErrorKind;
@@ -382,8 +402,12 @@ where
                         .lines()
                         .map(str::trim)
                         .filter(|l| l.starts_with("tip:"));
+                    let choices = (e.kind() == ErrorKind::InvalidSubcommand)
+                        .then(|| subcommand_choices(&args))
+                        .flatten();
                     let joined = std::iter::once(head.join(" "))
                         .chain(tips.map(str::to_string))
+                        .chain(choices)
                         .collect::<Vec<_>>()
                         .join("; ");
                     let msg = joined.strip_prefix("error: ").unwrap_or(&joined);

@@ -20,6 +20,12 @@ pub enum FitError {
     /// The per-frame sink of [`super::fit_each`] failed.
     #[error("{0}")]
     Output(#[source] Box<dyn std::error::Error + Send + Sync>),
+    /// The input holds no frame, or no usable one (a problem of the file, like a bad line).
+    #[error("{}", if *.read == 0 { "the input has no frames".to_string() } else { format!("none of the {read} frames is usable: every one has a missing or non-finite value") })]
+    NoFrames {
+        /// Frames read.
+        read: usize,
+    },
     /// A setting or the data as a whole is unusable.
     #[error("{0}")]
     Invalid(String),

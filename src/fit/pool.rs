@@ -195,7 +195,9 @@ fn parallel(inputs: Vec<Input<'_>>, ctx: &Context<'_>, pool: &mut Pool) -> Resul
 /// An error reading input `name`, named (unless the input has no name).
 fn with_name(e: FitError, name: &str) -> FitError {
     match e {
-        FitError::Io(_) | FitError::Open(_) | FitError::Line { .. } if !name.is_empty() => {
+        FitError::Io(_) | FitError::Open(_) | FitError::Line { .. } | FitError::NoFrames { .. }
+            if !name.is_empty() =>
+        {
             FitError::In {
                 name: name.to_string(),
                 why: Box::new(e),
@@ -496,14 +498,15 @@ impl Pool {
 
     fn finish(self, ctx: &Context<'_>) -> Result<FitReport, FitError> {
         let (Some(stats), Some(proj)) = (&self.stats, &self.projector) else {
-            return Err(FitError::Invalid(if self.counts.frames_read == 0 {
-                "the input has no frames".into()
-            } else {
-                format!(
-                    "none of the {} frames is usable: every one has a missing or non-finite value",
-                    self.counts.frames_read
-                )
-            }));
+            // A recording with nothing in it is a problem of the file: named, when there is one.
+            let empty = FitError::NoFrames {
+                read: self.counts.frames_read,
+            };
+            let mut names = self.fits.iter().map(|f| f.recording.as_str());
+            return Err(match (names.next(), names.next()) {
+                (Some(name), None) if !name.is_empty() => with_name(empty, name),
+                _ => empty,
+            });
         };
         let interval = self.interval.unwrap_or(1.0);
         let mut report = fit_stats(proj, ctx, stats, interval)?;
