@@ -1,11 +1,36 @@
-//! The README cannot rot: every `cargo run --release -- …` line it shows is run, and every line
-//! of the Table 1 excerpt it prints (but the "…" elisions) is in what the engine prints now.
+//! The README and docs cannot rot. Every fenced block says what it is:
+//! - `sh`: commands; every `cargo run --release -- …` line is run;
+//! - `console`: `$ cargo run --release -- …` and then what it prints: the command is run and what
+//!   it prints now must match, line by line, where `…` alone on a line skips any number of lines
+//!   and `…` inside a line stands for any text there (blank lines and the lines' outer white
+//!   space aside);
+//! - `toml`, `python`, `text` (a synopsis, no output): checked elsewhere or not output.
+//!
+//! Every inline command in running text runs too.
 
-fn readme() -> String {
-    std::fs::read_to_string(format!("{}/README.md", env!("CARGO_MANIFEST_DIR"))).unwrap()
+use std::path::{Path, PathBuf};
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// The fenced blocks of the README with their info strings.
+/// README.md and every page of docs/, with their text.
+fn pages() -> Vec<(PathBuf, String)> {
+    let mut pages = vec![root().join("README.md")];
+    for entry in std::fs::read_dir(root().join("docs")).unwrap() {
+        pages.push(entry.unwrap().path());
+    }
+    pages.sort();
+    pages
+        .into_iter()
+        .map(|p| {
+            let text = std::fs::read_to_string(&p).unwrap();
+            (p, text)
+        })
+        .collect()
+}
+
+/// The fenced blocks of a page with their info strings.
 fn blocks(text: &str) -> Vec<(String, String)> {
     let mut out = Vec::new();
     let mut current: Option<(String, String)> = None;
@@ -20,9 +45,11 @@ fn blocks(text: &str) -> Vec<(String, String)> {
             body.push('\n');
         }
     }
+    assert!(current.is_none(), "an unclosed fence");
     out
 }
 
+/// What `theory-search args…` prints (it must succeed).
 fn run(args: &[String]) -> String {
     let mut all = vec!["theory-search".to_string()];
     all.extend(args.iter().cloned());
@@ -31,114 +58,151 @@ fn run(args: &[String]) -> String {
     String::from_utf8(out).unwrap()
 }
 
-#[test]
-fn every_command_the_readme_shows_runs() {
-    let dir = std::env::temp_dir().join(format!("ts-readme-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let mut ran = 0;
-    for (info, body) in blocks(&readme()) {
-        if info != "sh" {
+/// `shown` line against `printed` line: equal, or equal around the `…` wildcards it holds.
+fn line_matches(shown: &str, printed: &str) -> bool {
+    if !shown.contains('…') {
+        return shown == printed;
+    }
+    let parts: Vec<&str> = shown.split('…').collect();
+    let (first, last) = (parts[0], parts[parts.len() - 1]);
+    if !printed.starts_with(first) || printed.len() < first.len() + last.len() {
+        return false;
+    }
+    let mut rest = &printed[first.len()..];
+    for middle in &parts[1..parts.len() - 1] {
+        match rest.find(middle) {
+            Some(i) => rest = &rest[i + middle.len()..],
+            None => return false,
+        }
+    }
+    rest.ends_with(last)
+}
+
+/// Whether `shown` is what `printed` holds, in order, with `…` elisions; the first line that
+/// differs when not.
+fn matches(shown: &str, printed: &str) -> Result<(), String> {
+    let clean = |s: &str| -> Vec<String> {
+        s.lines()
+            .map(|l| l.trim().to_string())
+            .filter(|l| !l.is_empty())
+            .collect()
+    };
+    let (shown, printed) = (clean(shown), clean(printed));
+    // Dynamic programming over (shown line, printed line): whether the rest matches.
+    let (n, m) = (shown.len(), printed.len());
+    let mut ok = vec![vec![false; m + 1]; n + 1];
+    ok[n][m] = true;
+    for i in (0..n).rev() {
+        for j in (0..=m).rev() {
+            ok[i][j] = if shown[i] == "…" {
+                // Skip nothing, or one more printed line.
+                ok[i + 1][j] || (j < m && ok[i][j + 1])
+            } else {
+                j < m && line_matches(&shown[i], &printed[j]) && ok[i + 1][j + 1]
+            };
+        }
+    }
+    if ok[0][0] {
+        return Ok(());
+    }
+    // The first shown line that cannot be placed after the lines before it.
+    let mut j = 0;
+    for line in &shown {
+        if line == "…" {
             continue;
         }
-        // Join continued lines, drop comments.
-        let joined = body.replace("\\\n", " ");
-        for line in joined.lines() {
-            let line = line.split(" #").next().unwrap().trim();
-            let Some(rest) = line.strip_prefix("cargo run --release -- ") else {
-                continue;
-            };
-            let args: Vec<String> = rest
-                .split_whitespace()
-                .map(|a| match a {
-                    // Output directories go to a scratch place.
-                    "figs" => dir.join("figs").display().to_string(),
-                    _ => a.to_string(),
-                })
-                .collect();
-            run(&args);
-            ran += 1;
+        match printed[j.min(m)..].iter().position(|p| line_matches(line, p)) {
+            Some(k) => j += k + 1,
+            None => return Err(format!("it does not print {line:?} where shown")),
         }
     }
-    assert!(ran >= 7, "{ran} commands");
-    std::fs::remove_dir_all(&dir).ok();
+    Err("the lines are there, but not in the order or with the elisions shown".into())
 }
 
 #[test]
-fn the_table_the_readme_prints_is_what_the_engine_prints() {
-    let shown = blocks(&readme())
-        .into_iter()
-        .find(|(info, body)| info.is_empty() && body.contains("Lagrangian density:"))
-        .expect("the Table 1 excerpt")
-        .1;
-    let printed = run(&["--order".into(), "4".into()]);
-    let lines: Vec<&str> = printed.lines().map(str::trim_end).collect();
-    for line in shown
-        .lines()
-        .filter(|l| !l.trim().is_empty() && l.trim() != "…")
-    {
-        assert!(
-            lines.contains(&line.trim_end()),
-            "the README shows {line:?}, which the engine no longer prints"
-        );
-    }
+fn the_matcher_is_strict_and_honours_elisions() {
+    let printed = "a\nb 1 c\nd\ne\n";
+    assert!(matches("a\nb 1 c\nd\ne", printed).is_ok());
+    assert!(matches("a\nb … c\n…\ne", printed).is_ok());
+    assert!(matches("…\nd\ne", printed).is_ok());
+    // A missing elision, a changed line, the wrong order, a line more: all fail.
+    assert!(matches("a\nd\ne", printed).is_err());
+    assert!(matches("a\nb 2 c\n…", printed).is_err());
+    assert!(matches("…\ne\nd", printed).is_err());
+    assert!(matches("a\nb 1 c\nd\ne\nf", printed).is_err());
+    assert!(matches("a\n…", printed).is_ok());
+    assert!(!line_matches("b … c", "b c"));
 }
 
-/// Every `$ cargo run --release -- …` example in docs/: the command runs, and every line shown
-/// under it (but the "…" elisions) is a line of what it prints now.
+/// The arguments of a command line, with output directories sent to `scratch` (and how to
+/// write the scratch path back as the page shows it).
+fn arguments(command: &str, scratch: &Path) -> (Vec<String>, Vec<(String, String)>) {
+    let words: Vec<&str> = command.split_whitespace().collect();
+    let mut back = Vec::new();
+    let args = words
+        .iter()
+        .enumerate()
+        .map(|(i, a)| match i.checked_sub(1).map(|j| words[j]) {
+            Some("--out" | "--figures") => {
+                let moved = scratch.join(a).display().to_string();
+                back.push((moved.clone(), a.to_string()));
+                moved
+            }
+            _ => a.to_string(),
+        })
+        .collect();
+    (args, back)
+}
+
 #[test]
-fn the_examples_in_docs_print_what_they_show() {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let dir = std::env::temp_dir().join(format!("ts-docs-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let mut checked = 0;
-    let mut stale = Vec::new();
-    for entry in std::fs::read_dir(root.join("docs")).unwrap() {
-        let path = entry.unwrap().path();
-        let text = std::fs::read_to_string(&path).unwrap();
-        for (_, body) in blocks(&text) {
+fn every_block_says_what_it_is_and_shown_output_is_printed() {
+    let scratch = std::env::temp_dir().join(format!("ts-docs-{}", std::process::id()));
+    std::fs::create_dir_all(&scratch).unwrap();
+    let (mut commands, mut outputs) = (0, 0);
+    let mut problems = Vec::new();
+    for (path, text) in pages() {
+        let page = path.strip_prefix(root()).unwrap().display().to_string();
+        for (info, body) in blocks(&text) {
             let joined = body.replace("\\\n", " ");
-            let mut lines = joined.lines();
-            let Some(command) = lines
-                .next()
-                .and_then(|l| l.strip_prefix("$ cargo run --release -- "))
-            else {
-                continue;
-            };
-            // The directory after --out or --figures goes to a scratch place.
-            let words: Vec<&str> = command.split_whitespace().collect();
-            let args: Vec<String> = words
-                .iter()
-                .enumerate()
-                .map(|(i, a)| match i.checked_sub(1).map(|j| words[j]) {
-                    Some("--out" | "--figures") => dir.join(a).display().to_string(),
-                    _ => a.to_string(),
-                })
-                .collect();
-            // Paths in what it prints name the directory as the example does.
-            let mut printed = run(&args);
-            for (i, a) in words.iter().enumerate().skip(1) {
-                if matches!(words[i - 1], "--out" | "--figures") {
-                    printed = printed.replace(&dir.join(a).display().to_string(), a);
+            match info.as_str() {
+                "sh" => {
+                    for line in joined.lines() {
+                        let line = line.split(" #").next().unwrap().trim();
+                        if let Some(rest) = line.strip_prefix("cargo run --release -- ") {
+                            run(&arguments(rest, &scratch).0);
+                            commands += 1;
+                        }
+                    }
                 }
-            }
-            let printed: std::collections::HashSet<&str> = printed.lines().map(str::trim).collect();
-            for shown in lines
-                .map(str::trim)
-                .filter(|l| !l.is_empty() && !l.contains('…'))
-            {
-                if !printed.contains(shown) {
-                    stale.push(format!(
-                        "{}: `{command}` no longer prints {shown:?}",
-                        path.display()
-                    ));
+                "console" => {
+                    let (first, shown) = joined.split_once('\n').unwrap_or((&joined, ""));
+                    let Some(command) = first.strip_prefix("$ cargo run --release -- ") else {
+                        problems.push(format!("{page}: a console block starts {first:?}"));
+                        continue;
+                    };
+                    let (args, back) = arguments(command, &scratch);
+                    let mut printed = run(&args);
+                    for (moved, shown_as) in back {
+                        printed = printed.replace(&moved, &shown_as);
+                    }
+                    if shown.trim().is_empty() {
+                        problems.push(format!("{page}: `{command}` shows no output"));
+                    } else if let Err(why) = matches(shown, &printed) {
+                        problems.push(format!("{page}: `{command}`: {why}"));
+                    }
+                    outputs += 1;
                 }
+                "toml" | "python" | "text" => {}
+                other => problems.push(format!(
+                    "{page}: a block marked {other:?} (sh, console, toml, python or text)"
+                )),
             }
-            checked += 1;
         }
     }
-    std::fs::remove_dir_all(&dir).ok();
-    assert!(checked >= 10, "{checked} examples");
-    assert!(stale.is_empty(), "{}", stale.join("\n"));
+    std::fs::remove_dir_all(&scratch).ok();
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+    assert!(commands >= 7, "{commands} commands");
+    assert!(outputs >= 15, "{outputs} outputs checked");
 }
 
 /// Every command written inline in running text (`` `theory-search rules` ``, `` `cargo run
@@ -146,15 +210,9 @@ fn the_examples_in_docs_print_what_they_show() {
 /// names a subcommand whose `--help` runs. Output directories go to a scratch place.
 #[test]
 fn every_inline_command_in_the_readme_and_docs_runs() {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     let dir = std::env::temp_dir().join(format!("ts-inline-{}", std::process::id()));
-    let mut texts = vec![(root.join("README.md"), readme())];
-    for entry in std::fs::read_dir(root.join("docs")).unwrap() {
-        let path = entry.unwrap().path();
-        texts.push((path.clone(), std::fs::read_to_string(&path).unwrap()));
-    }
     let mut ran = 0;
-    for (path, text) in &texts {
+    for (path, text) in &pages() {
         for (i, piece) in text.split('`').enumerate() {
             // Odd pieces are inside backticks.
             let Some(rest) = (i % 2 == 1)
