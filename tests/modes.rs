@@ -26,6 +26,11 @@ fn dense_reference(
 fn check(k: u32, boundary: Boundary, points: usize, s: &Spectrum, tol: f64) {
     let (reference, _, m) = dense_reference(k, boundary, points);
     let scale = reference.last().copied().unwrap_or(1.0).max(1.0);
+    assert!(!s.eigenvalues.is_empty(), "k={k} {boundary:?} N={points}: no eigenvalue");
+    assert!(
+        s.eigenvalues.len() <= reference.len(),
+        "k={k} {boundary:?} N={points}: more eigenvalues than unknowns"
+    );
     for (i, (got, want)) in s.eigenvalues.iter().zip(&reference).enumerate() {
         assert!(
             (got - want).abs() <= tol * scale,
@@ -119,6 +124,7 @@ fn every_beam_mode_just_above_the_old_limit() {
         assert_eq!(all.eigenvalues.len(), points);
         assert_eq!(all.method, Method::Characteristic);
         let few = spectrum(2, Boundary::FREE, points, Some(12), false).unwrap();
+        assert_eq!(few.eigenvalues.len(), 12);
         for (i, (a, b)) in all.eigenvalues.iter().zip(&few.eigenvalues).enumerate() {
             assert!(
                 (a - b).abs() <= 1e-12 * b.abs().max(1e-300),

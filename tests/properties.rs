@@ -34,9 +34,14 @@ proptest! {
     #[test]
     fn survivors_are_admitted_and_undominated(order in 1u32..=MAX_ORDER) {
         let model = Model::larva();
+        let mut survivors = 0;
         for density in Density::ALL {
             let a = analyse(&model, density, order).unwrap();
+            prop_assert_eq!(a.fields.len(), model.fields.len());
             for f in &a.fields {
+                // A non-empty admitted set has a non-empty Pareto front.
+                prop_assert_eq!(f.admitted.is_empty(), f.survivors.is_empty());
+                survivors += f.survivors.len();
                 for s in &f.survivors {
                     prop_assert!(f.admitted.contains(s));
                     for t in &f.admitted {
@@ -48,6 +53,10 @@ proptest! {
                     prop_assert!(f.survivors.iter().any(|s| dominates(&s.orders(), &t.orders())));
                 }
             }
+        }
+        // From order 2 every larva field keeps a kinetic term: the loops above checked something.
+        if order >= 2 {
+            prop_assert!(survivors >= 2 * model.fields.len(), "{} survivors", survivors);
         }
     }
 }
@@ -92,6 +101,8 @@ proptest! {
         use theory_search::generated::operators::OPERATORS;
         let ops = operators(&Model::larva(), 4, points).unwrap();
         let mut state = seed | 1;
+        prop_assert_eq!(ops.len(), OPERATORS.len());
+        prop_assert!(!ops.is_empty());
         for (op, generated) in ops.iter().zip(OPERATORS) {
             let n = op.size;
             let phi: Vec<f64> = (0..n).map(|_| {
@@ -100,7 +111,9 @@ proptest! {
             }).collect();
             let mut out = vec![0.0; n];
             (generated.apply)(points, &phi, &mut out).unwrap();
+            prop_assert_eq!(op.matrix.len(), n);
             for (i, row) in op.matrix.iter().enumerate() {
+                prop_assert_eq!(row.len(), n);
                 let want: f64 = row.iter().zip(&phi).map(|(&a, b)| a as f64 * b).sum();
                 prop_assert!((out[i] - want).abs() <= 1e-12 * (1.0 + want.abs()));
             }
