@@ -25,21 +25,23 @@ use crate::model::{Density, Model};
 use crate::reduce::{analyse_basis, OrderError};
 use crate::term::{Deriv, Factor, Orders, Term};
 
-/// A monomial of one field as a sorted list of (derivative, power); empty is the constant 1.
-pub type Mono = Vec<(Deriv, u32)>;
+/// A monomial in the jet variables of one field (its derivatives), as a sorted list of
+/// (derivative, power); empty is the constant 1. (The symmetry algebra of
+/// [`crate::rules::Poly`] has its own monomials, over several fields, s, t and a parameter.)
+pub type JetMono = Vec<(Deriv, u32)>;
 
 /// A polynomial in the jet variables of one field, exact coefficients.
-pub type JetPoly = BTreeMap<Mono, Rational64>;
+pub type JetPoly = BTreeMap<JetMono, Rational64>;
 
 /// The monomial of a single-field term.
-pub fn mono_of(term: &Term) -> Mono {
-    let mut m: Mono = term.factors().iter().map(|f| (f.deriv, f.power)).collect();
+pub fn mono_of(term: &Term) -> JetMono {
+    let mut m: JetMono = term.factors().iter().map(|f| (f.deriv, f.power)).collect();
     m.sort();
     m
 }
 
 /// The term of a non-empty monomial.
-pub fn term_of(m: &Mono) -> Option<Term> {
+pub fn term_of(m: &JetMono) -> Option<Term> {
     Term::new(m.iter().map(|&(deriv, power)| Factor {
         field: 0,
         deriv,
@@ -48,7 +50,7 @@ pub fn term_of(m: &Mono) -> Option<Term> {
     .ok()
 }
 
-fn add_to(p: &mut JetPoly, m: Mono, c: Rational64) {
+fn add_to(p: &mut JetPoly, m: JetMono, c: Rational64) {
     let e = p.entry(m.clone()).or_insert_with(Rational64::zero);
     *e += c;
     if e.is_zero() {
@@ -57,8 +59,8 @@ fn add_to(p: &mut JetPoly, m: Mono, c: Rational64) {
 }
 
 /// `m` with one factor `d` (power reduced by one) replaced by `replacement` (if any).
-fn swap_factor(m: &Mono, i: usize, replacement: Option<Deriv>) -> Mono {
-    let mut out: Mono = Vec::with_capacity(m.len() + 1);
+fn swap_factor(m: &JetMono, i: usize, replacement: Option<Deriv>) -> JetMono {
+    let mut out: JetMono = Vec::with_capacity(m.len() + 1);
     for (j, &(d, n)) in m.iter().enumerate() {
         let n = if j == i { n - 1 } else { n };
         if n > 0 {
@@ -76,7 +78,7 @@ fn swap_factor(m: &Mono, i: usize, replacement: Option<Deriv>) -> Mono {
 }
 
 /// `D_t m` (time) or `D_s m` (space) by the product rule.
-pub fn total_derivative(m: &Mono, time: bool) -> JetPoly {
+pub fn total_derivative(m: &JetMono, time: bool) -> JetPoly {
     let mut out = JetPoly::new();
     for (i, &(d, n)) in m.iter().enumerate() {
         let up = if time {
@@ -162,13 +164,19 @@ pub fn space_euler(p: &JetPoly) -> BTreeMap<u32, JetPoly> {
 }
 
 /// Every monomial of one field with the given (ε, τ, σ), optionally without the bare field.
-pub fn block_monomials(epsilon: u32, tau: u32, sigma: u32, shift_symmetric: bool) -> Vec<Mono> {
+pub fn block_monomials(epsilon: u32, tau: u32, sigma: u32, shift_symmetric: bool) -> Vec<JetMono> {
     let kinds: Vec<Deriv> = (0..=tau)
         .flat_map(|a| (0..=sigma).map(move |b| Deriv::new(a, b)))
         .filter(|d| !(shift_symmetric && d.order() == 0))
         .collect();
     let mut out = Vec::new();
-    fn walk(kinds: &[Deriv], i: usize, left: (u32, u32, u32), cur: &mut Mono, out: &mut Vec<Mono>) {
+    fn walk(
+        kinds: &[Deriv],
+        i: usize,
+        left: (u32, u32, u32),
+        cur: &mut JetMono,
+        out: &mut Vec<JetMono>,
+    ) {
         if left == (0, 0, 0) {
             out.push(cur.clone());
             return;
@@ -206,7 +214,7 @@ pub fn block_monomials(epsilon: u32, tau: u32, sigma: u32, shift_symmetric: bool
 /// kept terms it carries.
 struct Echelon {
     /// (pivot monomial, row, tag over kept indices)
-    rows: Vec<(Mono, JetPoly, BTreeMap<usize, Rational64>)>,
+    rows: Vec<(JetMono, JetPoly, BTreeMap<usize, Rational64>)>,
 }
 
 impl Echelon {

@@ -26,7 +26,10 @@ fn dense_reference(
 fn check(k: u32, boundary: Boundary, points: usize, s: &Spectrum, tol: f64) {
     let (reference, _, m) = dense_reference(k, boundary, points);
     let scale = reference.last().copied().unwrap_or(1.0).max(1.0);
-    assert!(!s.eigenvalues.is_empty(), "k={k} {boundary:?} N={points}: no eigenvalue");
+    assert!(
+        !s.eigenvalues.is_empty(),
+        "k={k} {boundary:?} N={points}: no eigenvalue"
+    );
     assert!(
         s.eigenvalues.len() <= reference.len(),
         "k={k} {boundary:?} N={points}: more eigenvalues than unknowns"

@@ -286,7 +286,11 @@ fn checked_by_oracle(
     let mut checked = 0;
     for (i, e) in eqs.iter().enumerate() {
         let terms = polynomial(&l.fields[i].density);
-        assert_eq!(terms.len(), l.fields[i].density.len(), "one polynomial per density term");
+        assert_eq!(
+            terms.len(),
+            l.fields[i].density.len(),
+            "one polynomial per density term"
+        );
         // Per parameter (set to 1 one at a time): the Lagrangian's part of the
         // right-hand side is E(L − ½(∂tφ)²), the kinetic part giving −∂t²φ.
         let params: std::collections::BTreeSet<String> =
@@ -361,7 +365,11 @@ fn quadratic_survivors_give_the_linear_equations() {
         let model = Model::larva();
         let (lin, _) = derive_basis(&model, 4, basis).unwrap();
         let (non, _) = derive_nonlinear(&model, 4, basis).unwrap();
-        assert_eq!(lin.len(), non.len(), "{basis:?}: one equation per field on both paths");
+        assert_eq!(
+            lin.len(),
+            non.len(),
+            "{basis:?}: one equation per field on both paths"
+        );
         assert!(!lin.is_empty());
         for (a, b) in lin.iter().zip(&non) {
             let mut x: Vec<_> = a

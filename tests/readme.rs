@@ -111,7 +111,10 @@ fn matches(shown: &str, printed: &str) -> Result<(), String> {
         if line == "…" {
             continue;
         }
-        match printed[j.min(m)..].iter().position(|p| line_matches(line, p)) {
+        match printed[j.min(m)..]
+            .iter()
+            .position(|p| line_matches(line, p))
+        {
             Some(k) => j += k + 1,
             None => return Err(format!("it does not print {line:?} where shown")),
         }

@@ -128,7 +128,8 @@ pub enum EquationError {
     },
 }
 
-/// A linear combination `Σ value·parameter·∂^D φ`, keyed by (derivative, parameter).
+/// A linear right-hand side `Σ value·parameter·∂^D φ`, keyed by (derivative, parameter): the
+/// quadratic case of a [`crate::parts::JetPoly`] equation, where every monomial is one derivative.
 pub type Linear = BTreeMap<(Deriv, Option<String>), Rational64>;
 
 fn add(into: &mut Linear, deriv: Deriv, param: &Option<String>, value: Rational64) {

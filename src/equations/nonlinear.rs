@@ -15,7 +15,7 @@ use crate::term::Deriv;
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct PolyTerm {
     /// The product of field derivatives (sorted, with powers); empty is the constant 1.
-    pub monomial: crate::parts::Mono,
+    pub monomial: crate::parts::JetMono,
     /// Exact signed rational factor.
     pub value: Rational64,
     /// The free parameter (`c_x`), or `1`.
@@ -84,7 +84,7 @@ pub fn derive_nonlinear(
                 }
             }
         }
-        let acceleration: crate::parts::Mono = vec![(Deriv::new(2, 0), 1)];
+        let acceleration: crate::parts::JetMono = vec![(Deriv::new(2, 0), 1)];
         let lead = total
             .get_mut(&None)
             .and_then(|p| p.remove(&acceleration))

@@ -233,7 +233,7 @@ impl crate::report::Report for EquationReport<Equation> {
 }
 
 /// `c·(∂s y)²·∂ss y` with the field's symbol.
-fn monomial_text(m: &crate::parts::Mono, symbol: &str) -> String {
+fn monomial_text(m: &crate::parts::JetMono, symbol: &str) -> String {
     if m.is_empty() {
         return "1".into();
     }

@@ -205,7 +205,7 @@ impl Shift {
         let falling = |n: u32, k: u32| ((n - k + 1)..=n).map(i64::from).product::<i64>();
         let coef = falling(self.s, d.s) * falling(self.t, d.t);
         Poly::from_mono(
-            Mono {
+            TransformMono {
                 param: 1,
                 s: self.s - d.s,
                 t: self.t - d.t,
@@ -219,7 +219,7 @@ impl Shift {
 
 /// A monomial `pᵏ sᵐ tⁿ ∏ (∂…φ_f)^e` of the transformation algebra.
 #[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
-struct Mono {
+struct TransformMono {
     param: u32,
     s: u32,
     t: u32,
@@ -227,8 +227,8 @@ struct Mono {
     jet: Vec<(u8, Deriv, u32)>,
 }
 
-impl Mono {
-    fn mul(&self, other: &Mono) -> Mono {
+impl TransformMono {
+    fn mul(&self, other: &TransformMono) -> TransformMono {
         // Merge the two sorted jet lists, adding powers of equal variables.
         let (a, b) = (&self.jet, &other.jet);
         let mut jet = Vec::with_capacity(a.len() + b.len());
@@ -252,7 +252,7 @@ impl Mono {
                 }
             }
         }
-        Mono {
+        TransformMono {
             param: self.param + other.param,
             s: self.s + other.s,
             t: self.t + other.t,
@@ -265,7 +265,7 @@ impl Mono {
 /// transformation parameter: what a transformed term expands to.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Poly {
-    terms: BTreeMap<Mono, Rational64>,
+    terms: BTreeMap<TransformMono, Rational64>,
     param: &'static str,
 }
 
@@ -279,7 +279,7 @@ impl Poly {
 
     fn one() -> Poly {
         Poly::from_mono(
-            Mono {
+            TransformMono {
                 param: 0,
                 s: 0,
                 t: 0,
@@ -289,7 +289,7 @@ impl Poly {
         )
     }
 
-    fn from_mono(m: Mono, c: Rational64) -> Poly {
+    fn from_mono(m: TransformMono, c: Rational64) -> Poly {
         let mut p = Poly::zero();
         if !c.is_zero() {
             p.terms.insert(m, c);
@@ -299,7 +299,7 @@ impl Poly {
 
     fn jet(field: u8, deriv: Deriv) -> Poly {
         Poly::from_mono(
-            Mono {
+            TransformMono {
                 param: 0,
                 s: 0,
                 t: 0,
