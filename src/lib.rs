@@ -3,9 +3,11 @@
 //! Lagrangian and Rayleigh densities, strike out those that break a requirement, and keep each
 //! field's lowest-order survivors.
 //!
-//! Data flows one way through the modules, in pipeline order:
-//! [`model`] → [`term`] → [`enumerate`] → [`rules`] → [`reduce`] (and [`interaction`], [`parts`]) → [`equations`] → [`discretise`] → [`codegen`]
-//! (writes [`generated`]) → [`modal`] (with [`banded`]) → [`dynamics`] → [`behaviour`] → [`table`] / [`cli`].
+//! Data flows one way through the modules, in layers (docs/layout.md):
+//! [`term`] → [`rules`], [`enumerate`], [`boundary`] → [`model`] → [`reduce`] → [`table`],
+//! [`catalogue`], [`interaction`], [`parts`], [`discretise`] → [`equations`], [`codegen`],
+//! [`modal`] → [`artifacts`], [`theory`], [`dynamics`] → [`behaviour`] → [`fit`] → [`figures`] →
+//! [`cli`].
 #![warn(missing_docs)]
 
 pub mod artifacts;

@@ -53,7 +53,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     });
     bar.finish_and_clear();
     let written = written.map_err(|e| match e {
-        FigureError::Io(m) => CliError::Output(m),
+        e @ FigureError::Io { .. } => CliError::Output(e.to_string()),
         FigureError::Body(m) => CliError::Usage(m),
         FigureError::Invalid(m) => CliError::Usage(m),
     })?;

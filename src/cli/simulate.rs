@@ -64,7 +64,7 @@ enum SeriesFormat {
 
 /// Where samples go: a CSV writer, or JSON rows written one by one.
 enum Sink<'a> {
-    Csv(csv::Writer<&'a mut dyn Write>),
+    Csv(Box<csv::Writer<&'a mut dyn Write>>),
     Json(std::io::BufWriter<&'a mut dyn Write>, bool),
 }
 
@@ -218,7 +218,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     };
     let ids: Vec<&str> = model.fields.iter().map(|f| f.id.as_str()).collect();
     let mut sink = match args.format {
-        SeriesFormat::Csv => Sink::Csv(csv::Writer::from_writer(sink)),
+        SeriesFormat::Csv => Sink::Csv(Box::new(csv::Writer::from_writer(sink))),
         SeriesFormat::Json => Sink::Json(std::io::BufWriter::new(sink), false),
     };
     let mut first = true;

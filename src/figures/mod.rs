@@ -23,7 +23,7 @@ pub use fit::fit_figures;
 use modes::{mode_shapes, spectrum};
 
 /// Why a figure could not be made.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[derive(Debug, thiserror::Error)]
 pub enum FigureError {
     /// A setting out of range, an unknown figure, or a model that cannot make it.
     #[error("{0}")]
@@ -33,8 +33,15 @@ pub enum FigureError {
     #[error("{0}")]
     Body(String),
     /// A file or directory could not be written.
-    #[error("{0}")]
-    Io(String),
+    #[error("cannot {action} {}: {source}", .path.display())]
+    Io {
+        /// `create` (a directory) or `write` (a file).
+        action: &'static str,
+        /// The path.
+        path: PathBuf,
+        /// The error.
+        source: std::io::Error,
+    },
 }
 
 pub(super) fn err(e: impl std::fmt::Display) -> FigureError {
@@ -145,14 +152,20 @@ pub fn write_figures(
 }
 
 fn create_dir(dir: &Path) -> Result<(), FigureError> {
-    std::fs::create_dir_all(dir)
-        .map_err(|e| FigureError::Io(format!("cannot create {}: {e}", dir.display())))
+    std::fs::create_dir_all(dir).map_err(|source| FigureError::Io {
+        action: "create",
+        path: dir.to_path_buf(),
+        source,
+    })
 }
 
 fn write_svg(dir: &Path, name: &str, svg: &str) -> Result<PathBuf, FigureError> {
     let path = dir.join(name);
-    std::fs::write(&path, svg)
-        .map_err(|e| FigureError::Io(format!("cannot write {}: {e}", path.display())))?;
+    std::fs::write(&path, svg).map_err(|source| FigureError::Io {
+        action: "write",
+        path: path.clone(),
+        source,
+    })?;
     Ok(path)
 }
 
