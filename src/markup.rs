@@ -57,3 +57,48 @@ pub fn clip(s: &str) -> String {
 pub fn markdown_cell(s: &str) -> String {
     s.replace('\\', "\\\\").replace('|', "\\|")
 }
+
+/// Fold a multi-line message (TOML errors quote the offending line) onto one line.
+pub fn one_line(s: &str) -> String {
+    s.split('\n')
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && l.chars().any(|c| c.is_alphanumeric()))
+        .map(|l| {
+            // A quoted line of input is cut: a 1 MB line is not echoed back.
+            let limit = 2 * QUOTE_LIMIT;
+            if l.chars().count() > limit {
+                l.chars().take(limit).collect::<String>() + "…"
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+/// The longest error line printed, in characters.
+pub const LINE_LIMIT: usize = 1000;
+
+/// One line of an error message, bounded: every word (a run without spaces, such as a quoted
+/// value or a path) longer than 2 × [`QUOTE_LIMIT`] characters is cut to [`QUOTE_LIMIT`] with
+/// its length said, and the line to [`LINE_LIMIT`] characters.
+pub fn bound_line(s: &str) -> String {
+    let words: Vec<String> = s
+        .split(' ')
+        .map(|w| {
+            let len = w.chars().count();
+            if len > 2 * QUOTE_LIMIT {
+                let head: String = w.chars().take(QUOTE_LIMIT).collect();
+                format!("{head}… ({len} characters)")
+            } else {
+                w.to_string()
+            }
+        })
+        .collect();
+    let line = words.join(" ");
+    if line.chars().count() > LINE_LIMIT {
+        line.chars().take(LINE_LIMIT).collect::<String>() + "…"
+    } else {
+        line
+    }
+}

@@ -12,6 +12,7 @@ use serde::{Deserialize, Serialize};
 
 pub use crate::boundary::{Boundary, End};
 pub use crate::enumerate::BoundShape;
+pub use crate::markup::one_line;
 use crate::rules::{self, Rule};
 
 /// What a field is on the body: behaviours ask the model for roles, never for field ids.
@@ -487,24 +488,6 @@ fn identifier(key: &str, value: &str) -> Result<(), TextError> {
         });
     }
     Ok(())
-}
-
-/// Fold a multi-line message (TOML errors quote the offending line) onto one line.
-pub fn one_line(s: &str) -> String {
-    s.split('\n')
-        .map(str::trim)
-        .filter(|l| !l.is_empty() && l.chars().any(|c| c.is_alphanumeric()))
-        .map(|l| {
-            // A quoted line of input is cut: a 1 MB line is not echoed back.
-            let limit = 2 * crate::markup::QUOTE_LIMIT;
-            if l.chars().count() > limit {
-                l.chars().take(limit).collect::<String>() + "…"
-            } else {
-                l.to_string()
-            }
-        })
-        .collect::<Vec<_>>()
-        .join("; ")
 }
 
 #[cfg(test)]

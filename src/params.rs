@@ -69,7 +69,7 @@ impl Params {
     pub fn set_from_toml(&mut self, text: &str) -> Result<(), ParamError> {
         let table: toml::Table = toml::from_str(text).map_err(|e| ParamError {
             name: "file".into(),
-            why: e.to_string().replace('\n', " "),
+            why: crate::markup::one_line(&e.to_string()),
         })?;
         for (name, value) in table {
             let v = value.as_float().or(value.as_integer().map(|i| i as f64));

@@ -129,6 +129,16 @@ pub fn csv_numbers<H: AsRef<str>>(
     )
 }
 
+/// `v` with `digits` decimals (`{:.6}`) for ordinary magnitudes, and in exponent form with as
+/// many significant decimals where that would print hundreds of digits or only zeros.
+pub fn fixed(v: f64, digits: usize) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-4..1e12).contains(&v.abs()) {
+        format!("{v:.digits$}")
+    } else {
+        format!("{v:.digits$e}")
+    }
+}
+
 /// A number as the user typed it: plain for ordinary magnitudes, exponent form (`1e300`) where
 /// plain would print hundreds of digits.
 pub fn number(v: f64) -> String {

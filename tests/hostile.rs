@@ -185,3 +185,187 @@ fn text_that_could_end_a_line_is_refused_naming_the_key() {
     assert!(!dir.join("src").exists(), "nothing is written");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn invisible_formatting_characters_are_refused_and_markup_is_escaped() {
+    // Bidirectional overrides and isolates, zero-width characters: rustc refuses them in a doc
+    // comment, and a reader cannot see them.
+    for c in ['\u{202E}', '\u{2066}', '\u{200B}', '\u{FEFF}', '\u{2028}'] {
+        for (symbol, meaning, name) in [
+            (format!("x{c}"), "axial".to_string(), "planar".to_string()),
+            ("x".into(), format!("axial {c}"), "planar".into()),
+            ("x".into(), "axial".into(), format!("plan{c}ar")),
+        ] {
+            let err = Model::from_toml(&hostile(&symbol, &meaning, &name))
+                .unwrap_err()
+                .to_string();
+            assert!(
+                err.contains(&format!(
+                    "invisible formatting character U+{:04X}",
+                    c as u32
+                )),
+                "{err}"
+            );
+        }
+    }
+    // Markup in a symbol stays inside its cell and math: the generated code still compiles.
+    let model = Model::from_toml(&hostile("a|b_{}$", "axial", "pipes")).unwrap();
+    compile(&operators_source(&model, 4).unwrap(), "markup");
+    let md = theory_search::table::render(
+        &model,
+        &[
+            theory_search::reduce::analyse(&model, theory_search::model::Density::Lagrangian, 4)
+                .unwrap(),
+        ],
+        theory_search::table::Format::Markdown,
+    );
+    let header = md.lines().find(|l| l.starts_with("| term")).unwrap();
+    let row = md.lines().find(|l| l.starts_with("| φ ")).unwrap();
+    let cells = |l: &str| l.replace("\\|", "").matches('|').count();
+    assert_eq!(cells(header), cells(row), "{header}\n{row}");
+    assert!(header.contains("a\\|b_{}$"), "{header}");
+    let latex = theory_search::table::render(
+        &model,
+        &[
+            theory_search::reduce::analyse(&model, theory_search::model::Density::Lagrangian, 4)
+                .unwrap(),
+        ],
+        theory_search::table::Format::Latex,
+    );
+    assert!(latex.contains("a|b\\_\\{\\}\\$"), "{latex}");
+}
+
+/// `theory-search args…`: (exit code, stdout, the error line).
+fn cli(args: &[&str]) -> (u8, String, String) {
+    let mut all = vec!["theory-search"];
+    all.extend(args);
+    let mut out = Vec::new();
+    match theory_search::cli::run(all, &mut out) {
+        Ok(()) => (0, String::from_utf8(out).unwrap(), String::new()),
+        Err(e) => (
+            e.exit_code(),
+            String::from_utf8(out).unwrap(),
+            e.to_string(),
+        ),
+    }
+}
+
+#[test]
+fn hostile_input_ii_exits_cleanly_with_bounded_lines() {
+    let dir = std::env::temp_dir().join(format!("ts-hostile-ii-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // Coordinates whose squares overflow: no panic, a finite report or one clean line.
+    let header: Vec<String> = (0..12).map(|i| format!("x{i},y{i}")).collect();
+    let mut text = format!("t,{}\n", header.join(","));
+    for f in 0..120 {
+        let cells: Vec<String> = (0..12)
+            .map(|i| {
+                format!(
+                    "{:e},{:e}",
+                    1e155 * i as f64,
+                    1e154 * (0.3 * f as f64 + i as f64).sin()
+                )
+            })
+            .collect();
+        text += &format!("{f},{}\n", cells.join(","));
+    }
+    let big = dir.join("big.csv");
+    std::fs::write(&big, &text).unwrap();
+    let (code, out, err) = cli(&["fit", big.to_str().unwrap(), "--window", "16"]);
+    assert!(code == 0 || !err.contains('\n'), "{err}");
+    assert!(!out.contains("NaN") && !out.contains("inf"), "{out}");
+    // A sampling interval that underflows is refused up front.
+    let (code, _, err) = cli(&["fit", big.to_str().unwrap(), "--fps", "1e300"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--fps"), "{err}");
+    // Unused scales are refused, as modes refuses them.
+    for args in [
+        &["stats", "pair", "--param", "bogus=1"][..],
+        &["asymmetry", "--coupling", "0.5", "--param", "bogus=1"][..],
+        &["stats", "pair", "--omega", "2", "--param", "omega_s=3"][..],
+    ] {
+        let (code, _, err) = cli(args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+    }
+    let (code, _, _) = cli(&["stats", "pair", "--params", "/nonexistent/p.toml"]);
+    assert_eq!(code, 1);
+    let (_, with, _) = cli(&["stats", "pair", "--param", "omega_s=50"]);
+    let (_, without, _) = cli(&["stats", "pair"]);
+    assert_ne!(with, without, "--param omega_s must change ω");
+    // Error lines quote at most a bounded part of their input.
+    let long = "9".repeat(100_000);
+    let (code, _, err) = cli(&["--order", &long]);
+    assert_eq!(code, 2);
+    assert!(
+        err.len() < 1200 && err.contains("whole number"),
+        "{}",
+        err.len()
+    );
+    let path = dir.join("x".repeat(200));
+    let (code, _, err) = cli(&["fit", path.to_str().unwrap()]);
+    assert_eq!(code, 1);
+    assert!(err.chars().count() < 400, "{err}");
+    let model = dir.join("long.toml");
+    std::fs::write(&model, format!("name = \"{}\"\n", "x".repeat(1 << 20))).unwrap();
+    let (code, _, err) = cli(&["--model", model.to_str().unwrap()]);
+    assert_eq!(code, 1);
+    assert!(err.len() < 1200, "{}", err.len());
+    // Negative values reach the range check as values.
+    let (code, _, err) = cli(&["fit", big.to_str().unwrap(), "--omega", "-1"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("positive"), "{err}");
+    // A sweep is bounded.
+    let sweep = vec!["1"; 51].join(",");
+    let (code, _, err) = cli(&["behave", "self-righting", "--sweep", &sweep]);
+    assert_eq!(code, 2);
+    assert!(err.contains("at most 50"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn fitted_scales_written_by_params_out_read_back() {
+    let dir = std::env::temp_dir().join(format!("ts-params-out-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let example = format!(
+        "{}/tables/examples/midlines.csv",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    // At the highest frame rate ω is of order 10⁸ or more: still written as a float.
+    for fps in ["1e9", "30"] {
+        let params = dir.join(format!("p{fps}.toml"));
+        let (code, report, err) = cli(&[
+            "fit",
+            &example,
+            "--fps",
+            fps,
+            "--params-out",
+            params.to_str().unwrap(),
+            "--format",
+            "json",
+        ]);
+        assert_eq!(code, 0, "{err}");
+        let omega = serde_json::from_str::<serde_json::Value>(&report).unwrap()["omega"]
+            .as_f64()
+            .unwrap();
+        let (code, modes, err) = cli(&[
+            "modes",
+            "-p",
+            "12",
+            "--params",
+            params.to_str().unwrap(),
+            "--format",
+            "json",
+        ]);
+        assert_eq!(code, 0, "{fps}: {err}");
+        assert!(modes.contains("omega"), "{modes}");
+        let written = std::fs::read_to_string(&params).unwrap();
+        let value: f64 = written
+            .lines()
+            .find_map(|l| l.strip_prefix("omega_b = "))
+            .unwrap()
+            .parse()
+            .unwrap();
+        assert_eq!(value, omega, "{written}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -28,7 +28,7 @@ pub use explore::{explore, fit_beta, Exploration};
 pub use mathieu::{
     chart, floquet, mathieu_monodromy, stability_chart, FloquetPoint, StabilityChart,
 };
-pub use numerics::{principal_components, rk4_step, PhaseUnwrap};
+pub use numerics::{principal_components, rk4_step, PcaError, PhaseUnwrap};
 pub use orbit::{pair_orbit, PairKind, PairOrbit};
 pub use pair::{
     integrate, pair_amplitude_weight, pair_statistics, sample_pair, scaled_bessel_k1, PairReport,

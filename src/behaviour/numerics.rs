@@ -42,20 +42,32 @@ impl PhaseUnwrap {
     }
 }
 
+/// Why principal components cannot be taken.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum PcaError {
+    /// An entry of the covariance is infinite or not a number.
+    #[error("the covariance is not finite")]
+    NotFinite,
+    /// The eigensolver did not converge.
+    #[error("eigensolver failed to converge")]
+    NoConvergence,
+}
+
 /// Principal components of a symmetric (covariance) matrix on faer: the variances, descending,
 /// and the unit components as rows in the same order.
-pub fn principal_components(cov: &[Vec<f64>]) -> Result<(Vec<f64>, Vec<Vec<f64>>), String> {
+pub fn principal_components(cov: &[Vec<f64>]) -> Result<(Vec<f64>, Vec<Vec<f64>>), PcaError> {
     let n = cov.len();
+    // Refused before the eigensolver when any entry is not finite (a NaN escapes a max).
+    if cov.iter().flatten().any(|v| !v.is_finite()) {
+        return Err(PcaError::NotFinite);
+    }
     // Scaled to unit size: a covariance of subnormal or huge numbers has the same components.
     let scale = cov.iter().flatten().fold(0.0f64, |a, v| a.max(v.abs()));
-    if !scale.is_finite() {
-        return Err("the covariance is not finite".into());
-    }
     let scale = if scale > 0.0 { scale } else { 1.0 };
     let m = faer::Mat::<f64>::from_fn(n, n, |i, j| 0.5 * (cov[i][j] + cov[j][i]) / scale);
     let evd = m
         .self_adjoint_eigen(faer::Side::Lower)
-        .map_err(|e| format!("eigensolver failed: {e:?}"))?;
+        .map_err(|_| PcaError::NoConvergence)?;
     let (s, u) = (evd.S().column_vector(), evd.U());
     // faer sorts ascending.
     Ok((

@@ -49,7 +49,7 @@ struct OrbitArgs {
     #[arg(long, default_value_t = 0.1, allow_hyphen_values = true)]
     momentum: f64,
     /// Periods to run.
-    #[arg(long, default_value_t = 100.0)]
+    #[arg(allow_hyphen_values = true, long, default_value_t = 100.0)]
     periods: f64,
     #[command(flatten)]
     common: Common,
@@ -62,7 +62,7 @@ struct StepArgs {
     #[arg(long, default_value_t = 0.02, allow_hyphen_values = true)]
     force: f64,
     /// How long to follow the transient.
-    #[arg(long, default_value_t = 2000.0)]
+    #[arg(allow_hyphen_values = true, long, default_value_t = 2000.0)]
     duration: f64,
     #[command(flatten)]
     common: Common,
@@ -72,11 +72,11 @@ struct StepArgs {
 #[derive(Debug, clap::Args)]
 struct RightingArgs {
     /// Tolerance δ in radians for mouth-hook attachment and alignment.
-    #[arg(long, default_value_t = 0.01)]
+    #[arg(allow_hyphen_values = true, long, default_value_t = 0.01)]
     tolerance: f64,
     /// Damping ratio ζ₁ of the first torsional mode (default 1, critical, unless the torsion
     /// field's ζ is given by --param or --params).
-    #[arg(long, value_name = "ZETA")]
+    #[arg(allow_hyphen_values = true, long, value_name = "ZETA")]
     mode_damping: Option<f64>,
     /// Initial orientation of the body in radians (π is upside down).
     #[arg(long, default_value_t = std::f64::consts::PI, allow_hyphen_values = true)]
@@ -87,7 +87,12 @@ struct RightingArgs {
     attachment: AttachmentKind,
     /// Also run these first-mode damping ratios and tabulate their righting times (at most
     /// 50 values).
-    #[arg(long, value_delimiter = ',', value_name = "ZETA,…")]
+    #[arg(
+        allow_hyphen_values = true,
+        long,
+        value_delimiter = ',',
+        value_name = "ZETA,…"
+    )]
     sweep: Vec<f64>,
     #[command(flatten)]
     common: Common,

@@ -42,7 +42,7 @@ pub struct Args {
     #[arg(long, default_value_t = 4)]
     fit_modes: usize,
     /// Fix ω instead of fitting it.
-    #[arg(long)]
+    #[arg(allow_hyphen_values = true, long)]
     omega: Option<f64>,
     /// Lengths only: the number of segments around the whole body when only the first K
     /// were measured (fits the lowest whole modes by least squares).
@@ -54,10 +54,15 @@ pub struct Args {
     fill_gaps: usize,
     /// Frames per second of a DeepLabCut file (its rows hold frame indices; without it the
     /// time unit is one frame).
-    #[arg(long, value_name = "F")]
+    #[arg(allow_hyphen_values = true, long, value_name = "F")]
     fps: Option<f64>,
     /// DeepLabCut points tracked below this likelihood make their frame lost.
-    #[arg(long, value_name = "P", default_value_t = 0.6)]
+    #[arg(
+        allow_hyphen_values = true,
+        long,
+        value_name = "P",
+        default_value_t = 0.6
+    )]
     min_likelihood: f64,
     /// Which end the data list first: `first` (head first, as trackers write) or `last`.
     /// A WCON record's own `"head"` (`L`/`R`) is followed where it is given.
@@ -341,6 +346,12 @@ fn finish_series(sink: Series<'_>) -> Result<(), CliError> {
 }
 
 /// The fitted ω as a parameter file, with β and the units in comments.
+/// `v` as a TOML float that reads back exactly: Rust's shortest round-trip form, which always
+/// has a `.` or an exponent (`9.55736315946994e18`, never an integer TOML would reject).
+fn toml_float(v: f64) -> String {
+    format!("{v:?}")
+}
+
 fn write_params(path: &Path, model: &Model, report: &FitReport) -> Result<(), CliError> {
     let scale = model
         .field(&report.field)
@@ -359,9 +370,9 @@ fn write_params(path: &Path, model: &Model, report: &FitReport) -> Result<(), Cl
         report.frames,
         report.field,
         model.name,
-        report.beta,
-        1.0 / report.beta,
-        report.omega
+        crate::report::number(report.beta),
+        crate::report::number(1.0 / report.beta),
+        toml_float(report.omega)
     );
     std::fs::write(path, text)
         .map_err(|e| CliError::Output(format!("cannot write {}: {e}", path.display())))

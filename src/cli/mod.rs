@@ -120,6 +120,18 @@ impl CliError {
         }
     }
 
+    /// The same error with its message bounded ([`crate::markup::bound_line`]): input quoted
+    /// in it (a 1 MB line, a 100 000-character path) is never echoed back whole.
+    fn bounded(self) -> CliError {
+        use crate::markup::bound_line;
+        match self {
+            CliError::Usage(m) => CliError::Usage(bound_line(&m)),
+            CliError::Input(m) => CliError::Input(bound_line(&m)),
+            CliError::Output(m) => CliError::Output(bound_line(&m)),
+            role => role,
+        }
+    }
+
     /// A usage error from any displayable library error.
     fn usage(e: impl std::fmt::Display) -> CliError {
         CliError::Usage(e.to_string())
@@ -223,8 +235,8 @@ struct SampleArgs {
 /// The frequency ω of a degenerate pair: given, or the first axial pair of a named body.
 #[derive(Debug, Args)]
 struct PairArgs {
-    /// The pair's frequency ω. Default: with --model or --points, the frequency of that body's
-    /// first axial pair; otherwise 1 (the unit of frequency).
+    /// The pair's frequency ω. Default: with --model, --points, --param or --params, the
+    /// frequency of that body's first axial pair; otherwise 1 (the unit of frequency).
     #[arg(long, allow_hyphen_values = true)]
     omega: Option<f64>,
     #[command(flatten)]
@@ -241,10 +253,17 @@ struct PairArgs {
 impl PairArgs {
     /// ω for `behaviour` (which names the role it needs in errors).
     fn omega(&self, behaviour: &str) -> Result<f64, CliError> {
+        let scales_given = !self.params.params.is_empty() || self.params.params_file.is_some();
         if let Some(w) = self.omega {
+            // Never ignored silently: scales would have no effect beside ω itself.
+            if scales_given {
+                return Err(CliError::Usage(
+                    "--omega gives ω itself: --param and --params would have no effect (give one or the other)".into(),
+                ));
+            }
             return Ok(w);
         }
-        if self.model.model.is_none() && self.points.is_none() {
+        if self.model.model.is_none() && self.points.is_none() && !scales_given {
             return Ok(1.0);
         }
         let model = self.model.load()?;
@@ -373,8 +392,17 @@ fn subcommand_choices(args: &[std::ffi::OsString]) -> Option<String> {
     (!names.is_empty()).then(|| format!("commands: {}", names.join(", ")))
 }
 
-/// Parse `args` (program name first), run, and write the output to `out`.
+/// Parse `args` (program name first), run, and write the output to `out`. Every error is one
+/// bounded line.
 pub fn run<I, T>(args: I, out: &mut dyn Write) -> Result<(), CliError>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    run_unbounded(args, out).map_err(CliError::bounded)
+}
+
+fn run_unbounded<I, T>(args: I, out: &mut dyn Write) -> Result<(), CliError>
 where
     I: IntoIterator<Item = T>,
     T: Into<std::ffi::OsString> + Clone,
@@ -411,6 +439,13 @@ where
                         .collect::<Vec<_>>()
                         .join("; ");
                     let msg = joined.strip_prefix("error: ").unwrap_or(&joined);
+                    // Rust's integer parser speaks of digits; say what is wanted.
+                    let msg = msg
+                        .replace("invalid digit found in string", "a whole number is needed")
+                        .replace(
+                            "number too large to fit in target type",
+                            "a whole number in range is needed",
+                        );
                     Err(CliError::Usage(format!("{msg} (see --help)")))
                 }
             };

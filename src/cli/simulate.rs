@@ -17,7 +17,7 @@ pub struct Args {
           value_parser = clap::value_parser!(u64).range(1..=crate::dynamics::MAX_SIM_POINTS as u64))]
     points: u64,
     /// Time step.
-    #[arg(long, default_value_t = 0.01)]
+    #[arg(allow_hyphen_values = true, long, default_value_t = 0.01)]
     dt: f64,
     /// Number of steps.
     #[arg(long, default_value_t = 1000)]
@@ -35,7 +35,7 @@ pub struct Args {
     #[arg(long = "drive", value_name = "FIELD:MODE=F0,OMEGA[,PHASE]")]
     drive: Vec<String>,
     /// Thermal energy kT of the Langevin noise (0: none).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(allow_hyphen_values = true, long, default_value_t = 0.0)]
     temperature: f64,
     /// Seed of the noise (same seed, same run).
     #[arg(long, default_value_t = 1)]

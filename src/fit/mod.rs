@@ -75,7 +75,7 @@ mod wcon;
 pub use bootstrap::{Intervals, MAX_REPLICATES};
 pub use error::FitError;
 pub use pool::{fit_inputs, Each, Input, SinkError};
-pub use project::{turning_angles, Projector};
+pub use project::{turning_angles, FrameError, Projector};
 pub use read::{Frame, Track, MAX_LINE_BYTES, MAX_WHOLE_FILE};
 pub use report::{AnimalFit, FitReport, ModeFit, Recording, Subspace};
 pub use settings::*;

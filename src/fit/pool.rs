@@ -391,9 +391,10 @@ fn feed(
     } else {
         values
     };
-    let q = proj
-        .modal(values)
-        .map_err(|why| FitError::Line { line, why })?;
+    let q = proj.modal(values).map_err(|why| FitError::Line {
+        line,
+        why: why.to_string(),
+    })?;
     if let Some(each) = each {
         each(proj, t, &q).map_err(FitError::Output)?;
     }

@@ -5,16 +5,39 @@ use super::{FitError, FitSettings, InputKind, MAX_POINTS};
 use crate::modal::{field_modes, Params};
 use crate::model::Model;
 
+/// Why one frame gives no modal coordinates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum FrameError {
+    /// Every point at one place.
+    #[error("the midline has zero length")]
+    ZeroLength,
+    /// Two neighbours at one place: no turning angle.
+    #[error("two consecutive midline points coincide")]
+    Coincident,
+    /// A segment length of zero or less.
+    #[error("segment lengths must be positive")]
+    NonPositive,
+    /// Coordinates so large that the body's length overflows (or not numbers at all).
+    #[error(
+        "the coordinates are too large to measure (the midline's length overflows): rescale them"
+    )]
+    Overflow,
+}
+
 /// Resample a polyline to `n` points equally spaced in arc length.
-fn resample(points: &[(f64, f64)], n: usize) -> Result<Vec<(f64, f64)>, String> {
+fn resample(points: &[(f64, f64)], n: usize) -> Result<Vec<(f64, f64)>, FrameError> {
     let mut cum = vec![0.0];
     for w in points.windows(2) {
-        let d = ((w[1].0 - w[0].0).powi(2) + (w[1].1 - w[0].1).powi(2)).sqrt();
+        // hypot: no overflow of the squares for coordinates up to ~1e308.
+        let d = (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1);
         cum.push(cum.last().unwrap_or(&0.0) + d);
     }
     let total = *cum.last().unwrap_or(&0.0);
+    if !total.is_finite() {
+        return Err(FrameError::Overflow);
+    }
     if total <= 0.0 {
-        return Err("the midline has zero length".into());
+        return Err(FrameError::ZeroLength);
     }
     let mut out = Vec::with_capacity(n);
     let mut seg = 0;
@@ -36,14 +59,26 @@ fn resample(points: &[(f64, f64)], n: usize) -> Result<Vec<(f64, f64)>, String> 
 }
 
 /// Turning angles between consecutive segments of a polyline (radians, in (−π, π]).
-pub fn turning_angles(points: &[(f64, f64)]) -> Result<Vec<f64>, String> {
+pub fn turning_angles(points: &[(f64, f64)]) -> Result<Vec<f64>, FrameError> {
     let seg: Vec<(f64, f64)> = points
         .windows(2)
         .map(|w| (w[1].0 - w[0].0, w[1].1 - w[0].1))
         .collect();
-    if seg.iter().any(|s| s.0 == 0.0 && s.1 == 0.0) {
-        return Err("two consecutive midline points coincide".into());
+    if seg.iter().any(|s| !(s.0.is_finite() && s.1.is_finite())) {
+        return Err(FrameError::Overflow);
     }
+    if seg.iter().any(|s| s.0 == 0.0 && s.1 == 0.0) {
+        return Err(FrameError::Coincident);
+    }
+    // Each segment scaled to unit size first: the angle is scale-free, and the cross and dot
+    // products of huge coordinates would overflow.
+    let seg: Vec<(f64, f64)> = seg
+        .iter()
+        .map(|s| {
+            let size = s.0.abs().max(s.1.abs());
+            (s.0 / size, s.1 / size)
+        })
+        .collect();
     Ok(seg
         .windows(2)
         .map(|w| {
@@ -60,7 +95,7 @@ fn observe(
     values: &[f64],
     n: usize,
     reference: Option<f64>,
-) -> Result<Vec<f64>, String> {
+) -> Result<Vec<f64>, FrameError> {
     match kind {
         InputKind::Midline => {
             let pts: Vec<(f64, f64)> = values.chunks(2).map(|c| (c[0], c[1])).collect();
@@ -73,7 +108,7 @@ fn observe(
         }
         InputKind::Lengths => {
             if values.iter().any(|&l| l <= 0.0) {
-                return Err("segment lengths must be positive".into());
+                return Err(FrameError::NonPositive);
             }
             let h = reference.unwrap_or_else(|| values.iter().sum::<f64>() / values.len() as f64);
             Ok(values.iter().map(|l| l / h - 1.0).collect())
@@ -233,13 +268,19 @@ impl Projector {
     }
 
     /// The modal coordinates of one frame's values.
-    pub fn modal(&self, values: &[f64]) -> Result<Vec<f64>, String> {
+    pub fn modal(&self, values: &[f64]) -> Result<Vec<f64>, FrameError> {
         let o = observe(self.kind, values, self.points, self.reference_length)?;
-        Ok(self
+        let q: Vec<f64> = self
             .rows
             .iter()
             .map(|p| p.iter().zip(&o).map(|(a, b)| a * b).sum())
-            .collect())
+            .collect();
+        // Strains of absurd lengths can overflow; nothing non-finite goes on to the PCA.
+        if q.iter().all(|v| v.is_finite()) {
+            Ok(q)
+        } else {
+            Err(FrameError::Overflow)
+        }
     }
 
     /// The model point spacing of one frame in the data's length unit: arc length over N − 1

@@ -39,6 +39,19 @@ pub(super) trait Source {
 
 /// The sampling clock: the first time step is the interval; later steps must be whole numbers
 /// of it (within 1 %), the surplus being frames missing from the file.
+/// A DeepLabCut row that cannot be read.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum DlcError {
+    /// Not a whole number of (x, y, likelihood) triples.
+    #[error(
+        "{0} values after the frame index: DeepLabCut rows hold x, y, likelihood per body part"
+    )]
+    Width(usize),
+    /// The frame index is not a number.
+    #[error("frame index {} is not a number", clip(.0))]
+    Frame(String),
+}
+
 /// A time column that is not a uniform clock.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ClockError {
@@ -183,16 +196,13 @@ impl<R: BufRead> FrameReader<R> {
 
     /// A DeepLabCut row (frame, then x, y, likelihood per body part) as `t, x₁, y₁, …`, with
     /// NaN for a point tracked below the likelihood threshold.
-    fn dlc_row(&self, cells: &[&str]) -> Result<Vec<String>, String> {
+    fn dlc_row(&self, cells: &[&str]) -> Result<Vec<String>, DlcError> {
         if (cells.len() - 1) % 3 != 0 {
-            return Err(format!(
-                "{} values after the frame index: DeepLabCut rows hold x, y, likelihood per body part",
-                cells.len() - 1
-            ));
+            return Err(DlcError::Width(cells.len() - 1));
         }
         let frame: f64 = cells[0]
             .parse()
-            .map_err(|_| format!("frame index {:?} is not a number", cells[0]))?;
+            .map_err(|_| DlcError::Frame(cells[0].to_string()))?;
         let mut out = vec![(frame / self.fps.unwrap_or(1.0)).to_string()];
         for part in cells[1..].chunks(3) {
             let likely = part[2]
@@ -277,7 +287,7 @@ impl<R: BufRead> FrameReader<R> {
             };
             let converted;
             let cells: Vec<&str> = if self.dlc {
-                converted = self.dlc_row(&cells).map_err(bad)?;
+                converted = self.dlc_row(&cells).map_err(|e| bad(e.to_string()))?;
                 converted.iter().map(String::as_str).collect()
             } else {
                 cells

@@ -3,7 +3,7 @@
 use super::animal::Animal;
 use super::bootstrap::Intervals;
 use super::{InputKind, Units};
-use crate::report::{check_finite, csv_numbers, to_json, NonFinite, Report};
+use crate::report::{check_finite, csv_numbers, fixed, number, to_json, NonFinite, Report};
 
 /// How complete a recording was.
 #[derive(Debug, Clone, Default, PartialEq, serde::Serialize)]
@@ -236,22 +236,37 @@ impl Report for FitReport {
         let length = r.units.length.as_deref().unwrap_or("length unit");
         let mut t = format!(
             "Fit of {} frames of {what} (sampling interval {} {time}) to field {} on N = {}\n\
-             \x20 ω = {:.6} rad/{time} (least squares over modes {}–{}), β = {:.6} {time}² (amplitudes in point spacings h = {:.6} {length}; β/h² = {:.6} {time}²/{length}²)\n",
+             \x20 ω = {} rad/{time} (least squares over modes {}–{}), β = {} {time}² (amplitudes in point spacings h = {} {length}; β/h² = {} {time}²/{length}²)\n",
             r.frames,
-            (r.sample_interval * 1e9).round() / 1e9,
+            number((r.sample_interval * 1e9).round() / 1e9),
             r.field,
             r.model_points,
-            r.omega,
+            fixed(r.omega, 6),
             r.modes[0].index,
             r.modes[r.fitted_modes - 1].index,
-            r.beta,
-            r.spacing,
-            r.beta / (r.spacing * r.spacing),
+            fixed(r.beta, 6),
+            fixed(r.spacing, 6),
+            {
+                // β/h² is printed only when it is a float; h² overflows for absurd coordinates.
+                let ratio = r.beta / (r.spacing * r.spacing);
+                if ratio.is_normal() {
+                    fixed(ratio, 6)
+                } else {
+                    "out of range".into()
+                }
+            },
         );
         if let Some(i) = &r.intervals {
             t += &format!(
-                "  95 % intervals ({} replicates over {} {}, {} fitted): ω [{:.6}, {:.6}], β [{:.6}, {:.6}]\n",
-                i.replicates, i.units, i.resampled, i.fitted, i.omega[0], i.omega[1], i.beta[0], i.beta[1]
+                "  95 % intervals ({} replicates over {} {}, {} fitted): ω [{}, {}], β [{}, {}]\n",
+                i.replicates,
+                i.units,
+                i.resampled,
+                i.fitted,
+                fixed(i.omega[0], 6),
+                fixed(i.omega[1], 6),
+                fixed(i.beta[0], 6),
+                fixed(i.beta[1], 6)
             );
         }
         let rec = &r.recording;
@@ -339,12 +354,16 @@ impl FitReport {
     /// The arguments that make `simulate` (and, without `--temperature`, `behave` and `modes`)
     /// use the fitted scales: `--param omega_<scale>=ω --temperature 1/β`.
     pub fn onward_arguments(&self) -> Vec<String> {
-        vec![
+        let mut args = vec![
             "--param".into(),
-            format!("omega_{}={}", self.scale, self.omega),
-            "--temperature".into(),
-            format!("{}", 1.0 / self.beta),
-        ]
+            format!("omega_{}={}", self.scale, number(self.omega)),
+        ];
+        // A temperature that is not a finite number is left out, never printed as `inf`.
+        let temperature = 1.0 / self.beta;
+        if temperature.is_finite() {
+            args.extend(["--temperature".into(), number(temperature)]);
+        }
+        args
     }
 }
 

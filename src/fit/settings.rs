@@ -3,6 +3,11 @@
 
 use super::FitError;
 use crate::markup::clip;
+use crate::report::number;
+
+/// The highest frame rate `--fps` takes: frames a nanosecond apart. Faster rates make sampling
+/// intervals whose frequencies and ω cannot be printed and read back.
+pub const MAX_FPS: f64 = 1e9;
 
 /// The most model points a fit takes (every mode shape is kept).
 /// Each frame's projection costs about N² (modes × observations), so model points stay at most
@@ -173,8 +178,12 @@ impl FitSettings {
 pub(super) fn check_settings(settings: &FitSettings) -> Result<(), FitError> {
     let invalid = |s: String| FitError::Invalid(s);
     if let Some(f) = settings.fps {
-        if !(f.is_finite() && f > 0.0) {
-            return Err(invalid(format!("--fps must be a positive number, not {f}")));
+        if !(f.is_finite() && f > 0.0 && f <= MAX_FPS) {
+            return Err(invalid(format!(
+                "--fps must be a positive number up to {} (a nanosecond between frames), not {}",
+                number(MAX_FPS),
+                number(f)
+            )));
         }
     }
     if !(0.0..=1.0).contains(&settings.min_likelihood) {

@@ -3,6 +3,8 @@
 
 use super::project::Projector;
 use super::stats;
+use crate::report::number;
+
 use super::{Estimator, FitError, FitReport, FitSettings, ModeFit, Recording, Subspace, Units};
 
 /// Peak (with parabolic refinement) and centroid of a one-sided spectrum, above zero frequency.
@@ -44,6 +46,17 @@ pub(super) fn summarise(
     spectra: stats::Spectra,
 ) -> Result<FitReport, FitError> {
     let invalid = |s: String| FitError::Invalid(s);
+    // No eigen-solve or SVD on non-finite moments (nalgebra's SVD panics on NaN).
+    if cov
+        .iter()
+        .flatten()
+        .chain(spectra.psd.iter().flatten())
+        .any(|v| !v.is_finite())
+    {
+        return Err(invalid(
+            "the modal coordinates' moments overflow: rescale the data".into(),
+        ));
+    }
     let stats::Spectra {
         window: used_window,
         segments,
@@ -106,6 +119,14 @@ pub(super) fn summarise(
         ));
     }
     let beta = used as f64 / spread;
+    // ω·dt and β·ω² are what the data measure; outside the floats they cannot be reported.
+    if !(beta.is_finite() && beta > 0.0 && spread.is_finite() && (omega * omega).is_finite()) {
+        return Err(invalid(format!(
+            "the fitted scales are out of range (ω = {}, β = {}): rescale the time column or --fps",
+            number(omega),
+            number(beta)
+        )));
+    }
     for x in &mut modes {
         x.theory_angular_frequency = omega * x.eigenvalue.sqrt();
     }
@@ -146,20 +167,13 @@ pub(super) fn summarise(
 fn angle_covariance(design: &[Vec<f64>], cov: &[Vec<f64>]) -> Vec<Vec<f64>> {
     let m = design.len();
     let obs = design[0].len();
+    // Bᵀ(C·B) by faer's matrix products: O(N³) once, not the O(N⁴) of the entry-wise sum.
+    let b = faer::Mat::<f64>::from_fn(m, obs, |i, a| design[i][a]);
+    let c = faer::Mat::<f64>::from_fn(m, m, |i, j| cov[i][j]);
+    let cb = &c * &b;
+    let out = b.transpose() * &cb;
     (0..obs)
-        .map(|a| {
-            (0..obs)
-                .map(|b| {
-                    let mut s = 0.0;
-                    for i in 0..m {
-                        for j in 0..m {
-                            s += design[i][a] * cov[i][j] * design[j][b];
-                        }
-                    }
-                    s
-                })
-                .collect()
-        })
+        .map(|a| (0..obs).map(|b| out[(a, b)]).collect())
         .collect()
 }
 

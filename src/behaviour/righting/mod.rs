@@ -271,6 +271,12 @@ fn torsion_modes(
     Ok(match settings.mode_damping {
         Some(z) => {
             let z = finite("the first mode's damping ratio", z)?;
+            if z < 0.0 {
+                return Err(BehaviourError::new(format!(
+                    "the first mode's damping ratio must be at least 0, not {}",
+                    crate::report::number(z)
+                )));
+            }
             torsion.with_zeta(z / torsion.modes[1].eigenvalue.sqrt())
         }
         None => torsion.clone(),
