@@ -111,6 +111,12 @@ fn value() -> impl Strategy<Value = String> {
         Just("abc".to_string()),
         Just("18446744073709551615".to_string()),
         Just("4294967296".to_string()),
+        // Hostile II: underflowing intervals, huge quoted values, negative numbers as values.
+        Just("1e-300".to_string()),
+        Just("1e19".to_string()),
+        Just("9".repeat(400)),
+        Just("bogus=1".to_string()),
+        Just("omega_s=50".to_string()),
         (1u32..5000).prop_map(|v| v.to_string()),
         (-1e4f64..1e4).prop_map(|v| v.to_string()),
     ]
@@ -157,20 +163,22 @@ fn command_line() -> impl Strategy<Value = Vec<String>> {
         ("behave rearing", &["--force", "--duration", "--points"]),
         (
             "behave self-righting",
-            &["--theta0", "--tolerance", "--mode-damping", "--points"],
+            &["--theta0", "--tolerance", "--mode-damping", "--points", "--sweep"],
         ),
         (
             "stats pair",
-            &["--omega", "--beta", "--momentum", "--samples"],
+            &["--omega", "--beta", "--momentum", "--samples", "--param"],
         ),
         ("stats explore", &["--beta", "--samples", "--points"]),
         (
             "stats equipartition",
             &["--steps", "--temperature", "--points"],
         ),
-        ("count", &["--max-order"]),
-        ("interactions", &["--order"]),
-        ("parts", &["--order"]),
+        ("count", &["--max-order", "--format"]),
+        ("interactions", &["--order", "--format"]),
+        ("parts", &["--order", "--format"]),
+        ("rules", &["--order", "--format"]),
+        ("equations", &["--order", "--format"]),
     ];
     (
         0..commands.len(),

@@ -283,6 +283,20 @@ impl PairArgs {
     }
 }
 
+/// The most values a repeatable option takes (`--param`, `--initial`, `--force`, `--drive`):
+/// each names one scale or mode, and a model has at most 8 fields.
+pub const MAX_LIST: usize = 256;
+
+/// A repeatable option given more than [`MAX_LIST`] times is refused before any work.
+fn check_list(option: &str, len: usize) -> Result<(), CliError> {
+    if len > MAX_LIST {
+        return Err(CliError::Usage(format!(
+            "{option} is given {len} times; at most {MAX_LIST}"
+        )));
+    }
+    Ok(())
+}
+
 /// The largest model or parameter file read (a model of eight fields is a few kilobytes).
 pub const MAX_TEXT_FILE: u64 = 1 << 20;
 
@@ -322,6 +336,7 @@ fn load_model(path: &Option<PathBuf>) -> Result<Model, CliError> {
 use crate::model::one_line;
 
 fn load_params(args: &ParamArgs, model: &Model) -> Result<Params, CliError> {
+    check_list("--param", args.params.len())?;
     let mut params = Params::default();
     if let Some(path) = &args.params_file {
         // A file that is not a parameter file is an input error (exit 1), like a model file.

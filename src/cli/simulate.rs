@@ -152,6 +152,9 @@ fn modal_assignment(
 
 /// The initial state and forces the arguments give.
 fn state(args: &Args) -> Result<(Vec<Initial>, Vec<Forcing>), CliError> {
+    super::check_list("--initial", args.initial.len())?;
+    super::check_list("--force", args.force.len())?;
+    super::check_list("--drive", args.drive.len())?;
     let mut initial = Vec::new();
     for text in &args.initial {
         let (field, mode, v) = modal_assignment(text, "--initial", 1..=2, "give Q or Q,V")?;
