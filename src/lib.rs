@@ -25,6 +25,7 @@ pub mod figures;
 pub mod fit;
 pub mod generated;
 pub mod interaction;
+pub mod jet;
 pub mod markup;
 pub mod modal;
 pub mod model;

@@ -305,6 +305,11 @@ impl Model {
                 .collect(),
             why,
         };
+        if self.rayleigh.dominance != Dominance::Joint {
+            return Err(invalid(
+                "[rayleigh] dominance: a Rayleigh density has one part (all of it enters through δR/δ(∂tφ)), so only [lagrangian] takes dominance = \"by-part\"".into(),
+            ));
+        }
         if self.fields.is_empty() {
             return Err(invalid("declares no fields".into()));
         }

@@ -163,7 +163,13 @@ fn command_line() -> impl Strategy<Value = Vec<String>> {
         ("behave rearing", &["--force", "--duration", "--points"]),
         (
             "behave self-righting",
-            &["--theta0", "--tolerance", "--mode-damping", "--points", "--sweep"],
+            &[
+                "--theta0",
+                "--tolerance",
+                "--mode-damping",
+                "--points",
+                "--sweep",
+            ],
         ),
         (
             "stats pair",

@@ -170,9 +170,11 @@ pub fn variational_derivative(density: Density, dt: &DensityTerm, into: &mut Lin
         match density {
             // ∂F/∂(∂^x φ) = C·∂^y φ; then (−1)^|x| ∂^x of it.
             Density::Lagrangian => add(into, plus(x, y), &dt.parameter, c * parity(x)),
-            // Only factors holding ∂t depend on v: ∂^x φ = ∂^{x−t} v.
-            Density::Rayleigh if x.t >= 1 => {
-                let xv = Deriv::new(x.t - 1, x.s);
+            // R enters through the velocity jet at fixed time, as on the general path: only a
+            // factor ∂t∂sᵏφ = ∂sᵏv depends on v, varied in s alone; a factor with ∂t² or more
+            // is an acceleration, not a velocity, and contributes nothing.
+            Density::Rayleigh if x.t == 1 => {
+                let xv = Deriv::new(0, x.s);
                 add(into, plus(xv, y), &dt.parameter, c * parity(xv))
             }
             Density::Rayleigh => {}
@@ -190,9 +192,20 @@ fn field_equation(
     let field = l.fields[index].field.clone();
     // δL/δφ − δR/δv = 0, as one linear combination.
     let mut total = Linear::new();
+    // The (derivative, parameter) pairs that come from an energy square (∂sᵏφ)² of L or a
+    // dissipation square (∂t∂sᵏφ)² of R: only their signs can be fixed by energy or the
+    // second law.
+    let mut squares: Vec<(Deriv, Option<String>)> = Vec::new();
     for (analysis, sign) in [(l, 1), (r, -1)] {
         let mut part = Linear::new();
         for dt in &analysis.fields[index].density {
+            if let Some((a, b)) = quadratic_parts(&dt.term) {
+                let energy = analysis.density == Density::Lagrangian && a.t == 0;
+                let dissipation = analysis.density == Density::Rayleigh && a.t == 1;
+                if a == b && (energy || dissipation) {
+                    squares.push((Deriv::new(a.t, 2 * a.s), dt.parameter.clone()));
+                }
+            }
             if !variational_derivative(analysis.density, dt, &mut part) {
                 return Err(EquationError::NotQuadratic {
                     field: field.id.clone(),
@@ -212,37 +225,44 @@ fn field_equation(
             order,
         });
     }
-    let mut rhs: Vec<RhsTerm> = total
+    let mut rhs: Vec<(RhsTerm, bool)> = total
         .into_iter()
         .map(|((deriv, param), v)| {
             let value = -v / lead;
-            RhsTerm {
+            let square = squares.contains(&(deriv, param.clone()));
+            let term = RhsTerm {
                 deriv,
                 sign: if value.is_negative() { -1 } else { 1 },
                 prefactor: value.abs(),
                 coefficient: param.unwrap_or_else(|| "1".to_string()),
                 claim: SignClaim::Free(""),
-            }
+            };
+            (term, square)
         })
         .collect();
-    rhs.sort_by_key(|t| (t.deriv.t, t.deriv.s));
+    rhs.sort_by_key(|(t, _)| (t.deriv.t, t.deriv.s));
     // The lowest and highest even space order among the terms of each time order.
     let extremes = |t: u32| {
         let even = rhs
             .iter()
-            .filter(|r| r.deriv.t == t && r.deriv.s % 2 == 0)
-            .map(|r| r.deriv.s);
+            .filter(|(r, _)| r.deriv.t == t && r.deriv.s % 2 == 0)
+            .map(|(r, _)| r.deriv.s);
         (even.clone().min(), even.max())
     };
     let bounds: Vec<(Option<u32>, Option<u32>)> = (0..=2).map(extremes).collect();
-    for r in &mut rhs {
+    for (r, square) in &mut rhs {
         let (lo, hi) = bounds
             .get(r.deriv.t as usize)
             .copied()
             .unwrap_or((None, None));
         let extreme = Some(r.deriv.s) == lo || Some(r.deriv.s) == hi;
-        r.claim = SignClaim::of(r.deriv, r.sign, extreme);
+        r.claim = if *square || r.deriv.t > 1 || r.deriv.s % 2 == 1 {
+            SignClaim::of(r.deriv, r.sign, extreme)
+        } else {
+            SignClaim::Free("not the variation of an energy or dissipation square: nothing fixes its sign alone")
+        };
     }
+    let rhs = rhs.into_iter().map(|(r, _)| r).collect();
     Ok(Equation { field, rhs })
 }
 

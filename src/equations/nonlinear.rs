@@ -67,8 +67,16 @@ pub fn derive_nonlinear(
                     }
                 };
                 if e.is_empty() {
+                    // Say why, truly: a null Lagrangian is a total derivative; a Rayleigh term
+                    // may simply not depend on the velocity.
+                    let why = match analysis.density {
+                        Density::Lagrangian => "a total derivative",
+                        Density::Rayleigh => {
+                            "its δR/δ(∂tφ) over the velocity jet at fixed time vanishes"
+                        }
+                    };
                     notes.push(format!(
-                        "{}_{}: {} contributes nothing to the equation (a total derivative) and is dropped",
+                        "{}_{}: {} contributes nothing to the equation ({why}) and is dropped",
                         analysis.density.letter(),
                         field.symbol,
                         dt.term.render(&|_| field.symbol.clone())

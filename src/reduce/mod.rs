@@ -10,6 +10,7 @@ use num_rational::Rational64;
 use num_traits::One;
 
 use crate::enumerate::{candidates, count_products, Basis, Bounds, MAX_CANDIDATES, MAX_ORDER};
+use crate::jet::is_null;
 use crate::model::{Density, Dominance, Field, Model};
 use crate::rules::{PreparedRule, Rule};
 use crate::term::{Orders, Term};
@@ -296,8 +297,16 @@ fn field_results(
         .zip(admitted)
         .enumerate()
         .map(|(i, (field, admitted))| {
-            let survivors = survivors(&admitted, model.density(density).dominance, density);
-            let missing = missing_parts(model, density, order, basis, i, &survivors);
+            // Terms that change no equation (total derivatives, or R terms without velocity
+            // dependence) never win the selection: the next admitted terms do.
+            let live: Vec<Term> = admitted
+                .iter()
+                .filter(|t| !is_null(density, t))
+                .cloned()
+                .collect();
+            let survivors = survivors(&live, model.density(density).dominance, density);
+            let mut missing = null_note(density, field, &admitted, &survivors);
+            missing.extend(missing_parts(model, density, order, basis, i, &survivors));
             FieldResult {
                 field: field.clone(),
                 density: coefficients(density, field, &survivors),
@@ -307,6 +316,36 @@ fn field_results(
             }
         })
         .collect()
+}
+
+/// A note naming the null terms that would have been among the lowest order had they counted.
+fn null_note(
+    density: Density,
+    field: &Field,
+    admitted: &[Term],
+    survivors: &[Term],
+) -> Vec<String> {
+    let passed: Vec<String> = lowest_order(admitted)
+        .iter()
+        .filter(|t| !survivors.contains(t) && is_null(density, t))
+        .map(|t| t.render(&|_| field.symbol.clone()))
+        .collect();
+    if passed.is_empty() {
+        return Vec::new();
+    }
+    let why = match density {
+        Density::Lagrangian => "a total derivative: the Euler–Lagrange expression vanishes",
+        Density::Rayleigh => "δR/δ(∂tφ) over the velocity jet at fixed time vanishes",
+    };
+    let one = passed.len() == 1;
+    vec![format!(
+        "{}_{}: {} {} no equation ({why}) and {} no part in the lowest-order selection",
+        density.letter(),
+        field.symbol,
+        passed.join(", "),
+        if one { "changes" } else { "change" },
+        if one { "takes" } else { "take" },
+    )]
 }
 
 /// The lowest-order terms of `admitted`: all competing together (canonical order), or each part
@@ -374,7 +413,7 @@ fn missing_parts(
             let (_, rows) = decide(model, density, &bounds, basis);
             let admitted: Vec<Term> = rows
                 .into_iter()
-                .filter(|r| r.admitted[field] && is_part(&r.term))
+                .filter(|r| r.admitted[field] && is_part(&r.term) && !is_null(density, &r.term))
                 .map(|r| r.term)
                 .collect();
             // The lowest of them, the standard kinetic term (∂tφ)² first when it is one.
