@@ -5,7 +5,7 @@ use std::io::Write;
 use super::{emit, write_out, CliError, ModelArgs};
 use crate::enumerate::Basis;
 use crate::equations::{
-    derive_basis, derive_nonlinear, EquationError, EquationReport, NonlinearReport,
+    derive_each, derive_nonlinear_each, EquationError, EquationReport, NonlinearReport,
 };
 use crate::report::{Output, Report};
 
@@ -50,30 +50,62 @@ fn write(
     }
 }
 
-/// Derive and print the equations.
+/// Derive and print the equations: every field that has one; each other field's reason is a
+/// note, and then the command fails (exit 2) saying how many fields have none.
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     let model = args.model.load()?;
     let order = args.model.order;
-    let (equations, notes) = match derive_basis(&model, order, args.basis) {
+    let underived = match derive_each(&model, order, args.basis) {
         Err(EquationError::NotQuadratic { .. }) => {
             // Not all quadratic: the exact nonlinear equations instead.
-            let (equations, notes) =
-                derive_nonlinear(&model, order, args.basis).map_err(CliError::usage)?;
+            let d = derive_nonlinear_each(&model, order, args.basis).map_err(CliError::usage)?;
+            none_derived(&d.equations, &d.underived)?;
             let r = NonlinearReport {
                 model: model.name.clone(),
                 order,
-                equations,
-                notes,
+                equations: d.equations,
+                notes: with_reasons(d.notes, &d.underived),
             };
-            return write(out, &r, || r.latex(), args.format);
+            write(out, &r, || r.latex(), args.format)?;
+            d.underived
         }
-        other => other.map_err(CliError::usage)?,
+        other => {
+            let d = other.map_err(CliError::usage)?;
+            none_derived(&d.equations, &d.underived)?;
+            let r = EquationReport {
+                model: model.name.clone(),
+                order,
+                equations: d.equations,
+                notes: with_reasons(d.notes, &d.underived),
+            };
+            write(out, &r, || r.latex(), args.format)?;
+            d.underived
+        }
     };
-    let r = EquationReport {
-        model: model.name.clone(),
-        order: args.model.order,
-        equations,
-        notes,
-    };
-    write(out, &r, || r.latex(), args.format)
+    match underived.as_slice() {
+        [] => Ok(()),
+        some => Err(CliError::Usage(format!(
+            "{} of the {} fields have no equation of motion (the notes say why): {}",
+            some.len(),
+            model.fields.len(),
+            some.iter()
+                .map(|e| e.to_string())
+                .collect::<Vec<_>>()
+                .join("; ")
+        ))),
+    }
+}
+
+/// When no field has an equation, the first reason is the whole answer (nothing is printed).
+fn none_derived<E>(equations: &[E], underived: &[EquationError]) -> Result<(), CliError> {
+    match underived.first() {
+        Some(e) if equations.is_empty() => Err(CliError::usage(e)),
+        _ => Ok(()),
+    }
+}
+
+/// The notes, then one line per field without an equation.
+fn with_reasons(mut notes: Vec<String>, underived: &[EquationError]) -> Vec<String> {
+    notes.extend(underived.iter().map(|e| e.to_string()));
+    notes
 }

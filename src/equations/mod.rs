@@ -27,7 +27,7 @@ use crate::term::{Deriv, Term};
 
 mod nonlinear;
 mod render;
-pub use nonlinear::{derive_nonlinear, NonlinearEquation, PolyTerm};
+pub use nonlinear::{derive_nonlinear, derive_nonlinear_each, NonlinearEquation, PolyTerm};
 pub use render::{derivative_text, json, EquationReport, NonlinearReport, Shown};
 
 /// One term `sign · prefactor · coefficient · ∂tᵗ∂sˢφ` of a right-hand side.
@@ -271,17 +271,53 @@ pub fn derive(model: &Model, order: u32) -> Result<(Vec<Equation>, Vec<String>),
     derive_basis(model, order, Basis::Powers)
 }
 
-/// The equations of motion when the candidates are `basis`.
+/// The equations of motion when the candidates are `basis` (an error if any field has none).
 pub fn derive_basis(
     model: &Model,
     order: u32,
     basis: Basis,
 ) -> Result<(Vec<Equation>, Vec<String>), EquationError> {
+    let d = derive_each(model, order, basis)?;
+    match d.underived.into_iter().next() {
+        Some(e) => Err(e),
+        None => Ok((d.equations, d.notes)),
+    }
+}
+
+/// What a derivation gives: the equations of the fields that have one, and why each other
+/// field has none (a field without a kinetic term does not block the others).
+#[derive(Debug, Clone)]
+pub struct Derivation<E> {
+    /// The equations, in model field order.
+    pub equations: Vec<E>,
+    /// Why each field without an equation has none.
+    pub underived: Vec<EquationError>,
+    /// The analyses' notes.
+    pub notes: Vec<String>,
+}
+
+/// Every field's linear equation that can be derived; an error only when the surviving terms
+/// are not all quadratic ([`EquationError::NotQuadratic`]: use [`derive_nonlinear_each`]) or
+/// the order is out of range.
+pub fn derive_each(
+    model: &Model,
+    order: u32,
+    basis: Basis,
+) -> Result<Derivation<Equation>, EquationError> {
     let (l, r, notes) = analyses(model, order, basis)?;
-    let equations = (0..model.fields.len())
-        .map(|i| field_equation(&l, &r, i, order))
-        .collect::<Result<Vec<_>, _>>()?;
-    Ok((equations, notes))
+    let mut d = Derivation {
+        equations: Vec::new(),
+        underived: Vec::new(),
+        notes,
+    };
+    for i in 0..model.fields.len() {
+        match field_equation(&l, &r, i, order) {
+            Ok(e) => d.equations.push(e),
+            Err(e @ EquationError::NoKinetic { .. }) => d.underived.push(e),
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(d)
 }
 
 /// Both densities' analyses and what they say is missing.

@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use num_rational::Rational64;
 use num_traits::Zero;
 
-use super::{analyses, EquationError};
+use super::{analyses, Derivation, EquationError};
 use crate::enumerate::Basis;
 use crate::model::{Density, Field, Model};
 use crate::term::Deriv;
@@ -41,9 +41,24 @@ pub fn derive_nonlinear(
     order: u32,
     basis: Basis,
 ) -> Result<(Vec<NonlinearEquation>, Vec<String>), EquationError> {
+    let d = derive_nonlinear_each(model, order, basis)?;
+    match d.underived.into_iter().next() {
+        Some(e) => Err(e),
+        None => Ok((d.equations, d.notes)),
+    }
+}
+
+/// [`derive_nonlinear`] for every field that has a kinetic term; each other field's reason in
+/// [`Derivation::underived`].
+pub fn derive_nonlinear_each(
+    model: &Model,
+    order: u32,
+    basis: Basis,
+) -> Result<Derivation<NonlinearEquation>, EquationError> {
     use crate::parts::{euler_lagrange, mono_of, space_euler, JetPoly};
     let (l, r, mut notes) = analyses(model, order, basis)?;
     let mut equations = Vec::new();
+    let mut underived = Vec::new();
     for (i, field) in model.fields.iter().enumerate() {
         // Σ over parameters of the E(L) − δR/δv polynomials.
         let mut total: BTreeMap<Option<String>, JetPoly> = BTreeMap::new();
@@ -98,10 +113,11 @@ pub fn derive_nonlinear(
             .and_then(|p| p.remove(&acceleration))
             .unwrap_or_else(Rational64::zero);
         if lead.is_zero() {
-            return Err(EquationError::NoKinetic {
+            underived.push(EquationError::NoKinetic {
                 field: field.symbol.clone(),
                 order,
             });
+            continue;
         }
         let rhs: Vec<PolyTerm> = total
             .into_iter()
@@ -124,5 +140,9 @@ pub fn derive_nonlinear(
             rhs,
         });
     }
-    Ok((equations, notes))
+    Ok(Derivation {
+        equations,
+        underived,
+        notes,
+    })
 }
