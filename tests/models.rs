@@ -123,14 +123,21 @@ u = ["DIS"]
     use theory_search::enumerate::Basis;
     let a = theory_search::reduce::analyse_basis(&never, Density::Lagrangian, 3, Basis::Monomials)
         .unwrap();
+    // ∂t u is admitted and of lowest order but a total derivative: passed over, and said so.
     assert_eq!(
         a.fields[0].missing,
-        ["L_u: no potential term is admitted at any order up to 7 (monomials are searched at most 4 orders ahead, within the 1000000-candidate limit)"]
+        [
+            "L_u: ∂t u changes no equation (a total derivative: the Euler–Lagrange expression vanishes) and takes no part in the lowest-order selection",
+            "L_u: no potential term is admitted at any order up to 7 (monomials are searched at most 4 orders ahead, within the 1000000-candidate limit)"
+        ]
     );
     let a = analyse(&never, Density::Lagrangian, 3).unwrap();
     assert_eq!(
         a.fields[0].missing,
-        ["L_u: no potential term is admitted at any order up to 32"]
+        [
+            "L_u: ∂t u changes no equation (a total derivative: the Euler–Lagrange expression vanishes) and takes no part in the lowest-order selection",
+            "L_u: no potential term is admitted at any order up to 32"
+        ]
     );
     // Its admitted ∂t u is no square of a derivative: no operator, and the error says so.
     let err = field_modes(&never, 3, 12, &Params::default(), None, false)

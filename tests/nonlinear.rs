@@ -270,8 +270,10 @@ fn every_requirement_subset_with_a_kinetic_term_has_equations() {
             Err(other) => panic!("{keep:?}: {other}"),
         }
     }
+    // No subset leaves a nonlinear survivor at order 4 now that total derivatives (the linear
+    // ∂s φ of the REF-less subsets) never win; the tethered model checks the nonlinear path.
     assert!(
-        derived >= 8 && nonlinear >= 1 && checked >= 10,
+        derived >= 8 && nonlinear == 0 && checked >= 10,
         "{derived} {nonlinear} {checked}"
     );
 }
@@ -438,8 +440,8 @@ fn every_rayleigh_subset_gives_equations_that_vary_right() {
 
 #[test]
 fn the_command_falls_back_to_the_exact_equations() {
-    // Without REF the linear ∂s x and ∂ss y survive: they contribute nothing and are dropped
-    // with a note, where the linear path refuses.
+    // Without REF the linear ∂s x is admitted at the lowest order, but it is a total
+    // derivative: it is passed over with a note, and the equations stay the larva's.
     let text = Model::larva_toml().replace(
         "x = [\"OST\", \"TRAN\", \"REF\", \"KIN\"]",
         "x = [\"OST\", \"TRAN\", \"KIN\"]",
@@ -465,9 +467,33 @@ fn the_command_falls_back_to_the_exact_equations() {
         let out = String::from_utf8(out).unwrap();
         match format {
             "text" => assert!(
-                out.contains("∂s x contributes nothing") && out.contains("∂t² y = −c_y ∂s⁴ y"),
+                out.contains("∂s x changes no equation")
+                    && out.contains("∂t² x = c_x ∂s² x + c'_x ∂t∂s² x"),
                 "{out}"
             ),
+            "json" => assert!(!out.contains("\"nonlinear\": true"), "{out}"),
+            _ => assert!(out.contains("\\begin{align*}"), "{out}"),
+        }
+    }
+    // A body whose survivors are not all quadratic takes the exact path in every format.
+    let tethered = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/models/tethered.toml");
+    for format in ["text", "json", "latex"] {
+        let mut out = Vec::new();
+        theory_search::cli::run(
+            [
+                "theory-search",
+                "equations",
+                "--model",
+                tethered,
+                "--format",
+                format,
+            ],
+            &mut out,
+        )
+        .unwrap();
+        let out = String::from_utf8(out).unwrap();
+        match format {
+            "text" => assert!(out.contains("3/2 c3_u u²"), "{out}"),
             "json" => assert!(out.contains("\"nonlinear\": true"), "{out}"),
             _ => assert!(out.contains("\\begin{align*}"), "{out}"),
         }

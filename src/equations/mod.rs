@@ -7,8 +7,9 @@
 //! ```
 //!
 //! (integration by parts, boundary terms dropped). For a quadratic term `C·∂^αφ·∂^βφ` the
-//! variational derivative is `C[(−1)^|α| + (−1)^|β|] ∂^{α+β}φ`; a Rayleigh factor `∂^αφ` with
-//! `α_t ≥ 1` is `∂^{α−t}v`. The standard kinetic term `½(∂tφ)²` gives `−∂t²φ`; solving for it
+//! variational derivative is `C[(−1)^|α| + (−1)^|β|] ∂^{α+β}φ`; R enters through the velocity
+//! jet at fixed time, so a Rayleigh factor `∂t∂sᵏφ` is `∂sᵏv`, varied in s alone, and a factor
+//! with more time derivatives does not vary (as on the general path, [`derive_nonlinear`]). The standard kinetic term `½(∂tφ)²` gives `−∂t²φ`; solving for it
 //! gives `∂t²φ = Σ sign·prefactor·coefficient·∂tᵗ∂sˢφ`, exact. For the larva:
 //! `∂t²x = c_x ∂s²x + 2c'_x ∂t∂s²x` and `∂t²y = −c_y ∂s⁴y − 2c'_y ∂t∂s⁴y`.
 //! The printed coefficients fold the rational prefactor into the free parameter; the prefactor
