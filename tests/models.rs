@@ -69,8 +69,8 @@ fn the_planar_model_has_two_fields() {
     assert_eq!(
         text,
         [
-            "∂t² x = c_x ∂s² x + c'_x ∂t∂s² x",
-            "∂t² y = −c_y ∂s⁴ y − c'_y ∂t∂s⁴ y"
+            "∂t² x = c_x ∂s² x + 2 c'_x ∂t∂s² x",
+            "∂t² y = −c_y ∂s⁴ y − 2 c'_y ∂t∂s⁴ y"
         ]
     );
     let modes = field_modes(&planar, 4, 12, &Params::default(), Some(3), false).unwrap();

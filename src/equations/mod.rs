@@ -11,9 +11,9 @@
 //! jet at fixed time, so a Rayleigh factor `∂t∂sᵏφ` is `∂sᵏv`, varied in s alone, and a factor
 //! with more time derivatives does not vary (as on the general path, [`derive_nonlinear`]). The standard kinetic term `½(∂tφ)²` gives `−∂t²φ`; solving for it
 //! gives `∂t²φ = Σ sign·prefactor·coefficient·∂tᵗ∂sˢφ`, exact. For the larva:
-//! `∂t²x = c_x ∂s²x + 2c'_x ∂t∂s²x` and `∂t²y = −c_y ∂s⁴y − 2c'_y ∂t∂s⁴y`.
-//! The printed coefficients fold the rational prefactor into the free parameter; the prefactor
-//! is kept in [`RhsTerm::prefactor`]. Whether a parameter's sign is fixed is derived, with its
+//! `∂t²x = c_x ∂s²x + 2 c'_x ∂t∂s²x` and `∂t²y = −c_y ∂s⁴y − 2 c'_y ∂t∂s⁴y`.
+//! Each term prints its exact rational factor, as on the general path; it is also kept in
+//! [`RhsTerm::prefactor`]. Whether a parameter's sign is fixed is derived, with its
 //! reason, by [`SignClaim`].
 
 use std::collections::BTreeMap;

@@ -1,6 +1,7 @@
 //! Equations as people and programs read them: text, LaTeX, JSON, and the reports that hold
 //! them.
 
+use num_rational::Rational64;
 use num_traits::{One, Signed};
 use serde_json::{json, Value};
 
@@ -53,14 +54,35 @@ fn equation_text(symbol: &str, terms: impl Iterator<Item = (bool, String)>) -> S
     out
 }
 
+/// The exact factor before a coefficient, as the general path prints it: nothing for 1, `2 `,
+/// `3/2 ` (text) or `\tfrac{3}{2} ` (LaTeX).
+fn factor(v: Rational64, latex: bool) -> String {
+    if v.is_one() {
+        String::new()
+    } else if latex && !v.is_integer() {
+        format!("\\tfrac{{{}}}{{{}}} ", v.numer(), v.denom())
+    } else {
+        format!("{v} ")
+    }
+}
+
 impl Equation {
-    /// `∂t² x = c_x ∂s² x + c'_x ∂t∂s² x`.
+    /// `∂t² x = c_x ∂s² x + 2 c'_x ∂t∂s² x`: each term with its exact factor.
     pub fn text(&self) -> String {
         let sym = &self.field.symbol;
         equation_text(
             sym,
             self.rhs.iter().map(|t| {
-                let body = format!("{} {}", t.coefficient, derivative_text(t.deriv, sym));
+                let coefficient = if t.coefficient == "1" {
+                    String::new()
+                } else {
+                    format!("{} ", t.coefficient)
+                };
+                let body = format!(
+                    "{}{coefficient}{}",
+                    factor(t.prefactor, false),
+                    derivative_text(t.deriv, sym)
+                );
                 (t.sign < 0, body)
             }),
         )
@@ -79,18 +101,13 @@ impl Equation {
                 .coefficient
                 .split_once('_')
                 .unwrap_or((&t.coefficient, ""));
-            out += &format!("{base}_{{{sym}}} {}", latex_derivative(t.deriv, &sym));
+            out += &format!(
+                "{}{base}_{{{sym}}} {}",
+                factor(t.prefactor, true),
+                latex_derivative(t.deriv, &sym)
+            );
         }
         out
-    }
-
-    /// What each folded coefficient absorbed, e.g. `c'_x absorbs 2`.
-    pub fn folds(&self) -> Vec<String> {
-        self.rhs
-            .iter()
-            .filter(|t| !t.prefactor.is_one())
-            .map(|t| format!("{} absorbs the exact factor {}", t.coefficient, t.prefactor))
-            .collect()
     }
 }
 
@@ -197,10 +214,6 @@ impl crate::report::Report for EquationReport<Equation> {
         for t in self.equations.iter().flat_map(|e| &e.rhs) {
             out += &format!("  {}\n", t.claim.describe(&t.coefficient));
         }
-        let folds: Vec<String> = self.equations.iter().flat_map(|e| e.folds()).collect();
-        if !folds.is_empty() {
-            out += &format!("Exact factors: {}.\n", folds.join(", "));
-        }
         for n in &self.notes {
             out += &format!("note: {n}\n");
         }
@@ -261,13 +274,7 @@ impl NonlinearEquation {
         for (i, t) in self.rhs.iter().enumerate() {
             out += &sign_joiner(i, t.value.is_negative(), "-");
             let v = t.value.abs();
-            if !v.is_one() {
-                out += &if v.is_integer() {
-                    format!("{v} ")
-                } else {
-                    format!("\\tfrac{{{}}}{{{}}} ", v.numer(), v.denom())
-                };
-            }
+            out += &factor(v, true);
             if t.coefficient != "1" {
                 let (base, _) = t
                     .coefficient
