@@ -184,21 +184,33 @@ pub fn variational_derivative(density: Density, dt: &DensityTerm, into: &mut Lin
     true
 }
 
+/// Field `index`'s linear equation, read off the one general derivation
+/// ([`nonlinear::general_rhs`]): every right-hand-side monomial must be one derivative.
 fn field_equation(
     l: &Analysis,
     r: &Analysis,
     index: usize,
     order: u32,
+    notes: &mut Vec<String>,
 ) -> Result<Equation, EquationError> {
     let field = l.fields[index].field.clone();
-    // δL/δφ − δR/δv = 0, as one linear combination.
-    let mut total = Linear::new();
+    // A surviving term that is not quadratic makes the equation nonlinear: the caller takes
+    // the general form instead.
+    for analysis in [l, r] {
+        for dt in &analysis.fields[index].density {
+            if quadratic_parts(&dt.term).is_none() {
+                return Err(EquationError::NotQuadratic {
+                    field: field.id.clone(),
+                    term: dt.term.render(&|_| field.symbol.clone()),
+                });
+            }
+        }
+    }
     // The (derivative, parameter) pairs that come from an energy square (∂sᵏφ)² of L or a
     // dissipation square (∂t∂sᵏφ)² of R: only their signs can be fixed by energy or the
     // second law.
     let mut squares: Vec<(Deriv, Option<String>)> = Vec::new();
-    for (analysis, sign) in [(l, 1), (r, -1)] {
-        let mut part = Linear::new();
+    for analysis in [l, r] {
         for dt in &analysis.fields[index].density {
             if let Some((a, b)) = quadratic_parts(&dt.term) {
                 let energy = analysis.density == Density::Lagrangian && a.t == 0;
@@ -207,40 +219,37 @@ fn field_equation(
                     squares.push((Deriv::new(a.t, 2 * a.s), dt.parameter.clone()));
                 }
             }
-            if !variational_derivative(analysis.density, dt, &mut part) {
-                return Err(EquationError::NotQuadratic {
-                    field: field.id.clone(),
-                    term: dt.term.render(&|_| field.symbol.clone()),
-                });
-            }
-        }
-        for ((d, p), v) in part {
-            add(&mut total, d, &p, v * Rational64::from_integer(sign));
         }
     }
-    let tt = (Deriv::new(2, 0), None);
-    let lead = total.remove(&tt).unwrap_or_else(Rational64::zero);
-    if lead.is_zero() {
-        return Err(EquationError::NoKinetic {
+    let general =
+        nonlinear::general_rhs(l, r, index, notes).ok_or_else(|| EquationError::NoKinetic {
             field: field.symbol.clone(),
             order,
-        });
-    }
-    let mut rhs: Vec<(RhsTerm, bool)> = total
-        .into_iter()
-        .map(|((deriv, param), v)| {
-            let value = -v / lead;
-            let square = squares.contains(&(deriv, param.clone()));
-            let term = RhsTerm {
+        })?;
+    let mut rhs: Vec<(RhsTerm, bool)> = Vec::with_capacity(general.len());
+    for t in general {
+        let deriv = match t.monomial.as_slice() {
+            [(d, 1)] => *d,
+            _ => {
+                return Err(EquationError::NotQuadratic {
+                    field: field.id.clone(),
+                    term: format!("{:?}", t.monomial),
+                })
+            }
+        };
+        let parameter = (t.coefficient != "1").then(|| t.coefficient.clone());
+        let square = squares.contains(&(deriv, parameter));
+        rhs.push((
+            RhsTerm {
                 deriv,
-                sign: if value.is_negative() { -1 } else { 1 },
-                prefactor: value.abs(),
-                coefficient: param.unwrap_or_else(|| "1".to_string()),
+                sign: if t.value.is_negative() { -1 } else { 1 },
+                prefactor: t.value.abs(),
+                coefficient: t.coefficient,
                 claim: SignClaim::Free(""),
-            };
-            (term, square)
-        })
-        .collect();
+            },
+            square,
+        ));
+    }
     rhs.sort_by_key(|(t, _)| (t.deriv.t, t.deriv.s));
     // The lowest and highest even space order among the terms of each time order.
     let extremes = |t: u32| {
@@ -312,7 +321,7 @@ pub fn derive_each(
         notes,
     };
     for i in 0..model.fields.len() {
-        match field_equation(&l, &r, i, order) {
+        match field_equation(&l, &r, i, order, &mut d.notes) {
             Ok(e) => d.equations.push(e),
             Err(e @ EquationError::NoKinetic { .. }) => d.underived.push(e),
             Err(e) => return Err(e),

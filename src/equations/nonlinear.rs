@@ -9,6 +9,7 @@ use num_traits::Zero;
 use super::{analyses, Derivation, EquationError};
 use crate::enumerate::Basis;
 use crate::model::{Density, Field, Model};
+use crate::reduce::Analysis;
 use crate::term::Deriv;
 
 /// One term `value · coefficient · Π ∂^α φ` of a nonlinear right-hand side.
@@ -55,94 +56,108 @@ pub fn derive_nonlinear_each(
     order: u32,
     basis: Basis,
 ) -> Result<Derivation<NonlinearEquation>, EquationError> {
-    use crate::parts::{euler_lagrange, mono_of, space_euler, JetPoly};
     let (l, r, mut notes) = analyses(model, order, basis)?;
     let mut equations = Vec::new();
     let mut underived = Vec::new();
     for (i, field) in model.fields.iter().enumerate() {
-        // Σ over parameters of the E(L) − δR/δv polynomials.
-        let mut total: BTreeMap<Option<String>, JetPoly> = BTreeMap::new();
-        for (analysis, sign) in [(&l, 1), (&r, -1)] {
-            for dt in &analysis.fields[i].density {
-                let c = dt.prefactor * Rational64::from_integer(dt.sign * sign);
-                let p: JetPoly = [(mono_of(&dt.term), c)].into_iter().collect();
-                let e = match analysis.density {
-                    Density::Lagrangian => euler_lagrange(&p),
-                    Density::Rayleigh => {
-                        let parts = space_euler(&p);
-                        if parts.keys().any(|&a| a != 1) {
-                            notes.push(format!(
-                                "R_{}: {} depends on more than the velocity jet; only its dependence on ∂t{} enters",
-                                field.symbol,
-                                dt.term.render(&|_| field.symbol.clone()),
-                                field.symbol
-                            ));
-                        }
-                        parts.get(&1).cloned().unwrap_or_default()
-                    }
-                };
-                if e.is_empty() {
-                    // Say why, truly: a null Lagrangian is a total derivative; a Rayleigh term
-                    // may simply not depend on the velocity.
-                    let why = match analysis.density {
-                        Density::Lagrangian => "a total derivative",
-                        Density::Rayleigh => {
-                            "its δR/δ(∂tφ) over the velocity jet at fixed time vanishes"
-                        }
-                    };
-                    notes.push(format!(
-                        "{}_{}: {} contributes nothing to the equation ({why}) and is dropped",
-                        analysis.density.letter(),
-                        field.symbol,
-                        dt.term.render(&|_| field.symbol.clone())
-                    ));
-                }
-                let into = total.entry(dt.parameter.clone()).or_default();
-                for (m, v) in e {
-                    let entry = into.entry(m.clone()).or_insert_with(Rational64::zero);
-                    *entry += v;
-                    if entry.is_zero() {
-                        into.remove(&m);
-                    }
-                }
-            }
-        }
-        let acceleration: crate::parts::JetMono = vec![(Deriv::new(2, 0), 1)];
-        let lead = total
-            .get_mut(&None)
-            .and_then(|p| p.remove(&acceleration))
-            .unwrap_or_else(Rational64::zero);
-        if lead.is_zero() {
-            underived.push(EquationError::NoKinetic {
+        match general_rhs(&l, &r, i, &mut notes) {
+            Some(rhs) => equations.push(NonlinearEquation {
+                field: field.clone(),
+                rhs,
+            }),
+            None => underived.push(EquationError::NoKinetic {
                 field: field.symbol.clone(),
                 order,
-            });
-            continue;
+            }),
         }
-        let rhs: Vec<PolyTerm> = total
-            .into_iter()
-            .flat_map(|(param, p)| {
-                let coefficient = param.unwrap_or_else(|| "1".into());
-                p.into_iter().map(move |(monomial, v)| PolyTerm {
-                    monomial,
-                    value: -v / lead,
-                    coefficient: coefficient.clone(),
-                })
-            })
-            .collect();
-        let mut rhs: Vec<PolyTerm> = rhs;
-        rhs.sort_by_key(|t| {
-            let degree: u32 = t.monomial.iter().map(|(_, n)| n).sum();
-            (degree, t.monomial.clone(), t.coefficient.clone())
-        });
-        equations.push(NonlinearEquation {
-            field: field.clone(),
-            rhs,
-        });
     }
     Ok(Derivation {
         equations,
         underived,
         notes,
     })
+}
+
+/// The one derivation of field `i`: ∂t²φ = E(L − ½(∂tφ)²) − δR/δv, the right-hand side by
+/// parameter and monomial (exact values), or `None` when no kinetic term gives ∂t²φ. Notes
+/// say which terms contribute nothing, and why, and which R terms hold more than the velocity.
+pub(super) fn general_rhs(
+    l: &Analysis,
+    r: &Analysis,
+    i: usize,
+    notes: &mut Vec<String>,
+) -> Option<Vec<PolyTerm>> {
+    use crate::parts::{euler_lagrange, mono_of, space_euler, JetPoly};
+    let field = &l.fields[i].field;
+    // Σ over parameters of the E(L) − δR/δv polynomials.
+    let mut total: BTreeMap<Option<String>, JetPoly> = BTreeMap::new();
+    for (analysis, sign) in [(l, 1), (r, -1)] {
+        for dt in &analysis.fields[i].density {
+            let c = dt.prefactor * Rational64::from_integer(dt.sign * sign);
+            let p: JetPoly = [(mono_of(&dt.term), c)].into_iter().collect();
+            let e = match analysis.density {
+                Density::Lagrangian => euler_lagrange(&p),
+                Density::Rayleigh => {
+                    let parts = space_euler(&p);
+                    if parts.keys().any(|&a| a != 1) {
+                        notes.push(format!(
+                            "R_{}: {} depends on more than the velocity jet; only its dependence on ∂t{} enters",
+                            field.symbol,
+                            dt.term.render(&|_| field.symbol.clone()),
+                            field.symbol
+                        ));
+                    }
+                    parts.get(&1).cloned().unwrap_or_default()
+                }
+            };
+            if e.is_empty() {
+                // Say why, truly: a null Lagrangian is a total derivative; a Rayleigh term
+                // may simply not depend on the velocity.
+                let why = match analysis.density {
+                    Density::Lagrangian => "a total derivative",
+                    Density::Rayleigh => {
+                        "its δR/δ(∂tφ) over the velocity jet at fixed time vanishes"
+                    }
+                };
+                notes.push(format!(
+                    "{}_{}: {} contributes nothing to the equation ({why}) and is dropped",
+                    analysis.density.letter(),
+                    field.symbol,
+                    dt.term.render(&|_| field.symbol.clone())
+                ));
+            }
+            let into = total.entry(dt.parameter.clone()).or_default();
+            for (m, v) in e {
+                let entry = into.entry(m.clone()).or_insert_with(Rational64::zero);
+                *entry += v;
+                if entry.is_zero() {
+                    into.remove(&m);
+                }
+            }
+        }
+    }
+    let acceleration: crate::parts::JetMono = vec![(Deriv::new(2, 0), 1)];
+    let lead = total
+        .get_mut(&None)
+        .and_then(|p| p.remove(&acceleration))
+        .unwrap_or_else(Rational64::zero);
+    if lead.is_zero() {
+        return None;
+    }
+    let mut rhs: Vec<PolyTerm> = total
+        .into_iter()
+        .flat_map(|(param, p)| {
+            let coefficient = param.unwrap_or_else(|| "1".into());
+            p.into_iter().map(move |(monomial, v)| PolyTerm {
+                monomial,
+                value: -v / lead,
+                coefficient: coefficient.clone(),
+            })
+        })
+        .collect();
+    rhs.sort_by_key(|t| {
+        let degree: u32 = t.monomial.iter().map(|(_, n)| n).sum();
+        (degree, t.monomial.clone(), t.coefficient.clone())
+    });
+    Some(rhs)
 }
