@@ -582,6 +582,7 @@ fn random_models_give_the_oracles_equations_whatever_the_other_fields() {
     let rayleigh = ["DIS", "TRAN", "GAL", "REF", "SPIN"];
     let mut draw = Draw(0x5eed_1234_abcd_0001);
     let (mut models, mut checked, mut compared) = (0, 0, 0);
+    let mut combos = std::collections::BTreeSet::new();
     for case in 0..40 {
         let two = case % 2 == 1;
         let by_part = draw.next() % 2 == 0;
@@ -590,11 +591,8 @@ fn random_models_give_the_oracles_equations_whatever_the_other_fields() {
         } else {
             Basis::Powers
         };
-        let order = if basis == Basis::Powers && draw.next() % 2 == 0 {
-            6
-        } else {
-            4
-        };
+        let order = if draw.next() % 2 == 0 { 6 } else { 4 };
+        combos.insert((basis == Basis::Monomials, order));
         // OST always: without it the Lagrangian is not of second order in time.
         let mut l_a = draw.subset(&lagrangian[1..]);
         l_a.insert(0, "OST");
@@ -651,6 +649,8 @@ fn random_models_give_the_oracles_equations_whatever_the_other_fields() {
         models >= 20 && checked >= 40 && compared >= 10,
         "{models} {checked} {compared}"
     );
+    // Both bases at both orders were drawn.
+    assert_eq!(combos.len(), 4, "{combos:?}");
 }
 
 /// [`checked_by_oracle`] for one field's equation.
