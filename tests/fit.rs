@@ -489,6 +489,39 @@ fn shipped_example_is_fresh_and_fits() {
     assert!(r.overlap[0][0] > 0.99);
 }
 
+/// The continuum constant does not move with the model points, where ω does: on the shipped
+/// example κ agrees within 1 % at N = 12, 24 and 48, while ω grows about as (N − 1)².
+#[test]
+fn the_continuum_constant_does_not_depend_on_the_model_points() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tables/examples/midlines.csv");
+    let text = std::fs::read_to_string(path).unwrap();
+    let fits: Vec<(f64, f64)> = [12, 24, 48]
+        .into_iter()
+        .map(|n| {
+            let mut s = FitSettings::new(InputKind::Midline);
+            s.points = n;
+            let r = larva_fit(&text, &s).unwrap();
+            let c = r.continuum.expect("a beam has continuum roots");
+            assert_eq!(c.name, "kappa");
+            assert_eq!(c.roots.len(), r.fitted_modes);
+            assert!((c.roots[0] - 4.730040745).abs() < 1e-6, "{:?}", c.roots);
+            (r.omega, c.constant)
+        })
+        .collect();
+    assert_eq!(fits.len(), 3);
+    let kappa = fits[0].1;
+    for &(omega, k) in &fits {
+        assert!((k / kappa - 1.0).abs() < 0.01, "{fits:?}");
+        assert!(omega > 0.0);
+    }
+    // ω is the N-point constant: it scales with (N − 1)², 11² : 23² : 47².
+    assert!(
+        fits[1].0 / fits[0].0 > 3.0 && fits[2].0 / fits[1].0 > 3.0,
+        "{fits:?}"
+    );
+}
+
 /// Peristalsis-like data: a compression wave travelling round 7 segments. Its two modes form a
 /// degenerate cos/sin pair, so the principal components may be any rotation within the pair;
 /// `mode_overlap` measures them against the pair's plane, and the peak sits at the wave's

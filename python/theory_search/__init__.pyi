@@ -71,6 +71,7 @@ class FitResult:
     frames: int
     omega: float
     beta: float
+    continuum: Optional[Dict[str, Any]]
     spacing: float
     pca_variance_share: npt.NDArray[np.float64]
     theory_variance_share: npt.NDArray[np.float64]

@@ -77,7 +77,7 @@ pub use error::FitError;
 pub use pool::{fit_inputs, Each, Input, SinkError};
 pub use project::{turning_angles, FrameError, Projector};
 pub use read::{Frame, Track, MAX_LINE_BYTES, MAX_WHOLE_FILE};
-pub use report::{AnimalFit, FitReport, ModeFit, Recording, Subspace};
+pub use report::{AnimalFit, Continuum, FitReport, ModeFit, Recording, Subspace};
 pub use settings::*;
 pub use summary::spectral_peak_and_centroid;
 

@@ -519,6 +519,24 @@ impl Pool {
         if let Some(u) = &ctx.settings.length_unit {
             report.units.length = Some(u.clone());
         }
+        let time = report
+            .units
+            .time
+            .clone()
+            .unwrap_or_else(|| "time unit".into());
+        if let Some(c) = &mut report.continuum {
+            c.body_length = report.spacing * (report.model_points - 1) as f64;
+            c.in_data_units = if c.name == "kappa" {
+                c.constant * c.body_length * c.body_length
+            } else {
+                c.constant * c.body_length
+            };
+            c.unit = if c.name == "kappa" {
+                format!("body length²/{time}")
+            } else {
+                format!("body lengths/{time}")
+            };
+        }
         if report.welch.1 < 4 {
             report.warnings.push(format!(
                 "the spectra average {} Welch segment(s) of {} frames: the peak frequencies, and ω with them, are rough (use a shorter --window or longer runs)",

@@ -145,6 +145,10 @@ pub struct Projector {
     /// mean). `None` divides each frame by its own mean, which is exact on a closed ring but
     /// hides the total stretch of a free chain.
     pub reference_length: Option<f64>,
+    /// The observed field's stencil order k (1: a string or ring, 2: a beam).
+    pub stencil: u32,
+    /// The observed field's boundary (for the continuum roots).
+    pub boundary: crate::boundary::Boundary,
 }
 
 impl Projector {
@@ -264,6 +268,8 @@ impl Projector {
                 .collect(),
             eigenvalues: lambdas,
             reference_length: None,
+            stencil: fm.k,
+            boundary: fm.field.boundary,
         })
     }
 

@@ -60,6 +60,10 @@ pub struct FitReport {
     pub omega: f64,
     /// The fitted inverse temperature, lengths in units of the spacing.
     pub beta: f64,
+    /// The theory's constant in body units, independent of the number of model points: the
+    /// flexural constant κ of a beam (ωᵢ = κ(βᵢL)²) or the wave speed c of a string or ring
+    /// (ωᵢ = c·βᵢ), lengths in body lengths; `None` where the field has no continuum roots.
+    pub continuum: Option<Continuum>,
     /// Input kind.
     pub kind: InputKind,
     /// Observed field.
@@ -114,6 +118,25 @@ pub struct FitReport {
     pub intervals: Option<Intervals>,
     /// The arguments that make `simulate` use the fitted scales (see [`FitReport::onward`]).
     pub onward: Vec<String>,
+}
+
+/// The continuum constant of a fit.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Continuum {
+    /// `kappa` (beam) or `c` (string, ring).
+    pub name: &'static str,
+    /// Its value, lengths in body lengths and time in the data's unit.
+    pub constant: f64,
+    /// A 95 % interval, when one was drawn (not yet: `null`).
+    pub interval: Option<[f64; 2]>,
+    /// The unit, e.g. `body length²/s`.
+    pub unit: String,
+    /// The continuum roots βᵢL of the fitted modes (body length 1).
+    pub roots: Vec<f64>,
+    /// The mean body length L in the data's length unit (the model's spacing times N − 1).
+    pub body_length: f64,
+    /// The constant in the data's units: κL² (length²/time) or cL (length/time).
+    pub in_data_units: f64,
 }
 
 /// The first k principal components against the first k theory modes.
@@ -256,6 +279,21 @@ impl Report for FitReport {
                 }
             },
         );
+        if let Some(c) = &r.continuum {
+            let (symbol, law) = if c.name == "kappa" {
+                ("κ", "ωᵢ = κ(βᵢL)²")
+            } else {
+                ("c", "ωᵢ = c·βᵢL")
+            };
+            let power = if c.name == "kappa" { "²" } else { "" };
+            t += &format!(
+                "  continuum: {symbol} = {} {} = {} {length}{power}/{time} with the mean body length L = {} {length} ({law} over the same modes, βᵢL the continuum roots; independent of N, where ω is the N-point value)\n",
+                fixed(c.constant, 6),
+                c.unit,
+                fixed(c.in_data_units, 6),
+                fixed(c.body_length, 6),
+            );
+        }
         if let Some(i) = &r.intervals {
             t += &format!(
                 "  95 % intervals ({} replicates over {} {}, {} fitted): ω [{}, {}], β [{}, {}]\n",

@@ -5,7 +5,48 @@ use super::project::Projector;
 use super::stats;
 use crate::report::number;
 
-use super::{Estimator, FitError, FitReport, FitSettings, ModeFit, Recording, Subspace, Units};
+use super::{
+    Continuum, Estimator, FitError, FitReport, FitSettings, ModeFit, Recording, Subspace, Units,
+};
+
+/// The continuum root βᵢL (body length 1) of the `i`-th non-zero mode (i = 1, 2, …) of the
+/// projector's field: the beam's or string's roots for its ends, 2π⌈i/2⌉ around a ring.
+fn continuum_root(proj: &Projector, i: usize) -> Option<f64> {
+    match proj.boundary {
+        crate::boundary::Boundary::Periodic if proj.stencil == 1 => {
+            Some(2.0 * std::f64::consts::PI * i.div_ceil(2) as f64)
+        }
+        _ => crate::modal::continuum_beta(proj.stencil, proj.boundary, i),
+    }
+}
+
+/// The theory's constant in body units from the fitted modes' measured frequencies: the least
+/// squares C of mᵢ = C·(βᵢL)ᵏ over the same modes as ω (k = 2: κ of a beam; k = 1: the wave
+/// speed c), so that the number does not depend on the model points N (ω, the N-point
+/// constant, scales as (N − 1)ᵏ). `None` for a field without continuum roots.
+fn continuum(proj: &Projector, fitted: &[ModeFit]) -> Option<Continuum> {
+    let roots: Vec<f64> = fitted
+        .iter()
+        .map(|m| continuum_root(proj, m.index - proj.first_mode + 1))
+        .collect::<Option<_>>()?;
+    let k = proj.stencil as i32;
+    let (num, den) = fitted
+        .iter()
+        .zip(&roots)
+        .fold((0.0, 0.0), |(n, d), (m, b)| {
+            (n + m.angular_frequency * b.powi(k), d + b.powi(2 * k))
+        });
+    let constant = num / den;
+    constant.is_finite().then(|| Continuum {
+        name: if k == 2 { "kappa" } else { "c" },
+        constant,
+        interval: None,
+        unit: String::new(),
+        roots,
+        body_length: 0.0,
+        in_data_units: 0.0,
+    })
+}
 
 /// Peak (with parabolic refinement) and centroid of a one-sided spectrum, above zero frequency.
 pub fn spectral_peak_and_centroid(freqs: &[f64], psd: &[f64]) -> (f64, f64) {
@@ -130,7 +171,9 @@ pub(super) fn summarise(
     for x in &mut modes {
         x.theory_angular_frequency = omega * x.eigenvalue.sqrt();
     }
+    let continuum = continuum(proj, &modes[..used]);
     Ok(FitReport {
+        continuum,
         frames: 0,
         recording: Recording::default(),
         warnings: Vec::new(),
