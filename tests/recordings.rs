@@ -300,3 +300,46 @@ fn assert_modes_take_omega<S: AsRef<str>>(args: &[S], fitted: &serde_json::Value
         "{y}"
     );
 }
+
+/// A window too short to resolve the fitted modes says so (at 15 frames per second a 16-frame
+/// window has bins of 0.94 Hz, above the worm's 0.35 Hz), and the continuum constant is the
+/// same at 12 and 24 model points.
+#[test]
+fn a_window_that_cannot_resolve_the_modes_says_so() {
+    let worm = data("celegans_wormpose_15fps_52pts.csv");
+    let fit = |args: &[&str]| -> serde_json::Value {
+        let mut all = vec!["theory-search", "fit", worm.as_str(), "--format", "json"];
+        all.extend(args);
+        let mut out = Vec::new();
+        theory_search::cli::run(all, &mut out).unwrap();
+        serde_json::from_slice(&out).unwrap()
+    };
+    let short = fit(&["--window", "16"]);
+    let warnings: Vec<&str> = short["warnings"]
+        .as_array()
+        .map(|w| w.iter().filter_map(|s| s.as_str()).collect())
+        .unwrap_or_default();
+    assert!(
+        warnings.iter().any(|w| w.contains("cannot resolve")),
+        "{warnings:?}"
+    );
+    let k12 = fit(&["--window", "64", "--points", "12"])["continuum"]["constant"]
+        .as_f64()
+        .unwrap();
+    let k24 = fit(&["--window", "64", "--points", "24"])["continuum"]["constant"]
+        .as_f64()
+        .unwrap();
+    assert!((k12 / k24 - 1.0).abs() < 0.01, "{k12} {k24}");
+    // The shipped example, at a window that resolves its modes, has no such warning.
+    let example = format!(
+        "{}/tables/examples/midlines.csv",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let mut out = Vec::new();
+    theory_search::cli::run(
+        ["theory-search", "fit", example.as_str(), "--window", "512"],
+        &mut out,
+    )
+    .unwrap();
+    assert!(!String::from_utf8(out).unwrap().contains("cannot resolve"));
+}

@@ -9,6 +9,26 @@ use super::{
     Continuum, Estimator, FitError, FitReport, FitSettings, ModeFit, Recording, Subspace, Units,
 };
 
+/// A fitted mode whose measured frequency sits within 3 frequency bins of zero cannot be told
+/// from its neighbours by a window this short: ω and κ then move with `--window`. Said, never
+/// silent.
+fn resolution_warnings(fitted: &[ModeFit], frequencies: &[f64], window: usize) -> Vec<String> {
+    let df = frequencies.get(1).copied().unwrap_or(0.0);
+    let low: Vec<String> = fitted
+        .iter()
+        .filter(|m| df > 0.0 && m.angular_frequency / (2.0 * std::f64::consts::PI) < 3.0 * df)
+        .map(|m| m.index.to_string())
+        .collect();
+    if low.is_empty() {
+        return Vec::new();
+    }
+    vec![format!(
+        "mode(s) {} peak within 3 frequency bins of zero (a bin is {} per time unit with a {window}-frame window): the window cannot resolve them, so ω and κ move with --window; use a longer --window",
+        low.join(", "),
+        crate::report::fixed(df, 6)
+    )]
+}
+
 /// The continuum root βᵢL (body length 1) of the `i`-th non-zero mode (i = 1, 2, …) of the
 /// projector's field: the beam's or string's roots for its ends, 2π⌈i/2⌉ around a ring.
 fn continuum_root(proj: &Projector, i: usize) -> Option<f64> {
@@ -172,11 +192,12 @@ pub(super) fn summarise(
         x.theory_angular_frequency = omega * x.eigenvalue.sqrt();
     }
     let continuum = continuum(proj, &modes[..used]);
+    let warnings = resolution_warnings(&modes[..used], &frequencies, used_window);
     Ok(FitReport {
         continuum,
         frames: 0,
         recording: Recording::default(),
-        warnings: Vec::new(),
+        warnings,
         animals: Vec::new(),
         units: Units::default(),
         spacing: 0.0,
