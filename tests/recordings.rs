@@ -330,6 +330,20 @@ fn a_window_that_cannot_resolve_the_modes_says_so() {
         .as_f64()
         .unwrap();
     assert!((k12 / k24 - 1.0).abs() < 0.01, "{k12} {k24}");
+    // With a bootstrap the constant carries its interval, as ω does.
+    let boot = fit(&["--window", "128", "--bootstrap", "100"]);
+    let iv = boot["continuum"]["interval"]
+        .as_array()
+        .expect("an interval");
+    let (lo, hi) = (iv[0].as_f64().unwrap(), iv[1].as_f64().unwrap());
+    assert!(
+        lo.is_finite() && hi.is_finite() && lo > 0.0 && lo < hi,
+        "{lo} {hi}"
+    );
+    assert_eq!(
+        boot["intervals"]["continuum"],
+        boot["continuum"]["interval"]
+    );
     // The shipped example, at a window that resolves its modes, has no such warning.
     let example = format!(
         "{}/tables/examples/midlines.csv",

@@ -35,6 +35,9 @@ pub struct Intervals {
     pub omega: [f64; 2],
     /// β.
     pub beta: [f64; 2],
+    /// The continuum constant (κ or c), when every replicate has one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub continuum: Option<[f64; 2]>,
     /// Each principal component's variance share.
     pub pca_variance_share: Vec<[f64; 2]>,
     /// Each principal component's overlap with its mode (or pair).
@@ -176,6 +179,11 @@ pub(super) fn intervals(
         fitted: reports.len(),
         omega: interval(reports.iter().map(|r| r.omega).collect(), tail),
         beta: interval(reports.iter().map(|r| r.beta).collect(), tail),
+        continuum: reports
+            .iter()
+            .map(|r| r.continuum.as_ref().map(|c| c.constant))
+            .collect::<Option<Vec<f64>>>()
+            .map(|v| interval(v, tail)),
         pca_variance_share: intervals_of(&column(&|r| r.pca_variance_share.clone()), tail),
         mode_overlap: intervals_of(&column(&|r| r.mode_overlap.clone()), tail),
         subspace_cosine: intervals_of(

@@ -553,7 +553,12 @@ impl Pool {
             let units = units(&self.kept);
             let fit = |s: &Stats| fit_stats(proj, ctx, s, interval).ok();
             match bootstrap::intervals(&units, ctx.settings, fit) {
-                Ok(i) => report.intervals = Some(i),
+                Ok(i) => {
+                    if let Some(c) = &mut report.continuum {
+                        c.interval = i.continuum;
+                    }
+                    report.intervals = Some(i)
+                }
                 Err(why) => report.warnings.push(why.to_string()),
             }
         }

@@ -127,7 +127,7 @@ pub struct Continuum {
     pub name: &'static str,
     /// Its value, lengths in body lengths and time in the data's unit.
     pub constant: f64,
-    /// A 95 % interval, when one was drawn (not yet: `null`).
+    /// Its 95 % bootstrap interval, when a bootstrap was drawn (`--bootstrap B`).
     pub interval: Option<[f64; 2]>,
     /// The unit, e.g. `body length²/s`.
     pub unit: String,
@@ -286,8 +286,12 @@ impl Report for FitReport {
                 ("c", "ωᵢ = c·βᵢL")
             };
             let power = if c.name == "kappa" { "²" } else { "" };
+            let interval = c
+                .interval
+                .map(|[lo, hi]| format!(" [{}, {}]", fixed(lo, 6), fixed(hi, 6)))
+                .unwrap_or_default();
             t += &format!(
-                "  continuum: {symbol} = {} {} = {} {length}{power}/{time} with the mean body length L = {} {length} ({law} over the same modes, βᵢL the continuum roots; independent of N, where ω is the N-point value)\n",
+                "  continuum: {symbol} = {}{interval} {} = {} {length}{power}/{time} with the mean body length L = {} {length} ({law} over the same modes, βᵢL the continuum roots; independent of N, where ω is the N-point value)\n",
                 fixed(c.constant, 6),
                 c.unit,
                 fixed(c.in_data_units, 6),
