@@ -285,37 +285,10 @@ fn checked_by_oracle(
     eqs: &[theory_search::equations::NonlinearEquation],
     what: &str,
 ) -> usize {
-    let mut checked = 0;
-    for (i, e) in eqs.iter().enumerate() {
-        let terms = polynomial(&l.fields[i].density);
-        assert_eq!(
-            terms.len(),
-            l.fields[i].density.len(),
-            "one polynomial per density term"
-        );
-        // Per parameter (set to 1 one at a time): the Lagrangian's part of the
-        // right-hand side is E(L − ½(∂tφ)²), the kinetic part giving −∂t²φ.
-        let params: std::collections::BTreeSet<String> =
-            e.rhs.iter().map(|t| t.coefficient.clone()).collect();
-        for p in params.iter().filter(|p| !p.contains('\'')) {
-            let own: Vec<_> = l.fields[i]
-                .density
-                .iter()
-                .zip(&terms)
-                .filter(|(dt, _)| dt.parameter.as_deref() == Some(p.as_str()))
-                .map(|(_, t)| t.clone())
-                .collect();
-            let rhs: Vec<_> = e
-                .rhs
-                .iter()
-                .filter(|t| &t.coefficient == p)
-                .map(|t| (t.monomial.clone(), q(*t.value.numer(), *t.value.denom())))
-                .collect();
-            assert!(variation_matches(&own, &rhs), "{what} {}: {p}", e.text());
-            checked += 1;
-        }
-    }
-    checked
+    eqs.iter()
+        .enumerate()
+        .map(|(i, e)| checked_by_oracle_field(l, i, e, what))
+        .sum()
 }
 
 /// The shipped tethered filament has neither TRAN nor REF: its potential c₁u + … + c₄u⁴ keeps
@@ -411,21 +384,8 @@ fn every_rayleigh_subset_gives_equations_that_vary_right() {
         let (eqs, _) =
             derive_nonlinear(&model, 4, Basis::Powers).unwrap_or_else(|e| panic!("{keep:?}: {e}"));
         for (i, e) in eqs.iter().enumerate() {
-            // R enters through the velocity jet at fixed time whatever it holds: the oracle moves
-            // v = ∂tφ alone and leaves every other factor as it is.
-            let own = polynomial(&r.fields[i].density);
-            // The c' part of the right-hand side is −δR/δv.
-            let minus: Vec<_> = e
-                .rhs
-                .iter()
-                .filter(|t| t.coefficient.contains('\''))
-                .map(|t| (t.monomial.clone(), -q(*t.value.numer(), *t.value.denom())))
-                .collect();
-            assert!(
-                velocity_variation_matches(&own, &minus),
-                "{keep:?}: {}",
-                e.text()
-            );
+            // R enters through the velocity jet at fixed time whatever it holds.
+            rayleigh_matches_oracle(&r, i, e, &format!("{keep:?}"));
             checked += 1;
         }
     }
@@ -621,19 +581,8 @@ fn random_models_give_the_oracles_equations_whatever_the_other_fields() {
                 .unwrap();
             // L's parameters, one at a time, against the action's first variation.
             checked += checked_by_oracle_field(&l, i, e, &what);
-            // R's parameters together: their part of the right-hand side is −δR/δv.
-            let own = polynomial(&r.fields[i].density);
-            let minus: Vec<_> = e
-                .rhs
-                .iter()
-                .filter(|t| t.coefficient.contains('\''))
-                .map(|t| (t.monomial.clone(), -q(*t.value.numer(), *t.value.denom())))
-                .collect();
-            assert!(
-                velocity_variation_matches(&own, &minus),
-                "{what}: {}",
-                e.text()
-            );
+            // R's parameters together against the variation of the velocity alone.
+            rayleigh_matches_oracle(&r, i, e, &what);
             checked += 1;
             // The field alone derives the same equation.
             if e.field.id == "a" {
@@ -661,6 +610,13 @@ fn checked_by_oracle_field(
     what: &str,
 ) -> usize {
     let terms = polynomial(&l.fields[i].density);
+    assert_eq!(
+        terms.len(),
+        l.fields[i].density.len(),
+        "one polynomial per density term"
+    );
+    // Per parameter (set to 1 one at a time): the Lagrangian's part of the right-hand side is
+    // E(L − ½(∂tφ)²), the kinetic part giving −∂t²φ.
     let params: std::collections::BTreeSet<String> =
         e.rhs.iter().map(|t| t.coefficient.clone()).collect();
     let mut checked = 0;
@@ -682,4 +638,26 @@ fn checked_by_oracle_field(
         checked += 1;
     }
     checked
+}
+
+/// Field `i`'s R part of the right-hand side (the primed parameters' terms) is −δR/δv: checked
+/// by the oracle, which moves v = ∂tφ alone and leaves every other factor as it is.
+fn rayleigh_matches_oracle(
+    r: &theory_search::reduce::Analysis,
+    i: usize,
+    e: &theory_search::equations::NonlinearEquation,
+    what: &str,
+) {
+    let own = polynomial(&r.fields[i].density);
+    let minus: Vec<_> = e
+        .rhs
+        .iter()
+        .filter(|t| t.coefficient.contains('\''))
+        .map(|t| (t.monomial.clone(), -q(*t.value.numer(), *t.value.denom())))
+        .collect();
+    assert!(
+        velocity_variation_matches(&own, &minus),
+        "{what}: {}",
+        e.text()
+    );
 }

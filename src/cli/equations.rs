@@ -5,7 +5,7 @@ use std::io::Write;
 use super::{emit, write_out, CliError, ModelArgs};
 use crate::enumerate::Basis;
 use crate::equations::{
-    derive_each, derive_nonlinear_each, EquationError, EquationReport, NonlinearReport,
+    derive_each, derive_nonlinear_each, Derivation, EquationError, EquationReport, Shown,
 };
 use crate::report::{Output, Report};
 
@@ -56,31 +56,18 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     let model = args.model.load()?;
     let order = args.model.order;
     let underived = match derive_each(&model, order, args.basis) {
+        // Not all quadratic: the exact nonlinear equations instead.
         Err(EquationError::NotQuadratic { .. }) => {
-            // Not all quadratic: the exact nonlinear equations instead.
             let d = derive_nonlinear_each(&model, order, args.basis).map_err(CliError::usage)?;
-            none_derived(&d.equations, &d.underived)?;
-            let r = NonlinearReport {
-                model: model.name.clone(),
-                order,
-                equations: d.equations,
-                notes: with_reasons(d.notes, &d.underived),
-            };
-            write(out, &r, || r.latex(), args.format)?;
-            d.underived
+            print(out, &model, order, d, args.format)?
         }
-        other => {
-            let d = other.map_err(CliError::usage)?;
-            none_derived(&d.equations, &d.underived)?;
-            let r = EquationReport {
-                model: model.name.clone(),
-                order,
-                equations: d.equations,
-                notes: with_reasons(d.notes, &d.underived),
-            };
-            write(out, &r, || r.latex(), args.format)?;
-            d.underived
-        }
+        other => print(
+            out,
+            &model,
+            order,
+            other.map_err(CliError::usage)?,
+            args.format,
+        )?,
     };
     match underived.as_slice() {
         [] => Ok(()),
@@ -94,6 +81,30 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
                 .join("; ")
         ))),
     }
+}
+
+/// Print a derivation's report (nothing when no field has an equation: the first reason is
+/// then the whole answer); the reasons of the fields without one.
+fn print<E>(
+    out: &mut dyn Write,
+    model: &crate::model::Model,
+    order: u32,
+    d: Derivation<E>,
+    format: EquationFormat,
+) -> Result<Vec<EquationError>, CliError>
+where
+    EquationReport<E>: Report,
+    E: Shown,
+{
+    none_derived(&d.equations, &d.underived)?;
+    let r = EquationReport {
+        model: model.name.clone(),
+        order,
+        equations: d.equations,
+        notes: with_reasons(d.notes, &d.underived),
+    };
+    write(out, &r, || r.latex(), format)?;
+    Ok(d.underived)
 }
 
 /// When no field has an equation, the first reason is the whole answer (nothing is printed).

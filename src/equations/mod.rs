@@ -194,30 +194,23 @@ fn field_equation(
     notes: &mut Vec<String>,
 ) -> Result<Equation, EquationError> {
     let field = l.fields[index].field.clone();
-    // A surviving term that is not quadratic makes the equation nonlinear: the caller takes
-    // the general form instead.
+    // A surviving term that is not quadratic makes the equation nonlinear (the caller takes
+    // the general form instead). The (derivative, parameter) pairs that come from an energy
+    // square (∂sᵏφ)² of L or a dissipation square (∂t∂sᵏφ)² of R are the only ones whose
+    // signs energy or the second law can fix.
+    let mut squares: Vec<(Deriv, Option<String>)> = Vec::new();
     for analysis in [l, r] {
         for dt in &analysis.fields[index].density {
-            if quadratic_parts(&dt.term).is_none() {
+            let Some((a, b)) = quadratic_parts(&dt.term) else {
                 return Err(EquationError::NotQuadratic {
                     field: field.id.clone(),
                     term: dt.term.render(&|_| field.symbol.clone()),
                 });
-            }
-        }
-    }
-    // The (derivative, parameter) pairs that come from an energy square (∂sᵏφ)² of L or a
-    // dissipation square (∂t∂sᵏφ)² of R: only their signs can be fixed by energy or the
-    // second law.
-    let mut squares: Vec<(Deriv, Option<String>)> = Vec::new();
-    for analysis in [l, r] {
-        for dt in &analysis.fields[index].density {
-            if let Some((a, b)) = quadratic_parts(&dt.term) {
-                let energy = analysis.density == Density::Lagrangian && a.t == 0;
-                let dissipation = analysis.density == Density::Rayleigh && a.t == 1;
-                if a == b && (energy || dissipation) {
-                    squares.push((Deriv::new(a.t, 2 * a.s), dt.parameter.clone()));
-                }
+            };
+            let energy = analysis.density == Density::Lagrangian && a.t == 0;
+            let dissipation = analysis.density == Density::Rayleigh && a.t == 1;
+            if a == b && (energy || dissipation) {
+                squares.push((Deriv::new(a.t, 2 * a.s), dt.parameter.clone()));
             }
         }
     }
@@ -287,11 +280,7 @@ pub fn derive_basis(
     order: u32,
     basis: Basis,
 ) -> Result<(Vec<Equation>, Vec<String>), EquationError> {
-    let d = derive_each(model, order, basis)?;
-    match d.underived.into_iter().next() {
-        Some(e) => Err(e),
-        None => Ok((d.equations, d.notes)),
-    }
+    derive_each(model, order, basis)?.complete()
 }
 
 /// What a derivation gives: the equations of the fields that have one, and why each other
@@ -304,6 +293,16 @@ pub struct Derivation<E> {
     pub underived: Vec<EquationError>,
     /// The analyses' notes.
     pub notes: Vec<String>,
+}
+
+impl<E> Derivation<E> {
+    /// The equations and notes when every field has an equation; the first reason otherwise.
+    pub fn complete(self) -> Result<(Vec<E>, Vec<String>), EquationError> {
+        match self.underived.into_iter().next() {
+            Some(e) => Err(e),
+            None => Ok((self.equations, self.notes)),
+        }
+    }
 }
 
 /// Every field's linear equation that can be derived; an error only when the surviving terms

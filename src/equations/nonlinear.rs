@@ -42,11 +42,7 @@ pub fn derive_nonlinear(
     order: u32,
     basis: Basis,
 ) -> Result<(Vec<NonlinearEquation>, Vec<String>), EquationError> {
-    let d = derive_nonlinear_each(model, order, basis)?;
-    match d.underived.into_iter().next() {
-        Some(e) => Err(e),
-        None => Ok((d.equations, d.notes)),
-    }
+    derive_nonlinear_each(model, order, basis)?.complete()
 }
 
 /// [`derive_nonlinear`] for every field that has a kinetic term; each other field's reason in
