@@ -57,7 +57,7 @@ fn animal(frames: u64, seed: u64) -> Vec<(f64, Vec<f64>)> {
 fn settings() -> FitSettings {
     let mut s = FitSettings::new(InputKind::Midline);
     s.fit_modes = 2;
-    s.window = 256;
+    s.window = Some(256);
     s
 }
 
@@ -298,7 +298,7 @@ fn bad_wcon_is_one_clear_line() {
 fn bootstrap_intervals_cover_the_truth_and_shrink_with_animals() {
     let mut s = settings();
     s.bootstrap = 200;
-    s.window = 512;
+    s.window = Some(512);
     let (mut omega_in, mut beta_in) = (0, 0);
     let repeats = 100;
     for r in 0..repeats {

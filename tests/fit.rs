@@ -107,7 +107,7 @@ fn truth() -> Truth {
 fn synthetic_midlines_give_back_omega_beta_and_shapes() {
     let t = truth();
     let mut settings = FitSettings::new(InputKind::Midline);
-    settings.window = 2048;
+    settings.window = Some(2048);
     settings.fit_modes = 3;
     for (sep, header) in [(",", true), (" ", false), ("\t", false)] {
         let r = larva_fit(&t.midline(sep, header), &settings).unwrap();
@@ -150,7 +150,7 @@ fn other_scales_and_sampling() {
     };
     let mut settings = FitSettings::new(InputKind::Midline);
     settings.points = 9;
-    settings.window = 2048;
+    settings.window = Some(2048);
     settings.fit_modes = 3;
     let r = larva_fit(&t.midline(",", false), &settings).unwrap();
     assert!((r.sample_interval - 0.25).abs() < 1e-12);
@@ -253,7 +253,7 @@ fn segment_lengths_give_back_the_axial_scales() {
     let mut text = String::from("t,l1,l2,l3,l4,l5,l6,l7,l8\n");
     t.run(|time, _, x| text += &length_row(time, x, x.len(), true));
     let mut s = FitSettings::new(InputKind::Lengths);
-    s.window = 2048;
+    s.window = Some(2048);
     s.fit_modes = 2;
     let r = larva_fit(&text, &s).unwrap();
     assert_eq!((r.points, r.model_points, r.field.as_str()), (8, 9, "x"));
@@ -382,7 +382,7 @@ fn bad_input_names_the_line() {
         "{e}"
     );
     let mut bad = s.clone();
-    bad.window = 2;
+    bad.window = Some(2);
     assert!(larva_fit(&good, &bad)
         .unwrap_err()
         .to_string()
@@ -482,7 +482,7 @@ fn shipped_example_is_fresh_and_fits() {
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tables/examples/midlines.csv");
     theory_search::artifacts::ensure_file_contents(&path, &text).unwrap();
     let mut s = FitSettings::new(InputKind::Midline);
-    s.window = 512;
+    s.window = Some(512);
     s.fit_modes = 3;
     let r = larva_fit(&text, &s).unwrap();
     assert!((r.omega - 1.0).abs() < 0.05, "ω = {}", r.omega);
@@ -543,7 +543,7 @@ fn a_travelling_wave_fills_the_first_axial_pair() {
         text += &format!("{t} {}\n", lengths.join(" "));
     }
     let mut s = FitSettings::new(InputKind::Lengths);
-    s.window = 512;
+    s.window = Some(512);
     s.fit_modes = 2;
     let r = larva_fit(&text, &s).unwrap();
     assert_eq!((r.points, r.model_points), (7, 8));
@@ -671,7 +671,7 @@ fn a_partial_ring_of_segments() {
     })
     .unwrap();
     let mut s = FitSettings::new(InputKind::Lengths);
-    s.window = 2048;
+    s.window = Some(2048);
     s.fit_modes = 2;
     s.ring = Some(10);
     let r = larva_fit(&text, &s).unwrap();
@@ -730,7 +730,7 @@ fn segment_lengths_of_a_free_axial_field() {
     })
     .unwrap();
     let mut s = FitSettings::new(InputKind::Lengths);
-    s.window = 2048;
+    s.window = Some(2048);
     s.fit_modes = 2;
     let r = fit(Cursor::new(&text), &worm, &Params::default(), &s).unwrap();
     assert_eq!((r.points, r.model_points, r.modes.len()), (8, 9, 8));

@@ -32,9 +32,10 @@ pub struct Args {
     /// from 3 to 500.
     #[arg(long, short, default_value_t = 12, value_name = "N")]
     points: usize,
-    /// Welch window in frames.
-    #[arg(long, default_value_t = 256)]
-    window: usize,
+    /// Welch window in frames (default: chosen from the data, so that the lowest mode lies
+    /// 16 frequency bins above zero).
+    #[arg(long, value_name = "FRAMES")]
+    window: Option<usize>,
     /// Frequency estimator: peak (rhythmic behaviour) or centroid (aperiodic).
     #[arg(long, value_enum, default_value_t = FitEstimator::Peak)]
     estimator: FitEstimator,

@@ -11,7 +11,7 @@
 
 use rand::{RngExt, SeedableRng};
 
-use super::stats::Stats;
+use super::stats::{Ladder, Stats};
 use super::{FitReport, FitSettings};
 
 /// The most replicates.
@@ -49,7 +49,7 @@ pub struct Intervals {
 
 /// Student's t quantile at probability 0.975 with `nu` degrees of freedom: exact for 1 and 2,
 /// the Cornish–Fisher expansion in 1/ν beyond (error below 1 % at ν = 3, 0.2 % from ν = 5).
-fn student_975(nu: f64) -> f64 {
+pub(super) fn student_975(nu: f64) -> f64 {
     let z = 1.959_963_984_540_054_f64;
     if nu < 1.5 {
         return (std::f64::consts::PI * 0.475).tan();
@@ -126,6 +126,7 @@ pub enum NoBootstrap {
 pub(super) fn intervals(
     (units, resampled): &(Vec<&Stats>, &'static str),
     settings: &FitSettings,
+    ladder: &Ladder,
     fit: impl Fn(&Stats) -> Option<FitReport>,
 ) -> Result<Intervals, NoBootstrap> {
     let n = units.len();
@@ -142,7 +143,7 @@ pub(super) fn intervals(
         return Err(NoBootstrap::TooMany { n, resampled });
     }
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(settings.seed);
-    let (m, window) = (units[0].mean.len(), settings.window);
+    let m = units[0].mean.len();
     let mut reports = Vec::with_capacity(replicates);
     let mut times = vec![0usize; n];
     for _ in 0..replicates {
@@ -150,7 +151,7 @@ pub(super) fn intervals(
         for _ in 0..n {
             times[rng.random_range(0..n)] += 1;
         }
-        let mut pooled = Stats::new(m, window);
+        let mut pooled = Stats::new(m, ladder);
         for (s, &c) in units.iter().zip(&times) {
             pooled.absorb(s, c as f64);
         }

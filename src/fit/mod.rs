@@ -69,8 +69,10 @@ mod project;
 mod read;
 mod report;
 mod settings;
+mod spectrum;
 mod stats;
 mod summary;
+mod verdict;
 mod wcon;
 pub use bootstrap::{Intervals, MAX_REPLICATES};
 pub use error::FitError;
@@ -80,6 +82,7 @@ pub use read::{Frame, Track, MAX_LINE_BYTES, MAX_WHOLE_FILE};
 pub use report::{AnimalFit, Continuum, FitReport, ModeFit, Recording, Subspace};
 pub use settings::*;
 pub use summary::spectral_peak_and_centroid;
+pub use verdict::{ModeSpectralFit, TheoryTest, TheoryTests, WindowChoice, RESOLVED_BINS};
 
 use crate::modal::Params;
 use crate::model::Model;

@@ -13,11 +13,11 @@ use std::sync::{mpsc, Mutex};
 use super::read::{
     read_tracks, sniff, whole, FrameReader, Source, Track, TrackSource, MAX_WHOLE_FILE,
 };
-use super::stats::{Plan, Run, Stats};
+use super::stats::{Ladder, Run, Stats};
 use super::{
     animal::{units, Animal},
     bootstrap,
-    summary::summarise,
+    summary::{summarise, Scope},
     AnimalFit, FitError, FitReport, FitSettings, InputFormat, InputKind, Projector, Recording,
     Units,
 };
@@ -69,7 +69,7 @@ struct Context<'a> {
     model: &'a Model,
     params: &'a Params,
     settings: &'a FitSettings,
-    plan: Plan,
+    ladder: Ladder,
 }
 
 /// Projectors by frame width (midlines of another K resample to the same N modes).
@@ -119,7 +119,7 @@ pub fn fit_inputs(
         model,
         params,
         settings,
-        plan: Plan::new(settings.window),
+        ladder: Ladder::new(settings.window),
     };
     let mut pool = Pool::default();
     match each {
@@ -342,7 +342,7 @@ fn accumulate(
                 }
                 Some(_) => {
                     counts.gaps += 1;
-                    close(&mut run, &mut animal, &mut counts, settings);
+                    close(&mut run, &mut animal, &mut counts, ctx);
                 }
                 // Lost before the animal's first usable frame: nothing to split.
                 None => {}
@@ -353,14 +353,15 @@ fn accumulate(
         previous = Some((row.t, values));
     }
     counts.frames_lost += pending;
-    close(&mut run, &mut animal, &mut counts, settings);
+    close(&mut run, &mut animal, &mut counts, ctx);
     animal.counts = counts;
     animal.interval = source.interval();
     Ok(animal)
 }
 
 /// End the current run: into the animal's total, and kept as a piece for the bootstrap.
-fn close(run: &mut Option<Run>, animal: &mut Animal, counts: &mut Recording, s: &FitSettings) {
+fn close(run: &mut Option<Run>, animal: &mut Animal, counts: &mut Recording, ctx: &Context<'_>) {
+    let (s, ladder) = (ctx.settings, &ctx.ladder);
     let Some(r) = run.take() else {
         return;
     };
@@ -368,7 +369,7 @@ fn close(run: &mut Option<Run>, animal: &mut Animal, counts: &mut Recording, s: 
     counts.longest_run = counts.longest_run.max(r.len());
     let piece = r.finish();
     if animal.stats.mean.is_empty() {
-        animal.stats = Stats::new(piece.mean.len(), s.window);
+        animal.stats = Stats::new(piece.mean.len(), ladder);
     }
     animal.stats.absorb(&piece, 1.0);
     if s.bootstrap > 0 {
@@ -399,7 +400,7 @@ fn feed(
         each(proj, t, &q).map_err(FitError::Output)?;
     }
     let spacing = proj.spacing(values);
-    run.get_or_insert_with(|| Run::new(q.len(), &ctx.plan))
+    run.get_or_insert_with(|| Run::new(q.len(), &ctx.ladder))
         .push(q, spacing);
     Ok(())
 }
@@ -425,6 +426,9 @@ struct Pool {
     fits: Vec<AnimalFit>,
     /// Each animal's statistics and runs (bootstrap only).
     kept: Vec<Animal>,
+    /// The first animal's name, counts, statistics and interval, fitted alone only once a
+    /// second arrives (alone, its own fit would be the pooled one).
+    first: Option<(String, Recording, Stats, f64)>,
 }
 
 impl Pool {
@@ -451,6 +455,20 @@ impl Pool {
         Ok(())
     }
 
+    /// The deferred first animal's own fit, now that it is not the only one.
+    fn fit_first(&mut self, ctx: &Context<'_>) {
+        let (Some((name, counts, stats, interval)), Some(proj)) =
+            (self.first.take(), self.projector.as_ref())
+        else {
+            return;
+        };
+        let fit = match fit_stats(proj, ctx, &stats, interval, Scope::Constants(None)) {
+            Ok(r) => AnimalFit::of(&name, &counts, &r),
+            Err(e) => AnimalFit::failed(&name, &stats, &counts, &e.to_string()),
+        };
+        self.fits.push(fit);
+    }
+
     fn take_animal(&mut self, ctx: &Context<'_>, animal: Animal) -> Result<(), FitError> {
         let c = &animal.counts;
         let total = &mut self.counts;
@@ -474,22 +492,46 @@ impl Pool {
             }
         }
         if animal.stats.count == 0.0 {
-            self.fits
-                .push(AnimalFit::failed(&animal, "no usable frame"));
+            self.fit_first(ctx);
+            self.fits.push(AnimalFit::failed(
+                &animal.name,
+                &animal.stats,
+                &animal.counts,
+                "no usable frame",
+            ));
             return Ok(());
         }
-        let Some(proj) = self.projector.as_ref() else {
+        if self.projector.is_none() {
             return Err(FitError::Invalid(
                 "an animal with frames but no projector".into(),
             ));
-        };
-        let own = fit_stats(proj, ctx, &animal.stats, animal.interval.unwrap_or(1.0));
-        self.fits.push(match own {
-            Ok(r) => AnimalFit::of(&animal.name, &animal.counts, &r),
-            Err(e) => AnimalFit::failed(&animal, &e.to_string()),
-        });
+        }
+        let interval = animal.interval.unwrap_or(1.0);
+        if self.fits.is_empty() && self.first.is_none() {
+            self.first = Some((
+                animal.name.clone(),
+                animal.counts.clone(),
+                animal.stats.clone(),
+                interval,
+            ));
+        } else {
+            self.fit_first(ctx);
+            let own = self
+                .projector
+                .as_ref()
+                .map(|proj| fit_stats(proj, ctx, &animal.stats, interval, Scope::Constants(None)));
+            self.fits.push(match own {
+                Some(Ok(r)) => AnimalFit::of(&animal.name, &animal.counts, &r),
+                Some(Err(e)) => {
+                    AnimalFit::failed(&animal.name, &animal.stats, &animal.counts, &e.to_string())
+                }
+                None => {
+                    AnimalFit::failed(&animal.name, &animal.stats, &animal.counts, "no projector")
+                }
+            });
+        }
         self.stats
-            .get_or_insert_with(|| Stats::new(animal.stats.mean.len(), ctx.settings.window))
+            .get_or_insert_with(|| Stats::new(animal.stats.mean.len(), &ctx.ladder))
             .absorb(&animal.stats, 1.0);
         if ctx.settings.bootstrap > 0 {
             self.kept.push(animal);
@@ -510,7 +552,7 @@ impl Pool {
             });
         };
         let interval = self.interval.unwrap_or(1.0);
-        let mut report = fit_stats(proj, ctx, stats, interval)?;
+        let mut report = fit_stats(proj, ctx, stats, interval, Scope::Full)?;
         report.recording = self.counts.clone();
         report.units = self.units.clone().unwrap_or_default();
         if let Some(u) = &ctx.settings.time_unit {
@@ -551,11 +593,14 @@ impl Pool {
         }
         if ctx.settings.bootstrap > 0 {
             let units = units(&self.kept);
-            let fit = |s: &Stats| fit_stats(proj, ctx, s, interval).ok();
-            match bootstrap::intervals(&units, ctx.settings, fit) {
+            let pooled = report.clone();
+            let fit =
+                |s: &Stats| fit_stats(proj, ctx, s, interval, Scope::Constants(Some(&pooled))).ok();
+            match bootstrap::intervals(&units, ctx.settings, &ctx.ladder, fit) {
                 Ok(i) => {
                     if let Some(c) = &mut report.continuum {
                         c.interval = i.continuum;
+                        c.interval_from = i.continuum.map(|_| "bootstrap");
                     }
                     report.intervals = Some(i)
                 }
@@ -576,6 +621,7 @@ fn fit_stats(
     ctx: &Context<'_>,
     stats: &Stats,
     interval: f64,
+    scope: Scope<'_>,
 ) -> Result<FitReport, FitError> {
     if stats.count < 8.0 {
         return Err(FitError::Invalid(format!(
@@ -583,13 +629,21 @@ fn fit_stats(
             stats.count
         )));
     }
-    let spectra = stats.spectra(&ctx.plan, 1.0 / interval).ok_or_else(|| {
-        FitError::Invalid(format!(
+    let spectra = stats.spectra(&ctx.ladder, 1.0 / interval);
+    if spectra.is_empty() {
+        return Err(FitError::Invalid(format!(
             "no run of 8 frames between gaps for the spectra (longest {}); bridge short gaps with --fill-gaps K",
             stats.short.len()
-        ))
-    })?;
-    let mut report = summarise(proj, ctx.settings, stats.covariance(), interval, spectra)?;
+        )));
+    }
+    let mut report = summarise(
+        proj,
+        ctx.settings,
+        stats.covariance(),
+        interval,
+        spectra,
+        scope,
+    )?;
     report.frames = stats.count as usize;
     report.spacing = stats.spacing / stats.count;
     Ok(report)

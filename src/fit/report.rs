@@ -1,7 +1,8 @@
 //! What a fit reports (pooled, per animal, per mode) and how it is written: text, JSON, CSV.
 
-use super::animal::Animal;
 use super::bootstrap::Intervals;
+use super::stats::Stats;
+use super::verdict::{self, ModeSpectralFit, TheoryTests, WindowChoice};
 use super::{InputKind, Units};
 use crate::report::{check_finite, csv_numbers, fixed, number, to_json, NonFinite, Report};
 
@@ -64,6 +65,15 @@ pub struct FitReport {
     /// flexural constant κ of a beam (ωᵢ = κ(βᵢL)²) or the wave speed c of a string or ring
     /// (ωᵢ = c·βᵢ), lengths in body lengths; `None` where the field has no continuum roots.
     pub continuum: Option<Continuum>,
+    /// Each mode's own spectral fit (see [`super::verdict`]).
+    pub modes_fit: Vec<ModeSpectralFit>,
+    /// The theory's three predictions tested over the voting modes.
+    pub tests: TheoryTests,
+    /// The tracking-noise floor ν (variance per frame of the modal coordinates), measured from
+    /// the highest modes.
+    pub noise_floor: Option<f64>,
+    /// The Welch window used, and why.
+    pub window: WindowChoice,
     /// Input kind.
     pub kind: InputKind,
     /// Observed field.
@@ -127,8 +137,11 @@ pub struct Continuum {
     pub name: &'static str,
     /// Its value, lengths in body lengths and time in the data's unit.
     pub constant: f64,
-    /// Its 95 % bootstrap interval, when a bootstrap was drawn (`--bootstrap B`).
+    /// Its 95 % interval: from the modes' standard errors, or the bootstrap's when one was
+    /// drawn (`--bootstrap B`).
     pub interval: Option<[f64; 2]>,
+    /// `mode errors` or `bootstrap`.
+    pub interval_from: Option<&'static str>,
     /// The unit, e.g. `body length²/s`.
     pub unit: String,
     /// The continuum roots βᵢL of the fitted modes (body length 1).
@@ -193,11 +206,11 @@ impl AnimalFit {
         }
     }
 
-    pub(super) fn failed(animal: &Animal, why: &str) -> AnimalFit {
+    pub(super) fn failed(name: &str, stats: &Stats, counts: &Recording, why: &str) -> AnimalFit {
         AnimalFit {
-            recording: animal.name.clone(),
-            frames: animal.stats.count as usize,
-            frames_lost: animal.counts.frames_lost,
+            recording: name.to_string(),
+            frames: stats.count as usize,
+            frames_lost: counts.frames_lost,
             omega: None,
             beta: None,
             first_share: None,
@@ -288,7 +301,14 @@ impl Report for FitReport {
             let power = if c.name == "kappa" { "²" } else { "" };
             let interval = c
                 .interval
-                .map(|[lo, hi]| format!(" [{}, {}]", fixed(lo, 6), fixed(hi, 6)))
+                .map(|[lo, hi]| {
+                    format!(
+                        " [{}, {}] (95 %, {})",
+                        fixed(lo, 6),
+                        fixed(hi, 6),
+                        c.interval_from.unwrap_or("")
+                    )
+                })
                 .unwrap_or_default();
             t += &format!(
                 "  continuum: {symbol} = {}{interval} {} = {} {length}{power}/{time} with the mean body length L = {} {length} ({law} over the same modes, βᵢL the continuum roots; independent of N, where ω is the N-point value)\n",
@@ -335,6 +355,7 @@ impl Report for FitReport {
             );
         }
         t += "  overlap: |cos(PCₖ, vₖ)|, or the projection onto the pair's plane when λₖ is degenerate\n";
+        t += &verdict::text(&r.modes_fit, r.noise_floor, &r.tests, &r.window);
         t += &subspace_text(r);
         for w in &r.warnings {
             t += &format!("  warning: {w}\n");

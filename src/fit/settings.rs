@@ -113,8 +113,8 @@ pub struct FitSettings {
     pub order: u32,
     /// Model points N for midlines (lengths use K + 1).
     pub points: usize,
-    /// Welch window W in frames.
-    pub window: usize,
+    /// Welch window W in frames; `None` chooses it from the data (see `verdict`).
+    pub window: Option<usize>,
     /// Frequency estimator.
     pub estimator: Estimator,
     /// Non-zero modes used to fit ω and β.
@@ -155,7 +155,7 @@ impl FitSettings {
             field: None,
             order: crate::model::DEFAULT_ORDER,
             points: 12,
-            window: 256,
+            window: None,
             estimator: Estimator::Peak,
             fit_modes: 4,
             omega: None,
@@ -198,17 +198,18 @@ pub(super) fn check_settings(settings: &FitSettings) -> Result<(), FitError> {
             settings.points
         )));
     }
-    if settings.window > MAX_WINDOW {
-        return Err(invalid(format!(
-            "the Welch window can be at most {MAX_WINDOW} frames, not {}",
-            settings.window
-        )));
-    }
-    if settings.window < 8 {
-        return Err(invalid(format!(
-            "the Welch window must be at least 8 frames, not {}",
-            settings.window
-        )));
+    match settings.window {
+        Some(w) if w > MAX_WINDOW => {
+            return Err(invalid(format!(
+                "the Welch window can be at most {MAX_WINDOW} frames, not {w}"
+            )))
+        }
+        Some(w) if w < 8 => {
+            return Err(invalid(format!(
+                "the Welch window must be at least 8 frames, not {w}"
+            )))
+        }
+        _ => {}
     }
     if settings.fit_modes == 0 {
         return Err(invalid("fit at least one mode".into()));

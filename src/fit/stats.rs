@@ -33,13 +33,15 @@ impl Plan {
         self.window.len()
     }
 
-    /// Add the periodograms |X̂|² of one mean-removed, tapered segment (frames × channels).
-    fn add(&self, frames: &VecDeque<Vec<f64>>, acc: &mut [Vec<f64>]) {
+    /// Add the periodograms |X̂|² of one mean-removed, tapered segment: the last W frames of
+    /// `frames` (frames × channels).
+    pub(super) fn add(&self, frames: &VecDeque<Vec<f64>>, acc: &mut [Vec<f64>]) {
         let len = self.len();
+        let frames = frames.range(frames.len() - len..);
         let mut data = vec![Complex::new(0.0, 0.0); len];
         for (c, acc) in acc.iter_mut().enumerate() {
-            let mean = frames.iter().map(|v| v[c]).sum::<f64>() / len as f64;
-            for (i, v) in frames.iter().enumerate() {
+            let mean = frames.clone().map(|v| v[c]).sum::<f64>() / len as f64;
+            for (i, v) in frames.clone().enumerate() {
                 data[i] = Complex::new((v[c] - mean) * self.window[i], 0.0);
             }
             self.fft.process(&mut data);
@@ -84,6 +86,38 @@ pub(super) struct Spectra {
     pub(super) psd: Vec<Vec<f64>>,
 }
 
+/// The Welch windows accumulated in one pass: the user's one, or a ladder of powers of two
+/// for the fit to choose from once the modes' frequencies are known.
+#[derive(Clone)]
+pub(super) struct Ladder {
+    pub(super) plans: Vec<Plan>,
+}
+
+/// The windows tried when none is given: 16, 32, … 4096 frames.
+pub(super) const LADDER: std::ops::RangeInclusive<u32> = 4..=12;
+
+impl Ladder {
+    /// One window `W`, or the ladder.
+    pub(super) fn new(window: Option<usize>) -> Ladder {
+        let plans = match window {
+            Some(w) => vec![Plan::new(w)],
+            None => LADDER.map(|k| Plan::new(1 << k)).collect(),
+        };
+        Ladder { plans }
+    }
+
+    fn longest(&self) -> usize {
+        self.plans.iter().map(Plan::len).max().unwrap_or(0)
+    }
+}
+
+/// Raw Welch sums at one window: Σ|X̂(f)|² per channel and frequency, and the segments.
+#[derive(Clone, Debug, Default)]
+pub(super) struct WelchSums {
+    pub(super) sums: Vec<Vec<f64>>,
+    pub(super) segments: f64,
+}
+
 /// The sufficient statistics of some frames (one run, an animal, a pool, a resample).
 #[derive(Clone, Debug, Default)]
 pub(super) struct Stats {
@@ -91,21 +125,28 @@ pub(super) struct Stats {
     pub(super) count: f64,
     pub(super) mean: Vec<f64>,
     pub(super) comoment: Vec<Vec<f64>>,
-    /// Σ|X̂|² per channel and frequency over the Welch segments.
-    pub(super) sums: Vec<Vec<f64>>,
-    pub(super) segments: f64,
+    /// The Welch sums at each window of the ladder, in its order.
+    pub(super) welch: Vec<WelchSums>,
     /// Σ of each frame's point spacing (data length units).
     pub(super) spacing: f64,
-    /// When no run filled a window: the longest run, for one short segment of its own.
+    /// When no run filled the shortest window: the longest run, for one short segment of its
+    /// own.
     pub(super) short: Vec<Vec<f64>>,
 }
 
 impl Stats {
-    pub(super) fn new(m: usize, window: usize) -> Stats {
+    pub(super) fn new(m: usize, ladder: &Ladder) -> Stats {
         Stats {
             mean: vec![0.0; m],
             comoment: vec![vec![0.0; m]; m],
-            sums: vec![vec![0.0; window / 2 + 1]; m],
+            welch: ladder
+                .plans
+                .iter()
+                .map(|p| WelchSums {
+                    sums: vec![vec![0.0; p.len() / 2 + 1]; m],
+                    segments: 0.0,
+                })
+                .collect(),
             ..Stats::default()
         }
     }
@@ -132,13 +173,15 @@ impl Stats {
                 *c += times * other.comoment[i][j] + w * delta[i] * delta[j];
             }
         }
-        for (acc, add) in self.sums.iter_mut().zip(&other.sums) {
-            for (a, b) in acc.iter_mut().zip(add) {
-                *a += times * b;
+        for (mine, theirs) in self.welch.iter_mut().zip(&other.welch) {
+            for (acc, add) in mine.sums.iter_mut().zip(&theirs.sums) {
+                for (a, b) in acc.iter_mut().zip(add) {
+                    *a += times * b;
+                }
             }
+            mine.segments += times * theirs.segments;
         }
         self.count = n;
-        self.segments += times * other.segments;
         self.spacing += times * other.spacing;
         if other.short.len() > self.short.len() {
             self.short = other.short.clone();
@@ -154,38 +197,43 @@ impl Stats {
             .collect()
     }
 
-    /// The spectra: the Welch average, or without a whole window one segment over the
-    /// longest run (at least 8 frames). `None` when there is neither.
-    pub(super) fn spectra(&self, plan: &Plan, fs: f64) -> Option<Spectra> {
-        if self.segments > 0.0 {
-            return Some(plan.density(&self.sums, self.segments, fs));
-        }
-        if self.short.len() < 8 {
-            return None;
+    /// The spectra at every window of the ladder that holds a segment, shortest first; without
+    /// any, one segment over the longest run (at least 8 frames). Empty when there is neither.
+    pub(super) fn spectra(&self, ladder: &Ladder, fs: f64) -> Vec<Spectra> {
+        let whole: Vec<Spectra> = ladder
+            .plans
+            .iter()
+            .zip(&self.welch)
+            .filter(|(_, w)| w.segments > 0.0)
+            .map(|(p, w)| p.density(&w.sums, w.segments, fs))
+            .collect();
+        if !whole.is_empty() || self.short.len() < 8 {
+            return whole;
         }
         let own = Plan::new(self.short.len());
         let mut sums = vec![vec![0.0; own.len() / 2 + 1]; self.mean.len()];
         own.add(&self.short.iter().cloned().collect(), &mut sums);
-        Some(own.density(&sums, 1.0, fs))
+        vec![own.density(&sums, 1.0, fs)]
     }
 }
 
 /// Streams one run's frames into its [`Stats`]: running moments, Welch segments at half
-/// overlap.
+/// overlap at every window of the ladder.
 pub(super) struct Run {
     pub(super) stats: Stats,
     buffer: VecDeque<Vec<f64>>,
-    since: usize,
-    plan: Plan,
+    /// Frames since each window's last segment.
+    since: Vec<usize>,
+    ladder: Ladder,
 }
 
 impl Run {
-    pub(super) fn new(m: usize, plan: &Plan) -> Run {
+    pub(super) fn new(m: usize, ladder: &Ladder) -> Run {
         Run {
-            stats: Stats::new(m, plan.len()),
-            buffer: VecDeque::with_capacity(plan.len()),
-            since: 0,
-            plan: plan.clone(),
+            stats: Stats::new(m, ladder),
+            buffer: VecDeque::with_capacity(ladder.longest()),
+            since: vec![0; ladder.plans.len()],
+            ladder: ladder.clone(),
         }
     }
 
@@ -207,22 +255,30 @@ impl Run {
                 *c += delta[i] * (q[j] - s.mean[j]);
             }
         }
-        let len = self.plan.len();
-        if self.buffer.len() == len {
+        if self.buffer.len() == self.ladder.longest() {
             self.buffer.pop_front();
         }
         self.buffer.push_back(q);
-        self.since += 1;
-        if self.buffer.len() == len && (s.segments == 0.0 || self.since >= len / 2) {
-            self.since = 0;
-            s.segments += 1.0;
-            self.plan.add(&self.buffer, &mut s.sums);
+        for ((plan, since), w) in self
+            .ladder
+            .plans
+            .iter()
+            .zip(&mut self.since)
+            .zip(&mut s.welch)
+        {
+            let len = plan.len();
+            *since += 1;
+            if self.buffer.len() >= len && (w.segments == 0.0 || *since >= len / 2) {
+                *since = 0;
+                w.segments += 1.0;
+                plan.add(&self.buffer, &mut w.sums);
+            }
         }
     }
 
-    /// The run's statistics, keeping its frames when it never filled a window.
+    /// The run's statistics, keeping its frames when it never filled the shortest window.
     pub(super) fn finish(mut self) -> Stats {
-        if self.stats.segments == 0.0 {
+        if self.stats.welch.iter().all(|w| w.segments == 0.0) {
             self.stats.short = self.buffer.into_iter().collect();
         }
         self.stats

@@ -2,31 +2,24 @@
 //! β fits.
 
 use super::project::Projector;
-use super::stats;
-use crate::report::number;
+use super::spectrum::{fit_mode, Taper};
+use super::stats::{Plan, Spectra};
+use super::verdict::{self, ModeSpectralFit, WindowChoice};
+use crate::report::{fixed, number};
 
 use super::{
     Continuum, Estimator, FitError, FitReport, FitSettings, ModeFit, Recording, Subspace, Units,
 };
 
-/// A fitted mode whose measured frequency sits within 3 frequency bins of zero cannot be told
-/// from its neighbours by a window this short: ω and κ then move with `--window`. Said, never
-/// silent.
-fn resolution_warnings(fitted: &[ModeFit], frequencies: &[f64], window: usize) -> Vec<String> {
-    let df = frequencies.get(1).copied().unwrap_or(0.0);
-    let low: Vec<String> = fitted
-        .iter()
-        .filter(|m| df > 0.0 && m.angular_frequency / (2.0 * std::f64::consts::PI) < 3.0 * df)
-        .map(|m| m.index.to_string())
-        .collect();
-    if low.is_empty() {
-        return Vec::new();
-    }
-    vec![format!(
-        "mode(s) {} peak within 3 frequency bins of zero (a bin is {} per time unit with a {window}-frame window): the window cannot resolve them, so ω and κ move with --window; use a longer --window",
-        low.join(", "),
-        crate::report::fixed(df, 6)
-    )]
+/// How much of a fit to make: everything, or only the constants (ω, β, κ from the first
+/// `fit_modes` modes) for an animal alone or a bootstrap resample, warm-started from the
+/// pooled fit's window and per-mode parameters when there is one.
+#[derive(Clone, Copy)]
+pub(super) enum Scope<'a> {
+    /// Every mode fitted, every test made.
+    Full,
+    /// Only the constants.
+    Constants(Option<&'a FitReport>),
 }
 
 /// The continuum root βᵢL (body length 1) of the `i`-th non-zero mode (i = 1, 2, …) of the
@@ -40,32 +33,248 @@ fn continuum_root(proj: &Projector, i: usize) -> Option<f64> {
     }
 }
 
-/// The theory's constant in body units from the fitted modes' measured frequencies: the least
-/// squares C of mᵢ = C·(βᵢL)ᵏ over the same modes as ω (k = 2: κ of a beam; k = 1: the wave
-/// speed c), so that the number does not depend on the model points N (ω, the N-point
-/// constant, scales as (N − 1)ᵏ). `None` for a field without continuum roots.
-fn continuum(proj: &Projector, fitted: &[ModeFit]) -> Option<Continuum> {
-    let roots: Vec<f64> = fitted
+/// The theory's constant in body units: the weighted least-squares C of Ωᵢ = C·(βᵢL)ᵏ over
+/// the modes `used` (`(mode index, Ω, σ_Ω)`; k = 2: κ of a beam; k = 1: the wave speed c), so
+/// that the number does not depend on the model points N (ω, the N-point constant, scales as
+/// (N − 1)ᵏ). Its 95 % interval comes from the modes' errors, widened by the Birge ratio when
+/// they scatter more than their errors say. `None` for a field without continuum roots.
+fn continuum(proj: &Projector, used: &[(usize, f64, f64)]) -> Option<Continuum> {
+    let roots: Vec<f64> = used
         .iter()
-        .map(|m| continuum_root(proj, m.index - proj.first_mode + 1))
+        .map(|&(i, _, _)| continuum_root(proj, i - proj.first_mode + 1))
         .collect::<Option<_>>()?;
     let k = proj.stencil as i32;
-    let (num, den) = fitted
-        .iter()
-        .zip(&roots)
-        .fold((0.0, 0.0), |(n, d), (m, b)| {
-            (n + m.angular_frequency * b.powi(k), d + b.powi(2 * k))
-        });
-    let constant = num / den;
-    constant.is_finite().then(|| Continuum {
+    let x: Vec<f64> = roots.iter().map(|b| b.powi(k)).collect();
+    let (constant, interval) = weighted_scale(used, &x)?;
+    Some(Continuum {
         name: if k == 2 { "kappa" } else { "c" },
         constant,
-        interval: None,
+        interval,
+        interval_from: interval.map(|_| "mode errors"),
         unit: String::new(),
         roots,
         body_length: 0.0,
         in_data_units: 0.0,
     })
+}
+
+/// The weighted least-squares C of Ωᵢ = C·xᵢ over `(mode, Ω, σ_Ω)` and its 95 % interval,
+/// widened by the Birge ratio √(χ²/(n − 1)) when the modes scatter more than their errors.
+fn weighted_scale(used: &[(usize, f64, f64)], x: &[f64]) -> Option<(f64, Option<[f64; 2]>)> {
+    let (mut num, mut den) = (0.0, 0.0);
+    for (&(_, o, e), &x) in used.iter().zip(x) {
+        let w = 1.0 / (e * e);
+        num += w * o * x;
+        den += w * x * x;
+    }
+    let c = num / den;
+    if !(c.is_finite() && c > 0.0) {
+        return None;
+    }
+    let mut se = den.sqrt().recip();
+    let q = 1.959_963_984_540_054;
+    let n = used.len();
+    if n > 1 {
+        let chi2: f64 = used
+            .iter()
+            .zip(x)
+            .map(|(&(_, o, e), &x)| ((o - c * x) / e).powi(2))
+            .sum();
+        let ratio = chi2 / (n - 1) as f64;
+        if ratio > 1.0 {
+            se *= ratio.sqrt();
+        }
+    }
+    let interval = se.is_finite().then_some([c - q * se, c + q * se]);
+    Some((c, interval))
+}
+
+/// The Welch window: the given one, or the shortest of the ladder in which the lowest mode's
+/// frequency lies [`AUTO_BINS`] bins above zero with at least 4 segments; failing that, the
+/// longest with 4 segments (or the longest there is), its low modes marked unresolved.
+fn choose_window(
+    mut spectra: Vec<Spectra>,
+    given: bool,
+    lowest: impl Fn(&Spectra) -> Option<f64>,
+    fs: f64,
+) -> (Spectra, WindowChoice) {
+    let count = spectra.len();
+    let enough: Vec<usize> = (0..count).filter(|&i| spectra[i].segments >= 4).collect();
+    let reference = enough.last().copied().unwrap_or(count - 1);
+    if given || count == 1 {
+        let s = spectra.swap_remove(reference.min(count - 1));
+        let choice = WindowChoice {
+            frames: s.window,
+            segments: s.segments,
+            how: if given { "given" } else { "chosen" },
+            why: if given {
+                "--window".into()
+            } else {
+                "the only window the runs fill".into()
+            },
+        };
+        return (s, choice);
+    }
+    let f = lowest(&spectra[reference]);
+    let wanted = f.map(|f| AUTO_BINS * fs / f);
+    let pick = wanted.and_then(|w| {
+        enough
+            .iter()
+            .copied()
+            .find(|&i| spectra[i].window as f64 >= w)
+    });
+    let why = match (pick, wanted) {
+        (Some(_), Some(w)) => format!(
+            "the shortest window with ≥ 4 segments in which the lowest mode (f ≈ {}) lies ≥ {AUTO_BINS} bins above zero (needs ≥ {} frames)",
+            fixed(f.unwrap_or(0.0), 4),
+            w.ceil()
+        ),
+        (None, Some(w)) => format!(
+            "the lowest mode (f ≈ {}) needs ≥ {} frames for {AUTO_BINS} bins; the runs allow this with ≥ 4 segments, so low modes may be unresolved",
+            fixed(f.unwrap_or(0.0), 4),
+            w.ceil()
+        ),
+        _ => "the lowest mode's frequency could not be measured; the longest window with ≥ 4 segments".into(),
+    };
+    let s = spectra.swap_remove(pick.unwrap_or(reference));
+    let choice = WindowChoice {
+        frames: s.window,
+        segments: s.segments,
+        how: "chosen",
+        why,
+    };
+    (s, choice)
+}
+
+/// The lowest mode's frequency (cycles per time unit) at the window of `s`: its own spectral
+/// fit when that resolves it, else its spectral peak.
+fn lowest_frequency(proj: &Projector, cov: &[Vec<f64>], s: &Spectra, fs: f64) -> Option<f64> {
+    let first = fit_modes_spectra(proj, cov, s, fs, (1, None))
+        .into_iter()
+        .next()?;
+    let f = if first.resolved {
+        first.omega / (2.0 * std::f64::consts::PI)
+    } else {
+        spectral_peak_and_centroid(&s.frequencies, &s.psd[0]).0
+    };
+    (f > 0.0).then_some(f)
+}
+
+/// ω, β and the continuum constant from the spectral peaks (or centroids) of `fitted`, when no
+/// mode's own fit resolves it: ω = Σmᵢ√λᵢ/Σλᵢ, β = n/Σω²λᵢVar Qᵢ.
+fn from_peaks(
+    proj: &Projector,
+    settings: &FitSettings,
+    fitted: &[ModeFit],
+) -> (f64, f64, Option<Continuum>) {
+    let omega = settings.omega.unwrap_or_else(|| {
+        fitted
+            .iter()
+            .map(|x| x.angular_frequency * x.eigenvalue.sqrt())
+            .sum::<f64>()
+            / fitted.iter().map(|x| x.eigenvalue).sum::<f64>()
+    });
+    let spread: f64 = fitted
+        .iter()
+        .map(|x| omega * omega * x.eigenvalue * x.variance)
+        .sum();
+    let peaks: Vec<(usize, f64, f64)> = fitted
+        .iter()
+        .map(|x| (x.index, x.angular_frequency, 1.0))
+        .collect();
+    let continuum = continuum(proj, &peaks).map(|mut c| {
+        c.interval = None;
+        c.interval_from = None;
+        c
+    });
+    (omega, fitted.len() as f64 / spread, continuum)
+}
+
+/// Mode j's fitting band (cycles per time unit) from the spectral peaks of all the modes: from
+/// the geometric mean of its peak and the one below to that of its peak and the one above (zero
+/// below the first, Nyquist above the last); a neighbour that does not lie on its side (a
+/// driven rhythm puts every peak at one frequency) leaves a factor 2 on that side.
+fn band(peaks: &[(f64, f64)], j: usize, fs: f64) -> (f64, f64) {
+    let f = peaks[j].0;
+    let lo = match j.checked_sub(1).map(|i| peaks[i].0) {
+        None => 0.0,
+        Some(below) if below < 0.8 * f => (below * f).sqrt(),
+        Some(_) => 0.5 * f,
+    };
+    let hi = match peaks.get(j + 1).map(|p| p.0) {
+        None => 0.5 * fs,
+        Some(above) if above > 1.25 * f => (above * f).sqrt(),
+        Some(_) => 2.0 * f,
+    };
+    (lo, hi)
+}
+
+/// Frequency bins above zero the lowest mode should reach in a window chosen from the data.
+const AUTO_BINS: f64 = 16.0;
+
+/// Each mode's spectrum fitted at the chosen window (see [`super::spectrum`]), classified.
+/// Each mode's spectrum fitted at the chosen window (see [`super::spectrum`]), classified: the
+/// first `count`, each from its `warm` fit alone when given (a resample near the pooled fit),
+/// else from three starts; the others left unfitted.
+fn fit_modes_spectra(
+    proj: &Projector,
+    cov: &[Vec<f64>],
+    spec: &Spectra,
+    fs: f64,
+    (count, warm): (usize, Option<&[ModeSpectralFit]>),
+) -> Vec<ModeSpectralFit> {
+    let taper = Taper::new(&Plan::new(spec.window).window);
+    let df = fs / spec.window as f64;
+    let peaks: Vec<(f64, f64)> = (0..cov.len())
+        .map(|j| spectral_peak_and_centroid(&spec.frequencies, &spec.psd[j]))
+        .collect();
+    (0..cov.len())
+        .map(|j| {
+            let (peak, centroid) = peaks[j];
+            let band = band(&peaks, j, fs);
+            let tau = 2.0 * std::f64::consts::PI;
+            let starts = match warm.and_then(|w| w.get(j)).filter(|w| w.omega > 0.0) {
+                Some(w) => vec![(w.omega, w.zeta)],
+                None => vec![(tau * peak, 0.1), (tau * peak, 0.5), (tau * centroid, 0.3)],
+            };
+            let index = proj.first_mode + j;
+            let lambda = proj.eigenvalues[j];
+            let fitted = (j < count)
+                .then(|| {
+                    fit_mode(
+                        &taper,
+                        (fs, spec.segments as f64),
+                        &spec.psd[j],
+                        &starts,
+                        cov[j][j],
+                        band,
+                    )
+                })
+                .flatten();
+            match fitted {
+                Some(s) => ModeSpectralFit::of(index, lambda, &s, df, fs),
+                None => ModeSpectralFit {
+                    mode: index,
+                    lambda,
+                    omega: 0.0,
+                    omega_error: None,
+                    zeta: 0.0,
+                    zeta_error: None,
+                    variance: cov[j][j],
+                    variance_error: None,
+                    noise: 0.0,
+                    relaxation_rate: None,
+                    resolved: false,
+                    votes: false,
+                    note: Some(if j < count {
+                        "too few frequency bins or no variance to fit".into()
+                    } else {
+                        "not fitted (only the constants were asked for)".into()
+                    }),
+                },
+            }
+        })
+        .collect()
 }
 
 /// Peak (with parabolic refinement) and centroid of a one-sided spectrum, above zero frequency.
@@ -104,26 +313,59 @@ pub(super) fn summarise(
     settings: &FitSettings,
     cov: Vec<Vec<f64>>,
     interval: f64,
-    spectra: stats::Spectra,
+    spectra: Vec<Spectra>,
+    scope: Scope<'_>,
 ) -> Result<FitReport, FitError> {
     let invalid = |s: String| FitError::Invalid(s);
     // No eigen-solve or SVD on non-finite moments (nalgebra's SVD panics on NaN).
     if cov
         .iter()
         .flatten()
-        .chain(spectra.psd.iter().flatten())
+        .chain(spectra.iter().flat_map(|s| s.psd.iter().flatten()))
         .any(|v| !v.is_finite())
     {
         return Err(invalid(
             "the modal coordinates' moments overflow: rescale the data".into(),
         ));
     }
-    let stats::Spectra {
+    if spectra.is_empty() {
+        return Err(invalid("no spectra to fit".into()));
+    }
+    let fs = 1.0 / interval;
+    let warm = match scope {
+        Scope::Constants(Some(r)) => Some(r),
+        _ => None,
+    };
+    // A resample keeps the pooled fit's window, when it has it.
+    let spectra = match warm.map(|r| r.window.frames) {
+        Some(w) if spectra.iter().any(|s| s.window == w) => {
+            spectra.into_iter().filter(|s| s.window == w).collect()
+        }
+        _ => spectra,
+    };
+    let (spec, window) = choose_window(
+        spectra,
+        settings.window.is_some() || warm.is_some(),
+        |s| lowest_frequency(proj, &cov, s, fs),
+        fs,
+    );
+    let count = match scope {
+        Scope::Full => cov.len(),
+        Scope::Constants(_) => settings.fit_modes.min(cov.len()),
+    };
+    let mut modes_fit = fit_modes_spectra(
+        proj,
+        &cov,
+        &spec,
+        fs,
+        (count, warm.map(|r| r.modes_fit.as_slice())),
+    );
+    let Spectra {
         window: used_window,
         segments,
         frequencies,
         psd,
-    } = spectra;
+    } = spec;
     let lambdas = &proj.eigenvalues;
     let (m, first_mode) = (lambdas.len(), proj.first_mode);
 
@@ -156,45 +398,116 @@ pub(super) fn summarise(
             }
         })
         .collect();
+
+    // The tests, over the modes that vote, against the continuum eigenvalues.
+    let noise_floor = verdict::noise_floor(&modes_fit);
+    let k = proj.stencil as i32;
+    let continuum_lambda: Vec<Option<f64>> = (0..m)
+        .map(|j| continuum_root(proj, j + 1).map(|b| b.powi(2 * k)))
+        .collect();
+    verdict::disqualify(&mut modes_fit, noise_floor, &continuum_lambda);
+    verdict::drop_leaks(&mut modes_fit, &cov);
+    let regressor: Vec<f64> = (0..m)
+        .map(|j| continuum_lambda[j].unwrap_or(lambdas[j]))
+        .collect();
+    let tests = verdict::tests(&modes_fit, &regressor);
+
     let used = settings.fit_modes.min(m);
-    let fitted = &modes[..used];
-    let omega = settings.omega.unwrap_or_else(|| {
-        fitted
+    let voting: Vec<(usize, f64, f64)> = modes_fit[..used]
+        .iter()
+        .filter(|f| f.votes)
+        .filter_map(|f| Some((f.mode, f.omega, f.omega_error?)))
+        .collect();
+    let mut warnings = Vec::new();
+    let unresolved: Vec<String> = modes_fit[..used]
+        .iter()
+        .filter(|f| !f.resolved)
+        .map(|f| f.mode.to_string())
+        .collect();
+    if !unresolved.is_empty() {
+        warnings.push(format!(
+            "mode(s) {} cannot be resolved by their spectral fit at a {used_window}-frame window (see the per-mode notes): left out of ω, β and κ",
+            unresolved.join(", ")
+        ));
+    }
+    let (omega, beta, continuum) = if voting.is_empty() {
+        warnings.push(format!(
+            "no mode among {}–{} is resolved and above the noise floor: ω, β and κ come from the spectral {}s, which move with --window (use a longer --window or recording)",
+            first_mode,
+            first_mode + used - 1,
+            match settings.estimator {
+                Estimator::Peak => "peak",
+                Estimator::Centroid => "centroid",
+            }
+        ));
+        from_peaks(proj, settings, &modes[..used])
+    } else {
+        let sqrt: Vec<f64> = voting
             .iter()
-            .map(|x| x.angular_frequency * x.eigenvalue.sqrt())
-            .sum::<f64>()
-            / fitted.iter().map(|x| x.eigenvalue).sum::<f64>()
-    });
+            .map(|&(i, _, _)| lambdas[i - first_mode].sqrt())
+            .collect();
+        let omega = settings
+            .omega
+            .or_else(|| weighted_scale(&voting, &sqrt).map(|(w, _)| w))
+            .unwrap_or(f64::NAN);
+        let spread: f64 = voting
+            .iter()
+            .map(|&(i, _, _)| {
+                omega * omega * lambdas[i - first_mode] * modes_fit[i - first_mode].variance
+            })
+            .sum();
+        (
+            omega,
+            voting.len() as f64 / spread,
+            continuum(proj, &voting),
+        )
+    };
     if !(omega.is_finite() && omega > 0.0) {
         return Err(invalid(
             "no frequency could be measured (flat spectra): give --omega".into(),
         ));
     }
-    let spread: f64 = fitted
-        .iter()
-        .map(|x| omega * omega * x.eigenvalue * x.variance)
-        .sum();
-    if spread <= 0.0 {
+    if !(beta > 0.0) {
         return Err(invalid(
             "the postures do not vary: no temperature can be fitted".into(),
         ));
     }
-    let beta = used as f64 / spread;
     // ω·dt and β·ω² are what the data measure; outside the floats they cannot be reported.
-    if !(beta.is_finite() && beta > 0.0 && spread.is_finite() && (omega * omega).is_finite()) {
+    if !(beta.is_finite() && (beta * omega * omega).is_finite() && (omega * omega).is_finite()) {
         return Err(invalid(format!(
             "the fitted scales are out of range (ω = {}, β = {}): rescale the time column or --fps",
             number(omega),
             number(beta)
         )));
     }
+    let pairs = verdict::correlated(&modes_fit, &cov);
+    if !pairs.is_empty() {
+        let shown: Vec<String> = pairs
+            .iter()
+            .take(6)
+            .map(|(i, j, r2)| format!("{i}–{j} (r² = {})", fixed(*r2, 2)))
+            .collect();
+        warnings.push(format!(
+            "{} pair(s) of voting modes move together: {}{}; a passive body's modes are independent, so this is a driven rhythm or one mode leaking into another",
+            pairs.len(),
+            shown.join(", "),
+            if pairs.len() > 6 { ", …" } else { "" }
+        ));
+    }
+    if tests.dispersion.verdict == "rejected" {
+        warnings.push(
+            "the dispersion Ωᵢ ∝ √λᵢ is rejected: the modes do not oscillate as a passive body's would (a driven rhythm?), so ω and κ are not constants of the body".into(),
+        );
+    }
     for x in &mut modes {
         x.theory_angular_frequency = omega * x.eigenvalue.sqrt();
     }
-    let continuum = continuum(proj, &modes[..used]);
-    let warnings = resolution_warnings(&modes[..used], &frequencies, used_window);
     Ok(FitReport {
         continuum,
+        modes_fit,
+        tests,
+        noise_floor,
+        window,
         frames: 0,
         recording: Recording::default(),
         warnings,

@@ -1,0 +1,428 @@
+//! Whether the theory holds: each mode's own spectral fit classified (resolved or not), the
+//! tracking-noise floor, and the theory's three predictions tested over the modes that vote.
+//!
+//! **Resolved.** A mode is resolved when its fit converged under-damped (ζ < 1), its natural
+//! frequency lies at least [`RESOLVED_BINS`] frequency bins above zero and below 0.9 × Nyquist,
+//! its spectrum is not mostly flat (white level ν at most 3σ²) and Ω is known to 25 %. An
+//! over-damped mode reports its relaxation rate Ω(ζ − √(ζ² − 1)) instead. A line narrower than
+//! half a frequency bin (ζΩ/2π < df/2) has no ζ error: its width is the window's, and it does
+//! not vote on damping.
+//!
+//! **Noise floor** (Gittes et al. 1993). Position noise of the tracker reaches the modal
+//! coordinates as white noise of about the same variance in every mode (the angles are second
+//! differences of the positions, and the projection divides by λ), so it is measured where it
+//! shows best: the median white-noise variance ν of the highest third of the modes. A mode
+//! whose own variance σ² is below it does not vote.
+//!
+//! **Tests.** Over the voting modes (resolved, above the floor), the exponents of
+//! σᵢ² ∝ λᵢ^a (equipartition, a = −1), Ωᵢ ∝ λᵢ^b (dispersion, b = ½) and ζᵢ ∝ λᵢ^c (Kelvin
+//! damping, c = ½) are weighted least-squares slopes of the logarithms, weights from each
+//! mode's standard errors. λᵢ is the continuum eigenvalue (βᵢL)^{2k} where the field has one, so
+//! the exponents do not depend on N, and a mode votes only while the N-point λᵢ is within 10 %
+//! of it (the grid resolves the mode). When the scatter exceeds the errors (χ²/ν > 1) the
+//! error is widened by √(χ²/ν) (the Birge ratio, the Particle Data Group's scale factor). The verdict is `undetermined` with fewer than three voting modes
+//! or an interval wider than the expected exponent itself, else `consistent` when the interval
+//! holds the expectation and `rejected` when it does not.
+
+use crate::report::fixed;
+
+/// The squared correlation between two voting modes above which a fit warns.
+pub const MAX_SHARED: f64 = 0.25;
+
+/// Bins above zero a mode's frequency must reach to count as resolved.
+pub const RESOLVED_BINS: f64 = 2.0;
+
+/// One mode's spectral fit, as reported.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ModeSpectralFit {
+    /// Mode index (zero modes included).
+    pub mode: usize,
+    /// λᵢ of the N-point operator.
+    pub lambda: f64,
+    /// Natural angular frequency Ω (rad per time unit).
+    pub omega: f64,
+    /// Its standard error (`None` when the fit did not converge).
+    pub omega_error: Option<f64>,
+    /// Damping ratio ζ.
+    pub zeta: f64,
+    /// Its standard error.
+    pub zeta_error: Option<f64>,
+    /// The mode's own variance σ², the tracking noise removed.
+    pub variance: f64,
+    /// Its standard error.
+    pub variance_error: Option<f64>,
+    /// White-noise variance per frame ν.
+    pub noise: f64,
+    /// Relaxation rate of an over-damped mode, Ω(ζ − √(ζ² − 1)).
+    pub relaxation_rate: Option<f64>,
+    /// Whether the mode is resolved (see the module header).
+    pub resolved: bool,
+    /// Whether it votes in the tests (resolved, above the noise floor, resolved by the grid).
+    pub votes: bool,
+    /// Why not resolved, or why it does not vote.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
+}
+
+/// The fitted exponent of one prediction and its verdict.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct TheoryTest {
+    /// The fitted exponent (`None` with fewer than two voting modes).
+    pub exponent: Option<f64>,
+    /// Its 95 % interval.
+    pub interval: Option<[f64; 2]>,
+    /// The theory's exponent.
+    pub expected: f64,
+    /// `consistent`, `rejected` or `undetermined`.
+    pub verdict: &'static str,
+    /// The modes that voted.
+    pub modes: Vec<usize>,
+    /// Why undetermined, or how the interval was widened.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
+}
+
+/// The three predictions.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct TheoryTests {
+    /// Variances ∝ 1/λ.
+    pub equipartition: TheoryTest,
+    /// Ω ∝ √λ.
+    pub dispersion: TheoryTest,
+    /// ζ ∝ √λ.
+    pub damping: TheoryTest,
+}
+
+/// The Welch window a fit used, and why.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct WindowChoice {
+    /// Frames per segment.
+    pub frames: usize,
+    /// Segments averaged.
+    pub segments: usize,
+    /// `given` (`--window`) or `chosen` (from the data).
+    pub how: &'static str,
+    /// Why this window.
+    pub why: String,
+}
+
+impl ModeSpectralFit {
+    /// Classify the fit `s` of mode `mode` (eigenvalue `lambda`) at frequency bin `df` and
+    /// sampling rate `fs`.
+    pub(super) fn of(
+        mode: usize,
+        lambda: f64,
+        s: &super::spectrum::ModeSpectrum,
+        df: f64,
+        fs: f64,
+    ) -> ModeSpectralFit {
+        let known = |e: f64| e.is_finite().then_some(e);
+        let f = s.omega / (2.0 * std::f64::consts::PI);
+        let why = if !s.converged {
+            Some("the spectral fit did not converge".to_string())
+        } else if s.zeta >= 1.0 {
+            Some(format!("over-damped (ζ = {})", fixed(s.zeta, 3)))
+        } else if f < RESOLVED_BINS * df {
+            Some(format!(
+                "its frequency is {} bins above zero, fewer than {RESOLVED_BINS}: the window cannot resolve it",
+                fixed(f / df, 2)
+            ))
+        } else if f > 0.45 * fs {
+            Some("its frequency is above 0.9 × Nyquist".to_string())
+        } else if s.noise > 3.0 * s.variance {
+            Some("its spectrum is mostly flat (white level ν above 3σ²)".to_string())
+        } else if s.omega_error > 0.25 * s.omega {
+            Some("Ω is known to worse than 25 %".to_string())
+        } else {
+            None
+        };
+        ModeSpectralFit {
+            mode,
+            lambda,
+            omega: s.omega,
+            omega_error: known(s.omega_error),
+            zeta: s.zeta,
+            // A line narrower than half a bin: its width is the window's, not the mode's.
+            zeta_error: known(s.zeta_error)
+                .filter(|_| s.zeta * s.omega / (2.0 * std::f64::consts::PI) >= 0.5 * df),
+            variance: s.variance,
+            variance_error: known(s.variance_error),
+            noise: s.noise,
+            relaxation_rate: (s.converged && s.zeta >= 1.0)
+                .then(|| s.omega * (s.zeta - (s.zeta * s.zeta - 1.0).sqrt())),
+            resolved: why.is_none(),
+            votes: why.is_none(),
+            note: why,
+        }
+    }
+}
+
+/// The tracking-noise floor: the median ν of the highest third of the modes (at least two).
+pub(super) fn noise_floor(fits: &[ModeSpectralFit]) -> Option<f64> {
+    let take = fits.len().div_ceil(3).max(2).min(fits.len());
+    let mut v: Vec<f64> = fits[fits.len() - take..]
+        .iter()
+        .map(|m| m.noise)
+        .filter(|v| v.is_finite())
+        .collect();
+    if v.is_empty() {
+        return None;
+    }
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    Some(if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    })
+}
+
+/// Take the vote from modes below the noise floor or beyond the grid: `continuum[i]` is the
+/// continuum eigenvalue when the field has one, and a mode votes only while λᵢ/λ₁ of the
+/// N-point operator is within 10 % of the continuum ratio (the lowest mode sets the scale, so
+/// no convention for the discrete body's length enters).
+pub(super) fn disqualify(
+    fits: &mut [ModeSpectralFit],
+    floor: Option<f64>,
+    continuum: &[Option<f64>],
+) {
+    let first = fits
+        .first()
+        .map(|m| m.lambda)
+        .zip(continuum.first().copied().flatten());
+    for (m, c) in fits.iter_mut().zip(continuum) {
+        if !m.votes {
+            continue;
+        }
+        let off = match (first, c) {
+            (Some((l1, c1)), Some(c)) => m.lambda * c1 / (l1 * c) - 1.0,
+            _ => 0.0,
+        };
+        if let Some(f) = floor.filter(|&f| m.variance < f) {
+            m.votes = false;
+            m.note = Some(format!(
+                "its variance {} is under the noise floor {}",
+                fixed(m.variance, 4),
+                fixed(f, 4)
+            ));
+        } else if off.abs() > 0.1 {
+            m.votes = false;
+            m.note = Some(format!(
+                "λ/λ₁ of the model's points differs from the continuum's by {} %: the grid does not resolve it",
+                fixed(100.0 * off, 1)
+            ));
+        }
+    }
+}
+
+/// Take the vote from a mode that is another's leak: correlated with a lower voting mode
+/// (r² above [`MAX_SHARED`]) with under [`LEAK_SHARE`] of its variance. A passive body's modes
+/// are independent; one mode showing through another (the N-point modes are not quite the
+/// body's, or the midline was resampled to more points than were tracked) carries the other's
+/// frequency at a small fraction of its variance. Two strong modes moving together are a
+/// driven rhythm, which keeps its vote (and is warned of).
+pub(super) fn drop_leaks(fits: &mut [ModeSpectralFit], cov: &[Vec<f64>]) {
+    for j in 0..fits.len() {
+        let source = (0..j).find(|&i| {
+            let r2 = cov[i][j] * cov[i][j] / (cov[i][i] * cov[j][j]);
+            fits[i].votes && r2 > MAX_SHARED && fits[j].variance < LEAK_SHARE * fits[i].variance
+        });
+        if let (Some(i), true) = (source, fits[j].votes) {
+            let from = fits[i].mode;
+            fits[j].votes = false;
+            fits[j].note = Some(format!(
+                "its coordinate follows mode {from}'s at a small fraction of its variance: mode {from} showing through"
+            ));
+        }
+    }
+}
+
+/// The share of a lower mode's variance under which a correlated mode is its leak.
+pub const LEAK_SHARE: f64 = 0.05;
+
+/// The voting modes whose coordinates are correlated (r² above [`MAX_SHARED`], `cov` the
+/// modal covariance), as `(mode, mode, r²)`: a passive body's modes are independent, so these
+/// are a driven rhythm moving them together or one mode leaking into another.
+pub(super) fn correlated(fits: &[ModeSpectralFit], cov: &[Vec<f64>]) -> Vec<(usize, usize, f64)> {
+    let mut out = Vec::new();
+    for j in 0..fits.len() {
+        for i in 0..j {
+            let r2 = cov[i][j] * cov[i][j] / (cov[i][i] * cov[j][j]);
+            if fits[i].votes && fits[j].votes && r2 > MAX_SHARED {
+                out.push((fits[i].mode, fits[j].mode, r2));
+            }
+        }
+    }
+    out
+}
+
+/// The three tests over the voting modes; `lambda[i]` the eigenvalue each mode is regressed on.
+pub(super) fn tests(fits: &[ModeSpectralFit], lambda: &[f64]) -> TheoryTests {
+    let pick = |value: &dyn Fn(&ModeSpectralFit) -> (f64, Option<f64>), expected: f64| {
+        let points: Vec<(usize, f64, f64, f64)> = fits
+            .iter()
+            .zip(lambda)
+            .filter(|(m, _)| m.votes)
+            .filter_map(|(m, l)| {
+                let (v, e) = value(m);
+                let e = e?;
+                (v > 0.0 && e > 0.0).then(|| (m.mode, l.ln(), v.ln(), e / v))
+            })
+            .collect();
+        exponent(&points, expected)
+    };
+    TheoryTests {
+        equipartition: pick(&|m| (m.variance, m.variance_error), -1.0),
+        dispersion: pick(&|m| (m.omega, m.omega_error), 0.5),
+        damping: pick(&|m| (m.zeta, m.zeta_error), 0.5),
+    }
+}
+
+/// The weighted slope of y on x over `(mode, x, y, σ_y)` with its 95 % interval and verdict.
+fn exponent(points: &[(usize, f64, f64, f64)], expected: f64) -> TheoryTest {
+    let modes: Vec<usize> = points.iter().map(|p| p.0).collect();
+    let n = points.len();
+    let undetermined = |note: String| TheoryTest {
+        exponent: None,
+        interval: None,
+        expected,
+        verdict: "undetermined",
+        modes: modes.clone(),
+        note: Some(note),
+    };
+    if n < 2 {
+        return undetermined(format!("{n} voting mode(s); at least 3 are needed"));
+    }
+    let w: Vec<f64> = points.iter().map(|p| 1.0 / (p.3 * p.3)).collect();
+    let sw: f64 = w.iter().sum();
+    let xm = points.iter().zip(&w).map(|(p, w)| w * p.1).sum::<f64>() / sw;
+    let ym = points.iter().zip(&w).map(|(p, w)| w * p.2).sum::<f64>() / sw;
+    let sxx: f64 = points
+        .iter()
+        .zip(&w)
+        .map(|(p, w)| w * (p.1 - xm).powi(2))
+        .sum();
+    if !(sxx > 0.0 && sxx.is_finite()) {
+        return undetermined("the voting modes share one eigenvalue".into());
+    }
+    let slope = points
+        .iter()
+        .zip(&w)
+        .map(|(p, w)| w * (p.1 - xm) * (p.2 - ym))
+        .sum::<f64>()
+        / sxx;
+    let mut se = (1.0 / sxx).sqrt();
+    let quantile = 1.959_963_984_540_054;
+    let mut note = None;
+    if n > 2 {
+        let chi2: f64 = points
+            .iter()
+            .zip(&w)
+            .map(|(p, w)| w * (p.2 - ym - slope * (p.1 - xm)).powi(2))
+            .sum();
+        let ratio = chi2 / (n - 2) as f64;
+        if ratio > 1.0 {
+            se *= ratio.sqrt();
+            note = Some(format!(
+                "scatter {}× the errors: interval widened by that factor",
+                fixed(ratio.sqrt(), 2)
+            ));
+        }
+    }
+    let interval = [slope - quantile * se, slope + quantile * se];
+    let half = quantile * se;
+    let (verdict, why) = if n < 3 {
+        (
+            "undetermined",
+            Some(format!("{n} voting modes; at least 3 are needed")),
+        )
+    } else if half > expected.abs() {
+        (
+            "undetermined",
+            Some("the interval is wider than the expected exponent".to_string()),
+        )
+    } else if interval[0] <= expected && expected <= interval[1] {
+        ("consistent", note)
+    } else {
+        ("rejected", note)
+    };
+    TheoryTest {
+        exponent: Some(slope),
+        interval: Some(interval),
+        expected,
+        verdict,
+        modes,
+        note: why,
+    }
+}
+
+/// The lines `fit` prints for the per-mode fits, the floor and the tests.
+pub(super) fn text(
+    fits: &[ModeSpectralFit],
+    floor: Option<f64>,
+    tests: &TheoryTests,
+    window: &WindowChoice,
+) -> String {
+    let opt = |v: Option<f64>| v.map(|e| format!("{e:.5}")).unwrap_or_else(|| "—".into());
+    let mut t = format!(
+        "  window: {} frames, {} segments ({}: {})\n  each mode's spectrum fitted by maximum likelihood (damped oscillator + white tracking noise; aliasing and the window in the model):\n  mode          Ω     ± se          ζ     ± se          σ²      ± se  white noise ν  resolved  votes\n",
+        window.frames, window.segments, window.how, window.why
+    );
+    for m in fits {
+        t += &format!(
+            "  {:>4} {:>10.5} {:>8} {:>10.5} {:>8} {:>11.5e} {:>9} {:>14.4e} {:>9} {:>6}{}\n",
+            m.mode,
+            m.omega,
+            opt(m.omega_error),
+            m.zeta,
+            opt(m.zeta_error),
+            m.variance,
+            m.variance_error
+                .map(|e| format!("{e:.3e}"))
+                .unwrap_or_else(|| "—".into()),
+            m.noise,
+            if m.resolved { "yes" } else { "no" },
+            if m.votes { "yes" } else { "no" },
+            m.note
+                .as_ref()
+                .map(|n| format!("  {n}"))
+                .unwrap_or_default(),
+        );
+    }
+    t += &match floor {
+        Some(f) => format!(
+            "  noise floor: ν = {} per frame (median white-noise variance of the highest modes; a mode whose σ² is under it does not vote)\n",
+            fixed(f, 6)
+        ),
+        None => "  noise floor: not measured\n".into(),
+    };
+    t += "  tests of the theory over the voting modes (λ the continuum eigenvalue (βᵢL)^2k where there is one):\n";
+    for (name, law, test) in [
+        ("equipartition", "σᵢ² ∝ λᵢ^a", &tests.equipartition),
+        ("dispersion", "Ωᵢ ∝ λᵢ^a", &tests.dispersion),
+        ("damping", "ζᵢ ∝ λᵢ^a", &tests.damping),
+    ] {
+        let fitted = match (test.exponent, test.interval) {
+            (Some(a), Some([lo, hi])) => {
+                format!("a = {} [{}, {}]", fixed(a, 3), fixed(lo, 3), fixed(hi, 3))
+            }
+            _ => "a not fitted".into(),
+        };
+        let modes: Vec<String> = test.modes.iter().map(|m| m.to_string()).collect();
+        t += &format!(
+            "    {name:<13} {law}: {fitted}, expected {}: {} (modes {}){}\n",
+            fixed(test.expected, 1),
+            test.verdict,
+            if modes.is_empty() {
+                "none".into()
+            } else {
+                modes.join(", ")
+            },
+            test.note
+                .as_ref()
+                .map(|n| format!("; {n}"))
+                .unwrap_or_default()
+        );
+    }
+    t
+}
