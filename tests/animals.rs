@@ -155,7 +155,12 @@ fn a_directory_a_track_file_and_memory_give_one_pooled_fit() {
     assert_eq!(from_tracks["recording"]["recordings"], 3);
     let pattern = format!("{d}/worm*.csv");
     assert_same(&from_dir, &run_cli(&[&pattern, "--fit-modes", "2"]), "glob");
-    let memory = serde_json::to_value(fit_memory(&animals, &settings())).unwrap();
+    // The command line chooses the window from the data; so does this.
+    let auto = FitSettings {
+        window: None,
+        ..settings()
+    };
+    let memory = serde_json::to_value(fit_memory(&animals, &auto)).unwrap();
     assert_same(&from_dir, &memory, "directory vs memory");
     // One thread (a --series sink forces it) and all cores agree exactly.
     let series = dir.join("series.csv");

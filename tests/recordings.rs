@@ -209,9 +209,9 @@ fn deeplabcut_files_are_read_with_their_likelihoods() {
     let lost = rows.iter().enumerate().filter(|(i, _)| i % 97 == 5).count();
     assert_eq!(v["recording"]["frames_lost"], lost);
     assert_eq!(v["recording"]["frames_filled"], lost);
-    // The same physics as the plain file (ω_b = 1 in the simulation; the plain fit gives 0.974).
+    // The same physics as the plain file: ω_b = 1 in the simulation.
     let omega = v["omega"].as_f64().unwrap();
-    assert!((omega - 0.974).abs() < 0.02, "{omega}");
+    assert!((omega - 1.0).abs() < 0.02, "{omega}");
     std::fs::remove_dir_all(&dir).ok();
 }
 

@@ -239,18 +239,34 @@ fn fit_modes_spectra(
             };
             let index = proj.first_mode + j;
             let lambda = proj.eigenvalues[j];
-            let fitted = (j < count)
-                .then(|| {
-                    fit_mode(
-                        &taper,
-                        (fs, spec.segments as f64),
-                        &spec.psd[j],
-                        &starts,
-                        cov[j][j],
-                        band,
-                    )
-                })
-                .flatten();
+            let fit = |starts: &[(f64, f64)], band| {
+                fit_mode(
+                    &taper,
+                    (fs, spec.segments as f64),
+                    &spec.psd[j],
+                    starts,
+                    cov[j][j],
+                    band,
+                )
+            };
+            // A line wider than its band cannot be told from the white level there: fitted
+            // again over ±3 half-widths around it, or over an octave each side when the band
+            // left it mostly white.
+            let fitted = (j < count).then(|| fit(&starts, band)).flatten().map(|s| {
+                let (f, half) = (s.omega / tau, s.zeta * s.omega / tau);
+                let wide = if s.noise > 3.0 * s.variance {
+                    (0.5 * f, 2.0 * f)
+                } else {
+                    (f - 3.0 * half, f + 3.0 * half)
+                };
+                let wide = (wide.0.max(0.0), wide.1.min(0.5 * fs));
+                if s.converged && s.zeta < 1.0 && (wide.0 < band.0 || wide.1 > band.1) {
+                    let union = (wide.0.min(band.0), wide.1.max(band.1));
+                    fit(&[(s.omega, s.zeta)], union).unwrap_or(s)
+                } else {
+                    s
+                }
+            });
             match fitted {
                 Some(s) => ModeSpectralFit::of(index, lambda, &s, df, fs),
                 None => ModeSpectralFit {
@@ -426,7 +442,7 @@ pub(super) fn summarise(
         .collect();
     if !unresolved.is_empty() {
         warnings.push(format!(
-            "mode(s) {} cannot be resolved by their spectral fit at a {used_window}-frame window (see the per-mode notes): left out of ω, β and κ",
+            "at a {used_window}-frame window the spectral fits cannot resolve mode(s) {} (see the per-mode notes): left out of ω, β and κ",
             unresolved.join(", ")
         ));
     }
@@ -467,7 +483,7 @@ pub(super) fn summarise(
             "no frequency could be measured (flat spectra): give --omega".into(),
         ));
     }
-    if !(beta > 0.0) {
+    if !(beta > 0.0) || (0..m).all(|j| cov[j][j] <= 0.0) {
         return Err(invalid(
             "the postures do not vary: no temperature can be fitted".into(),
         ));
