@@ -289,6 +289,36 @@ impl Projector {
         }
     }
 
+    /// Each fitted mode's gain on the body's own continuum mode (midlines of a field with
+    /// continuum modes, else `None`): the modal coordinate Qⱼ that a midline of the input's K
+    /// points bent by εφⱼ gives, over ε. The N-point modes are not quite the body's, so Qⱼ
+    /// reads its continuum amplitude times this gain; equipartition is tested on Var Qⱼ/gainⱼ².
+    pub fn continuum_gains(&self) -> Vec<Option<f64>> {
+        let m = self.eigenvalues.len();
+        if self.kind != InputKind::Midline || self.input_points < 3 {
+            return vec![None; m];
+        }
+        let eps = 1e-4;
+        let k = self.input_points;
+        (0..m)
+            .map(|j| {
+                let shape = crate::modal::continuum_shape(self.stencil, self.boundary, j + 1)?;
+                let last = (shape.len() - 1) as f64;
+                let values: Vec<f64> = (0..k)
+                    .flat_map(|p| {
+                        let s = p as f64 / (k - 1) as f64;
+                        let x = s * last;
+                        let (i, f) = (x.floor() as usize, x - x.floor());
+                        let y = shape[i] + f * (shape[(i + 1).min(shape.len() - 1)] - shape[i]);
+                        [s, eps * y]
+                    })
+                    .collect();
+                let g = self.modal(&values).ok()?.get(j)?.abs() / eps;
+                (g > 0.0 && g.is_finite()).then_some(g)
+            })
+            .collect()
+    }
+
     /// The model point spacing of one frame in the data's length unit: arc length over N − 1
     /// (midlines), the rest segment length (lengths).
     pub fn spacing(&self, values: &[f64]) -> f64 {

@@ -426,7 +426,7 @@ pub(super) fn summarise(
     let regressor: Vec<f64> = (0..m)
         .map(|j| continuum_lambda[j].unwrap_or(lambdas[j]))
         .collect();
-    let tests = verdict::tests(&modes_fit, &regressor);
+    let tests = verdict::tests(&modes_fit, &regressor, &proj.continuum_gains());
 
     let used = settings.fit_modes.min(m);
     let voting: Vec<(usize, f64, f64)> = modes_fit[..used]

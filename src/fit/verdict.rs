@@ -19,7 +19,9 @@
 //! damping, c = ½) are weighted least-squares slopes of the logarithms, weights from each
 //! mode's standard errors. λᵢ is the continuum eigenvalue (βᵢL)^{2k} where the field has one, so
 //! the exponents do not depend on N, and a mode votes only while the N-point λᵢ is within 10 %
-//! of it (the grid resolves the mode). When the scatter exceeds the errors (χ²/ν > 1) the
+//! of it (the grid resolves the mode). Equipartition is tested on the continuum amplitudes:
+//! each σᵢ² divided by the square of its coordinate's gain on the body's continuum mode (see
+//! `Projector::continuum_gains`), which the coarse N-point modes read a few per cent off. When the scatter exceeds the errors (χ²/ν > 1) the
 //! error is widened by √(χ²/ν) (the Birge ratio, the Particle Data Group's scale factor). The verdict is `undetermined` with fewer than three voting modes
 //! or an interval wider than the expected exponent itself, else `consistent` when the interval
 //! holds the expectation and `rejected` when it does not.
@@ -256,15 +258,21 @@ pub(super) fn correlated(fits: &[ModeSpectralFit], cov: &[Vec<f64>]) -> Vec<(usi
     out
 }
 
-/// The three tests over the voting modes; `lambda[i]` the eigenvalue each mode is regressed on.
-pub(super) fn tests(fits: &[ModeSpectralFit], lambda: &[f64]) -> TheoryTests {
-    let pick = |value: &dyn Fn(&ModeSpectralFit) -> (f64, Option<f64>), expected: f64| {
+/// The three tests over the voting modes; `lambda[i]` the eigenvalue each mode is regressed on,
+/// `gains[i]` its coordinate's gain on the continuum mode (variances are divided by its square).
+pub(super) fn tests(
+    fits: &[ModeSpectralFit],
+    lambda: &[f64],
+    gains: &[Option<f64>],
+) -> TheoryTests {
+    let pick = |value: &dyn Fn(&ModeSpectralFit, f64) -> (f64, Option<f64>), expected: f64| {
         let points: Vec<(usize, f64, f64, f64)> = fits
             .iter()
             .zip(lambda)
-            .filter(|(m, _)| m.votes)
-            .filter_map(|(m, l)| {
-                let (v, e) = value(m);
+            .zip(gains)
+            .filter(|((m, _), _)| m.votes)
+            .filter_map(|((m, l), g)| {
+                let (v, e) = value(m, g.unwrap_or(1.0));
                 let e = e?;
                 (v > 0.0 && e > 0.0).then(|| (m.mode, l.ln(), v.ln(), e / v))
             })
@@ -272,9 +280,12 @@ pub(super) fn tests(fits: &[ModeSpectralFit], lambda: &[f64]) -> TheoryTests {
         exponent(&points, expected)
     };
     TheoryTests {
-        equipartition: pick(&|m| (m.variance, m.variance_error), -1.0),
-        dispersion: pick(&|m| (m.omega, m.omega_error), 0.5),
-        damping: pick(&|m| (m.zeta, m.zeta_error), 0.5),
+        equipartition: pick(
+            &|m, g| (m.variance / (g * g), m.variance_error.map(|e| e / (g * g))),
+            -1.0,
+        ),
+        dispersion: pick(&|m, _| (m.omega, m.omega_error), 0.5),
+        damping: pick(&|m, _| (m.zeta, m.zeta_error), 0.5),
     }
 }
 

@@ -324,3 +324,59 @@ pub fn seed_eq17(i: usize, points: usize) -> f64 {
         .sin()
         .powi(4)
 }
+
+/// The continuum mode shape of the i-th non-zero mode (i = 1, 2, …) of a k = 2 beam or k = 1
+/// string with these ends, at s ∈ [0, 1] (the tail at 0), unit mean square: the null vector of
+/// the four end conditions on A·e^{−βs} + B·e^{−β(1−s)} + C·cos βs + D·sin βs (the decaying
+/// exponentials instead of cosh and sinh, so that high modes lose no digits), or of the two on
+/// C·cos βs + D·sin βs for a string. `None` where [`continuum_beta`] has no root.
+pub fn continuum_shape(k: u32, boundary: Boundary, i: usize) -> Option<Vec<f64>> {
+    use crate::model::End::{Clamped, Free, Pinned};
+    let beta = continuum_beta(k, boundary, i)?;
+    let Boundary::Ends { tail, head } = boundary else {
+        return None;
+    };
+    // The m-th derivative of each basis function at s, divided by βᵐ.
+    let basis = |m: u32, s: f64| -> [f64; 4] {
+        let turn = m as f64 * PI / 2.0;
+        [
+            (-1f64).powi(m as i32) * (-beta * s).exp(),
+            (-beta * (1.0 - s)).exp(),
+            (beta * s + turn).cos(),
+            (beta * s + turn).sin(),
+        ]
+    };
+    let orders = |end| match (k, end) {
+        (2, Free) => vec![2, 3],
+        (2, Clamped) => vec![0, 1],
+        (2, Pinned) => vec![0, 2],
+        (_, Free) => vec![1],
+        _ => vec![0],
+    };
+    let mut rows: Vec<[f64; 4]> = Vec::new();
+    for (end, s) in [(tail, 0.0), (head, 1.0)] {
+        rows.extend(orders(end).into_iter().map(|m| basis(m, s)));
+    }
+    let width = if k == 2 { 4 } else { 2 };
+    let a = nalgebra::DMatrix::from_fn(rows.len(), width, |r, c| rows[r][c + 4 - width]);
+    let svd = a.svd(false, true);
+    let v_t = svd.v_t?;
+    let smallest =
+        (0..width).min_by(|&x, &y| svd.singular_values[x].total_cmp(&svd.singular_values[y]))?;
+    let coef: Vec<f64> = (0..width).map(|c| v_t[(smallest, c)]).collect();
+    let at = |s: f64| -> f64 {
+        let b = basis(0, s);
+        coef.iter().zip(&b[4 - width..]).map(|(c, b)| c * b).sum()
+    };
+    let samples = 2001;
+    let values: Vec<f64> = (0..samples)
+        .map(|p| at(p as f64 / (samples - 1) as f64))
+        .collect();
+    // Trapezoidal mean square.
+    let ms = values
+        .windows(2)
+        .map(|w| 0.5 * (w[0] * w[0] + w[1] * w[1]))
+        .sum::<f64>()
+        / (samples - 1) as f64;
+    (ms > 0.0).then(|| values.iter().map(|v| v / ms.sqrt()).collect())
+}

@@ -39,7 +39,9 @@ mod report;
 mod subspace;
 mod trace;
 pub use crate::params::{ParamError, Params, DEFAULT_OMEGA, DEFAULT_ZETA};
-pub use closed::{beam_beta, continuum_beta, d4_characteristic, d4_inverse_trace, seed_eq17};
+pub use closed::{
+    beam_beta, continuum_beta, continuum_shape, d4_characteristic, d4_inverse_trace, seed_eq17,
+};
 pub use field::{field_modes, BeamComparison, FieldModes, Mode, ModesError, Regime};
 pub use report::ModesReport;
 pub use subspace::subspace;
