@@ -261,3 +261,61 @@ fn a_driven_travelling_wave_is_not_a_passive_beam() {
         r.warnings
     );
 }
+
+#[test]
+fn nominal_95_percent_intervals_cover_the_truth() {
+    // 100 recordings of the free beam, shorter than above; every interval the fit gives for κ
+    // and for the three exponents is counted.
+    let body = Body {
+        frames: 6000,
+        ..BODY
+    };
+    let runs = 100u64;
+    let results: Vec<FitReport> = std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..2u64)
+            .map(|w| {
+                scope.spawn(move || {
+                    (0..runs)
+                        .filter(|r| r % 2 == w)
+                        .map(|r| fitted(&record(&body, 1000 + r), false, 12, None))
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        workers
+            .into_iter()
+            .flat_map(|h| h.join().expect("a worker"))
+            .collect()
+    });
+    let covers = |pick: &dyn Fn(&FitReport) -> Option<[f64; 2]>, truth: f64| -> (usize, usize) {
+        let intervals: Vec<[f64; 2]> = results.iter().filter_map(pick).collect();
+        let n = intervals.len();
+        (
+            intervals
+                .iter()
+                .filter(|[lo, hi]| *lo <= truth && truth <= *hi)
+                .count(),
+            n,
+        )
+    };
+    let kappa = covers(
+        &|r| r.continuum.as_ref().and_then(|c| c.interval),
+        body.kappa,
+    );
+    let equi = covers(&|r| r.tests.equipartition.interval, -1.0);
+    let disp = covers(&|r| r.tests.dispersion.interval, 0.5);
+    let damp = covers(&|r| r.tests.damping.interval, 0.5);
+    println!("covered: κ {kappa:?}, equipartition {equi:?}, dispersion {disp:?}, damping {damp:?}");
+    for (name, (hit, n)) in [
+        ("κ", kappa),
+        ("equipartition", equi),
+        ("dispersion", disp),
+        ("damping", damp),
+    ] {
+        assert!(n >= 90, "{name}: only {n} of {runs} fits gave an interval");
+        assert!(
+            hit * 100 >= 90 * n,
+            "{name}: {hit} of {n} intervals cover the truth"
+        );
+    }
+}
