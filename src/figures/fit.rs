@@ -52,6 +52,117 @@ fn fit_shapes(r: &crate::fit::FitReport) -> Result<String, FigureError> {
     )
 }
 
+/// The verdict: each mode's fitted Ωᵢ (95 % error bars) against √λᵢ with the theory's line
+/// ω√λ, and its variance against λᵢ on log–log axes with the noise floor and the slope −1
+/// through the voting modes; voting modes and the others apart.
+fn fit_verdict(r: &crate::fit::FitReport) -> Result<String, FigureError> {
+    let fits = &r.modes_fit;
+    let fitted: Vec<&crate::fit::ModeSpectralFit> = fits.iter().filter(|m| m.omega > 0.0).collect();
+    let split = |votes: bool, f: &dyn Fn(&crate::fit::ModeSpectralFit) -> (f64, f64)| {
+        fitted
+            .iter()
+            .filter(|m| m.votes == votes)
+            .map(|m| f(m))
+            .collect::<Vec<_>>()
+    };
+    let d = &r.tests.dispersion;
+    let e = &r.tests.equipartition;
+    let said = |t: &crate::fit::TheoryTest| {
+        t.exponent
+            .map(|a| format!("{a:.3}"))
+            .unwrap_or_else(|| "—".into())
+    };
+    let titles = [
+        format!("dispersion Ω ∝ λ^{} (expected ½): {}", said(d), d.verdict),
+        format!(
+            "equipartition σ² ∝ λ^{} (expected −1): {}",
+            said(e),
+            e.verdict
+        ),
+    ];
+    let sq = |m: &crate::fit::ModeSpectralFit| m.lambda.sqrt();
+    let bars: Vec<(f64, f64)> = fitted
+        .iter()
+        .filter(|m| m.votes)
+        .filter_map(|m| {
+            let e = 1.96 * m.omega_error?;
+            Some([(sq(m), m.omega - e), (sq(m), m.omega + e)])
+        })
+        .flatten()
+        .collect();
+    let top = fitted.iter().map(|m| sq(m)).fold(0.0, f64::max);
+    let mut dispersion = panel(
+        &titles[0],
+        "√λᵢ (model's operator)",
+        "Ωᵢ (rad per time unit)",
+        vec![
+            series(
+                "voting modes",
+                split(true, &|m| (sq(m), m.omega)),
+                Mark::Dots,
+            ),
+            series("95 % intervals", bars, Mark::Errors),
+            series(
+                "other modes",
+                split(false, &|m| (sq(m), m.omega)),
+                Mark::Dots,
+            ),
+            series(
+                format!("theory ω√λ, ω = {:.4}", r.omega),
+                curve(0.0, top, 40, |x| r.omega * x),
+                Mark::Line,
+            ),
+        ],
+    );
+    dispersion.zero = true;
+    let log = |m: &crate::fit::ModeSpectralFit| (m.lambda.log10(), m.variance.max(1e-300).log10());
+    let voting: Vec<(f64, f64)> = split(true, &log);
+    let mut lines = vec![
+        series("voting modes", voting.clone(), Mark::Dots),
+        series("other modes", split(false, &log), Mark::Dots),
+    ];
+    let xs: Vec<f64> = fitted.iter().map(|m| m.lambda.log10()).collect();
+    let (lo, hi) = (
+        xs.iter().copied().fold(f64::INFINITY, f64::min),
+        xs.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+    );
+    if !voting.is_empty() && lo < hi {
+        // Slope −1 through the voting modes' mean.
+        let (mx, my) = voting
+            .iter()
+            .fold((0.0, 0.0), |(a, b), p| (a + p.0, b + p.1));
+        let (mx, my) = (mx / voting.len() as f64, my / voting.len() as f64);
+        lines.push(series(
+            "equipartition, slope −1",
+            curve(lo, hi, 2, |x| my - (x - mx)),
+            Mark::Line,
+        ));
+    }
+    if let (Some(f), true) = (r.noise_floor.filter(|f| *f > 0.0), lo < hi) {
+        lines.push(series(
+            "noise floor ν",
+            vec![(lo, f.log10()), (hi, f.log10())],
+            Mark::Dashed,
+        ));
+    }
+    let variance = panel(
+        &titles[1],
+        "log₁₀ λᵢ",
+        "log₁₀ σᵢ² (tracking noise removed)",
+        lines,
+    );
+    render(
+        &format!(
+            "Does the theory hold? {} frames, {} voting modes",
+            r.frames,
+            d.modes.len()
+        ),
+        (1000, 460),
+        (1, 2),
+        &[dispersion, variance],
+    )
+}
+
 /// The fit's figures (Fig. 2 style): principal components against mode shapes, variance shares,
 /// spectra, and measured against fitted modal frequencies.
 pub fn fit_figures(r: &crate::fit::FitReport) -> Result<Vec<(&'static str, String)>, FigureError> {
@@ -155,5 +266,6 @@ pub fn fit_figures(r: &crate::fit::FitReport) -> Result<Vec<(&'static str, Strin
     Ok(vec![
         ("fit_shapes.svg", shapes),
         ("fit_summary.svg", summary),
+        ("fit_verdict.svg", fit_verdict(r)?),
     ])
 }

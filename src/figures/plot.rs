@@ -16,6 +16,8 @@ pub(super) enum Mark {
     Dots,
     /// Histogram bars of the given width; points are (left edge, height).
     Bars(f64),
+    /// Error bars: points in pairs (x, low), (x, high), each pair one vertical segment.
+    Errors,
 }
 
 pub(super) struct Series {
@@ -300,6 +302,10 @@ pub(super) fn draw(area: &Area, p: &Panel, id: usize) -> Result<Curves, FigureEr
                     at + PathElement::new(vec![(2, 0), (14, 0)], c.mix(0.45).stroke_width(8))
                         + PathElement::new(vec![(2, 0), (2, 0)], c)
                 }
+                Mark::Errors => {
+                    at + PathElement::new(vec![(8, -6), (8, 6)], c.stroke_width(2))
+                        + PathElement::new(vec![(5, -6), (11, -6)], c)
+                }
             }
         };
         let pixels = chart.plotting_area().get_pixel_range();
@@ -320,6 +326,13 @@ pub(super) fn draw(area: &Area, p: &Panel, id: usize) -> Result<Curves, FigureEr
                     .draw_series(s.points.iter().map(|&(x, h)| {
                         Rectangle::new([(x, 0.0), (x + w, h)], c.mix(0.45).filled())
                     }))
+                    .map_err(err)?,
+                Mark::Errors => chart
+                    .draw_series(
+                        s.points
+                            .chunks_exact(2)
+                            .map(|p| PathElement::new(vec![p[0], p[1]], c.stroke_width(2))),
+                    )
                     .map_err(err)?,
             };
         if !s.name.is_empty() {

@@ -82,7 +82,9 @@ pub use read::{Frame, Track, MAX_LINE_BYTES, MAX_WHOLE_FILE};
 pub use report::{AnimalFit, Continuum, FitReport, ModeFit, Recording, Subspace};
 pub use settings::*;
 pub use summary::spectral_peak_and_centroid;
-pub use verdict::{ModeSpectralFit, TheoryTest, TheoryTests, WindowChoice, RESOLVED_BINS};
+pub use verdict::{
+    ModeSpectralFit, TheoryTest, TheoryTests, WindowChoice, RESOLVED_BINS, WIDTH_BINS,
+};
 
 use crate::modal::Params;
 use crate::model::Model;

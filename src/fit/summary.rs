@@ -282,6 +282,7 @@ fn fit_modes_spectra(
                     relaxation_rate: None,
                     resolved: false,
                     votes: false,
+                    bins: 0.0,
                     note: Some(if j < count {
                         "too few frequency bins or no variance to fit".into()
                     } else {

@@ -2,11 +2,12 @@
 //! tracking-noise floor, and the theory's three predictions tested over the modes that vote.
 //!
 //! **Resolved.** A mode is resolved when its fit converged under-damped (ζ < 1), its natural
-//! frequency lies at least [`RESOLVED_BINS`] frequency bins above zero and below 0.9 × Nyquist,
+//! frequency lies at least [`RESOLVED_BINS`] frequency bin above zero and below 0.9 × Nyquist,
 //! its spectrum is not mostly flat (white level ν at most 3σ²) and Ω is known to 25 %. An
 //! over-damped mode reports its relaxation rate Ω(ζ − √(ζ² − 1)) instead. A line narrower than
 //! half a frequency bin (ζΩ/2π < df/2) has no ζ error: its width is the window's, and it does
-//! not vote on damping.
+//! not vote on damping. Below [`WIDTH_BINS`] bins a mode votes on dispersion only: its Ω keeps
+//! honest errors there (simulated coverage ≥ 98 % at 1.1–2 bins), its σ² and ζ do not (86–92 %).
 //!
 //! **Noise floor** (Gittes et al. 1993). Position noise of the tracker reaches the modal
 //! coordinates as white noise of about the same variance in every mode (the angles are second
@@ -32,7 +33,11 @@ use crate::report::fixed;
 pub const MAX_SHARED: f64 = 0.25;
 
 /// Bins above zero a mode's frequency must reach to count as resolved.
-pub const RESOLVED_BINS: f64 = 2.0;
+pub const RESOLVED_BINS: f64 = 1.0;
+
+/// Bins above zero a mode's frequency must reach for its variance and damping to vote: nearer
+/// zero they share the window's low-frequency leakage, and their errors run short.
+pub const WIDTH_BINS: f64 = 4.0;
 
 /// One mode's spectral fit, as reported.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -61,6 +66,9 @@ pub struct ModeSpectralFit {
     pub resolved: bool,
     /// Whether it votes in the tests (resolved, above the noise floor, resolved by the grid).
     pub votes: bool,
+    /// Its frequency in frequency bins of the window (below [`WIDTH_BINS`] it votes on
+    /// dispersion only).
+    pub bins: f64,
     /// Why not resolved, or why it does not vote.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub note: Option<String>,
@@ -154,6 +162,7 @@ impl ModeSpectralFit {
                 .then(|| s.omega * (s.zeta - (s.zeta * s.zeta - 1.0).sqrt())),
             resolved: why.is_none(),
             votes: why.is_none(),
+            bins: f / df,
             note: why,
         }
     }
@@ -265,12 +274,14 @@ pub(super) fn tests(
     lambda: &[f64],
     gains: &[Option<f64>],
 ) -> TheoryTests {
-    let pick = |value: &dyn Fn(&ModeSpectralFit, f64) -> (f64, Option<f64>), expected: f64| {
+    let pick = |value: &dyn Fn(&ModeSpectralFit, f64) -> (f64, Option<f64>),
+                expected: f64,
+                near_zero: bool| {
         let points: Vec<(usize, f64, f64, f64)> = fits
             .iter()
             .zip(lambda)
             .zip(gains)
-            .filter(|((m, _), _)| m.votes)
+            .filter(|((m, _), _)| m.votes && (near_zero || m.bins >= WIDTH_BINS))
             .filter_map(|((m, l), g)| {
                 let (v, e) = value(m, g.unwrap_or(1.0));
                 let e = e?;
@@ -283,9 +294,10 @@ pub(super) fn tests(
         equipartition: pick(
             &|m, g| (m.variance / (g * g), m.variance_error.map(|e| e / (g * g))),
             -1.0,
+            false,
         ),
-        dispersion: pick(&|m, _| (m.omega, m.omega_error), 0.5),
-        damping: pick(&|m, _| (m.zeta, m.zeta_error), 0.5),
+        dispersion: pick(&|m, _| (m.omega, m.omega_error), 0.5, true),
+        damping: pick(&|m, _| (m.zeta, m.zeta_error), 0.5, false),
     }
 }
 
@@ -334,6 +346,8 @@ fn exponent(points: &[(usize, f64, f64, f64)], expected: f64) -> TheoryTest {
         let ratio = chi2 / (n - 2) as f64;
         if ratio > 1.0 {
             se *= ratio.sqrt();
+        }
+        if ratio > 1.21 {
             note = Some(format!(
                 "scatter {}× the errors: interval widened by that factor",
                 fixed(ratio.sqrt(), 2)
@@ -374,7 +388,16 @@ pub(super) fn text(
     tests: &TheoryTests,
     window: &WindowChoice,
 ) -> String {
-    let opt = |v: Option<f64>| v.map(|e| format!("{e:.5}")).unwrap_or_else(|| "—".into());
+    let opt = |v: Option<f64>| {
+        v.map(|e| {
+            if (1e-4..1e4).contains(&e) {
+                format!("{e:.5}")
+            } else {
+                format!("{e:.2e}")
+            }
+        })
+        .unwrap_or_else(|| "—".into())
+    };
     let mut t = format!(
         "  window: {} frames, {} segments ({}: {})\n  each mode's spectrum fitted by maximum likelihood (damped oscillator + white tracking noise; aliasing and the window in the model):\n  mode          Ω     ± se          ζ     ± se          σ²      ± se  white noise ν  resolved  votes\n",
         window.frames, window.segments, window.how, window.why
