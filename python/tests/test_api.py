@@ -1,6 +1,8 @@
 """Each public function against an independent numpy/scipy computation, and the error paths."""
 
+import json
 import os
+import subprocess
 import pathlib
 
 import numpy as np
@@ -9,7 +11,8 @@ import scipy.linalg
 
 import theory_search as ts
 
-DATA = pathlib.Path(__file__).resolve().parents[2] / ".." / "shared" / "data"
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+DATA = ROOT / ".." / "shared" / "data"
 
 
 def test_modes_are_the_eigenvalues_of_the_returned_operators():
@@ -117,6 +120,19 @@ def test_fit_reads_recordings_from_paths():
     assert (r.mode_overlap[:3] > 0.95).all()
     both = ts.fit([str(p) for p in sorted(DATA.glob("*wormpose*.csv"))], window=64)
     assert both.frames == r.frames
+    # The verdict, as the command line gives it: the worm is not a passive beam.
+    cli = json.loads(
+        subprocess.run(
+            ["cargo", "run", "--release", "-q", "--", "fit", str(path), "--window", "64", "--format", "json"],
+            capture_output=True, text=True, check=True, cwd=ROOT,
+        ).stdout
+    )
+    assert r.tests == cli["tests"] and r.window == cli["window"]
+    assert r.tests["dispersion"]["verdict"] == "rejected"
+    assert r.continuum["interval"] == cli["continuum"]["interval"]
+    assert r.noise_floor == cli["noise_floor"]
+    assert [m["omega"] for m in r.modes_fit] == [m["omega"] for m in cli["modes_fit"]]
+    assert set(r.modes_fit[0]) >= {"mode", "lambda", "omega", "omega_error", "zeta", "zeta_error", "variance", "resolved"}
 
 
 def test_models_from_text_and_files(tmp_path):

@@ -72,6 +72,10 @@ class FitResult:
     omega: float
     beta: float
     continuum: Optional[Dict[str, Any]]
+    modes_fit: List[Dict[str, Any]]
+    tests: Dict[str, Dict[str, Any]]
+    noise_floor: Optional[float]
+    window: Dict[str, Any]
     spacing: float
     pca_variance_share: npt.NDArray[np.float64]
     theory_variance_share: npt.NDArray[np.float64]
