@@ -269,8 +269,9 @@ pub(super) fn fit_mode(
         (variance * 1e4).ln(),
     ];
     let clamp = |t: [f64; 4]| -> [f64; 4] { std::array::from_fn(|i| t[i].clamp(lo[i], hi[i])) };
+    let model = Linear::new(taper, fs);
     let nll = |t: &[f64; 4]| -> f64 {
-        let e = taper.expected(&Params::from_log(t), fs);
+        let e = model.expected(t, &model.shape(t[0], t[1]));
         let v = whittle(psd, &e, bins.clone());
         if v.is_finite() {
             v
@@ -289,7 +290,7 @@ pub(super) fn fit_mode(
             (variance - nu0).max(variance * 0.1).ln(),
             nu0.ln(),
         ]);
-        let (t, v) = descend(start, &nll, &clamp, taper, psd, fs, bins.clone());
+        let (t, v) = descend(start, &nll, &clamp, &model, psd, bins.clone());
         if best.as_ref().is_none_or(|(_, b)| v < *b) {
             best = Some((t, v));
         }
@@ -299,7 +300,7 @@ pub(super) fn fit_mode(
         return None;
     }
     let p = Params::from_log(&t);
-    let (a, _) = information(&t, taper, psd, fs, bins.clone());
+    let (a, _) = information(&t, &model, psd, bins.clone());
     // A parameter at its bound is held there, out of the information: ν at zero (no tracking
     // noise), ζ at its floor (a line narrower than the window resolves: its width unknown,
     // ζ_error none). Ω or σ² at a bound means no fit.
@@ -336,28 +337,71 @@ pub(super) fn fit_mode(
     })
 }
 
-/// The Fisher information A = Σ JJᵀ and the score direction Σ J(P/E − 1) at `t`, J = ∂ln E/∂θ
-/// by forward differences.
+/// The model spectrum as it is linear in σ² and ν: E = σ²·S(Ω, ζ) + ν·Z, S the unit-variance
+/// oscillator's expected ordinates and Z the unit white noise's (fixed), so that only Ω and ζ
+/// need the FFT again.
+struct Linear<'a> {
+    taper: &'a Taper,
+    fs: f64,
+    white: Vec<f64>,
+}
+
+impl<'a> Linear<'a> {
+    fn new(taper: &'a Taper, fs: f64) -> Linear<'a> {
+        let unit = Params {
+            omega: 1.0,
+            zeta: 1.0,
+            variance: 0.0,
+            noise: 1.0,
+        };
+        Linear {
+            taper,
+            fs,
+            white: taper.expected(&unit, fs),
+        }
+    }
+
+    /// S(Ω, ζ) at ln Ω = `a`, ln ζ = `b`.
+    fn shape(&self, a: f64, b: f64) -> Vec<f64> {
+        let p = Params {
+            omega: a.exp(),
+            zeta: b.exp(),
+            variance: 1.0,
+            noise: 0.0,
+        };
+        self.taper.expected(&p, self.fs)
+    }
+
+    /// E at θ = `t` from its shape `s`.
+    fn expected(&self, t: &[f64; 4], s: &[f64]) -> Vec<f64> {
+        let (var, nu) = (t[2].exp(), t[3].exp());
+        s.iter().zip(&self.white).map(|(s, w)| var * s + nu * w).collect()
+    }
+}
+
+/// The Fisher information A = Σ JJᵀ and the score direction Σ J(P/E − 1) at `t`, J = ∂ln E/∂θ:
+/// by forward differences in ln Ω and ln ζ, exactly in ln σ² and ln ν.
 fn information(
     t: &[f64; 4],
-    taper: &Taper,
+    model: &Linear<'_>,
     psd: &[f64],
-    fs: f64,
     bins: std::ops::Range<usize>,
 ) -> ([[f64; 4]; 4], [f64; 4]) {
-    let e = taper.expected(&Params::from_log(t), fs);
     let step = 1e-6;
-    let shifted: Vec<Vec<f64>> = (0..4)
-        .map(|i| {
-            let mut u = *t;
-            u[i] += step;
-            taper.expected(&Params::from_log(&u), fs)
-        })
-        .collect();
+    let s = model.shape(t[0], t[1]);
+    let s_omega = model.shape(t[0] + step, t[1]);
+    let s_zeta = model.shape(t[0], t[1] + step);
+    let e = model.expected(t, &s);
+    let (var, nu) = (t[2].exp(), t[3].exp());
     let mut a = [[0.0; 4]; 4];
     let mut b = [0.0; 4];
     for k in bins {
-        let j: [f64; 4] = std::array::from_fn(|i| (shifted[i][k] / e[k]).ln() / step);
+        let j = [
+            var * (s_omega[k] - s[k]) / step / e[k],
+            var * (s_zeta[k] - s[k]) / step / e[k],
+            var * s[k] / e[k],
+            nu * model.white[k] / e[k],
+        ];
         let r = psd[k] / e[k] - 1.0;
         for i in 0..4 {
             b[i] += j[i] * r;
@@ -374,15 +418,14 @@ fn descend(
     start: [f64; 4],
     nll: &dyn Fn(&[f64; 4]) -> f64,
     clamp: &dyn Fn([f64; 4]) -> [f64; 4],
-    taper: &Taper,
+    model: &Linear<'_>,
     psd: &[f64],
-    fs: f64,
     bins: std::ops::Range<usize>,
 ) -> ([f64; 4], f64) {
     let (mut t, mut v) = (start, nll(&start));
     let mut mu = 1e-3;
     for _ in 0..200 {
-        let (a, b) = information(&t, taper, psd, fs, bins.clone());
+        let (a, b) = information(&t, model, psd, bins.clone());
         let mut moved = false;
         while mu < 1e12 {
             let mut damped = a;

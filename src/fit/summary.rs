@@ -235,6 +235,9 @@ fn fit_modes_spectra(
             let tau = 2.0 * std::f64::consts::PI;
             let starts = match warm.and_then(|w| w.get(j)).filter(|w| w.omega > 0.0) {
                 Some(w) => vec![(w.omega, w.zeta)],
+                // One start for an animal alone (its own fit is a summary beside the pool's),
+                // three for the pool.
+                None if count < cov.len() => vec![(tau * peak, 0.2)],
                 None => vec![(tau * peak, 0.1), (tau * peak, 0.5), (tau * centroid, 0.3)],
             };
             let index = proj.first_mode + j;
