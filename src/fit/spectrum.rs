@@ -44,6 +44,23 @@ pub(super) struct Taper {
 }
 
 impl Taper {
+    /// The Hann taper of `len` frames (the Welch estimate's), made once per length and shared:
+    /// an animal alone and every bootstrap resample reuse it.
+    pub(super) fn hann(len: usize) -> Taper {
+        static MADE: std::sync::OnceLock<
+            std::sync::Mutex<std::collections::HashMap<usize, Taper>>,
+        > = std::sync::OnceLock::new();
+        let made = MADE.get_or_init(Default::default);
+        if let Some(t) = made.lock().ok().and_then(|m| m.get(&len).cloned()) {
+            return t;
+        }
+        let t = Taper::new(&super::stats::Plan::new(len).window);
+        if let Ok(mut m) = made.lock() {
+            m.insert(len, t.clone());
+        }
+        t
+    }
+
     /// The error model and lag products of the taper `window`.
     pub(super) fn new(window: &[f64]) -> Taper {
         let len = window.len();
@@ -375,7 +392,10 @@ impl<'a> Linear<'a> {
     /// E at θ = `t` from its shape `s`.
     fn expected(&self, t: &[f64; 4], s: &[f64]) -> Vec<f64> {
         let (var, nu) = (t[2].exp(), t[3].exp());
-        s.iter().zip(&self.white).map(|(s, w)| var * s + nu * w).collect()
+        s.iter()
+            .zip(&self.white)
+            .map(|(s, w)| var * s + nu * w)
+            .collect()
     }
 }
 

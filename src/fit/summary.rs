@@ -3,7 +3,7 @@
 
 use super::project::Projector;
 use super::spectrum::{fit_mode, Taper};
-use super::stats::{Plan, Spectra};
+use super::stats::Spectra;
 use super::verdict::{self, ModeSpectralFit, WindowChoice};
 use crate::report::{fixed, number};
 
@@ -223,7 +223,7 @@ fn fit_modes_spectra(
     fs: f64,
     (count, warm): (usize, Option<&[ModeSpectralFit]>),
 ) -> Vec<ModeSpectralFit> {
-    let taper = Taper::new(&Plan::new(spec.window).window);
+    let taper = Taper::hann(spec.window);
     let df = fs / spec.window as f64;
     let peaks: Vec<(f64, f64)> = (0..cov.len())
         .map(|j| spectral_peak_and_centroid(&spec.frequencies, &spec.psd[j]))
