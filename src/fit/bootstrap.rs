@@ -1,7 +1,9 @@
-//! Uncertainty by the bootstrap: whole animals (or, for one animal, whole runs between gaps)
-//! are drawn with replacement, their statistics pooled as the fit pools them, and the fit made
-//! again. Drawing whole animals keeps what varies between animals, and whole runs keeps the
-//! correlation in time inside a run.
+//! Uncertainty by the bootstrap: whole animals are drawn with replacement, their statistics
+//! pooled as the fit pools them, and the fit made again; drawing whole animals keeps what varies
+//! between animals. One animal is resampled in time by the moving-block bootstrap (Künsch
+//! 1989): its frames, kept in consecutive blocks, are drawn as runs of L consecutive blocks
+//! starting anywhere, L blocks spanning at least five of the slowest voting mode's correlation
+//! times 1/(ζΩ) and the Welch window, so the correlation in time stays inside a draw.
 //!
 //! The interval is Hesterberg's *expanded percentile* interval (The American Statistician 69,
 //! 2015): with n units the plain percentile interval is too narrow (the bootstrap variance is
@@ -23,10 +25,13 @@ const MAX_DRAWS: usize = 20_000_000;
 /// 95 % bootstrap intervals, `[low, high]`.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Intervals {
-    /// What was resampled: `animals` or `runs`.
+    /// What was resampled: `animals` or `blocks`.
     pub resampled: &'static str,
     /// How many there were.
     pub units: usize,
+    /// Consecutive blocks per draw (moving blocks of one animal), with their length in frames.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub moving: Option<(usize, usize)>,
     /// Replicates drawn.
     pub replicates: usize,
     /// Replicates that gave a fit (a draw without a spectrum or with flat spectra gives none).
@@ -94,7 +99,7 @@ fn intervals_of(rows: &[Vec<f64>], tail: f64) -> Vec<[f64; 2]> {
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum NoBootstrap {
     /// Fewer than two units to resample.
-    #[error("no bootstrap: it draws whole animals or whole runs, and there is {n} {unit}")]
+    #[error("no bootstrap: it draws whole animals, and there is {n} {unit}")]
     TooFew {
         /// Units available.
         n: usize,
@@ -108,6 +113,16 @@ pub enum NoBootstrap {
         n: usize,
         /// `runs` or `animals`.
         resampled: &'static str,
+    },
+    /// One animal's recording holds too few blocks as long as its correlation time needs.
+    #[error("no bootstrap: a draw must span {frames} frames (five correlation times of the slowest mode, and the window) and the recording's runs hold only {n} blocks of {block} frames; record longer")]
+    Short {
+        /// Blocks available.
+        n: usize,
+        /// Frames per block.
+        block: usize,
+        /// Frames a draw must span.
+        frames: usize,
     },
     /// Too few resamples could be fitted.
     #[error("no bootstrap: only {fitted} of {replicates} resamples could be fitted (too few frames per {unit})")]
@@ -123,21 +138,36 @@ pub enum NoBootstrap {
 
 /// B replicates (`settings.bootstrap`, seeded by `settings.seed`) of `fit` on resampled
 /// `units`; an explanation instead when they cannot be drawn.
+///
+/// `span` is, for the blocks of one animal, the frames a draw must span: the draws are then moving
+/// blocks of consecutive units.
 pub(super) fn intervals(
     (units, resampled): &(Vec<&Stats>, &'static str),
     settings: &FitSettings,
-    ladder: &Ladder,
+    (ladder, span): (&Ladder, usize),
     fit: impl Fn(&Stats) -> Option<FitReport>,
 ) -> Result<Intervals, NoBootstrap> {
     let n = units.len();
-    if n < 2 {
-        let unit = if *resampled == "runs" {
-            "run"
-        } else {
-            "animal"
-        };
-        return Err(NoBootstrap::TooFew { n, unit });
-    }
+    let moving = *resampled == "blocks";
+    // Blocks per draw, and draws per replicate.
+    let (length, draws) = if moving {
+        let frames: f64 = units.iter().map(|u| u.count).sum();
+        let block = (frames / n.max(1) as f64).max(1.0);
+        let length = ((span as f64 / block).ceil() as usize).max(1);
+        if n < 2 * length || n + 1 < length + 5 {
+            return Err(NoBootstrap::Short {
+                n,
+                block: block.round() as usize,
+                frames: span,
+            });
+        }
+        (length, n.div_ceil(length))
+    } else {
+        if n < 2 {
+            return Err(NoBootstrap::TooFew { n, unit: "animal" });
+        }
+        (1, n)
+    };
     let replicates = settings.bootstrap.min(MAX_DRAWS / n);
     if replicates < 20 {
         return Err(NoBootstrap::TooMany { n, resampled });
@@ -148,8 +178,11 @@ pub(super) fn intervals(
     let mut times = vec![0usize; n];
     for _ in 0..replicates {
         times.iter_mut().for_each(|c| *c = 0);
-        for _ in 0..n {
-            times[rng.random_range(0..n)] += 1;
+        for _ in 0..draws {
+            let start = rng.random_range(0..=n - length);
+            for c in &mut times[start..start + length] {
+                *c += 1;
+            }
         }
         let mut pooled = Stats::new(m, ladder);
         for (s, &c) in units.iter().zip(&times) {
@@ -163,19 +196,17 @@ pub(super) fn intervals(
         return Err(NoBootstrap::Unfitted {
             fitted: reports.len(),
             replicates,
-            unit: if *resampled == "runs" {
-                "run"
-            } else {
-                "animal"
-            },
+            unit: if moving { "block" } else { "animal" },
         });
     }
     let column =
         |f: &dyn Fn(&FitReport) -> Vec<f64>| -> Vec<Vec<f64>> { reports.iter().map(f).collect() };
-    let tail = expanded_tail(n);
+    let tail = expanded_tail(draws);
+    let block = units.iter().map(|u| u.count).sum::<f64>() / n as f64;
     Ok(Intervals {
         resampled,
         units: n,
+        moving: moving.then(|| (length, block.round() as usize)),
         replicates,
         fitted: reports.len(),
         omega: interval(reports.iter().map(|r| r.omega).collect(), tail),

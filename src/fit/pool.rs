@@ -359,22 +359,19 @@ fn accumulate(
     Ok(animal)
 }
 
-/// End the current run: into the animal's total, and kept as a piece for the bootstrap.
+/// End the current run: into the animal's total, its blocks kept for a bootstrap over time.
 fn close(run: &mut Option<Run>, animal: &mut Animal, counts: &mut Recording, ctx: &Context<'_>) {
-    let (s, ladder) = (ctx.settings, &ctx.ladder);
     let Some(r) = run.take() else {
         return;
     };
     counts.runs += 1;
     counts.longest_run = counts.longest_run.max(r.len());
-    let piece = r.finish();
+    let (piece, blocks) = r.finish();
     if animal.stats.mean.is_empty() {
-        animal.stats = Stats::new(piece.mean.len(), ladder);
+        animal.stats = Stats::new(piece.mean.len(), &ctx.ladder);
     }
     animal.stats.absorb(&piece, 1.0);
-    if s.bootstrap > 0 {
-        animal.pieces.push(piece);
-    }
+    animal.pieces.extend(blocks);
 }
 
 /// Project one frame (oriented head last), hand it to `each`, add it to the run.
@@ -400,7 +397,7 @@ fn feed(
         each(proj, t, &q).map_err(FitError::Output)?;
     }
     let spacing = proj.spacing(values);
-    run.get_or_insert_with(|| Run::new(q.len(), &ctx.ladder))
+    run.get_or_insert_with(|| Run::new(q.len(), &ctx.ladder, ctx.settings.bootstrap > 0))
         .push(q, spacing);
     Ok(())
 }
@@ -534,6 +531,12 @@ impl Pool {
             .get_or_insert_with(|| Stats::new(animal.stats.mean.len(), &ctx.ladder))
             .absorb(&animal.stats, 1.0);
         if ctx.settings.bootstrap > 0 {
+            // Two animals are resampled whole: nobody's blocks are needed any more.
+            let mut animal = animal;
+            if !self.kept.is_empty() {
+                animal.pieces = Vec::new();
+                self.kept.iter_mut().for_each(|a| a.pieces = Vec::new());
+            }
             self.kept.push(animal);
         }
         Ok(())
@@ -596,7 +599,16 @@ impl Pool {
             let pooled = report.clone();
             let fit =
                 |s: &Stats| fit_stats(proj, ctx, s, interval, Scope::Constants(Some(&pooled))).ok();
-            match bootstrap::intervals(&units, ctx.settings, &ctx.ladder, fit) {
+            // A draw of one animal's blocks spans five correlation times of the slowest voting
+            // mode, and the window.
+            let slowest = report
+                .modes_fit
+                .iter()
+                .filter(|m| m.votes)
+                .map(|m| 1.0 / (m.zeta * m.omega * interval))
+                .fold(0.0, f64::max);
+            let span = (5.0 * slowest).max(report.window.frames as f64).ceil() as usize;
+            match bootstrap::intervals(&units, ctx.settings, (&ctx.ladder, span), fit) {
                 Ok(i) => {
                     if let Some(c) = &mut report.continuum {
                         c.interval = i.continuum;

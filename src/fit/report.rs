@@ -319,8 +319,12 @@ impl Report for FitReport {
             );
         }
         if let Some(i) = &r.intervals {
+            let moving = i
+                .moving
+                .map(|(l, b)| format!(" of about {b} frames, drawn {l} consecutive at a time"))
+                .unwrap_or_default();
             t += &format!(
-                "  95 % intervals ({} replicates over {} {}, {} fitted): ω [{}, {}], β [{}, {}]\n",
+                "  95 % intervals ({} replicates over {} {}{moving}, {} fitted): ω [{}, {}], β [{}, {}]\n",
                 i.replicates,
                 i.units,
                 i.resampled,

@@ -218,31 +218,76 @@ impl Stats {
 }
 
 /// Streams one run's frames into its [`Stats`]: running moments, Welch segments at half
-/// overlap at every window of the ladder.
+/// overlap at every window of the ladder. For a bootstrap over time it accumulates consecutive
+/// blocks of frames instead (each segment in the block where it ends), the run being their
+/// sum; past [`MAX_BLOCKS`] blocks, neighbours merge and the block length doubles.
 pub(super) struct Run {
     pub(super) stats: Stats,
     buffer: VecDeque<Vec<f64>>,
     /// Frames since each window's last segment.
     since: Vec<usize>,
     ladder: Ladder,
+    /// The finished blocks and the block length, when a bootstrap over time is wanted.
+    blocks: Option<(Vec<Stats>, usize)>,
+    /// The run's frames, the blocks included.
+    frames: usize,
 }
 
+/// The most blocks one run keeps for a bootstrap over time.
+pub(super) const MAX_BLOCKS: usize = 256;
+
+/// The first block length, in frames.
+const FIRST_BLOCK: usize = 64;
+
 impl Run {
-    pub(super) fn new(m: usize, ladder: &Ladder) -> Run {
+    /// A run of `m` coordinates; `blocks` keeps it in blocks for a bootstrap over time.
+    pub(super) fn new(m: usize, ladder: &Ladder, blocks: bool) -> Run {
         Run {
             stats: Stats::new(m, ladder),
             buffer: VecDeque::with_capacity(ladder.longest()),
             since: vec![0; ladder.plans.len()],
             ladder: ladder.clone(),
+            blocks: blocks.then(|| (Vec::new(), FIRST_BLOCK)),
+            frames: 0,
         }
     }
 
     pub(super) fn len(&self) -> usize {
-        self.stats.count as usize
+        self.frames
+    }
+
+    /// Close the current block: into the run's total and the list (merging pairs past the cap).
+    fn close_block(&mut self) {
+        let Some((blocks, length)) = &mut self.blocks else {
+            return;
+        };
+        let fresh = Stats::new(self.stats.mean.len(), &self.ladder);
+        let block = std::mem::replace(&mut self.stats, fresh);
+        if block.count == 0.0 {
+            return;
+        }
+        blocks.push(block);
+        if blocks.len() > MAX_BLOCKS {
+            let old = std::mem::take(blocks);
+            for pair in old.chunks(2) {
+                let mut merged = pair[0].clone();
+                if let Some(b) = pair.get(1) {
+                    merged.absorb(b, 1.0);
+                }
+                blocks.push(merged);
+            }
+            *length *= 2;
+        }
     }
 
     /// One frame's modal coordinates `q` and point spacing.
     pub(super) fn push(&mut self, q: Vec<f64>, spacing: f64) {
+        self.frames += 1;
+        if let Some((_, length)) = &self.blocks {
+            if self.stats.count as usize >= *length {
+                self.close_block();
+            }
+        }
         let s = &mut self.stats;
         s.count += 1.0;
         s.spacing += spacing;
@@ -268,7 +313,8 @@ impl Run {
         {
             let len = plan.len();
             *since += 1;
-            if self.buffer.len() >= len && (w.segments == 0.0 || *since >= len / 2) {
+            // The first segment as soon as the window fills (then `since` = W), then every W/2.
+            if self.buffer.len() >= len && *since >= len / 2 {
                 *since = 0;
                 w.segments += 1.0;
                 plan.add(&self.buffer, &mut w.sums);
@@ -276,11 +322,24 @@ impl Run {
         }
     }
 
-    /// The run's statistics, keeping its frames when it never filled the shortest window.
-    pub(super) fn finish(mut self) -> Stats {
+    /// The run's statistics, keeping its frames when it never filled the shortest window, and
+    /// its blocks (empty unless asked for).
+    pub(super) fn finish(mut self) -> (Stats, Vec<Stats>) {
+        let blocks = if self.blocks.is_some() {
+            self.close_block();
+            let blocks = self.blocks.take().map(|b| b.0).unwrap_or_default();
+            let mut total = Stats::new(self.stats.mean.len(), &self.ladder);
+            for b in &blocks {
+                total.absorb(b, 1.0);
+            }
+            self.stats = total;
+            blocks
+        } else {
+            Vec::new()
+        };
         if self.stats.welch.iter().all(|w| w.segments == 0.0) {
             self.stats.short = self.buffer.into_iter().collect();
         }
-        self.stats
+        (self.stats, blocks)
     }
 }
