@@ -610,7 +610,9 @@ impl Pool {
             let span = (5.0 * slowest).max(report.window.frames as f64).ceil() as usize;
             match bootstrap::intervals(&units, ctx.settings, (&ctx.ladder, span), fit) {
                 Ok(i) => {
-                    if let Some(c) = &mut report.continuum {
+                    // The modes' errors give κ's interval when they can (their coverage is
+                    // checked, docs/fit.md); the bootstrap's stands in for the peaks' κ.
+                    if let Some(c) = report.continuum.as_mut().filter(|c| c.interval.is_none()) {
                         c.interval = i.continuum;
                         c.interval_from = i.continuum.map(|_| "bootstrap");
                     }

@@ -254,7 +254,7 @@ pub(super) fn fit_mode(
     let len = taper.len();
     let df = fs / len as f64;
     let last = len / 2;
-    if psd.len() != last + 1 || last < FIRST_BIN + 5 || !(variance > 0.0) {
+    if psd.len() != last + 1 || last < FIRST_BIN + 5 || variance.is_nan() || variance <= 0.0 {
         return None;
     }
     let (mut lo, mut hi) = (
@@ -475,30 +475,13 @@ fn descend(
     (t, v)
 }
 
-/// Solve the 4 × 4 system `a x = b` by Gaussian elimination with partial pivoting.
+/// Solve the 4 × 4 system `a x = b` (LU with partial pivoting); `None` when it is singular.
 fn solve4(a: &[[f64; 4]; 4], b: &[f64; 4]) -> Option<[f64; 4]> {
-    let mut m = *a;
-    let mut x = *b;
-    for c in 0..4 {
-        let p = (c..4).max_by(|&i, &j| m[i][c].abs().total_cmp(&m[j][c].abs()))?;
-        if !(m[p][c].abs() > 0.0) || !m[p][c].is_finite() {
-            return None;
-        }
-        m.swap(c, p);
-        x.swap(c, p);
-        for r in c + 1..4 {
-            let f = m[r][c] / m[c][c];
-            for k in c..4 {
-                m[r][k] -= f * m[c][k];
-            }
-            x[r] -= f * x[c];
-        }
-    }
-    for c in (0..4).rev() {
-        let s: f64 = (c + 1..4).map(|k| m[c][k] * x[k]).sum();
-        x[c] = (x[c] - s) / m[c][c];
-    }
-    x.iter().all(|v| v.is_finite()).then_some(x)
+    let m = nalgebra::Matrix4::from_fn(|i, j| a[i][j]);
+    let x = m.lu().solve(&nalgebra::Vector4::from_column_slice(b))?;
+    x.iter()
+        .all(|v| v.is_finite())
+        .then(|| [x[0], x[1], x[2], x[3]])
 }
 
 #[cfg(test)]

@@ -487,7 +487,7 @@ pub(super) fn summarise(
             "no frequency could be measured (flat spectra): give --omega".into(),
         ));
     }
-    if !(beta > 0.0) || (0..m).all(|j| cov[j][j] <= 0.0) {
+    if beta.is_nan() || beta <= 0.0 || (0..m).all(|j| cov[j][j] <= 0.0) {
         return Err(invalid(
             "the postures do not vary: no temperature can be fitted".into(),
         ));

@@ -267,6 +267,9 @@ pub(super) fn correlated(fits: &[ModeSpectralFit], cov: &[Vec<f64>]) -> Vec<(usi
     out
 }
 
+/// A mode's value and its error for a test, given its coordinate's gain.
+type Reading<'a> = &'a dyn Fn(&ModeSpectralFit, f64) -> (f64, Option<f64>);
+
 /// The three tests over the voting modes; `lambda[i]` the eigenvalue each mode is regressed on,
 /// `gains[i]` its coordinate's gain on the continuum mode (variances are divided by its square).
 pub(super) fn tests(
@@ -274,9 +277,7 @@ pub(super) fn tests(
     lambda: &[f64],
     gains: &[Option<f64>],
 ) -> TheoryTests {
-    let pick = |value: &dyn Fn(&ModeSpectralFit, f64) -> (f64, Option<f64>),
-                expected: f64,
-                near_zero: bool| {
+    let pick = |value: Reading<'_>, expected: f64, near_zero: bool| {
         let points: Vec<(usize, f64, f64, f64)> = fits
             .iter()
             .zip(lambda)
