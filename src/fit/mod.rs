@@ -61,6 +61,7 @@
 
 use std::io::BufRead;
 
+mod accumulate;
 mod animal;
 mod bootstrap;
 mod error;
@@ -74,6 +75,7 @@ mod stats;
 mod summary;
 mod verdict;
 mod wcon;
+mod window;
 pub use bootstrap::{Intervals, MAX_REPLICATES};
 pub use error::FitError;
 pub use pool::{fit_inputs, Each, Input, SinkError};

@@ -10,10 +10,9 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{mpsc, Mutex};
 
-use super::read::{
-    read_tracks, sniff, whole, FrameReader, Source, Track, TrackSource, MAX_WHOLE_FILE,
-};
-use super::stats::{Ladder, Run, Stats};
+use super::accumulate::accumulate;
+use super::read::{read_tracks, sniff, whole, FrameReader, Track, TrackSource, MAX_WHOLE_FILE};
+use super::stats::{Ladder, Stats};
 use super::{
     animal::{units, Animal},
     bootstrap,
@@ -65,20 +64,24 @@ struct Read {
 }
 
 /// Shared, read-only context of the workers.
-struct Context<'a> {
-    model: &'a Model,
-    params: &'a Params,
-    settings: &'a FitSettings,
-    ladder: Ladder,
+pub(super) struct Context<'a> {
+    pub(super) model: &'a Model,
+    pub(super) params: &'a Params,
+    pub(super) settings: &'a FitSettings,
+    pub(super) ladder: Ladder,
 }
 
 /// Projectors by frame width (midlines of another K resample to the same N modes).
-struct Projectors {
-    by_width: Vec<(usize, Projector)>,
+pub(super) struct Projectors {
+    pub(super) by_width: Vec<(usize, Projector)>,
 }
 
 impl Projectors {
-    fn get(&mut self, ctx: &Context<'_>, width: usize) -> Result<&mut Projector, FitError> {
+    pub(super) fn get(
+        &mut self,
+        ctx: &Context<'_>,
+        width: usize,
+    ) -> Result<&mut Projector, FitError> {
         if ctx.settings.kind == InputKind::Lengths {
             if let Some(&(w, _)) = self.by_width.first().filter(|(w, _)| *w != width) {
                 return Err(FitError::Invalid(format!(
@@ -278,137 +281,6 @@ fn read_tracks_of(
         units,
         projector: projs.first(),
     })
-}
-
-/// One animal's frames into its statistics: lost frames split the runs unless a gap is short
-/// enough to bridge linearly.
-fn accumulate(
-    source: &mut dyn Source,
-    name: String,
-    ctx: &Context<'_>,
-    projs: &mut Projectors,
-    each: &mut Option<Each<'_>>,
-) -> Result<Animal, FitError> {
-    let settings = ctx.settings;
-    let mut counts = Recording {
-        recordings: 1,
-        ..Recording::default()
-    };
-    let mut animal = Animal {
-        name,
-        stats: Stats::default(),
-        pieces: Vec::new(),
-        counts: Recording::default(),
-        interval: None,
-    };
-    let mut run: Option<Run> = None;
-    let mut previous: Option<(f64, Vec<f64>)> = None;
-    let mut reference: Option<f64> = None;
-    let mut pending = 0usize;
-    while let Some(row) = source.next_row()? {
-        counts.frames_read += 1;
-        pending += row.missing_before;
-        let Some(values) = row.values else {
-            pending += 1;
-            continue;
-        };
-        let line = source.line();
-        let proj = projs.get(ctx, values.len()).map_err(|e| match e {
-            FitError::Line { why, .. } => FitError::Line { line, why },
-            other => other,
-        })?;
-        if settings.kind == InputKind::Lengths && reference.is_none() {
-            // Each animal's own rest length: a constant offset in the strains only shifts the
-            // means, which the covariance and the spectra remove.
-            reference = Some(values.iter().sum::<f64>() / values.len() as f64);
-        }
-        proj.reference_length = reference;
-        if pending > 0 {
-            counts.frames_lost += pending;
-            match &previous {
-                Some(prev) if pending <= settings.fill_gaps => {
-                    for k in 1..=pending {
-                        let w = k as f64 / (pending + 1) as f64;
-                        let t = prev.0 + w * (row.t - prev.0);
-                        let v: Vec<f64> = prev
-                            .1
-                            .iter()
-                            .zip(&values)
-                            .map(|(a, b)| a + w * (b - a))
-                            .collect();
-                        counts.frames_filled += 1;
-                        feed(proj, ctx, &mut run, each, (t, &v, line))?;
-                    }
-                }
-                Some(_) => {
-                    counts.gaps += 1;
-                    close(&mut run, &mut animal, &mut counts, ctx);
-                }
-                // Lost before the animal's first usable frame: nothing to split.
-                None => {}
-            }
-            pending = 0;
-        }
-        feed(proj, ctx, &mut run, each, (row.t, &values, line))?;
-        previous = Some((row.t, values));
-    }
-    counts.frames_lost += pending;
-    close(&mut run, &mut animal, &mut counts, ctx);
-    animal.counts = counts;
-    animal.interval = source.interval();
-    Ok(animal)
-}
-
-/// End the current run: into the animal's total, its blocks kept for a bootstrap over time.
-fn close(run: &mut Option<Run>, animal: &mut Animal, counts: &mut Recording, ctx: &Context<'_>) {
-    let Some(r) = run.take() else {
-        return;
-    };
-    counts.runs += 1;
-    counts.longest_run = counts.longest_run.max(r.len());
-    let (piece, blocks) = r.finish();
-    if animal.stats.mean.is_empty() {
-        animal.stats = Stats::new(piece.mean.len(), &ctx.ladder);
-    }
-    animal.stats.absorb(&piece, 1.0);
-    animal.pieces.extend(blocks);
-}
-
-/// Project one frame (oriented head last), hand it to `each`, add it to the run.
-fn feed(
-    proj: &Projector,
-    ctx: &Context<'_>,
-    run: &mut Option<Run>,
-    each: &mut Option<Each<'_>>,
-    (t, values, line): (f64, &[f64], usize),
-) -> Result<(), FitError> {
-    let oriented;
-    let values = if ctx.settings.head_first {
-        oriented = head_last(ctx.settings.kind, values);
-        &oriented
-    } else {
-        values
-    };
-    let q = proj.modal(values).map_err(|why| FitError::Line {
-        line,
-        why: why.to_string(),
-    })?;
-    if let Some(each) = each {
-        each(proj, t, &q).map_err(FitError::Output)?;
-    }
-    let spacing = proj.spacing(values);
-    run.get_or_insert_with(|| Run::new(q.len(), &ctx.ladder, ctx.settings.bootstrap > 0))
-        .push(q, spacing);
-    Ok(())
-}
-
-/// A frame listed head first, reordered head last (the model's orientation): points (x, y)
-/// pairs for midlines, segments for lengths.
-fn head_last(kind: InputKind, values: &[f64]) -> Vec<f64> {
-    match kind {
-        InputKind::Midline => values.chunks(2).rev().flatten().copied().collect(),
-        InputKind::Lengths => values.iter().rev().copied().collect(),
-    }
 }
 
 /// The animals taken so far, in input order.

@@ -1,0 +1,192 @@
+//! Each mode's spectrum fitted at one Welch window, and that window chosen from the data: the
+//! ladder's shortest window in which the lowest mode lies [`AUTO_BINS`] bins above zero.
+
+use super::project::Projector;
+use super::spectrum::{fit_mode, Taper};
+use super::stats::Spectra;
+use super::summary::spectral_peak_and_centroid;
+use super::verdict::{ModeSpectralFit, WindowChoice};
+use crate::report::fixed;
+
+/// The Welch window: the given one, or the shortest of the ladder in which the lowest mode's
+/// frequency lies [`AUTO_BINS`] bins above zero with at least 4 segments; failing that, the
+/// longest with 4 segments (or the longest there is), its low modes marked unresolved.
+pub(super) fn choose_window(
+    mut spectra: Vec<Spectra>,
+    given: bool,
+    lowest: impl Fn(&Spectra) -> Option<f64>,
+    fs: f64,
+) -> (Spectra, WindowChoice) {
+    let count = spectra.len();
+    let enough: Vec<usize> = (0..count).filter(|&i| spectra[i].segments >= 4).collect();
+    let reference = enough.last().copied().unwrap_or(count - 1);
+    if given || count == 1 {
+        let s = spectra.swap_remove(reference.min(count - 1));
+        let choice = WindowChoice {
+            frames: s.window,
+            segments: s.segments,
+            how: if given { "given" } else { "chosen" },
+            why: if given {
+                "--window".into()
+            } else {
+                "the only window the runs fill".into()
+            },
+        };
+        return (s, choice);
+    }
+    let f = lowest(&spectra[reference]);
+    let wanted = f.map(|f| AUTO_BINS * fs / f);
+    let pick = wanted.and_then(|w| {
+        enough
+            .iter()
+            .copied()
+            .find(|&i| spectra[i].window as f64 >= w)
+    });
+    let why = match (pick, wanted) {
+        (Some(_), Some(w)) => format!(
+            "the shortest window with ≥ 4 segments in which the lowest mode (f ≈ {}) lies ≥ {AUTO_BINS} bins above zero (needs ≥ {} frames)",
+            fixed(f.unwrap_or(0.0), 4),
+            w.ceil()
+        ),
+        (None, Some(w)) => format!(
+            "the lowest mode (f ≈ {}) needs ≥ {} frames for {AUTO_BINS} bins; the runs allow this with ≥ 4 segments, so low modes may be unresolved",
+            fixed(f.unwrap_or(0.0), 4),
+            w.ceil()
+        ),
+        _ => "the lowest mode's frequency could not be measured; the longest window with ≥ 4 segments".into(),
+    };
+    let s = spectra.swap_remove(pick.unwrap_or(reference));
+    let choice = WindowChoice {
+        frames: s.window,
+        segments: s.segments,
+        how: "chosen",
+        why,
+    };
+    (s, choice)
+}
+
+/// The lowest mode's frequency (cycles per time unit) at the window of `s`: its own spectral
+/// fit when that resolves it, else its spectral peak.
+pub(super) fn lowest_frequency(
+    proj: &Projector,
+    cov: &[Vec<f64>],
+    s: &Spectra,
+    fs: f64,
+) -> Option<f64> {
+    let first = fit_modes_spectra(proj, cov, s, fs, (1, None))
+        .into_iter()
+        .next()?;
+    let f = if first.resolved {
+        first.omega / (2.0 * std::f64::consts::PI)
+    } else {
+        spectral_peak_and_centroid(&s.frequencies, &s.psd[0]).0
+    };
+    (f > 0.0).then_some(f)
+}
+
+/// Mode j's fitting band (cycles per time unit) from the spectral peaks of all the modes: from
+/// the geometric mean of its peak and the one below to that of its peak and the one above (zero
+/// below the first, Nyquist above the last); a neighbour that does not lie on its side (a
+/// driven rhythm puts every peak at one frequency) leaves a factor 2 on that side.
+fn band(peaks: &[(f64, f64)], j: usize, fs: f64) -> (f64, f64) {
+    let f = peaks[j].0;
+    let lo = match j.checked_sub(1).map(|i| peaks[i].0) {
+        None => 0.0,
+        Some(below) if below < 0.8 * f => (below * f).sqrt(),
+        Some(_) => 0.5 * f,
+    };
+    let hi = match peaks.get(j + 1).map(|p| p.0) {
+        None => 0.5 * fs,
+        Some(above) if above > 1.25 * f => (above * f).sqrt(),
+        Some(_) => 2.0 * f,
+    };
+    (lo, hi)
+}
+
+/// Frequency bins above zero the lowest mode should reach in a window chosen from the data.
+const AUTO_BINS: f64 = 16.0;
+
+/// Each mode's spectrum fitted at the chosen window (see [`super::spectrum`]), classified.
+/// Each mode's spectrum fitted at the chosen window (see [`super::spectrum`]), classified: the
+/// first `count`, each from its `warm` fit alone when given (a resample near the pooled fit),
+/// else from three starts; the others left unfitted.
+pub(super) fn fit_modes_spectra(
+    proj: &Projector,
+    cov: &[Vec<f64>],
+    spec: &Spectra,
+    fs: f64,
+    (count, warm): (usize, Option<&[ModeSpectralFit]>),
+) -> Vec<ModeSpectralFit> {
+    let taper = Taper::hann(spec.window);
+    let df = fs / spec.window as f64;
+    let peaks: Vec<(f64, f64)> = (0..cov.len())
+        .map(|j| spectral_peak_and_centroid(&spec.frequencies, &spec.psd[j]))
+        .collect();
+    (0..cov.len())
+        .map(|j| {
+            let (peak, centroid) = peaks[j];
+            let band = band(&peaks, j, fs);
+            let tau = 2.0 * std::f64::consts::PI;
+            let starts = match warm.and_then(|w| w.get(j)).filter(|w| w.omega > 0.0) {
+                Some(w) => vec![(w.omega, w.zeta)],
+                // One start for an animal alone (its own fit is a summary beside the pool's),
+                // three for the pool.
+                None if count < cov.len() => vec![(tau * peak, 0.2)],
+                None => vec![(tau * peak, 0.1), (tau * peak, 0.5), (tau * centroid, 0.3)],
+            };
+            let index = proj.first_mode + j;
+            let lambda = proj.eigenvalues[j];
+            let fit = |starts: &[(f64, f64)], band| {
+                fit_mode(
+                    &taper,
+                    (fs, spec.segments as f64),
+                    &spec.psd[j],
+                    starts,
+                    cov[j][j],
+                    band,
+                )
+            };
+            // A line wider than its band cannot be told from the white level there: fitted
+            // again over ±3 half-widths around it, or over an octave each side when the band
+            // left it mostly white.
+            let fitted = (j < count).then(|| fit(&starts, band)).flatten().map(|s| {
+                let (f, half) = (s.omega / tau, s.zeta * s.omega / tau);
+                let wide = if s.noise > 3.0 * s.variance {
+                    (0.5 * f, 2.0 * f)
+                } else {
+                    (f - 3.0 * half, f + 3.0 * half)
+                };
+                let wide = (wide.0.max(0.0), wide.1.min(0.5 * fs));
+                if s.converged && s.zeta < 1.0 && (wide.0 < band.0 || wide.1 > band.1) {
+                    let union = (wide.0.min(band.0), wide.1.max(band.1));
+                    fit(&[(s.omega, s.zeta)], union).unwrap_or(s)
+                } else {
+                    s
+                }
+            });
+            match fitted {
+                Some(s) => ModeSpectralFit::of(index, lambda, &s, df, fs),
+                None => ModeSpectralFit {
+                    mode: index,
+                    lambda,
+                    omega: 0.0,
+                    omega_error: None,
+                    zeta: 0.0,
+                    zeta_error: None,
+                    variance: cov[j][j],
+                    variance_error: None,
+                    noise: 0.0,
+                    relaxation_rate: None,
+                    resolved: false,
+                    votes: false,
+                    bins: 0.0,
+                    note: Some(if j < count {
+                        "too few frequency bins or no variance to fit".into()
+                    } else {
+                        "not fitted (only the constants were asked for)".into()
+                    }),
+                },
+            }
+        })
+        .collect()
+}
