@@ -2,10 +2,61 @@
 //! last, projected, handed to the per-frame sink and added to its run; lost frames split the
 //! runs unless `--fill-gaps` bridges them.
 
-use super::pool::{Context, Each, Projectors};
 use super::read::Source;
+use super::stats::Ladder;
 use super::stats::{Run, Stats};
-use super::{animal::Animal, FitError, InputKind, Projector, Recording};
+use super::{animal::Animal, FitError, FitSettings, InputKind, Projector, Recording};
+use crate::modal::Params;
+use crate::model::Model;
+
+/// The per-frame callback of a streaming fit: projector, time, modal coordinates.
+pub type Each<'a> = &'a mut dyn FnMut(&Projector, f64, &[f64]) -> Result<(), SinkError>;
+
+/// Why the per-frame sink of [`super::fit_each`] failed (kept as the source of
+/// [`FitError::Output`]).
+pub type SinkError = Box<dyn std::error::Error + Send + Sync>;
+
+/// Shared, read-only context of the workers.
+pub(super) struct Context<'a> {
+    pub(super) model: &'a Model,
+    pub(super) params: &'a Params,
+    pub(super) settings: &'a FitSettings,
+    pub(super) ladder: Ladder,
+}
+
+/// Projectors by frame width (midlines of another K resample to the same N modes).
+pub(super) struct Projectors {
+    pub(super) by_width: Vec<(usize, Projector)>,
+}
+
+impl Projectors {
+    pub(super) fn get(
+        &mut self,
+        ctx: &Context<'_>,
+        width: usize,
+    ) -> Result<&mut Projector, FitError> {
+        if ctx.settings.kind == InputKind::Lengths {
+            if let Some(&(w, _)) = self.by_width.first().filter(|(w, _)| *w != width) {
+                return Err(FitError::Invalid(format!(
+                    "{width} segments where the first animal has {w}: rings of another K are another body"
+                )));
+            }
+        }
+        let k = match self.by_width.iter().position(|(w, _)| *w == width) {
+            Some(k) => k,
+            None => {
+                let p = Projector::new(ctx.model, ctx.params, ctx.settings, width)?;
+                self.by_width.push((width, p));
+                self.by_width.len() - 1
+            }
+        };
+        Ok(&mut self.by_width[k].1)
+    }
+
+    pub(super) fn first(&self) -> Option<Projector> {
+        self.by_width.first().map(|(_, p)| p.clone())
+    }
+}
 
 /// One animal's frames into its statistics: lost frames split the runs unless a gap is short
 /// enough to bridge linearly.

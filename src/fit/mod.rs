@@ -76,17 +76,18 @@ mod summary;
 mod verdict;
 mod wcon;
 mod window;
+pub use accumulate::{Each, SinkError};
 pub use bootstrap::{Intervals, MAX_REPLICATES};
 pub use error::FitError;
-pub use pool::{fit_inputs, Each, Input, SinkError};
+pub use pool::{fit_inputs, Input};
 pub use project::{turning_angles, FrameError, Projector};
 pub use read::{Frame, Track, MAX_LINE_BYTES, MAX_WHOLE_FILE};
 pub use report::{AnimalFit, Continuum, FitReport, ModeFit, Recording, Subspace};
 pub use settings::*;
-pub use summary::spectral_peak_and_centroid;
 pub use verdict::{
     ModeSpectralFit, TheoryTest, TheoryTests, WindowChoice, RESOLVED_BINS, WIDTH_BINS,
 };
+pub use window::spectral_peak_and_centroid;
 
 use crate::modal::Params;
 use crate::model::Model;

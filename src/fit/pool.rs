@@ -10,15 +10,14 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{mpsc, Mutex};
 
-use super::accumulate::accumulate;
+use super::accumulate::{accumulate, Context, Each, Projectors};
 use super::read::{read_tracks, sniff, whole, FrameReader, Track, TrackSource, MAX_WHOLE_FILE};
 use super::stats::{Ladder, Stats};
 use super::{
     animal::{units, Animal},
     bootstrap,
     summary::{summarise, Scope},
-    AnimalFit, FitError, FitReport, FitSettings, InputFormat, InputKind, Projector, Recording,
-    Units,
+    AnimalFit, FitError, FitReport, FitSettings, InputFormat, Projector, Recording, Units,
 };
 use crate::modal::Params;
 use crate::model::Model;
@@ -48,61 +47,12 @@ impl Input<'_> {
     }
 }
 
-/// The per-frame callback of a streaming fit: projector, time, modal coordinates.
-pub type Each<'a> = &'a mut dyn FnMut(&Projector, f64, &[f64]) -> Result<(), SinkError>;
-
-/// Why the per-frame sink of [`super::fit_each`] failed (kept as the source of
-/// [`FitError::Output`]).
-pub type SinkError = Box<dyn std::error::Error + Send + Sync>;
-
 /// What a worker hands back for one input.
 struct Read {
     animals: Vec<Animal>,
     units: Units,
     /// A projector of the worker's (the pool's fits need one).
     projector: Option<Projector>,
-}
-
-/// Shared, read-only context of the workers.
-pub(super) struct Context<'a> {
-    pub(super) model: &'a Model,
-    pub(super) params: &'a Params,
-    pub(super) settings: &'a FitSettings,
-    pub(super) ladder: Ladder,
-}
-
-/// Projectors by frame width (midlines of another K resample to the same N modes).
-pub(super) struct Projectors {
-    pub(super) by_width: Vec<(usize, Projector)>,
-}
-
-impl Projectors {
-    pub(super) fn get(
-        &mut self,
-        ctx: &Context<'_>,
-        width: usize,
-    ) -> Result<&mut Projector, FitError> {
-        if ctx.settings.kind == InputKind::Lengths {
-            if let Some(&(w, _)) = self.by_width.first().filter(|(w, _)| *w != width) {
-                return Err(FitError::Invalid(format!(
-                    "{width} segments where the first animal has {w}: rings of another K are another body"
-                )));
-            }
-        }
-        let k = match self.by_width.iter().position(|(w, _)| *w == width) {
-            Some(k) => k,
-            None => {
-                let p = Projector::new(ctx.model, ctx.params, ctx.settings, width)?;
-                self.by_width.push((width, p));
-                self.by_width.len() - 1
-            }
-        };
-        Ok(&mut self.by_width[k].1)
-    }
-
-    fn first(&self) -> Option<Projector> {
-        self.by_width.first().map(|(_, p)| p.clone())
-    }
 }
 
 /// Fit several inputs, each one animal or several (track ids, WCON ids): one pooled fit and,

@@ -4,7 +4,9 @@
 use super::project::Projector;
 use super::stats::Spectra;
 use super::verdict;
-use super::window::{choose_window, fit_modes_spectra, lowest_frequency};
+use super::window::{
+    choose_window, fit_modes_spectra, lowest_frequency, spectral_peak_and_centroid,
+};
 use crate::report::{fixed, number};
 
 use super::{
@@ -117,36 +119,6 @@ fn from_peaks(
         c
     });
     (omega, fitted.len() as f64 / spread, continuum)
-}
-
-/// Peak (with parabolic refinement) and centroid of a one-sided spectrum, above zero frequency.
-pub fn spectral_peak_and_centroid(freqs: &[f64], psd: &[f64]) -> (f64, f64) {
-    let df = if freqs.len() > 1 {
-        freqs[1] - freqs[0]
-    } else {
-        0.0
-    };
-    let k = (1..psd.len())
-        .max_by(|&a, &b| psd[a].total_cmp(&psd[b]))
-        .unwrap_or(0);
-    let mut peak = freqs.get(k).copied().unwrap_or(0.0);
-    if k >= 1 && k + 1 < psd.len() {
-        // The vertex of the parabola through the log powers: a Hann-windowed peak is close to a
-        // Gaussian there, so this is nearly unbiased where the plain parabola is off by up to a
-        // tenth of a bin.
-        let (a, b, c) = (psd[k - 1].ln(), psd[k].ln(), psd[k + 1].ln());
-        let den = a - 2.0 * b + c;
-        // Refine only a true local maximum; the vertex then lies within half a bin.
-        if b >= a && b >= c && den < 0.0 && den.is_finite() {
-            peak += (0.5 * (a - c) / den).clamp(-0.5, 0.5) * df;
-        }
-    }
-    let (num, den) = freqs
-        .iter()
-        .zip(psd)
-        .skip(1)
-        .fold((0.0, 0.0), |(n, d), (f, p)| (n + f * p, d + p));
-    (peak, if den > 0.0 { num / den } else { 0.0 })
 }
 
 /// PCA, overlaps, shares, frequencies and the ω and β fits from the accumulated moments.
