@@ -321,8 +321,11 @@ pub(super) fn fit_mode(
     // A parameter at its bound is held there, out of the information: ν at zero (no tracking
     // noise), ζ at its floor (a line narrower than the window resolves: its width unknown,
     // ζ_error none). Ω or σ² at a bound means no fit.
+    // A white level under 10⁻⁶ of σ² is no noise the data can see: held too, so that its
+    // all but empty row of the information does not decide the others' errors.
     let free: Vec<usize> = (0..4)
         .filter(|&i| t[i] > lo[i] + 1e-6 && t[i] < hi[i] - 1e-6)
+        .filter(|&i| i != 3 || t[3] > t[2] + (1e-6f64).ln())
         .collect();
     let held_ok = free.contains(&0) && free.contains(&2);
     let errors = |free: &[usize]| -> Option<[f64; 4]> {
