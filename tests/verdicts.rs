@@ -349,3 +349,65 @@ fn moving_block_bootstrap_intervals_of_kappa_cover_the_truth() {
         drawn.len()
     );
 }
+
+#[test]
+fn the_json_contract_of_a_fit() {
+    let example = format!(
+        "{}/tables/examples/midlines.csv",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let mut out = Vec::new();
+    theory_search::cli::run(
+        ["theory-search", "fit", example.as_str(), "--format", "json"],
+        &mut out,
+    )
+    .unwrap();
+    let v: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let keys: Vec<&str> = v.as_object().unwrap().keys().map(|k| k.as_str()).collect();
+    // The contract's keys first, in order.
+    assert_eq!(
+        keys[..12],
+        [
+            "frames",
+            "points",
+            "pca_variance_share",
+            "theory_variance_share",
+            "overlap",
+            "omega",
+            "beta",
+            "continuum",
+            "modes_fit",
+            "tests",
+            "noise_floor",
+            "window"
+        ]
+    );
+    let c = &v["continuum"];
+    assert_eq!(c["name"], "kappa");
+    assert!(c["constant"].as_f64().unwrap() > 0.0 && c["unit"].is_string());
+    assert_eq!(c["interval"].as_array().unwrap().len(), 2);
+    let modes = v["modes_fit"].as_array().unwrap();
+    assert_eq!(modes.len(), 10);
+    for m in modes {
+        for key in ["mode", "lambda", "omega", "zeta", "variance"] {
+            assert!(m[key].is_number(), "{key} in {m}");
+        }
+        for key in ["omega_error", "zeta_error"] {
+            assert!(m[key].is_number() || m[key].is_null(), "{key} in {m}");
+        }
+        assert!(m["resolved"].is_boolean());
+    }
+    for name in ["equipartition", "dispersion", "damping"] {
+        let t = &v["tests"][name];
+        assert!(t["expected"].is_number());
+        assert!(
+            ["consistent", "rejected", "undetermined"].contains(&t["verdict"].as_str().unwrap())
+        );
+        assert!(t["exponent"].is_number() || t["exponent"].is_null());
+        assert!(t["interval"].is_array() || t["interval"].is_null());
+    }
+    assert!(v["noise_floor"].is_number());
+    assert_eq!(v["window"]["frames"], 1024);
+    assert_eq!(v["window"]["how"], "chosen");
+    assert!(v["window"]["why"].as_str().unwrap().contains("16 bins"));
+}
