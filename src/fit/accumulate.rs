@@ -78,6 +78,7 @@ pub(super) fn accumulate(
         pieces: Vec::new(),
         counts: Recording::default(),
         interval: None,
+        own: None,
     };
     let mut run: Option<Run> = None;
     let mut previous: Option<(f64, Vec<f64>)> = None;

@@ -11,6 +11,8 @@ pub(super) struct Animal {
     pub(super) pieces: Vec<Stats>,
     pub(super) counts: Recording,
     pub(super) interval: Option<f64>,
+    /// Its own fit, when the worker that read it made it (several inputs).
+    pub(super) own: Option<super::AnimalFit>,
 }
 
 /// The units a bootstrap draws: the animals, or the one animal's blocks of frames in time order

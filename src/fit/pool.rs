@@ -116,7 +116,15 @@ fn parallel(inputs: Vec<Input<'_>>, ctx: &Context<'_>, pool: &mut Pool) -> Resul
                         break;
                     };
                     let name = input.name();
-                    let read = read_input(input, ctx, &mut projs, &mut None);
+                    let mut read = read_input(input, ctx, &mut projs, &mut None);
+                    // With several inputs every animal is fitted alone: here, on all cores.
+                    if let Ok(r) = &mut read {
+                        if let (true, Some(proj)) = (total > 1, r.projector.as_ref()) {
+                            for a in r.animals.iter_mut().filter(|a| a.stats.count > 0.0) {
+                                a.own = Some(own_fit(proj, ctx, a));
+                            }
+                        }
+                    }
                     if tx.send((i, name, read)).is_err() {
                         break;
                     }
@@ -326,7 +334,10 @@ impl Pool {
             ));
         }
         let interval = animal.interval.unwrap_or(1.0);
-        if self.fits.is_empty() && self.first.is_none() {
+        if let Some(own) = animal.own.clone() {
+            self.fit_first(ctx);
+            self.fits.push(own);
+        } else if self.fits.is_empty() && self.first.is_none() {
             self.first = Some((
                 animal.name.clone(),
                 animal.counts.clone(),
@@ -448,6 +459,15 @@ impl Pool {
         }
         report.onward = report.onward_arguments();
         Ok(report)
+    }
+}
+
+/// An animal's own fit (only the constants), or why it has none.
+fn own_fit(proj: &Projector, ctx: &Context<'_>, a: &Animal) -> AnimalFit {
+    let interval = a.interval.unwrap_or(1.0);
+    match fit_stats(proj, ctx, &a.stats, interval, Scope::Constants(None)) {
+        Ok(r) => AnimalFit::of(&a.name, &a.counts, &r),
+        Err(e) => AnimalFit::failed(&a.name, &a.stats, &a.counts, &e.to_string()),
     }
 }
 
