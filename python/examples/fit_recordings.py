@@ -22,9 +22,14 @@ out.mkdir(parents=True, exist_ok=True)
 
 for path in sorted(data.glob("*.csv")):
     r = ts.fit(str(path), window=64, bootstrap=200, seed=1)
-    lo, hi = r.intervals["omega"]
-    print(f"{path.name}: {r.frames} frames, ω = {r.omega:.4f} [{lo:.4f}, {hi:.4f}], "
-          f"overlaps {np.round(r.mode_overlap[:3], 3)}")
+    # The bootstrap needs a recording long enough for its correlation time; the fit says why
+    # when it draws none.
+    boot = getattr(r, "intervals", None)
+    omega = (f"[{boot['omega'][0]:.4f}, {boot['omega'][1]:.4f}]" if boot
+             else "(" + next((w for w in r.warnings if "bootstrap" in w), "no bootstrap") + ")")
+    verdicts = ", ".join(f"{name} {t['verdict']}" for name, t in r.tests.items())
+    print(f"{path.name}: {r.frames} frames, ω = {r.omega:.4f} {omega}, "
+          f"overlaps {np.round(r.mode_overlap[:3], 3)}; {verdicts}")
     fig, (left, right) = plt.subplots(1, 2, figsize=(9, 3.5))
     s = np.linspace(0, 1, r.shapes.shape[1])
     for k in range(3):

@@ -434,11 +434,16 @@ impl Pool {
                 |s: &Stats| fit_stats(proj, ctx, s, interval, Scope::Constants(Some(&pooled))).ok();
             // A draw of one animal's blocks spans five correlation times of the slowest voting
             // mode, and the window.
+            // (A line narrower than half a bin has no known width; its correlation time is at
+            // least W/π frames, which stands for it.)
             let slowest = report
                 .modes_fit
                 .iter()
                 .filter(|m| m.votes)
-                .map(|m| 1.0 / (m.zeta * m.omega * interval))
+                .map(|m| match m.zeta_error {
+                    Some(_) => 1.0 / (m.zeta * m.omega * interval),
+                    None => report.window.frames as f64 / std::f64::consts::PI,
+                })
                 .fold(0.0, f64::max);
             let span = (5.0 * slowest).max(report.window.frames as f64).ceil() as usize;
             match bootstrap::intervals(&units, ctx.settings, (&ctx.ladder, span), fit) {
