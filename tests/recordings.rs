@@ -359,26 +359,10 @@ fn a_window_that_cannot_resolve_the_modes_says_so() {
     assert!(lo.is_finite() && lo < k && k < hi, "{lo} {k} {hi}");
     // WT2's short runs resolve no mode at 64 frames: the bootstrap of the peaks' ω degenerates,
     // and the report says so.
-    let wt2 = data("celegans_wt2_crawling_30fps_49pts.csv");
-    let mut out = Vec::new();
-    theory_search::cli::run(
-        [
-            "theory-search",
-            "fit",
-            wt2.as_str(),
-            "--window",
-            "64",
-            "--bootstrap",
-            "200",
-            "--seed",
-            "1",
-            "--format",
-            "json",
-        ],
-        &mut out,
-    )
-    .unwrap();
-    let v: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let v = crate::fit(
+        "celegans_wt2_crawling_30fps_49pts.csv",
+        &["--window", "64", "--bootstrap", "200", "--seed", "1"],
+    );
     let said = v["warnings"].to_string();
     assert!(said.contains("degenerate, not precise"), "{said}");
     // The shipped example, at a window that resolves its modes, has no such warning.

@@ -121,7 +121,9 @@ fn parallel(inputs: Vec<Input<'_>>, ctx: &Context<'_>, pool: &mut Pool) -> Resul
                     if let Ok(r) = &mut read {
                         if let (true, Some(proj)) = (total > 1, r.projector.as_ref()) {
                             for a in r.animals.iter_mut().filter(|a| a.stats.count > 0.0) {
-                                a.own = Some(own_fit(proj, ctx, a));
+                                let interval = a.interval.unwrap_or(1.0);
+                                let parts = (a.name.as_str(), &a.counts, &a.stats);
+                                a.own = Some(own_fit(proj, ctx, parts, interval));
                             }
                         }
                     }
@@ -289,10 +291,7 @@ impl Pool {
         else {
             return;
         };
-        let fit = match fit_stats(proj, ctx, &stats, interval, Scope::Constants(None)) {
-            Ok(r) => AnimalFit::of(&name, &counts, &r),
-            Err(e) => AnimalFit::failed(&name, &stats, &counts, &e.to_string()),
-        };
+        let fit = own_fit(proj, ctx, (&name, &counts, &stats), interval);
         self.fits.push(fit);
     }
 
@@ -346,19 +345,10 @@ impl Pool {
             ));
         } else {
             self.fit_first(ctx);
-            let own = self
-                .projector
-                .as_ref()
-                .map(|proj| fit_stats(proj, ctx, &animal.stats, interval, Scope::Constants(None)));
-            self.fits.push(match own {
-                Some(Ok(r)) => AnimalFit::of(&animal.name, &animal.counts, &r),
-                Some(Err(e)) => {
-                    AnimalFit::failed(&animal.name, &animal.stats, &animal.counts, &e.to_string())
-                }
-                None => {
-                    AnimalFit::failed(&animal.name, &animal.stats, &animal.counts, "no projector")
-                }
-            });
+            if let Some(proj) = self.projector.as_ref() {
+                let parts = (animal.name.as_str(), &animal.counts, &animal.stats);
+                self.fits.push(own_fit(proj, ctx, parts, interval));
+            }
         }
         self.stats
             .get_or_insert_with(|| Stats::new(animal.stats.mean.len(), &ctx.ladder))
@@ -491,12 +481,17 @@ fn degenerate(report: &FitReport, i: &bootstrap::Intervals) -> Option<String> {
     })
 }
 
-/// An animal's own fit (only the constants), or why it has none.
-fn own_fit(proj: &Projector, ctx: &Context<'_>, a: &Animal) -> AnimalFit {
-    let interval = a.interval.unwrap_or(1.0);
-    match fit_stats(proj, ctx, &a.stats, interval, Scope::Constants(None)) {
-        Ok(r) => AnimalFit::of(&a.name, &a.counts, &r),
-        Err(e) => AnimalFit::failed(&a.name, &a.stats, &a.counts, &e.to_string()),
+/// An animal's own fit (only the constants) from its name, counts and statistics, or why it
+/// has none.
+fn own_fit(
+    proj: &Projector,
+    ctx: &Context<'_>,
+    (name, counts, stats): (&str, &Recording, &Stats),
+    interval: f64,
+) -> AnimalFit {
+    match fit_stats(proj, ctx, stats, interval, Scope::Constants(None)) {
+        Ok(r) => AnimalFit::of(name, counts, &r),
+        Err(e) => AnimalFit::failed(name, stats, counts, &e.to_string()),
     }
 }
 
