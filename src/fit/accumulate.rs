@@ -2,10 +2,11 @@
 //! last, projected, handed to the per-frame sink and added to its run; lost frames split the
 //! runs unless `--fill-gaps` bridges them.
 
+use super::project::Scratch;
 use super::read::Source;
 use super::stats::Ladder;
 use super::stats::{Run, Stats};
-use super::{animal::Animal, FitError, FitSettings, InputKind, Projector, Recording};
+use super::{animal::Animal, FitError, FitSettings, FrameError, InputKind, Projector, Recording};
 use crate::modal::Params;
 use crate::model::Model;
 
@@ -22,6 +23,8 @@ pub(super) struct Context<'a> {
     pub(super) params: &'a Params,
     pub(super) settings: &'a FitSettings,
     pub(super) ladder: Ladder,
+    /// One input only: a file may be parsed on every core.
+    pub(super) alone: bool,
 }
 
 /// Projectors by frame width (midlines of another K resample to the same N modes).
@@ -81,9 +84,12 @@ pub(super) fn accumulate(
         own: None,
     };
     let mut run: Option<Run> = None;
-    let mut previous: Option<(f64, Vec<f64>)> = None;
+    // The last usable frame's time, and its values when gaps may be bridged.
+    let mut previous: Option<f64> = None;
+    let mut previous_values: Vec<f64> = Vec::new();
     let mut reference: Option<f64> = None;
     let mut pending = 0usize;
+    let mut work = Work::default();
     while let Some(row) = source.next_row()? {
         counts.frames_read += 1;
         pending += row.missing_before;
@@ -91,7 +97,7 @@ pub(super) fn accumulate(
             pending += 1;
             continue;
         };
-        let line = source.line();
+        let line = row.line;
         let proj = projs.get(ctx, values.len()).map_err(|e| match e {
             FitError::Line { why, .. } => FitError::Line { line, why },
             other => other,
@@ -104,19 +110,18 @@ pub(super) fn accumulate(
         proj.reference_length = reference;
         if pending > 0 {
             counts.frames_lost += pending;
-            match &previous {
-                Some(prev) if pending <= settings.fill_gaps => {
+            match previous {
+                Some(t0) if pending <= settings.fill_gaps => {
                     for k in 1..=pending {
                         let w = k as f64 / (pending + 1) as f64;
-                        let t = prev.0 + w * (row.t - prev.0);
-                        let v: Vec<f64> = prev
-                            .1
+                        let t = t0 + w * (row.t - t0);
+                        let v: Vec<f64> = previous_values
                             .iter()
-                            .zip(&values)
+                            .zip(values)
                             .map(|(a, b)| a + w * (b - a))
                             .collect();
                         counts.frames_filled += 1;
-                        feed(proj, ctx, &mut run, each, (t, &v, line))?;
+                        feed(proj, ctx, (&mut run, &mut work), each, (t, &v, line), None)?;
                     }
                 }
                 Some(_) => {
@@ -128,8 +133,19 @@ pub(super) fn accumulate(
             }
             pending = 0;
         }
-        feed(proj, ctx, &mut run, each, (row.t, &values, line))?;
-        previous = Some((row.t, values));
+        feed(
+            proj,
+            ctx,
+            (&mut run, &mut work),
+            each,
+            (row.t, values, line),
+            row.projected,
+        )?;
+        previous = Some(row.t);
+        if settings.fill_gaps > 0 {
+            previous_values.clear();
+            previous_values.extend_from_slice(values);
+        }
     }
     counts.frames_lost += pending;
     close(&mut run, &mut animal, &mut counts, ctx);
@@ -153,39 +169,37 @@ fn close(run: &mut Option<Run>, animal: &mut Animal, counts: &mut Recording, ctx
     animal.pieces.extend(blocks);
 }
 
-/// Project one frame (oriented head last), hand it to `each`, add it to the run.
+/// Project one frame (oriented head last) unless a parsing worker did, hand it to `each`, add
+/// it to the run.
 fn feed(
     proj: &Projector,
     ctx: &Context<'_>,
-    run: &mut Option<Run>,
+    (run, work): (&mut Option<Run>, &mut Work),
     each: &mut Option<Each<'_>>,
     (t, values, line): (f64, &[f64], usize),
+    projected: Option<Result<(&[f64], f64), FrameError>>,
 ) -> Result<(), FitError> {
-    let oriented;
-    let values = if ctx.settings.head_first {
-        oriented = head_last(ctx.settings.kind, values);
-        &oriented
-    } else {
-        values
-    };
-    let q = proj.modal(values).map_err(|why| FitError::Line {
+    let bad = |why: FrameError| FitError::Line {
         line,
         why: why.to_string(),
-    })?;
+    };
+    let (q, spacing) = match projected {
+        Some(done) => done.map_err(bad)?,
+        None => {
+            let head_first = ctx.settings.head_first;
+            let spacing = proj
+                .project_into(values, head_first, &mut work.0, &mut work.1)
+                .map_err(bad)?;
+            (work.1.as_slice(), spacing)
+        }
+    };
     if let Some(each) = each {
-        each(proj, t, &q).map_err(FitError::Output)?;
+        each(proj, t, q).map_err(FitError::Output)?;
     }
-    let spacing = proj.spacing(values);
     run.get_or_insert_with(|| Run::new(q.len(), &ctx.ladder, ctx.settings.bootstrap > 0))
         .push(q, spacing);
     Ok(())
 }
 
-/// A frame listed head first, reordered head last (the model's orientation): points (x, y)
-/// pairs for midlines, segments for lengths.
-fn head_last(kind: InputKind, values: &[f64]) -> Vec<f64> {
-    match kind {
-        InputKind::Midline => values.chunks(2).rev().flatten().copied().collect(),
-        InputKind::Lengths => values.iter().rev().copied().collect(),
-    }
-}
+/// Work space of a projection: the projector's, and the modal coordinates.
+pub(super) type Work = (Scratch, Vec<f64>);

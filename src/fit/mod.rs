@@ -21,7 +21,10 @@
 //! the time step skips, is lost: it splits the recording into runs (the covariance pools every
 //! usable frame, Welch windows stay inside a run) unless `fill_gaps` bridges it linearly.
 //! Anything else is an error naming the line. The file is streamed. Memory is O(N² + W·N) for N model points and a Welch window of W frames, whatever
-//! the number of frames.
+//! the number of frames. A file fitted alone is parsed on every core (`chunks`): its first rows
+//! in order, the rest in chunks of whole lines by workers that also project the midlines, taken
+//! back in order; plain decimals are read by a fast exact parser (`number`), anything else by
+//! the line reader's own code, so every number and every message is the line reader's.
 //!
 //! **Observation map.** A field's operator is D = SᵀS, where S holds its difference stencils
 //! ([`crate::discretise::stencil_rows`]). The data observe S·q, not q:
@@ -64,7 +67,9 @@ use std::io::BufRead;
 mod accumulate;
 mod animal;
 mod bootstrap;
+mod chunks;
 mod error;
+mod number;
 mod pool;
 mod project;
 mod read;

@@ -11,6 +11,7 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{mpsc, Mutex};
 
 use super::accumulate::{accumulate, Context, Each, Projectors};
+use super::chunks::Chunked;
 use super::read::{read_tracks, sniff, whole, FrameReader, Track, TrackSource, MAX_WHOLE_FILE};
 use super::stats::{Ladder, Stats};
 use super::{
@@ -73,6 +74,7 @@ pub fn fit_inputs(
         params,
         settings,
         ladder: Ladder::new(settings.window),
+        alone: inputs.len() == 1,
     };
     let mut pool = Pool::default();
     match each {
@@ -178,11 +180,14 @@ fn read_input(
     each: &mut Option<Each<'_>>,
 ) -> Result<Read, FitError> {
     let settings = ctx.settings;
+    // A file alone is parsed on every core (a stream is not: its reader could wait forever).
+    let mut chunked = false;
     let (name, mut reader): (String, Box<dyn BufRead + Send + '_>) = match input {
         Input::Tracks(tracks) => return read_tracks_of(tracks, ctx, projs, each, Units::default()),
         Input::Reader { name, reader } => (name, reader),
         Input::File(path) => {
             let file = std::fs::File::open(&path).map_err(FitError::Open)?;
+            chunked = ctx.alone;
             (
                 path.display().to_string(),
                 Box::new(std::io::BufReader::new(file)),
@@ -206,8 +211,17 @@ fn read_input(
         let tracks = read_tracks(std::io::Read::take(reader, MAX_WHOLE_FILE), &name, settings)?;
         return read_tracks_of(tracks, ctx, projs, each, Units::default());
     }
-    let mut source = FrameReader::new(reader, settings);
-    let animal = accumulate(&mut source, name, ctx, projs, each)?;
+    let source = FrameReader::new(reader, settings);
+    let animal = if chunked {
+        std::thread::scope(|scope| {
+            let make =
+                Box::new(|width| Projector::new(ctx.model, ctx.params, settings, width).ok());
+            let mut source = Chunked::new(source, scope, settings, make);
+            accumulate(&mut source, name, ctx, projs, each)
+        })?
+    } else {
+        accumulate(&mut { source }, name, ctx, projs, each)?
+    };
     Ok(Read {
         animals: vec![animal],
         units: Units::default(),

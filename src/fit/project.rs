@@ -24,6 +24,22 @@ pub enum FrameError {
     Overflow,
 }
 
+/// Work space of [`Projector::project_into`].
+#[derive(Debug, Default)]
+pub(super) struct Scratch {
+    segments: Vec<(f64, f64)>,
+    angles: Vec<f64>,
+}
+
+/// A frame listed head first, reordered head last (the model's orientation): points (x, y)
+/// pairs for midlines, segments for lengths.
+pub(super) fn reversed(kind: InputKind, values: &[f64]) -> Vec<f64> {
+    match kind {
+        InputKind::Midline => values.chunks(2).rev().flatten().copied().collect(),
+        InputKind::Lengths => values.iter().rev().copied().collect(),
+    }
+}
+
 /// Resample a polyline to `n` points equally spaced in arc length.
 fn resample(points: &[(f64, f64)], n: usize) -> Result<Vec<(f64, f64)>, FrameError> {
     let mut cum = vec![0.0];
@@ -287,6 +303,69 @@ impl Projector {
         } else {
             Err(FrameError::Overflow)
         }
+    }
+
+    /// One frame's modal coordinates (into `q`) and point spacing, the frame oriented head
+    /// last first when `head_first`: [`Projector::modal`] and [`Projector::spacing`] of the
+    /// oriented frame, the same numbers, without a new vector for midlines of N points (the
+    /// common case, which a long recording repeats a million times).
+    pub(super) fn project_into(
+        &self,
+        values: &[f64],
+        head_first: bool,
+        scratch: &mut Scratch,
+        q: &mut Vec<f64>,
+    ) -> Result<f64, FrameError> {
+        q.clear();
+        if self.kind != InputKind::Midline || values.len() != 2 * self.points {
+            let oriented;
+            let values = if head_first {
+                oriented = reversed(self.kind, values);
+                &oriented
+            } else {
+                values
+            };
+            q.extend(self.modal(values)?);
+            return Ok(self.spacing(values));
+        }
+        let k = self.points;
+        let point = |i: usize| {
+            let i = if head_first { k - 1 - i } else { i };
+            (values[2 * i], values[2 * i + 1])
+        };
+        let (seg, angles) = (&mut scratch.segments, &mut scratch.angles);
+        seg.clear();
+        seg.extend((0..k - 1).map(|i| {
+            let (a, b) = (point(i), point(i + 1));
+            (b.0 - a.0, b.1 - a.1)
+        }));
+        // As `turning_angles`, in its order: overflow before coincidence.
+        if seg.iter().any(|s| !(s.0.is_finite() && s.1.is_finite())) {
+            return Err(FrameError::Overflow);
+        }
+        if seg.iter().any(|s| s.0 == 0.0 && s.1 == 0.0) {
+            return Err(FrameError::Coincident);
+        }
+        let length: f64 = seg.iter().map(|s| s.0.hypot(s.1)).sum();
+        for s in seg.iter_mut() {
+            let size = s.0.abs().max(s.1.abs());
+            *s = (s.0 / size, s.1 / size);
+        }
+        angles.clear();
+        angles.extend(seg.windows(2).map(|w| {
+            let cross = w[0].0 * w[1].1 - w[0].1 * w[1].0;
+            let dot = w[0].0 * w[1].0 + w[0].1 * w[1].1;
+            cross.atan2(dot)
+        }));
+        q.extend(
+            self.rows
+                .iter()
+                .map(|p| p.iter().zip(angles.iter()).map(|(a, b)| a * b).sum::<f64>()),
+        );
+        if !q.iter().all(|v| v.is_finite()) {
+            return Err(FrameError::Overflow);
+        }
+        Ok(length / (self.points - 1) as f64)
     }
 
     /// Each fitted mode's gain on the body's own continuum mode (midlines of a field with

@@ -5,7 +5,8 @@
 
 use std::io::BufRead;
 
-use super::{FitError, FitSettings, InputFormat};
+use super::number::plain_row;
+use super::{FitError, FitSettings, FrameError, InputFormat};
 use crate::markup::clip;
 use crate::report::number;
 
@@ -29,12 +30,24 @@ pub struct Track {
 
 /// A stream of rows of one animal.
 pub(super) trait Source {
-    /// The next row, or `None` at the end.
-    fn next_row(&mut self) -> Result<Option<Row>, FitError>;
-    /// Where the last row came from (line or frame, 1-based), for messages.
-    fn line(&self) -> usize;
+    /// The next row, or `None` at the end; it borrows the source until the next call.
+    fn next_row(&mut self) -> Result<Option<Row<'_>>, FitError>;
     /// The sampling interval seen (the first time step).
     fn interval(&self) -> Option<f64>;
+}
+
+/// One row of a recording, lent by its [`Source`].
+pub(super) struct Row<'a> {
+    pub(super) t: f64,
+    /// The frame's values after t; `None` when the tracker lost it.
+    pub(super) values: Option<&'a [f64]>,
+    /// Frames missing from the file just before this row (from the time step).
+    pub(super) missing_before: usize,
+    /// Where the row came from (line or frame, 1-based), for messages.
+    pub(super) line: usize,
+    /// The frame's modal coordinates and point spacing, when a parsing worker already
+    /// projected it (or why it could not).
+    pub(super) projected: Option<Result<(&'a [f64], f64), FrameError>>,
 }
 
 /// The sampling clock: the first time step is the interval; later steps must be whole numbers
@@ -107,6 +120,8 @@ pub(super) struct TrackSource {
     frames: std::vec::IntoIter<Frame>,
     index: usize,
     clock: Clock,
+    /// The frame last lent.
+    current: Option<Frame>,
 }
 
 impl TrackSource {
@@ -115,12 +130,13 @@ impl TrackSource {
             frames: track.frames.into_iter(),
             index: 0,
             clock: Clock::default(),
+            current: None,
         }
     }
 }
 
 impl Source for TrackSource {
-    fn next_row(&mut self) -> Result<Option<Row>, FitError> {
+    fn next_row(&mut self) -> Result<Option<Row<'_>>, FitError> {
         let Some(frame) = self.frames.next() else {
             return Ok(None);
         };
@@ -133,17 +149,18 @@ impl Source for TrackSource {
             return Err(bad(format!("frame {}: time is not finite", self.index)));
         }
         let missing_before = self.clock.step(frame.t).map_err(|e| bad(e.to_string()))?;
-        let values = frame.values.filter(|v| v.iter().all(|x| x.is_finite()));
+        let frame = self.current.insert(frame);
+        let values = frame
+            .values
+            .as_deref()
+            .filter(|v| v.iter().all(|x| x.is_finite()));
         Ok(Some(Row {
             t: frame.t,
             values,
             missing_before,
-            track: None,
+            line: self.index,
+            projected: None,
         }))
-    }
-
-    fn line(&self) -> usize {
-        self.index
     }
 
     fn interval(&self) -> Option<f64> {
@@ -176,6 +193,10 @@ pub(super) struct FrameReader<R> {
     fps: Option<f64>,
     /// DeepLabCut points below this likelihood are lost.
     min_likelihood: f64,
+    /// The values of the row last read.
+    pub(super) values: Vec<f64>,
+    /// The track id of the row last read, with `track`.
+    pub(super) track_id: Option<String>,
 }
 
 impl<R: BufRead> FrameReader<R> {
@@ -191,6 +212,8 @@ impl<R: BufRead> FrameReader<R> {
             dlc: false,
             fps: settings.fps,
             min_likelihood: settings.min_likelihood,
+            values: Vec::new(),
+            track_id: None,
         }
     }
 
@@ -215,155 +238,216 @@ impl<R: BufRead> FrameReader<R> {
         Ok(out)
     }
 
-    /// The next line, read at most [`MAX_LINE_BYTES`] at a time.
-    fn next_line(&mut self) -> Result<Option<String>, FitError> {
+    /// The next line into `self.buf`, read at most [`MAX_LINE_BYTES`] + 1 bytes at a time;
+    /// `false` at the end.
+    fn next_line(&mut self) -> Result<bool, FitError> {
         use std::io::Read;
         self.buf.clear();
         let read = (&mut self.reader)
             .take(MAX_LINE_BYTES as u64 + 1)
             .read_until(b'\n', &mut self.buf)
             .map_err(FitError::Io)?;
-        if read == 0 {
-            return Ok(None);
-        }
-        self.line += 1;
-        if self.buf.len() > MAX_LINE_BYTES {
-            return Err(FitError::Line {
-                line: self.line,
-                why: format!("longer than {MAX_LINE_BYTES} bytes: not a recording of midlines"),
-            });
-        }
-        String::from_utf8(std::mem::take(&mut self.buf))
-            .map(Some)
-            .map_err(|_| FitError::Line {
-                line: self.line,
-                why: "is not UTF-8 text".into(),
-            })
+        self.line += usize::from(read > 0);
+        Ok(read > 0)
     }
 
     /// The next row: a frame, or a frame the tracker lost (a missing or non-finite value), with
-    /// the frames the time step says are missing before it.
-    pub(super) fn next_row(&mut self) -> Result<Option<Row>, FitError> {
+    /// the frames the time step says are missing before it. The values are left in
+    /// `self.values`, the track id in `self.track_id`.
+    pub(super) fn advance(&mut self) -> Result<Option<Parsed>, FitError> {
         loop {
-            let Some(text) = self.next_line()? else {
+            if !self.next_line()? {
                 return Ok(None);
-            };
-            let text = text.trim();
-            if text.is_empty() || text.starts_with('#') {
-                continue;
             }
-            let cells: Vec<&str> = if text.contains(',') {
-                text.split(',').map(str::trim).collect()
-            } else {
-                text.split_whitespace().collect()
-            };
-            // DeepLabCut's three header rows; otherwise only the first line may be a header.
-            if !self.seen_data && cells[0] == "individuals" {
-                return Err(FitError::Line {
-                    line: self.line,
-                    why: "a multi-animal DeepLabCut export: export one file per individual (each is one animal)".into(),
-                });
-            }
-            if !self.seen_data && matches!(cells[0], "scorer" | "bodyparts" | "coords") {
-                self.dlc = true;
-                continue;
-            }
-            let first_number = cells[usize::from(self.track).min(cells.len() - 1)];
-            if !self.seen_data && !self.dlc && first_number.parse::<f64>().is_err() {
-                self.seen_data = true;
-                continue;
-            }
-            self.seen_data = true;
             let line = self.line;
             let bad = |why: String| FitError::Line { line, why };
-            let mut cells = cells;
-            let track = if self.track {
-                if cells.len() < 2 {
-                    return Err(bad("a track id and then time are needed".into()));
+            let row = match self.plain_width() {
+                // The common row, once the layout is known.
+                Some(width) => plain_line(&self.buf, width, &mut self.values).map_err(bad)?,
+                None => {
+                    let buf = std::mem::take(&mut self.buf);
+                    let row = match line_text(&buf).map_err(bad)?.trim() {
+                        "" => None,
+                        text if text.starts_with('#') => None,
+                        text => self.first_rows(text)?,
+                    };
+                    self.buf = buf;
+                    row
                 }
-                Some(super::checked_name(cells.remove(0)).map_err(|e| bad(e.to_string()))?)
-            } else {
-                None
             };
-            let converted;
-            let cells: Vec<&str> = if self.dlc {
-                converted = self.dlc_row(&cells).map_err(|e| bad(e.to_string()))?;
-                converted.iter().map(String::as_str).collect()
-            } else {
-                cells
+            let Some((t, lost)) = row else {
+                continue;
             };
-            match self.width {
-                None => self.width = Some(cells.len()),
-                Some(w) if w != cells.len() => {
-                    return Err(bad(format!(
-                        "{} columns where the first frame had {w}",
-                        cells.len()
-                    )))
-                }
-                _ => {}
-            }
-            let t: f64 = cells[0]
-                .parse()
-                .ok()
-                .filter(|t: &f64| t.is_finite())
-                .ok_or_else(|| {
-                    bad(format!(
-                        "column 1: time {:?} is not a finite number",
-                        cells[0]
-                    ))
-                })?;
-            let mut values = Vec::with_capacity(cells.len() - 1);
-            let mut lost = false;
-            for (c, cell) in cells.iter().enumerate().skip(1) {
-                // An empty cell, NaN or ±inf: the tracker lost this frame.
-                let v: f64 = if cell.is_empty() {
-                    f64::NAN
-                } else {
-                    cell.parse().map_err(|_| {
-                        bad(format!("column {}: {} is not a number", c + 1, clip(cell)))
-                    })?
-                };
-                lost |= !v.is_finite();
-                values.push(v);
-            }
             let missing_before = if self.track {
                 0
             } else {
                 self.clock.step(t).map_err(|e| bad(e.to_string()))?
             };
-            return Ok(Some(Row {
+            return Ok(Some(Parsed {
                 t,
-                values: (!lost).then_some(values),
+                lost,
                 missing_before,
-                track,
             }));
         }
+    }
+
+    /// A row read cell by cell: the header rows, DeepLabCut's layout, a track id. `None` for a
+    /// header row.
+    fn first_rows(&mut self, text: &str) -> Result<Option<(f64, bool)>, FitError> {
+        let line = self.line;
+        let bad = |why: String| FitError::Line { line, why };
+        let mut cells: Vec<&str> = cells(text).collect();
+        // DeepLabCut's three header rows; otherwise only the first line may be a header.
+        if !self.seen_data && cells[0] == "individuals" {
+            return Err(bad("a multi-animal DeepLabCut export: export one file per individual (each is one animal)".into()));
+        }
+        if !self.seen_data && matches!(cells[0], "scorer" | "bodyparts" | "coords") {
+            self.dlc = true;
+            return Ok(None);
+        }
+        let first_number = cells[usize::from(self.track).min(cells.len() - 1)];
+        if !self.seen_data && !self.dlc && first_number.parse::<f64>().is_err() {
+            self.seen_data = true;
+            return Ok(None);
+        }
+        self.seen_data = true;
+        self.track_id = if self.track {
+            if cells.len() < 2 {
+                return Err(bad("a track id and then time are needed".into()));
+            }
+            Some(super::checked_name(cells.remove(0)).map_err(|e| bad(e.to_string()))?)
+        } else {
+            None
+        };
+        let converted;
+        let cells: Vec<&str> = if self.dlc {
+            converted = self.dlc_row(&cells).map_err(|e| bad(e.to_string()))?;
+            converted.iter().map(String::as_str).collect()
+        } else {
+            cells
+        };
+        let width = *self.width.get_or_insert(cells.len());
+        data_row(cells.into_iter(), width, &mut self.values)
+            .map(Some)
+            .map_err(bad)
+    }
+
+    /// The layout found in the first rows, once a data row has been read: the row width, and
+    /// whether every later row is plain (no DeepLabCut conversion, no track id).
+    pub(super) fn plain_width(&self) -> Option<usize> {
+        self.width.filter(|_| !self.dlc && !self.track)
+    }
+
+    /// The stream after the rows read so far, and the clock and line count to carry on with.
+    pub(super) fn into_rest(self) -> (R, Clock, usize) {
+        (self.reader, self.clock, self.line)
+    }
+}
+
+/// What [`FrameReader::advance`] read besides the values.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Parsed {
+    pub(super) t: f64,
+    /// A value is missing or not finite: the tracker lost the frame.
+    pub(super) lost: bool,
+    /// Frames the time step says are missing before this one.
+    pub(super) missing_before: usize,
+}
+
+/// A line's text (its bytes, the line end included), checked: not too long, UTF-8.
+fn line_text(bytes: &[u8]) -> Result<&str, String> {
+    if bytes.len() > MAX_LINE_BYTES {
+        return Err(format!(
+            "longer than {MAX_LINE_BYTES} bytes: not a recording of midlines"
+        ));
+    }
+    std::str::from_utf8(bytes).map_err(|_| "is not UTF-8 text".to_string())
+}
+
+/// One line (its bytes, the line end included) once the layout is known: plain rows of
+/// `width` cells. `None` for a blank or comment line; else the row's time, values (in
+/// `values`) and whether one is lost.
+pub(super) fn plain_line(
+    bytes: &[u8],
+    width: usize,
+    values: &mut Vec<f64>,
+) -> Result<Option<(f64, bool)>, String> {
+    if bytes.len() <= MAX_LINE_BYTES {
+        if let Some(t) = plain_row(bytes, width, values) {
+            return Ok(Some((t, false)));
+        }
+    }
+    match line_text(bytes)?.trim() {
+        "" => Ok(None),
+        text if text.starts_with('#') => Ok(None),
+        text => data_row(cells(text), width, values).map(Some),
+    }
+}
+
+/// A line's cells: split at commas (each trimmed) when it has one, else at white space.
+pub(super) fn cells(text: &str) -> impl Iterator<Item = &str> {
+    if text.contains(',') {
+        itertools::Either::Left(text.split(',').map(str::trim))
+    } else {
+        itertools::Either::Right(text.split_whitespace())
+    }
+}
+
+/// A data row of `width` cells (time first) into `values`: its time and whether a value is
+/// lost (an empty cell, NaN or ±inf). A wrong width is reported before a bad cell, a bad time
+/// before a bad value, the first bad value before later ones.
+pub(super) fn data_row<'t>(
+    mut cells: impl Iterator<Item = &'t str>,
+    width: usize,
+    values: &mut Vec<f64>,
+) -> Result<(f64, bool), String> {
+    values.clear();
+    let time = cells.next().unwrap_or_default();
+    let (mut count, mut lost, mut error) = (1, false, None);
+    for cell in cells {
+        count += 1;
+        if error.is_some() || count > width {
+            continue;
+        }
+        let v = if cell.is_empty() {
+            f64::NAN
+        } else if let Ok(v) = cell.parse() {
+            v
+        } else {
+            error = Some(format!("column {count}: {} is not a number", clip(cell)));
+            continue;
+        };
+        lost |= !v.is_finite();
+        values.push(v);
+    }
+    if count != width {
+        return Err(format!("{count} columns where the first frame had {width}"));
+    }
+    let t = time
+        .parse()
+        .ok()
+        .filter(|t: &f64| t.is_finite())
+        .ok_or_else(|| format!("column 1: time {time:?} is not a finite number"))?;
+    match error {
+        Some(e) => Err(e),
+        None => Ok((t, lost)),
     }
 }
 
 impl<R: BufRead> Source for FrameReader<R> {
-    fn next_row(&mut self) -> Result<Option<Row>, FitError> {
-        FrameReader::next_row(self)
-    }
-
-    fn line(&self) -> usize {
-        self.line
+    fn next_row(&mut self) -> Result<Option<Row<'_>>, FitError> {
+        Ok(self.advance()?.map(|p| Row {
+            t: p.t,
+            values: (!p.lost).then_some(self.values.as_slice()),
+            missing_before: p.missing_before,
+            line: self.line,
+            projected: None,
+        }))
     }
 
     fn interval(&self) -> Option<f64> {
         self.clock.dt
     }
-}
-
-/// One row of a recording.
-pub(super) struct Row {
-    pub(super) t: f64,
-    /// The frame's values after t; `None` when the tracker lost it.
-    pub(super) values: Option<Vec<f64>>,
-    /// Frames missing from the file just before this row (from the time step).
-    pub(super) missing_before: usize,
-    /// The row's track id, when the first column holds one.
-    pub(super) track: Option<String>,
 }
 
 /// The tracks of a file whose first column is a track id, each in time order (rows of one
@@ -376,8 +460,8 @@ pub(super) fn read_tracks<R: BufRead>(
     let mut frames = FrameReader::new(reader, settings);
     let mut tracks: Vec<Track> = Vec::new();
     let mut index = std::collections::HashMap::new();
-    while let Some(row) = frames.next_row()? {
-        let id = row.track.unwrap_or_default();
+    while let Some(row) = frames.advance()? {
+        let id = frames.track_id.take().unwrap_or_default();
         let k = *index.entry(id.clone()).or_insert_with(|| {
             tracks.push(Track {
                 name: format!("{name}#{id}"),
@@ -387,7 +471,7 @@ pub(super) fn read_tracks<R: BufRead>(
         });
         tracks[k].frames.push(Frame {
             t: row.t,
-            values: row.values,
+            values: (!row.lost).then(|| frames.values.clone()),
         });
     }
     for t in &mut tracks {

@@ -37,16 +37,39 @@ impl Plan {
     /// `frames` (frames × channels).
     pub(super) fn add(&self, frames: &VecDeque<Vec<f64>>, acc: &mut [Vec<f64>]) {
         let len = self.len();
-        let frames = frames.range(frames.len() - len..);
-        let mut data = vec![Complex::new(0.0, 0.0); len];
-        for (c, acc) in acc.iter_mut().enumerate() {
-            let mean = frames.clone().map(|v| v[c]).sum::<f64>() / len as f64;
-            for (i, v) in frames.clone().enumerate() {
-                data[i] = Complex::new((v[c] - mean) * self.window[i], 0.0);
+        // Channels as contiguous columns: each is read twice (mean, taper).
+        let mut columns = vec![0.0; len * acc.len()];
+        for (i, v) in frames.range(frames.len() - len..).enumerate() {
+            for (c, x) in v.iter().enumerate().take(acc.len()) {
+                columns[c * len + i] = *x;
             }
-            self.fft.process(&mut data);
-            for (k, a) in acc.iter_mut().enumerate() {
-                *a += data[k].norm_sqr();
+        }
+        // Two real channels a, b in one complex transform Z of a + ib:
+        // Â(k) = (Z(k) + Z̄(W−k))/2, B̂(k) = (Z(k) − Z̄(W−k))/2i.
+        let mut data = vec![Complex::new(0.0, 0.0); len];
+        let mut scratch = vec![Complex::new(0.0, 0.0); self.fft.get_inplace_scratch_len()];
+        let window = self.window.as_slice();
+        fn taper<'a>(column: &'a [f64], window: &'a [f64]) -> impl Iterator<Item = f64> + 'a {
+            let mean = column.iter().sum::<f64>() / column.len() as f64;
+            column.iter().zip(window).map(move |(x, w)| (x - mean) * w)
+        }
+        for (pair, acc) in columns.chunks(2 * len).zip(acc.chunks_mut(2)) {
+            let (a, b) = pair.split_at(len);
+            data.iter_mut().for_each(|d| *d = Complex::new(0.0, 0.0));
+            for (d, x) in data.iter_mut().zip(taper(a, window)) {
+                d.re = x;
+            }
+            for (d, y) in data.iter_mut().zip(taper(b, window)) {
+                d.im = y;
+            }
+            self.fft.process_with_scratch(&mut data, &mut scratch);
+            let (first, second) = acc.split_at_mut(1);
+            for k in 0..first[0].len() {
+                let (z, mirror) = (data[k], data[(len - k) % len].conj());
+                first[0][k] += (z + mirror).norm_sqr() / 4.0;
+                if let Some(second) = second.first_mut() {
+                    second[k] += (z - mirror).norm_sqr() / 4.0;
+                }
             }
         }
     }
@@ -231,6 +254,8 @@ pub(super) struct Run {
     blocks: Option<(Vec<Stats>, usize)>,
     /// The run's frames, the blocks included.
     frames: usize,
+    /// Scratch: the new frame's distance from the running mean.
+    delta: Vec<f64>,
 }
 
 /// The most blocks one run keeps for a bootstrap over time.
@@ -249,6 +274,7 @@ impl Run {
             ladder: ladder.clone(),
             blocks: blocks.then(|| (Vec::new(), FIRST_BLOCK)),
             frames: 0,
+            delta: Vec::with_capacity(m),
         }
     }
 
@@ -281,7 +307,7 @@ impl Run {
     }
 
     /// One frame's modal coordinates `q` and point spacing.
-    pub(super) fn push(&mut self, q: Vec<f64>, spacing: f64) {
+    pub(super) fn push(&mut self, q: &[f64], spacing: f64) {
         self.frames += 1;
         if let Some((_, length)) = &self.blocks {
             if self.stats.count as usize >= *length {
@@ -291,19 +317,25 @@ impl Run {
         let s = &mut self.stats;
         s.count += 1.0;
         s.spacing += spacing;
-        let delta: Vec<f64> = q.iter().zip(&s.mean).map(|(a, b)| a - b).collect();
-        for (mu, d) in s.mean.iter_mut().zip(&delta) {
+        self.delta.clear();
+        self.delta.extend(q.iter().zip(&s.mean).map(|(a, b)| a - b));
+        for (mu, d) in s.mean.iter_mut().zip(&self.delta) {
             *mu += d / s.count;
         }
-        for (i, row) in s.comoment.iter_mut().enumerate() {
-            for (j, c) in row.iter_mut().enumerate() {
-                *c += delta[i] * (q[j] - s.mean[j]);
+        for (row, d) in s.comoment.iter_mut().zip(&self.delta) {
+            for (c, (a, mu)) in row.iter_mut().zip(q.iter().zip(&s.mean)) {
+                *c += d * (a - mu);
             }
         }
-        if self.buffer.len() == self.ladder.longest() {
-            self.buffer.pop_front();
-        }
-        self.buffer.push_back(q);
+        // The oldest frame's storage takes the new one: no allocation once the buffer is full.
+        let mut slot = if self.buffer.len() == self.ladder.longest() {
+            self.buffer.pop_front().unwrap_or_default()
+        } else {
+            Vec::with_capacity(q.len())
+        };
+        slot.clear();
+        slot.extend_from_slice(q);
+        self.buffer.push_back(slot);
         for ((plan, since), w) in self
             .ladder
             .plans

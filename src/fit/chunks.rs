@@ -1,0 +1,300 @@
+//! One large recording read on every core. The first rows (a header, the first frame) are read
+//! in order and fix the layout; the rest of the file is cut into chunks of whole lines, which
+//! workers parse ([`plain_line`], the line reader's own function) and, for midlines, project
+//! onto the modes, while this thread takes the chunks back in order: it runs the clock and
+//! hands the rows on exactly as the line reader would, so every number and every message is the
+//! same. Memory holds the chunks in flight (about 2 × workers × [`CHUNK`] of text and the
+//! frames parsed from them), whatever the file's length.
+
+use std::io::{BufRead, Read as _};
+use std::sync::mpsc::{self, Receiver, SyncSender};
+use std::sync::{Arc, Mutex};
+use std::thread::Scope;
+
+use super::accumulate::Work;
+use super::read::{plain_line, Clock, FrameReader, Row, Source};
+use super::{FitError, FitSettings, FrameError, InputKind, Projector, MAX_LINE_BYTES};
+
+/// Bytes of text a worker parses at once (whole lines: the last one is read to its end).
+pub(super) const CHUNK: usize = 64 << 10;
+
+/// A chunk parsed by a worker.
+#[derive(Default)]
+struct Parsed {
+    rows: Vec<ParsedRow>,
+    /// Each row's values after t, one after the other.
+    values: Vec<f64>,
+    /// Each projected row's modal coordinates, one after the other.
+    modal: Vec<f64>,
+    /// Lines in the chunk.
+    lines: usize,
+    /// Where parsing stopped, and why (the rows before it are good).
+    error: Option<(usize, String)>,
+}
+
+struct ParsedRow {
+    t: f64,
+    lost: bool,
+    /// Line within the chunk (1-based).
+    line: usize,
+    /// Point spacing, or why the frame does not project (`None`: not projected here).
+    projected: Option<Result<f64, FrameError>>,
+}
+
+/// What the reading thread hands on, in order: a chunk being parsed, or why reading stopped.
+type Pending = Result<Receiver<Parsed>, FitError>;
+
+/// Builds the workers' projector for a frame of so many values (`None`: the rows go on
+/// unprojected, and the error, if any, comes from the caller's own projector).
+pub(super) type MakeProjector<'env> = Box<dyn Fn(usize) -> Option<Projector> + 'env>;
+
+/// The rows of one recording, the first ones from the line reader, the rest from chunks parsed
+/// on worker threads.
+pub(super) struct Chunked<'scope, 'env, R: BufRead + Send + 'env> {
+    head: Option<FrameReader<R>>,
+    scope: &'scope Scope<'scope, 'env>,
+    settings: &'env FitSettings,
+    make_projector: MakeProjector<'env>,
+    /// The first frame's values, lent once the line reader is gone.
+    first: Vec<f64>,
+    chunks: Option<Receiver<Pending>>,
+    current: Parsed,
+    /// The next row of `current`, its first value and first modal coordinate.
+    next: (usize, usize, usize),
+    /// Lines before `current`.
+    base: usize,
+    clock: Clock,
+    /// Values per row (after t) and modal coordinates per projected row.
+    sizes: (usize, usize),
+    done: bool,
+}
+
+impl<'scope, 'env, R: BufRead + Send + 'env> Chunked<'scope, 'env, R> {
+    /// The rows of `reader`, chunks parsed on threads of `scope`.
+    pub(super) fn new(
+        reader: FrameReader<R>,
+        scope: &'scope Scope<'scope, 'env>,
+        settings: &'env FitSettings,
+        make_projector: MakeProjector<'env>,
+    ) -> Self {
+        Chunked {
+            head: Some(reader),
+            scope,
+            settings,
+            make_projector,
+            first: Vec::new(),
+            chunks: None,
+            current: Parsed::default(),
+            next: (0, 0, 0),
+            base: 0,
+            clock: Clock::default(),
+            sizes: (0, 0),
+            done: false,
+        }
+    }
+
+    /// Hand the rest of the stream to a reading thread and workers, rows of `width` cells.
+    fn start(&mut self, head: FrameReader<R>, width: usize) {
+        let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let projector = (self.settings.kind == InputKind::Midline)
+            .then(|| (self.make_projector)(width - 1))
+            .flatten();
+        self.sizes = (width - 1, projector.as_ref().map_or(0, |p| p.rows.len()));
+        self.first = head.values.clone();
+        let (reader, clock, line) = head.into_rest();
+        (self.clock, self.base) = (clock, line);
+        let (jobs, queue) = mpsc::channel::<(Vec<u8>, mpsc::Sender<Parsed>)>();
+        let queue = Arc::new(Mutex::new(queue));
+        // At most 2 × workers chunks wait to be taken: the reading thread blocks.
+        let (order, chunks) = mpsc::sync_channel(2 * workers);
+        for _ in 0..workers {
+            let (queue, projector, settings) =
+                (Arc::clone(&queue), projector.clone(), self.settings);
+            self.scope.spawn(move || loop {
+                let job = queue.lock().ok().and_then(|q| q.recv().ok());
+                let Some((text, parsed)) = job else {
+                    return;
+                };
+                let _ = parsed.send(parse(&text, width, projector.as_ref(), settings));
+            });
+        }
+        self.scope.spawn(move || read_chunks(reader, jobs, order));
+        self.chunks = Some(chunks);
+    }
+
+    /// The next row of the line reader, handing over to the workers once the layout is known.
+    fn next_head(&mut self) -> Result<Option<Row<'_>>, FitError> {
+        let Some(head) = self.head.as_mut() else {
+            return Ok(None);
+        };
+        let Some(p) = head.advance()? else {
+            return Ok(None);
+        };
+        let line = head.line;
+        let values = match head.plain_width() {
+            Some(width) => {
+                if let Some(head) = self.head.take() {
+                    self.start(head, width);
+                }
+                &self.first
+            }
+            None => self.head.as_ref().map_or(&self.first, |h| &h.values),
+        };
+        Ok(Some(Row {
+            t: p.t,
+            values: (!p.lost).then_some(values.as_slice()),
+            missing_before: p.missing_before,
+            line,
+            projected: None,
+        }))
+    }
+
+    /// The next parsed chunk into `current`; `false` at the end.
+    fn next_chunk(&mut self) -> Result<bool, FitError> {
+        if let Some((line, why)) = self.current.error.take() {
+            self.done = true;
+            return Err(FitError::Line {
+                line: self.base + line,
+                why,
+            });
+        }
+        self.base += self.current.lines;
+        let pending = self.chunks.as_ref().and_then(|c| c.recv().ok());
+        let Some(pending) = pending else {
+            self.done = true;
+            return Ok(false);
+        };
+        let parsed = pending.and_then(|rx| {
+            rx.recv()
+                .map_err(|_| FitError::Io(std::io::Error::other("a parsing thread stopped")))
+        });
+        self.done = parsed.is_err();
+        self.current = parsed?;
+        self.next = (0, 0, 0);
+        Ok(true)
+    }
+}
+
+impl<'env, R: BufRead + Send + 'env> Source for Chunked<'_, 'env, R> {
+    fn next_row(&mut self) -> Result<Option<Row<'_>>, FitError> {
+        if self.head.is_some() {
+            return self.next_head();
+        }
+        while !self.done && self.next.0 >= self.current.rows.len() {
+            if !self.next_chunk()? {
+                return Ok(None);
+            }
+        }
+        if self.done {
+            return Ok(None);
+        }
+        let (r, v, m) = self.next;
+        let (width, modes) = self.sizes;
+        let row = &self.current.rows[r];
+        let line = self.base + row.line;
+        let missing_before = self.clock.step(row.t).map_err(|e| FitError::Line {
+            line,
+            why: e.to_string(),
+        })?;
+        let projected = row
+            .projected
+            .map(|p| p.map(|spacing| (&self.current.modal[m..m + modes], spacing)));
+        let m = m + if matches!(row.projected, Some(Ok(_))) {
+            modes
+        } else {
+            0
+        };
+        self.next = (r + 1, v + width, m);
+        Ok(Some(Row {
+            t: row.t,
+            values: (!row.lost).then_some(&self.current.values[v..v + width]),
+            missing_before,
+            line,
+            projected,
+        }))
+    }
+
+    fn interval(&self) -> Option<f64> {
+        self.head.as_ref().map_or(self.clock.dt, |h| h.interval())
+    }
+}
+
+/// Read the rest of `reader` in chunks of whole lines and hand them to `jobs`, in order to
+/// `order`; stops at the end, at an error, or when the receiver is gone.
+fn read_chunks<R: BufRead>(
+    mut reader: R,
+    jobs: mpsc::Sender<(Vec<u8>, mpsc::Sender<Parsed>)>,
+    order: SyncSender<Pending>,
+) {
+    loop {
+        let mut text = Vec::with_capacity(CHUNK + 256);
+        let mut read = (&mut reader).take(CHUNK as u64).read_to_end(&mut text);
+        if matches!(read, Ok(n) if n > 0) && text.last() != Some(&b'\n') {
+            // The last line to its end, or past the longest line allowed (then an error).
+            read = (&mut reader)
+                .take(MAX_LINE_BYTES as u64 + 1)
+                .read_until(b'\n', &mut text);
+        }
+        match read {
+            Err(e) => {
+                let _ = order.send(Err(FitError::Io(e)));
+                return;
+            }
+            Ok(_) if text.is_empty() => return,
+            Ok(_) => {
+                let (tx, rx) = mpsc::channel();
+                if jobs.send((text, tx)).is_err() || order.send(Ok(rx)).is_err() {
+                    return;
+                }
+            }
+        }
+    }
+}
+
+/// Parse one chunk: rows of `width` cells, projected when a projector is given.
+fn parse(
+    text: &[u8],
+    width: usize,
+    projector: Option<&Projector>,
+    settings: &FitSettings,
+) -> Parsed {
+    let mut out = Parsed::default();
+    let mut values = Vec::with_capacity(width);
+    let mut work = Work::default();
+    let mut start = 0;
+    for k in 0.. {
+        let Some(line) = text.get(start..).filter(|rest| !rest.is_empty()) else {
+            break;
+        };
+        let line = &line[..memchr::memchr(b'\n', line).map_or(line.len(), |end| end + 1)];
+        start += line.len();
+        out.lines = k + 1;
+        let row = match plain_line(line, width, &mut values) {
+            Ok(Some(row)) => row,
+            Ok(None) => continue,
+            Err(why) => {
+                out.error = Some((k + 1, why));
+                break;
+            }
+        };
+        let (t, lost) = row;
+        let projected = match projector {
+            Some(p) if !lost => {
+                let done = p.project_into(&values, settings.head_first, &mut work.0, &mut work.1);
+                if done.is_ok() {
+                    out.modal.extend_from_slice(&work.1);
+                }
+                Some(done)
+            }
+            _ => None,
+        };
+        out.values.extend_from_slice(&values);
+        out.rows.push(ParsedRow {
+            t,
+            lost,
+            line: k + 1,
+            projected,
+        });
+    }
+    out
+}

@@ -1,0 +1,165 @@
+//! The common data row read fast: ASCII cells of plain decimals (`-0.012345`, `17`, no
+//! exponent). Such a number with a mantissa m below 2⁵³ and at most 22 digits after the point
+//! is m/10ᵏ with m and 10ᵏ both exact doubles, so one IEEE division gives the correctly
+//! rounded value (Clinger's fast path): the same double `str::parse` gives. Any other row (an
+//! exponent, NaN, an empty cell, a wrong width, non-ASCII text, a comment) is left to the
+//! general reader, which also words every error.
+
+/// 10ᵏ for k ≤ 22: every one an exact double.
+const POWERS: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+];
+
+/// The white space `str::trim` and `split_whitespace` remove, among ASCII bytes.
+fn space(b: u8) -> bool {
+    matches!(b, b' ' | b'\t' | b'\n' | b'\x0B' | b'\x0C' | b'\r')
+}
+
+/// A plain decimal at the start of `text`: its value and length, or `None` for anything else
+/// (left to `str::parse`).
+fn decimal(text: &[u8]) -> Option<(f64, usize)> {
+    let negative = text.first() == Some(&b'-');
+    let mut at = usize::from(matches!(text.first(), Some(b'-' | b'+')));
+    let mut mantissa = 0u64;
+    let mut digits = |at: &mut usize| {
+        let start = *at;
+        while let Some(d) = text
+            .get(*at)
+            .map(|b| b.wrapping_sub(b'0'))
+            .filter(|d| *d < 10)
+        {
+            mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(d));
+            *at += 1;
+        }
+        *at - start
+    };
+    let whole = digits(&mut at);
+    let after = if text.get(at) == Some(&b'.') {
+        at += 1;
+        digits(&mut at)
+    } else {
+        0
+    };
+    // At most 19 digits cannot wrap a u64; below 2⁵³ the mantissa is an exact double.
+    if whole + after == 0 || whole + after > 19 || after >= POWERS.len() || mantissa >= 1 << 53 {
+        return None;
+    }
+    let value = mantissa as f64 / POWERS[after];
+    Some((if negative { -value } else { value }, at))
+}
+
+/// A row of exactly `width` plain cells (time first), separated by commas (cells trimmed) when
+/// the line has one, else by white space: its time, with the values in `values`. A plain row
+/// has no lost value. `None` leaves the row to the general reader.
+pub(super) fn plain_row(line: &[u8], width: usize, values: &mut Vec<f64>) -> Option<f64> {
+    values.clear();
+    let skip = |mut at: usize| {
+        while line.get(at).is_some_and(|&b| space(b)) {
+            at += 1;
+        }
+        at
+    };
+    // The separator, once seen: a comma, or white space (then no comma may follow).
+    let mut comma = None;
+    let mut at = skip(0);
+    let mut t = None;
+    loop {
+        let (v, len) = decimal(&line[at..])?;
+        match t {
+            None => t = Some(v),
+            Some(_) => values.push(v),
+        }
+        let end = at + len;
+        at = skip(end);
+        match line.get(at) {
+            None => break,
+            Some(b',') if comma != Some(false) => {
+                comma = Some(true);
+                at = skip(at + 1);
+            }
+            Some(_) if at > end && comma != Some(true) => comma = Some(false),
+            Some(_) => return None,
+        }
+    }
+    (values.len() + 1 == width).then_some(t?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every plain decimal read fast is the double `str::parse` gives.
+    #[test]
+    fn decimals_match_the_standard_parser() {
+        let mut state = 0x9E37_79B9_7F4A_7C15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for _ in 0..200_000 {
+            let digits = 1 + next() % 18;
+            let text: String = (0..digits)
+                .map(|_| char::from(b'0' + (next() % 10) as u8))
+                .collect();
+            let point = (next() % (digits + 1)) as usize;
+            let sign = ["", "-", "+"][(next() % 3) as usize];
+            let cell = format!("{sign}{}.{}", &text[..point], &text[point..]);
+            let want: f64 = cell.parse().unwrap();
+            if let Some((got, len)) = decimal(cell.as_bytes()) {
+                assert_eq!((got.to_bits(), len), (want.to_bits(), cell.len()), "{cell}");
+            }
+        }
+        for cell in [
+            "-0",
+            "0.",
+            ".5",
+            "-0.000",
+            "123456789012345",
+            "0.1",
+            "9007199254740991",
+            "-.0000000000000001",
+        ] {
+            let want: f64 = cell.parse().unwrap();
+            let got = decimal(cell.as_bytes()).map(|(v, len)| (v.to_bits(), len));
+            assert_eq!(got, Some((want.to_bits(), cell.len())), "{cell}");
+        }
+        for cell in [
+            "",
+            ".",
+            "-",
+            "nan",
+            "inf",
+            "--1",
+            "9007199254740992",
+            "0.00000000000000000001",
+        ] {
+            assert_eq!(decimal(cell.as_bytes()), None, "{cell}");
+        }
+        // A number followed by more is read up to it; the row reader refuses the rest.
+        assert_eq!(decimal(b"1e3"), Some((1.0, 1)));
+        assert_eq!(decimal(b"1.2.3"), Some((1.2, 3)));
+    }
+
+    /// Rows the fast reader declines are exactly the ones it cannot read plainly.
+    #[test]
+    fn rows_declined() {
+        let mut v = Vec::new();
+        assert_eq!(plain_row(b" 1, 2 ,3\r", 3, &mut v), Some(1.0));
+        assert_eq!(v, [2.0, 3.0]);
+        assert_eq!(plain_row(b"1 \t2\x0B3", 3, &mut v), Some(1.0));
+        assert_eq!(plain_row(b"1,2", 3, &mut v), None);
+        assert_eq!(plain_row(b"1,,3", 3, &mut v), None);
+        assert_eq!(plain_row(b"1,NaN,3", 3, &mut v), None);
+        assert_eq!(plain_row("1,2,3\u{a0}".as_bytes(), 3, &mut v), None);
+        assert_eq!(plain_row(b"# 1,2,3", 3, &mut v), None);
+        assert_eq!(plain_row(b"", 3, &mut v), None);
+        assert_eq!(plain_row(b"1 2,3", 3, &mut v), None);
+        assert_eq!(plain_row(b"1,2 3", 3, &mut v), None);
+        assert_eq!(plain_row(b"1,2,3,", 3, &mut v), None);
+        assert_eq!(plain_row(b"1,2e0,3", 3, &mut v), None);
+        assert_eq!(plain_row(b"1,2,3\n", 3, &mut v), Some(1.0));
+    }
+}

@@ -1,0 +1,181 @@
+//! A file fitted alone is parsed in chunks on every core; a stream is read line by line. The
+//! two must agree to the last bit on every report and word every error the same, wherever in
+//! the file the odd line sits (the chunks are 64 KiB: these files hold dozens of them).
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use theory_search::fit::{fit_inputs, FitSettings, Input, InputKind};
+use theory_search::modal::Params;
+use theory_search::model::Model;
+
+const POINTS: usize = 12;
+
+/// A midline file of `frames` frames, head first, plain 6-decimal cells; `odd(i)` may replace
+/// frame i's line (or add lines before it).
+fn midlines(frames: usize, odd: impl Fn(usize, &str) -> Option<String>) -> String {
+    let mut text = String::from("t");
+    for j in 0..POINTS {
+        write!(text, ",x{j},y{j}").unwrap();
+    }
+    text.push('\n');
+    for i in 0..frames {
+        let t = i as f64 * 0.04;
+        let mut line = format!("{t:.2}");
+        for j in 0..POINTS {
+            let s = j as f64 / (POINTS - 1) as f64;
+            let y = 0.02 * (0.7 * t + 3.0 * s).sin() + 0.01 * (0.23 * t * (1.0 + s)).cos();
+            write!(line, ",{:.6},{y:.6}", j as f64 + 0.001 * (1.3 * t).sin()).unwrap();
+        }
+        match odd(i, &line) {
+            Some(other) => text.push_str(&other),
+            None => text.push_str(&line),
+        }
+        text.push('\n');
+    }
+    text
+}
+
+/// The fit of `text` as a file (chunked) and as a stream of the same name (line by line): the
+/// JSON of each report, or each error's message.
+fn both(text: &[u8], settings: &FitSettings, tag: &str) -> (String, String) {
+    let path: PathBuf = std::env::temp_dir().join(format!(
+        "theory-search-chunks-{}-{tag}.csv",
+        std::process::id()
+    ));
+    std::fs::write(&path, text).unwrap();
+    let (model, params) = (Model::larva(), Params::default());
+    let show = |r: Result<theory_search::fit::FitReport, theory_search::fit::FitError>| match r {
+        Ok(report) => serde_json::to_string(&report).unwrap(),
+        Err(e) => format!("error: {e}"),
+    };
+    let file = show(fit_inputs(
+        vec![Input::File(path.clone())],
+        &model,
+        &params,
+        settings,
+        None,
+    ));
+    let stream = show(fit_inputs(
+        vec![Input::Reader {
+            name: path.display().to_string(),
+            reader: Box::new(std::io::Cursor::new(text.to_vec())),
+        }],
+        &model,
+        &params,
+        settings,
+        None,
+    ));
+    std::fs::remove_file(&path).ok();
+    (file, stream)
+}
+
+/// `line` with cell `k` replaced.
+fn with_cell(line: &str, k: usize, cell: &str) -> String {
+    let mut cells: Vec<&str> = line.split(',').collect();
+    cells[k] = cell;
+    cells.join(",")
+}
+
+fn settings(window: Option<usize>) -> FitSettings {
+    FitSettings {
+        window,
+        ..FitSettings::new(InputKind::Midline)
+    }
+}
+
+#[test]
+fn reports_agree_to_the_bit() {
+    // Comments, blank lines, white space and CRLF, lost frames, exponents and long mantissas
+    // (left to the general parser), skipped time steps: in later chunks.
+    let text = midlines(40_000, |i, line| match i % 4999 {
+        17 => Some(format!("# a comment\n\n  {line}\r")),
+        1001 => Some(with_cell(line, 2, "NaN")),
+        1501 => Some(with_cell(line, 3, "")),
+        2002 => Some(line.replace(',', " \t")),
+        3003 => {
+            let cells: Vec<f64> = line.split(',').map(|c| c.parse().unwrap()).collect();
+            let line = with_cell(line, 2, &format!("{:e}", cells[2]));
+            Some(with_cell(&line, 3, &format!("{:.19}", cells[3])))
+        }
+        4004 => Some(String::new()),
+        _ => None,
+    });
+    for (tag, s) in [
+        ("w128", settings(Some(128))),
+        ("auto", settings(None)),
+        (
+            "filled",
+            FitSettings {
+                fill_gaps: 3,
+                ..settings(Some(64))
+            },
+        ),
+        (
+            "tail",
+            FitSettings {
+                head_first: false,
+                bootstrap: 20,
+                ..settings(Some(64))
+            },
+        ),
+    ] {
+        let (file, stream) = both(text.as_bytes(), &s, tag);
+        assert!(!file.starts_with("error"), "{tag}: {file}");
+        assert_eq!(file, stream, "{tag}");
+    }
+}
+
+#[test]
+fn lengths_and_resampled_midlines_agree() {
+    let lengths: String = (0..30_000)
+        .map(|i| {
+            let t = i as f64;
+            let cells: Vec<String> = (0..10)
+                .map(|j| format!("{:.6}", 1.0 + 0.01 * (0.3 * t + j as f64).sin()))
+                .collect();
+            format!("{t},{}\n", cells.join(","))
+        })
+        .collect();
+    let s = FitSettings {
+        kind: InputKind::Lengths,
+        ..settings(Some(64))
+    };
+    let (file, stream) = both(lengths.as_bytes(), &s, "lengths");
+    assert!(!file.starts_with("error"), "{file}");
+    assert_eq!(file, stream);
+    let s = FitSettings {
+        points: 9,
+        ..settings(Some(64))
+    };
+    let (file, stream) = both(midlines(30_000, |_, _| None).as_bytes(), &s, "resampled");
+    assert!(!file.starts_with("error"), "{file}");
+    assert_eq!(file, stream);
+}
+
+#[test]
+fn errors_agree_wherever_they_sit() {
+    let far = 25_000;
+    let cases: Vec<(&str, Box<dyn Fn(usize, &str) -> Option<String>>)> = vec![
+        ("number", Box::new(|i, l| (i == far).then(|| with_cell(l, 5, "x1")))),
+        ("width", Box::new(|i, l| (i == far).then(|| format!("{l},1")))),
+        ("time", Box::new(|i, l| (i == far).then(|| with_cell(l, 0, "later")))),
+        ("backwards", Box::new(|i, _| (i == far).then(|| "0.5".to_string() + &",1".repeat(24)))),
+        ("uneven", Box::new(|i, l| (i == far).then(|| l.replacen(".", ".01", 1)))),
+        ("long", Box::new(|i, _| (i == far).then(|| "1,".repeat(700_000)))),
+        ("coincident", Box::new(|i, _| (i == far).then(|| format!("{:.2}", i as f64 * 0.04) + &",1,1".repeat(12)))),
+    ];
+    for (tag, odd) in cases {
+        let text = midlines(far + 100, odd);
+        let (file, stream) = both(text.as_bytes(), &settings(Some(64)), tag);
+        assert!(file.starts_with("error"), "{tag}: no error");
+        assert_eq!(file, stream, "{tag}");
+    }
+    // Not UTF-8, far in.
+    let mut bytes = midlines(far + 100, |_, _| None).into_bytes();
+    let at = bytes.len() - 3000;
+    bytes[at] = 0xFF;
+    let (file, stream) = both(&bytes, &settings(Some(64)), "utf8");
+    assert!(file.contains("UTF-8"), "{file}");
+    assert_eq!(file, stream);
+}
