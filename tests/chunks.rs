@@ -10,6 +10,8 @@ use theory_search::modal::Params;
 use theory_search::model::Model;
 
 const POINTS: usize = 12;
+/// The frame the odd line replaces: dozens of chunks into the file.
+const FAR: usize = 25_000;
 
 /// A midline file of `frames` frames, head first, plain 6-decimal cells; `odd(i)` may replace
 /// frame i's line (or add lines before it).
@@ -69,6 +71,9 @@ fn both(text: &[u8], settings: &FitSettings, tag: &str) -> (String, String) {
     std::fs::remove_file(&path).ok();
     (file, stream)
 }
+
+/// What replaces frame i's line (given the line), if anything.
+type Odd = dyn Fn(usize, &str) -> Option<String>;
 
 /// `line` with cell `k` replaced.
 fn with_cell(line: &str, k: usize, cell: &str) -> String {
@@ -155,24 +160,46 @@ fn lengths_and_resampled_midlines_agree() {
 
 #[test]
 fn errors_agree_wherever_they_sit() {
-    let far = 25_000;
-    let cases: Vec<(&str, Box<dyn Fn(usize, &str) -> Option<String>>)> = vec![
-        ("number", Box::new(|i, l| (i == far).then(|| with_cell(l, 5, "x1")))),
-        ("width", Box::new(|i, l| (i == far).then(|| format!("{l},1")))),
-        ("time", Box::new(|i, l| (i == far).then(|| with_cell(l, 0, "later")))),
-        ("backwards", Box::new(|i, _| (i == far).then(|| "0.5".to_string() + &",1".repeat(24)))),
-        ("uneven", Box::new(|i, l| (i == far).then(|| l.replacen(".", ".01", 1)))),
-        ("long", Box::new(|i, _| (i == far).then(|| "1,".repeat(700_000)))),
-        ("coincident", Box::new(|i, _| (i == far).then(|| format!("{:.2}", i as f64 * 0.04) + &",1,1".repeat(12)))),
+    let cases: Vec<(&str, Box<Odd>)> = vec![
+        (
+            "number",
+            Box::new(|i, l| (i == FAR).then(|| with_cell(l, 5, "x1"))),
+        ),
+        (
+            "width",
+            Box::new(|i, l| (i == FAR).then(|| format!("{l},1"))),
+        ),
+        (
+            "time",
+            Box::new(|i, l| (i == FAR).then(|| with_cell(l, 0, "later"))),
+        ),
+        (
+            "backwards",
+            Box::new(|i, _| (i == FAR).then(|| "0.5".to_string() + &",1".repeat(24))),
+        ),
+        (
+            "uneven",
+            Box::new(|i, l| (i == FAR).then(|| l.replacen(".", ".01", 1))),
+        ),
+        (
+            "long",
+            Box::new(|i, _| (i == FAR).then(|| "1,".repeat(700_000))),
+        ),
+        (
+            "coincident",
+            Box::new(|i, _| {
+                (i == FAR).then(|| format!("{:.2}", i as f64 * 0.04) + &",1,1".repeat(12))
+            }),
+        ),
     ];
     for (tag, odd) in cases {
-        let text = midlines(far + 100, odd);
+        let text = midlines(FAR + 100, odd);
         let (file, stream) = both(text.as_bytes(), &settings(Some(64)), tag);
         assert!(file.starts_with("error"), "{tag}: no error");
         assert_eq!(file, stream, "{tag}");
     }
     // Not UTF-8, far in.
-    let mut bytes = midlines(far + 100, |_, _| None).into_bytes();
+    let mut bytes = midlines(FAR + 100, |_, _| None).into_bytes();
     let at = bytes.len() - 3000;
     bytes[at] = 0xFF;
     let (file, stream) = both(&bytes, &settings(Some(64)), "utf8");

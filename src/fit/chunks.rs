@@ -16,7 +16,7 @@ use super::read::{plain_line, Clock, FrameReader, Row, Source};
 use super::{FitError, FitSettings, FrameError, InputKind, Projector, MAX_LINE_BYTES};
 
 /// Bytes of text a worker parses at once (whole lines: the last one is read to its end).
-pub(super) const CHUNK: usize = 64 << 10;
+pub(super) const CHUNK: usize = 256 << 10;
 
 /// A chunk parsed by a worker.
 #[derive(Default)]
@@ -67,6 +67,7 @@ pub(super) struct Chunked<'scope, 'env, R: BufRead + Send + 'env> {
     /// Values per row (after t) and modal coordinates per projected row.
     sizes: (usize, usize),
     done: bool,
+    spares: Arc<Spares>,
 }
 
 impl<'scope, 'env, R: BufRead + Send + 'env> Chunked<'scope, 'env, R> {
@@ -90,6 +91,7 @@ impl<'scope, 'env, R: BufRead + Send + 'env> Chunked<'scope, 'env, R> {
             clock: Clock::default(),
             sizes: (0, 0),
             done: false,
+            spares: Arc::default(),
         }
     }
 
@@ -110,15 +112,19 @@ impl<'scope, 'env, R: BufRead + Send + 'env> Chunked<'scope, 'env, R> {
         for _ in 0..workers {
             let (queue, projector, settings) =
                 (Arc::clone(&queue), projector.clone(), self.settings);
+            let spares = Arc::clone(&self.spares);
             self.scope.spawn(move || loop {
                 let job = queue.lock().ok().and_then(|q| q.recv().ok());
                 let Some((text, parsed)) = job else {
                     return;
                 };
-                let _ = parsed.send(parse(&text, width, projector.as_ref(), settings));
+                let _ = parsed.send(parse(&text, width, projector.as_ref(), settings, &spares));
+                Spares::give(&spares.text, text);
             });
         }
-        self.scope.spawn(move || read_chunks(reader, jobs, order));
+        let spares = Arc::clone(&self.spares);
+        self.scope
+            .spawn(move || read_chunks(reader, jobs, order, &spares));
         self.chunks = Some(chunks);
     }
 
@@ -169,7 +175,8 @@ impl<'scope, 'env, R: BufRead + Send + 'env> Chunked<'scope, 'env, R> {
                 .map_err(|_| FitError::Io(std::io::Error::other("a parsing thread stopped")))
         });
         self.done = parsed.is_err();
-        self.current = parsed?;
+        let done = std::mem::replace(&mut self.current, parsed?);
+        Spares::give(&self.spares.parsed, done);
         self.next = (0, 0, 0);
         Ok(true)
     }
@@ -225,9 +232,12 @@ fn read_chunks<R: BufRead>(
     mut reader: R,
     jobs: mpsc::Sender<(Vec<u8>, mpsc::Sender<Parsed>)>,
     order: SyncSender<Pending>,
+    spares: &Spares,
 ) {
     loop {
-        let mut text = Vec::with_capacity(CHUNK + 256);
+        let mut text = spares
+            .text()
+            .unwrap_or_else(|| Vec::with_capacity(CHUNK + 256));
         let mut read = (&mut reader).take(CHUNK as u64).read_to_end(&mut text);
         if matches!(read, Ok(n) if n > 0) && text.last() != Some(&b'\n') {
             // The last line to its end, or past the longest line allowed (then an error).
@@ -251,14 +261,52 @@ fn read_chunks<R: BufRead>(
     }
 }
 
+/// Buffers that went round once, for the next chunks: the same few pages are reused instead of
+/// new ones being mapped (and faulted in) for every chunk.
+#[derive(Default)]
+struct Spares {
+    text: Mutex<Vec<Vec<u8>>>,
+    parsed: Mutex<Vec<Parsed>>,
+}
+
+impl Spares {
+    fn text(&self) -> Option<Vec<u8>> {
+        let mut text = self.text.lock().ok()?.pop()?;
+        text.clear();
+        Some(text)
+    }
+
+    fn parsed(&self) -> Parsed {
+        let mut p = self
+            .parsed
+            .lock()
+            .ok()
+            .and_then(|mut p| p.pop())
+            .unwrap_or_default();
+        p.rows.clear();
+        p.values.clear();
+        p.modal.clear();
+        p.lines = 0;
+        p.error = None;
+        p
+    }
+
+    fn give<T>(list: &Mutex<Vec<T>>, spare: T) {
+        if let Ok(mut list) = list.lock() {
+            list.push(spare);
+        }
+    }
+}
+
 /// Parse one chunk: rows of `width` cells, projected when a projector is given.
 fn parse(
     text: &[u8],
     width: usize,
     projector: Option<&Projector>,
     settings: &FitSettings,
+    spares: &Spares,
 ) -> Parsed {
-    let mut out = Parsed::default();
+    let mut out = spares.parsed();
     let mut values = Vec::with_capacity(width);
     let mut work = Work::default();
     let mut start = 0;

@@ -18,29 +18,32 @@ fn space(b: u8) -> bool {
 
 /// A plain decimal at the start of `text`: its value and length, or `None` for anything else
 /// (left to `str::parse`).
+#[inline(always)]
 fn decimal(text: &[u8]) -> Option<(f64, usize)> {
-    let negative = text.first() == Some(&b'-');
-    let mut at = usize::from(matches!(text.first(), Some(b'-' | b'+')));
+    let n = text.len();
+    let negative = n > 0 && text[0] == b'-';
+    let mut at = usize::from(n > 0 && (text[0] == b'-' || text[0] == b'+'));
     let mut mantissa = 0u64;
-    let mut digits = |at: &mut usize| {
-        let start = *at;
-        while let Some(d) = text
-            .get(*at)
-            .map(|b| b.wrapping_sub(b'0'))
-            .filter(|d| *d < 10)
-        {
-            mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(d));
-            *at += 1;
-        }
-        *at - start
-    };
-    let whole = digits(&mut at);
-    let after = if text.get(at) == Some(&b'.') {
+    let start = at;
+    while at < n && text[at].wrapping_sub(b'0') < 10 {
+        mantissa = mantissa
+            .wrapping_mul(10)
+            .wrapping_add(u64::from(text[at] - b'0'));
         at += 1;
-        digits(&mut at)
-    } else {
-        0
-    };
+    }
+    let whole = at - start;
+    let mut after = 0;
+    if at < n && text[at] == b'.' {
+        at += 1;
+        let start = at;
+        while at < n && text[at].wrapping_sub(b'0') < 10 {
+            mantissa = mantissa
+                .wrapping_mul(10)
+                .wrapping_add(u64::from(text[at] - b'0'));
+            at += 1;
+        }
+        after = at - start;
+    }
     // At most 19 digits cannot wrap a u64; below 2⁵³ the mantissa is an exact double.
     if whole + after == 0 || whole + after > 19 || after >= POWERS.len() || mantissa >= 1 << 53 {
         return None;
@@ -54,8 +57,9 @@ fn decimal(text: &[u8]) -> Option<(f64, usize)> {
 /// has no lost value. `None` leaves the row to the general reader.
 pub(super) fn plain_row(line: &[u8], width: usize, values: &mut Vec<f64>) -> Option<f64> {
     values.clear();
+    let n = line.len();
     let skip = |mut at: usize| {
-        while line.get(at).is_some_and(|&b| space(b)) {
+        while at < n && space(line[at]) {
             at += 1;
         }
         at
@@ -63,26 +67,27 @@ pub(super) fn plain_row(line: &[u8], width: usize, values: &mut Vec<f64>) -> Opt
     // The separator, once seen: a comma, or white space (then no comma may follow).
     let mut comma = None;
     let mut at = skip(0);
-    let mut t = None;
+    let (t, len) = decimal(&line[at..])?;
+    at += len;
     loop {
+        let end = at;
+        at = skip(at);
+        if at == n {
+            break;
+        }
+        if line[at] == b',' && comma != Some(false) {
+            comma = Some(true);
+            at = skip(at + 1);
+        } else if at > end && comma != Some(true) {
+            comma = Some(false);
+        } else {
+            return None;
+        }
         let (v, len) = decimal(&line[at..])?;
-        match t {
-            None => t = Some(v),
-            Some(_) => values.push(v),
-        }
-        let end = at + len;
-        at = skip(end);
-        match line.get(at) {
-            None => break,
-            Some(b',') if comma != Some(false) => {
-                comma = Some(true);
-                at = skip(at + 1);
-            }
-            Some(_) if at > end && comma != Some(true) => comma = Some(false),
-            Some(_) => return None,
-        }
+        values.push(v);
+        at += len;
     }
-    (values.len() + 1 == width).then_some(t?)
+    (values.len() + 1 == width).then_some(t)
 }
 
 #[cfg(test)]
