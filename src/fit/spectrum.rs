@@ -69,18 +69,14 @@ impl Taper {
             .collect();
         let squares: Vec<f64> = window.iter().map(|w| w * w).collect();
         let total: f64 = squares.iter().sum();
-        let bins: f64 = (1..len / 2)
-            .map(|j| {
-                let z: Complex<f64> = squares
-                    .iter()
-                    .enumerate()
-                    .map(|(n, s)| {
-                        let a = -2.0 * std::f64::consts::PI * (j * n) as f64 / len as f64;
-                        Complex::new(s * a.cos(), s * a.sin())
-                    })
-                    .sum();
-                z.norm_sqr() / (total * total)
-            })
+        // Σⱼ |Σₙ wₙ² e^{−2πijn/W}|² over 0 < j < W/2: one transform of the squares.
+        let mut z: Vec<Complex<f64>> = squares.iter().map(|&s| Complex::new(s, 0.0)).collect();
+        FftPlanner::new().plan_fft_forward(len).process(&mut z);
+        let bins: f64 = z
+            .iter()
+            .take(len / 2)
+            .skip(1)
+            .map(|z| z.norm_sqr() / (total * total))
             .sum();
         let half = lags.get(len / 2).copied().unwrap_or(0.0) / lags[0];
         let phase: Vec<Complex<f64>> = window

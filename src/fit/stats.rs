@@ -34,11 +34,22 @@ impl Plan {
     }
 
     /// Add the periodograms |X̂|² of one mean-removed, tapered segment: the last W frames of
-    /// `frames` (frames × channels).
-    pub(super) fn add(&self, frames: &VecDeque<Vec<f64>>, acc: &mut [Vec<f64>]) {
+    /// `frames` (frames × channels), `work` holding the buffers between calls.
+    pub(super) fn add(
+        &self,
+        frames: &VecDeque<Vec<f64>>,
+        acc: &mut [Vec<f64>],
+        work: &mut FftWork,
+    ) {
         let len = self.len();
+        let FftWork {
+            columns,
+            data,
+            scratch,
+        } = work;
         // Channels as contiguous columns: each is read twice (mean, taper).
-        let mut columns = vec![0.0; len * acc.len()];
+        columns.clear();
+        columns.resize(len * acc.len(), 0.0);
         for (i, v) in frames.range(frames.len() - len..).enumerate() {
             for (c, x) in v.iter().enumerate().take(acc.len()) {
                 columns[c * len + i] = *x;
@@ -46,8 +57,8 @@ impl Plan {
         }
         // Two real channels a, b in one complex transform Z of a + ib:
         // Â(k) = (Z(k) + Z̄(W−k))/2, B̂(k) = (Z(k) − Z̄(W−k))/2i.
-        let mut data = vec![Complex::new(0.0, 0.0); len];
-        let mut scratch = vec![Complex::new(0.0, 0.0); self.fft.get_inplace_scratch_len()];
+        data.resize(len, Complex::new(0.0, 0.0));
+        scratch.resize(self.fft.get_inplace_scratch_len(), Complex::new(0.0, 0.0));
         let window = self.window.as_slice();
         fn taper<'a>(column: &'a [f64], window: &'a [f64]) -> impl Iterator<Item = f64> + 'a {
             let mean = column.iter().sum::<f64>() / column.len() as f64;
@@ -55,14 +66,16 @@ impl Plan {
         }
         for (pair, acc) in columns.chunks(2 * len).zip(acc.chunks_mut(2)) {
             let (a, b) = pair.split_at(len);
-            data.iter_mut().for_each(|d| *d = Complex::new(0.0, 0.0));
+            data[..len]
+                .iter_mut()
+                .for_each(|d| *d = Complex::new(0.0, 0.0));
             for (d, x) in data.iter_mut().zip(taper(a, window)) {
                 d.re = x;
             }
             for (d, y) in data.iter_mut().zip(taper(b, window)) {
                 d.im = y;
             }
-            self.fft.process_with_scratch(&mut data, &mut scratch);
+            self.fft.process_with_scratch(&mut data[..len], scratch);
             let (first, second) = acc.split_at_mut(1);
             for k in 0..first[0].len() {
                 let (z, mirror) = (data[k], data[(len - k) % len].conj());
@@ -99,6 +112,14 @@ impl Plan {
             psd,
         }
     }
+}
+
+/// The buffers of [`Plan::add`], kept between segments.
+#[derive(Default)]
+pub(super) struct FftWork {
+    columns: Vec<f64>,
+    data: Vec<Complex<f64>>,
+    scratch: Vec<Complex<f64>>,
 }
 
 /// Welch spectra of the modal coordinates: window, segments averaged, frequencies, densities.
@@ -235,7 +256,11 @@ impl Stats {
         }
         let own = Plan::new(self.short.len());
         let mut sums = vec![vec![0.0; own.len() / 2 + 1]; self.mean.len()];
-        own.add(&self.short.iter().cloned().collect(), &mut sums);
+        own.add(
+            &self.short.iter().cloned().collect(),
+            &mut sums,
+            &mut FftWork::default(),
+        );
         vec![own.density(&sums, 1.0, fs)]
     }
 }
@@ -256,6 +281,8 @@ pub(super) struct Run {
     frames: usize,
     /// Scratch: the new frame's distance from the running mean.
     delta: Vec<f64>,
+    /// Scratch of the transforms.
+    work: FftWork,
 }
 
 /// The most blocks one run keeps for a bootstrap over time.
@@ -275,6 +302,7 @@ impl Run {
             blocks: blocks.then(|| (Vec::new(), FIRST_BLOCK)),
             frames: 0,
             delta: Vec::with_capacity(m),
+            work: FftWork::default(),
         }
     }
 
@@ -349,7 +377,7 @@ impl Run {
             if self.buffer.len() >= len && *since >= len / 2 {
                 *since = 0;
                 w.segments += 1.0;
-                plan.add(&self.buffer, &mut w.sums);
+                plan.add(&self.buffer, &mut w.sums, &mut self.work);
             }
         }
     }
