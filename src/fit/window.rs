@@ -121,73 +121,99 @@ pub(super) fn fit_modes_spectra(
     let peaks: Vec<(f64, f64)> = (0..cov.len())
         .map(|j| spectral_peak_and_centroid(&spec.frequencies, &spec.psd[j]))
         .collect();
-    (0..cov.len())
-        .map(|j| {
-            let (peak, centroid) = peaks[j];
-            let band = band(&peaks, j, fs);
-            let tau = 2.0 * std::f64::consts::PI;
-            let starts = match warm.and_then(|w| w.get(j)).filter(|w| w.omega > 0.0) {
-                Some(w) => vec![(w.omega, w.zeta)],
-                // One start for an animal alone (its own fit is a summary beside the pool's),
-                // three for the pool.
-                None if count < cov.len() => vec![(tau * peak, 0.2)],
-                None => vec![(tau * peak, 0.1), (tau * peak, 0.5), (tau * centroid, 0.3)],
+    let one = |j: usize| {
+        let (peak, centroid) = peaks[j];
+        let band = band(&peaks, j, fs);
+        let tau = 2.0 * std::f64::consts::PI;
+        let starts = match warm.and_then(|w| w.get(j)).filter(|w| w.omega > 0.0) {
+            Some(w) => vec![(w.omega, w.zeta)],
+            // One start for an animal alone (its own fit is a summary beside the pool's),
+            // three for the pool.
+            None if count < cov.len() => vec![(tau * peak, 0.2)],
+            None => vec![(tau * peak, 0.1), (tau * peak, 0.5), (tau * centroid, 0.3)],
+        };
+        let index = proj.first_mode + j;
+        let lambda = proj.eigenvalues[j];
+        let fit = |starts: &[(f64, f64)], band| {
+            fit_mode(
+                &taper,
+                (fs, spec.segments as f64),
+                &spec.psd[j],
+                starts,
+                cov[j][j],
+                band,
+            )
+        };
+        // A line wider than its band cannot be told from the white level there: fitted
+        // again over ±3 half-widths around it, or over an octave each side when the band
+        // left it mostly white.
+        let fitted = (j < count).then(|| fit(&starts, band)).flatten().map(|s| {
+            let (f, half) = (s.omega / tau, s.zeta * s.omega / tau);
+            let wide = if s.noise > 3.0 * s.variance {
+                (0.5 * f, 2.0 * f)
+            } else {
+                (f - 3.0 * half, f + 3.0 * half)
             };
-            let index = proj.first_mode + j;
-            let lambda = proj.eigenvalues[j];
-            let fit = |starts: &[(f64, f64)], band| {
-                fit_mode(
-                    &taper,
-                    (fs, spec.segments as f64),
-                    &spec.psd[j],
-                    starts,
-                    cov[j][j],
-                    band,
-                )
-            };
-            // A line wider than its band cannot be told from the white level there: fitted
-            // again over ±3 half-widths around it, or over an octave each side when the band
-            // left it mostly white.
-            let fitted = (j < count).then(|| fit(&starts, band)).flatten().map(|s| {
-                let (f, half) = (s.omega / tau, s.zeta * s.omega / tau);
-                let wide = if s.noise > 3.0 * s.variance {
-                    (0.5 * f, 2.0 * f)
-                } else {
-                    (f - 3.0 * half, f + 3.0 * half)
-                };
-                let wide = (wide.0.max(0.0), wide.1.min(0.5 * fs));
-                if s.converged && s.zeta < 1.0 && (wide.0 < band.0 || wide.1 > band.1) {
-                    let union = (wide.0.min(band.0), wide.1.max(band.1));
-                    fit(&[(s.omega, s.zeta)], union).unwrap_or(s)
-                } else {
-                    s
-                }
-            });
-            match fitted {
-                Some(s) => ModeSpectralFit::of(index, lambda, &s, df, fs),
-                None => ModeSpectralFit {
-                    mode: index,
-                    lambda,
-                    omega: 0.0,
-                    omega_error: None,
-                    zeta: 0.0,
-                    zeta_error: None,
-                    variance: cov[j][j],
-                    variance_error: None,
-                    noise: 0.0,
-                    relaxation_rate: None,
-                    resolved: false,
-                    votes: false,
-                    bins: 0.0,
-                    note: Some(if j < count {
-                        "too few frequency bins or no variance to fit".into()
-                    } else {
-                        "not fitted (only the constants were asked for)".into()
-                    }),
-                },
+            let wide = (wide.0.max(0.0), wide.1.min(0.5 * fs));
+            if s.converged && s.zeta < 1.0 && (wide.0 < band.0 || wide.1 > band.1) {
+                let union = (wide.0.min(band.0), wide.1.max(band.1));
+                fit(&[(s.omega, s.zeta)], union).unwrap_or(s)
+            } else {
+                s
             }
-        })
-        .collect()
+        });
+        match fitted {
+            Some(s) => ModeSpectralFit::of(index, lambda, &s, df, fs),
+            None => ModeSpectralFit {
+                mode: index,
+                lambda,
+                omega: 0.0,
+                omega_error: None,
+                zeta: 0.0,
+                zeta_error: None,
+                variance: cov[j][j],
+                variance_error: None,
+                noise: 0.0,
+                relaxation_rate: None,
+                resolved: false,
+                votes: false,
+                bins: 0.0,
+                note: Some(if j < count {
+                    "too few frequency bins or no variance to fit".into()
+                } else {
+                    "not fitted (only the constants were asked for)".into()
+                }),
+            },
+        }
+    };
+    // The pooled fit (every mode, three starts) spreads its modes over the cores; an animal's
+    // own fit runs where it is called (on a worker already).
+    let modes = cov.len();
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(modes);
+    if count < modes || threads < 2 {
+        return (0..modes).map(one).collect();
+    }
+    let one = &one;
+    let mut fits: Vec<(usize, ModeSpectralFit)> = std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..threads)
+            .map(|t| {
+                scope.spawn(move || {
+                    (t..modes)
+                        .step_by(threads)
+                        .map(|j| (j, one(j)))
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .flat_map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+            .collect()
+    });
+    fits.sort_by_key(|(j, _)| *j);
+    fits.into_iter().map(|(_, f)| f).collect()
 }
 
 /// Peak (with parabolic refinement) and centroid of a one-sided spectrum, above zero frequency.
