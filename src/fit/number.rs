@@ -23,26 +23,23 @@ fn decimal(text: &[u8]) -> Option<(f64, usize)> {
     let n = text.len();
     let negative = n > 0 && text[0] == b'-';
     let mut at = usize::from(n > 0 && (text[0] == b'-' || text[0] == b'+'));
+    // Digits from `at` on, into the mantissa; how many.
+    let digits = |at: &mut usize, mantissa: &mut u64| {
+        let start = *at;
+        while *at < n && text[*at].wrapping_sub(b'0') < 10 {
+            *mantissa = mantissa
+                .wrapping_mul(10)
+                .wrapping_add(u64::from(text[*at] - b'0'));
+            *at += 1;
+        }
+        *at - start
+    };
     let mut mantissa = 0u64;
-    let start = at;
-    while at < n && text[at].wrapping_sub(b'0') < 10 {
-        mantissa = mantissa
-            .wrapping_mul(10)
-            .wrapping_add(u64::from(text[at] - b'0'));
-        at += 1;
-    }
-    let whole = at - start;
+    let whole = digits(&mut at, &mut mantissa);
     let mut after = 0;
     if at < n && text[at] == b'.' {
         at += 1;
-        let start = at;
-        while at < n && text[at].wrapping_sub(b'0') < 10 {
-            mantissa = mantissa
-                .wrapping_mul(10)
-                .wrapping_add(u64::from(text[at] - b'0'));
-            at += 1;
-        }
-        after = at - start;
+        after = digits(&mut at, &mut mantissa);
     }
     // At most 19 digits cannot wrap a u64; below 2⁵³ the mantissa is an exact double.
     if whole + after == 0 || whole + after > 19 || after >= POWERS.len() || mantissa >= 1 << 53 {
