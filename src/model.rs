@@ -154,6 +154,18 @@ pub struct DensitySpec {
     /// Which admitted terms compete for "lowest order" (default: all together, as the paper).
     #[serde(default, skip_serializing_if = "Dominance::is_joint")]
     pub dominance: Dominance,
+    /// Orders kept beyond the leading one: 0 keeps the lowest-order terms (the paper), K keeps
+    /// the first 1 + K layers of the admitted terms, each the lowest order of what the layers
+    /// before it left (the effective theory at next-to-leading order for K = 1).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub beyond_leading: u32,
+}
+
+/// The most orders kept beyond the leading one.
+pub const MAX_BEYOND_LEADING: u32 = 8;
+
+fn is_zero(k: &u32) -> bool {
+    *k == 0
 }
 
 /// Which admitted terms compete when the lowest-order ones are kept.
@@ -309,6 +321,17 @@ impl Model {
             return Err(invalid(
                 "[rayleigh] dominance: a Rayleigh density has one part (all of it enters through δR/δ(∂tφ)), so only [lagrangian] takes dominance = \"by-part\"".into(),
             ));
+        }
+        for (name, spec) in [
+            ("lagrangian", &self.lagrangian),
+            ("rayleigh", &self.rayleigh),
+        ] {
+            if spec.beyond_leading > MAX_BEYOND_LEADING {
+                return Err(invalid(format!(
+                    "[{name}] beyond_leading = {}: at most {MAX_BEYOND_LEADING}",
+                    spec.beyond_leading
+                )));
+            }
         }
         if self.fields.is_empty() {
             return Err(invalid("declares no fields".into()));

@@ -180,8 +180,9 @@ fn text(model: &Model, analyses: &[Analysis], out: &mut Chunked) -> io::Result<(
     }
     for (k, a) in analyses.iter().enumerate() {
         out.say(format_args!(
-            "Surviving {} densities (lowest order in τ and σ):",
-            a.density
+            "Surviving {} densities ({}):",
+            a.density,
+            kept(model, a)
         ));
         for f in &a.fields {
             out.say(format_args!("  {}", f.formula(a.density)));
@@ -194,6 +195,15 @@ fn text(model: &Model, analyses: &[Analysis], out: &mut Chunked) -> io::Result<(
         }
     }
     out.finish()
+}
+
+/// Which terms a surviving density keeps: the lowest order, and the layers beyond it.
+fn kept(model: &Model, a: &Analysis) -> String {
+    match model.density(a.density).beyond_leading {
+        0 => "lowest order in τ and σ".into(),
+        1 => "lowest order in τ and σ, and the next".into(),
+        k => format!("lowest order in τ and σ, and the next {k}"),
+    }
 }
 
 fn markdown(model: &Model, analyses: &[Analysis], out: &mut Chunked) -> io::Result<()> {
@@ -209,8 +219,9 @@ fn markdown(model: &Model, analyses: &[Analysis], out: &mut Chunked) -> io::Resu
         out.say(format_args!("|{}", "---|".repeat(cells.header.len())));
         cells.joined(out, ("| ", " | ", " |"))?;
         out.say(format_args!(
-            "\nSurviving {} densities (lowest order in τ and σ):\n",
-            a.density
+            "\nSurviving {} densities ({}):\n",
+            a.density,
+            kept(model, a)
         ));
         for f in &a.fields {
             out.say(format_args!("- `{}`", f.formula(a.density)));

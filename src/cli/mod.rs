@@ -166,11 +166,22 @@ struct ModelArgs {
     /// A model file (TOML) instead of the embedded larva model.
     #[arg(long, value_name = "FILE")]
     model: Option<PathBuf>,
+    /// Keep K orders beyond the leading one in both densities (1: the next-to-leading order):
+    /// the first 1 + K layers of the admitted terms, each the lowest order of what the layers
+    /// before it left. Default: the model's own `beyond_leading` (0 for the larva).
+    #[arg(long, value_name = "K",
+          value_parser = clap::value_parser!(u32).range(0..=crate::model::MAX_BEYOND_LEADING as i64))]
+    beyond_leading: Option<u32>,
 }
 
 impl ModelArgs {
     fn load(&self) -> Result<Model, CliError> {
-        load_model(&self.model)
+        let mut model = load_model(&self.model)?;
+        if let Some(k) = self.beyond_leading {
+            model.lagrangian.beyond_leading = k;
+            model.rayleigh.beyond_leading = k;
+        }
+        Ok(model)
     }
 }
 

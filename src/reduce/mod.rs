@@ -304,7 +304,8 @@ fn field_results(
                 .filter(|t| !is_null(density, t))
                 .cloned()
                 .collect();
-            let survivors = survivors(&live, model.density(density).dominance, density);
+            let spec = model.density(density);
+            let survivors = survivors(&live, spec.dominance, spec.beyond_leading, density);
             let mut missing = null_note(density, field, &admitted, &survivors);
             missing.extend(missing_parts(model, density, order, basis, i, &survivors));
             FieldResult {
@@ -348,20 +349,38 @@ fn null_note(
     )]
 }
 
-/// The lowest-order terms of `admitted`: all competing together (canonical order), or each part
-/// of the density among its own kind ([`Dominance::ByPart`]; kinetic terms first, each part in
-/// canonical order).
-fn survivors(admitted: &[Term], dominance: Dominance, density: Density) -> Vec<Term> {
+/// The lowest-order terms of `admitted` and `beyond` layers more: all competing together
+/// (canonical order), or each part of the density among its own kind ([`Dominance::ByPart`];
+/// kinetic terms first, each part in canonical order).
+fn survivors(admitted: &[Term], dominance: Dominance, beyond: u32, density: Density) -> Vec<Term> {
     match dominance {
-        Dominance::Joint => lowest_order(admitted),
+        Dominance::Joint => layers(admitted, beyond),
         Dominance::ByPart => parts(density)
             .into_iter()
             .flat_map(|(_, is_part)| {
                 let part: Vec<Term> = admitted.iter().filter(|t| is_part(t)).cloned().collect();
-                lowest_order(&part)
+                layers(&part, beyond)
             })
             .collect(),
     }
+}
+
+/// The terms of the first 1 + `beyond` layers of `terms`, in the given order: layer 1 is the
+/// lowest order ([`lowest_order`]), layer k + 1 the lowest order of what layers 1 … k leave.
+pub fn layers(terms: &[Term], beyond: u32) -> Vec<Term> {
+    let mut kept: Vec<Term> = Vec::new();
+    for _ in 0..=beyond {
+        let left: Vec<Term> = terms
+            .iter()
+            .filter(|t| !kept.contains(t))
+            .cloned()
+            .collect();
+        if left.is_empty() {
+            break;
+        }
+        kept.extend(lowest_order(&left));
+    }
+    terms.iter().filter(|t| kept.contains(t)).cloned().collect()
 }
 
 /// A test on a term.
