@@ -16,6 +16,8 @@
 //!
 //! The energy reported is `H = Σ ½(Pᵢ² + ωᵢ²Qᵢ²)`, the paper's Eq. 1 in modal coordinates.
 
+pub mod nonlinear;
+
 use nalgebra::{Matrix2, Vector2};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;

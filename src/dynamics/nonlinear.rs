@@ -1,0 +1,485 @@
+//! The discretised equations of a body whose surviving terms are powers of one derivative,
+//! quadratic or not: (∂sᵇφ)ⁿ in the Lagrangian, (∂t∂sᵇφ)ⁿ in the Rayleigh density, with the
+//! standard kinetic term ½(∂tφ)². Its time evolution, without noise.
+//!
+//! **Discretisation.** The variational one, as for the linear operators: a term becomes
+//! Σᵣ (S_b u)ᵣⁿ over the rows r of the b-th difference stencils S_b that fit the field's boundary
+//! (the identity for b = 0), in units of the point spacing. The potential is V(u) = −Σ (the
+//! Lagrangian's terms without a time derivative), the dissipation R(v) = Σ (the Rayleigh terms in
+//! S_b v), the kinetic energy ½|v|². A square gives back the linear operator: ½c Σ(S u)² has the
+//! force −c SᵀS u, the equation's c ∂s²ᵇ… term.
+//!
+//! **Integration.** The average-vector-field scheme with the dissipation at the mean velocity:
+//! q₁ = q₀ + h v̄, v₁ = v₀ − h ∫₀¹ ∇V(q₀ + ξ(q₁ − q₀)) dξ − h ∇R(v̄), v̄ = (v₀ + v₁)/2, the
+//! integral exact by Gauss–Legendre quadrature (∇V is a polynomial in ξ). It keeps the discrete
+//! energy balance exactly, E₁ − E₀ = −h v̄·∇R(v̄), so without dissipation the energy E = ½|v|² +
+//! V is conserved to the tolerance of the solve, whatever the step; the scheme is second order
+//! and, on a linear body, the implicit midpoint rule. Each step solves for Δ = q₁ − q₀ by Newton's
+//! method with the Jacobian 2/h + h ∫ξ ∇²V dξ + ∇²R (banded for ends, dense around a ring).
+
+use std::collections::BTreeMap;
+
+use num_traits::ToPrimitive;
+
+use crate::banded::BandedSym;
+use crate::boundary::Boundary;
+use crate::discretise::stencil_rows;
+use crate::model::{Density, Model};
+use crate::reduce::{analyse, DensityTerm};
+
+/// Why a body cannot be integrated here, or a step failed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum NonlinearError {
+    /// A term this discretisation does not take.
+    #[error("field {field}: {term} in the {density} density: {why}")]
+    Term {
+        /// Field symbol.
+        field: String,
+        /// The term.
+        term: String,
+        /// `lagrangian` or `rayleigh`.
+        density: &'static str,
+        /// Why.
+        why: String,
+    },
+    /// A coefficient without a value.
+    #[error("coefficient {name} has no value (the coefficients are {all})")]
+    Missing {
+        /// The coefficient.
+        name: String,
+        /// Every coefficient the equations name.
+        all: String,
+    },
+    /// A coefficient that is not a finite number.
+    #[error("coefficient {name} = {value} is not a finite number")]
+    NotFinite {
+        /// The coefficient.
+        name: String,
+        /// Its value.
+        value: f64,
+    },
+    /// Ends this discretisation does not hold yet.
+    #[error("field {field}: {boundary} ends hold points fixed, which this integrator does not do yet (free or periodic ends only)")]
+    Boundary {
+        /// Field symbol.
+        field: String,
+        /// The boundary.
+        boundary: String,
+    },
+    /// The engine's own error (order, points).
+    #[error("{0}")]
+    Engine(String),
+    /// Newton's method did not converge.
+    #[error("the implicit step at t = {t} did not converge: take a smaller time step")]
+    NoConvergence {
+        /// Time at the start of the step.
+        t: f64,
+    },
+    /// The state left the finite numbers.
+    #[error("the state is no longer finite at t = {t}: the motion diverges (a smaller time step, or a potential bounded below)")]
+    Diverged {
+        /// Time at the end of the step.
+        t: f64,
+    },
+}
+
+/// Σᵣ c·(row·u)ⁿ over the rows of one stencil family.
+#[derive(Debug, Clone)]
+struct Power {
+    rows: Vec<Vec<(usize, f64)>>,
+    power: i32,
+    coefficient: f64,
+}
+
+impl Power {
+    fn dot(row: &[(usize, f64)], u: &[f64]) -> f64 {
+        row.iter().map(|&(j, w)| w * u[j]).sum()
+    }
+
+    fn value(&self, u: &[f64]) -> f64 {
+        let n = self.power;
+        self.coefficient
+            * self
+                .rows
+                .iter()
+                .map(|r| Self::dot(r, u).powi(n))
+                .sum::<f64>()
+    }
+
+    /// Adds `scale` × the gradient.
+    fn gradient(&self, u: &[f64], scale: f64, out: &mut [f64]) {
+        let n = self.power;
+        for r in &self.rows {
+            let g = scale * self.coefficient * f64::from(n) * Self::dot(r, u).powi(n - 1);
+            for &(j, w) in r {
+                out[j] += g * w;
+            }
+        }
+    }
+
+    /// Adds `scale` × the Hessian, entry by entry.
+    fn hessian(&self, u: &[f64], scale: f64, add: &mut impl FnMut(usize, usize, f64)) {
+        let n = self.power;
+        if n < 2 {
+            return;
+        }
+        for r in &self.rows {
+            let h = scale * self.coefficient * f64::from(n * (n - 1)) * Self::dot(r, u).powi(n - 2);
+            for &(i, wi) in r {
+                for &(j, wj) in r {
+                    add(i, j, h * wi * wj);
+                }
+            }
+        }
+    }
+}
+
+/// One field's discretised potential and dissipation.
+#[derive(Debug, Clone)]
+pub struct FieldSystem {
+    /// Field id.
+    pub id: String,
+    /// Unknowns (points, or N − 1 around a ring).
+    pub unknowns: usize,
+    periodic: bool,
+    potential: Vec<Power>,
+    dissipation: Vec<Power>,
+}
+
+/// Gauss–Legendre nodes and weights on [0, 1], exact for polynomials of degree ≤ 2m − 1.
+fn gauss(m: usize) -> Vec<(f64, f64)> {
+    let s3 = 3f64.sqrt();
+    let s35 = (3.0f64 / 5.0).sqrt();
+    let raw: Vec<(f64, f64)> = match m {
+        1 => vec![(0.0, 2.0)],
+        2 => vec![(-1.0 / s3, 1.0), (1.0 / s3, 1.0)],
+        3 => vec![(-s35, 5.0 / 9.0), (0.0, 8.0 / 9.0), (s35, 5.0 / 9.0)],
+        _ => {
+            let a = (3.0 / 7.0 - 2.0 / 7.0 * (6.0f64 / 5.0).sqrt()).sqrt();
+            let b = (3.0 / 7.0 + 2.0 / 7.0 * (6.0f64 / 5.0).sqrt()).sqrt();
+            let wa = (18.0 + 30f64.sqrt()) / 36.0;
+            let wb = (18.0 - 30f64.sqrt()) / 36.0;
+            vec![(-b, wb), (-a, wa), (a, wa), (b, wb)]
+        }
+    };
+    raw.into_iter()
+        .map(|(x, w)| (0.5 * (x + 1.0), 0.5 * w))
+        .collect()
+}
+
+/// The highest power a potential term may have (4-point quadrature is exact to degree 7).
+pub const MAX_POWER: u32 = 8;
+
+impl FieldSystem {
+    /// V(u).
+    pub fn potential(&self, u: &[f64]) -> f64 {
+        self.potential.iter().map(|p| p.value(u)).sum()
+    }
+
+    /// R(v).
+    pub fn dissipation(&self, v: &[f64]) -> f64 {
+        self.dissipation.iter().map(|p| p.value(v)).sum()
+    }
+
+    /// ∇R(v), the dissipative force's negative.
+    pub fn dissipation_gradient(&self, v: &[f64]) -> Vec<f64> {
+        let mut g = vec![0.0; self.unknowns];
+        for p in &self.dissipation {
+            p.gradient(v, 1.0, &mut g);
+        }
+        g
+    }
+
+    /// E = ½|v|² + V(u).
+    pub fn energy(&self, u: &[f64], v: &[f64]) -> f64 {
+        0.5 * v.iter().map(|x| x * x).sum::<f64>() + self.potential(u)
+    }
+
+    fn quadrature(&self) -> Vec<(f64, f64)> {
+        let top = self.potential.iter().map(|p| p.power).max().unwrap_or(2);
+        gauss((top.max(2) as usize).div_ceil(2).min(4))
+    }
+
+    /// One step of length h from (u, v), in place.
+    fn step(&self, u: &mut [f64], v: &mut [f64], h: f64, t: f64) -> Result<(), NonlinearError> {
+        let n = self.unknowns;
+        let nodes = self.quadrature();
+        let mut delta: Vec<f64> = v.iter().map(|x| h * x).collect();
+        let mut converged = false;
+        for _ in 0..50 {
+            // r(Δ) = 2Δ/h − 2v₀ + h ∫∇V(u + ξΔ) dξ + h ∇R(Δ/h)
+            let mut r: Vec<f64> = (0..n).map(|i| 2.0 * delta[i] / h - 2.0 * v[i]).collect();
+            let mut jac = Jacobian::new(n, self.periodic, self.bandwidth());
+            for i in 0..n {
+                jac.add(i, i, 2.0 / h);
+            }
+            for &(xi, w) in &nodes {
+                let at: Vec<f64> = (0..n).map(|i| u[i] + xi * delta[i]).collect();
+                for p in &self.potential {
+                    p.gradient(&at, h * w, &mut r);
+                    p.hessian(&at, h * w * xi, &mut |i, j, x| jac.add(i, j, x));
+                }
+            }
+            let mean: Vec<f64> = delta.iter().map(|d| d / h).collect();
+            for p in &self.dissipation {
+                p.gradient(&mean, h, &mut r);
+                p.hessian(&mean, 1.0, &mut |i, j, x| jac.add(i, j, x));
+            }
+            let step = jac.solve(&r);
+            let size = delta.iter().map(|d| d.abs()).fold(0.0, f64::max);
+            let change = step.iter().map(|d| d.abs()).fold(0.0, f64::max);
+            for (d, s) in delta.iter_mut().zip(&step) {
+                *d -= s;
+            }
+            if !change.is_finite() {
+                break;
+            }
+            if change <= 1e-15 * (size + h * 1e-300) || change == 0.0 {
+                converged = true;
+                break;
+            }
+        }
+        if !converged {
+            return Err(NonlinearError::NoConvergence { t });
+        }
+        for i in 0..n {
+            let v1 = 2.0 * delta[i] / h - v[i];
+            u[i] += delta[i];
+            v[i] = v1;
+        }
+        if u.iter().chain(v.iter()).all(|x| x.is_finite()) {
+            Ok(())
+        } else {
+            Err(NonlinearError::Diverged { t: t + h })
+        }
+    }
+
+    fn bandwidth(&self) -> usize {
+        self.potential
+            .iter()
+            .chain(&self.dissipation)
+            .flat_map(|p| p.rows.iter())
+            .map(|r| {
+                let lo = r.iter().map(|e| e.0).min().unwrap_or(0);
+                let hi = r.iter().map(|e| e.0).max().unwrap_or(0);
+                hi - lo
+            })
+            .max()
+            .unwrap_or(0)
+    }
+}
+
+/// The Newton matrix: banded for a field with ends, dense around a ring (whose stencils wrap).
+enum Jacobian {
+    Banded(BandedSym),
+    Dense(nalgebra::DMatrix<f64>),
+}
+
+impl Jacobian {
+    fn new(n: usize, periodic: bool, p: usize) -> Jacobian {
+        if periodic {
+            Jacobian::Dense(nalgebra::DMatrix::zeros(n, n))
+        } else {
+            Jacobian::Banded(BandedSym {
+                n,
+                bands: (0..=p.min(n.saturating_sub(1)))
+                    .map(|d| vec![0.0; n - d])
+                    .collect(),
+            })
+        }
+    }
+
+    fn add(&mut self, i: usize, j: usize, x: f64) {
+        match self {
+            Jacobian::Dense(m) => m[(i, j)] += x,
+            // Symmetric: the upper band holds each pair once.
+            Jacobian::Banded(b) if i <= j => b.bands[j - i][i] += x,
+            Jacobian::Banded(_) => {}
+        }
+    }
+
+    fn solve(self, r: &[f64]) -> Vec<f64> {
+        match self {
+            Jacobian::Banded(b) => b.shifted(0.0).solve(r),
+            Jacobian::Dense(m) => m
+                .lu()
+                .solve(&nalgebra::DVector::from_column_slice(r))
+                .map(|x| x.as_slice().to_vec())
+                .unwrap_or_else(|| vec![f64::NAN; r.len()]),
+        }
+    }
+}
+
+/// A body's discretised equations, one system per field with a kinetic term.
+#[derive(Debug, Clone)]
+pub struct NonlinearBody {
+    /// The fields, model order.
+    pub fields: Vec<FieldSystem>,
+}
+
+/// The coefficients the surviving densities name (`c1_x`, `c'_x`, …), model order.
+pub fn coefficient_names(model: &Model, order: u32) -> Result<Vec<String>, NonlinearError> {
+    let mut names = Vec::new();
+    for density in [Density::Lagrangian, Density::Rayleigh] {
+        let a =
+            analyse(model, density, order).map_err(|e| NonlinearError::Engine(e.to_string()))?;
+        for f in &a.fields {
+            names.extend(f.density.iter().filter_map(|d| d.parameter.clone()));
+        }
+    }
+    Ok(names)
+}
+
+impl NonlinearBody {
+    /// Discretise `model` at `order` on `points` points, each coefficient's value from
+    /// `values` (by the name the equations print).
+    pub fn new(
+        model: &Model,
+        order: u32,
+        points: usize,
+        values: &BTreeMap<String, f64>,
+    ) -> Result<NonlinearBody, NonlinearError> {
+        let names = coefficient_names(model, order)?;
+        let engine = |e: &dyn std::fmt::Display| NonlinearError::Engine(e.to_string());
+        let l = analyse(model, Density::Lagrangian, order).map_err(|e| engine(&e))?;
+        let r = analyse(model, Density::Rayleigh, order).map_err(|e| engine(&e))?;
+        let mut fields = Vec::new();
+        for (lf, rf) in l.fields.iter().zip(&r.fields) {
+            let field = &lf.field;
+            let periodic = field.boundary == Boundary::Periodic;
+            if !periodic && field.boundary.held(2) != (0, 0) {
+                return Err(NonlinearError::Boundary {
+                    field: field.symbol.clone(),
+                    boundary: field.boundary.name(),
+                });
+            }
+            let unknowns = if periodic { points - 1 } else { points };
+            let mut system = FieldSystem {
+                id: field.id.clone(),
+                unknowns,
+                periodic,
+                potential: Vec::new(),
+                dissipation: Vec::new(),
+            };
+            let mut kinetic = false;
+            for (density, terms) in [
+                (Density::Lagrangian, &lf.density),
+                (Density::Rayleigh, &rf.density),
+            ] {
+                for dt in terms.iter() {
+                    let what = |why: &str| NonlinearError::Term {
+                        field: field.symbol.clone(),
+                        term: dt.term.render(&|_| field.symbol.clone()),
+                        density: match density {
+                            Density::Lagrangian => "lagrangian",
+                            Density::Rayleigh => "rayleigh",
+                        },
+                        why: why.into(),
+                    };
+                    let [factor] = dt.term.factors() else {
+                        return Err(what("products of several factors are not discretised yet"));
+                    };
+                    let (a, b, n) = (factor.deriv.t, factor.deriv.s, factor.power);
+                    match (density, a) {
+                        (Density::Lagrangian, 1) if b == 0 && n == 2 && dt.parameter.is_none() => {
+                            kinetic = true;
+                            continue;
+                        }
+                        (Density::Lagrangian, 0) | (Density::Rayleigh, 1) => {}
+                        _ => return Err(what("only the standard kinetic term ½(∂tφ)² may hold a time derivative (and ∂t once in R)")),
+                    }
+                    if n > MAX_POWER {
+                        return Err(what(&format!(
+                            "powers above {MAX_POWER} are not integrated"
+                        )));
+                    }
+                    let value = coefficient(dt, &names, values)?;
+                    let rows = rows(b, field.boundary, points).map_err(|e| engine(&e))?;
+                    let exact = dt.prefactor.to_f64().unwrap_or(f64::NAN) * dt.sign as f64;
+                    let power = Power {
+                        rows,
+                        power: n as i32,
+                        // V = −L; R as written.
+                        coefficient: match density {
+                            Density::Lagrangian => -exact * value,
+                            Density::Rayleigh => exact * value,
+                        },
+                    };
+                    match density {
+                        Density::Lagrangian => system.potential.push(power),
+                        Density::Rayleigh => system.dissipation.push(power),
+                    }
+                }
+            }
+            if kinetic {
+                fields.push(system);
+            }
+        }
+        Ok(NonlinearBody { fields })
+    }
+
+    /// Advance every field one step of length h from time t.
+    pub fn step(
+        &self,
+        state: &mut [(Vec<f64>, Vec<f64>)],
+        h: f64,
+        t: f64,
+    ) -> Result<(), NonlinearError> {
+        for (f, (u, v)) in self.fields.iter().zip(state.iter_mut()) {
+            f.step(u, v, h, t)?;
+        }
+        Ok(())
+    }
+
+    /// The total energy Σ ½|v|² + V(u).
+    pub fn energy(&self, state: &[(Vec<f64>, Vec<f64>)]) -> f64 {
+        self.fields
+            .iter()
+            .zip(state)
+            .map(|(f, (u, v))| f.energy(u, v))
+            .sum()
+    }
+}
+
+/// The value of a term's coefficient: 1 for a fixed term, else from `values`.
+fn coefficient(
+    dt: &DensityTerm,
+    names: &[String],
+    values: &BTreeMap<String, f64>,
+) -> Result<f64, NonlinearError> {
+    let Some(name) = &dt.parameter else {
+        return Ok(1.0);
+    };
+    let value = *values.get(name).ok_or_else(|| NonlinearError::Missing {
+        name: name.clone(),
+        all: names.join(", "),
+    })?;
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(NonlinearError::NotFinite {
+            name: name.clone(),
+            value,
+        })
+    }
+}
+
+/// The rows of S_b on `points` points with `boundary` (the identity for b = 0), as weights.
+fn rows(
+    b: u32,
+    boundary: Boundary,
+    points: usize,
+) -> Result<Vec<Vec<(usize, f64)>>, crate::discretise::DiscretiseError> {
+    if b == 0 {
+        let unknowns = if boundary == Boundary::Periodic {
+            points - 1
+        } else {
+            points
+        };
+        return Ok((0..unknowns).map(|j| vec![(j, 1.0)]).collect());
+    }
+    Ok(stencil_rows(b, boundary, points)?
+        .into_iter()
+        .map(|r| r.into_iter().map(|(j, w)| (j, w as f64)).collect())
+        .collect())
+}
