@@ -246,3 +246,115 @@ fn missing_and_unsupported_say_so() {
         .to_string();
     assert!(err.contains("not a finite number"), "{err}");
 }
+
+fn cli(args: &[&str]) -> Result<String, String> {
+    let mut all = vec!["theory-search"];
+    all.extend(args);
+    let mut out = Vec::new();
+    theory_search::cli::run(all, &mut out)
+        .map(|()| String::from_utf8(out).unwrap())
+        .map_err(|e| e.to_string())
+}
+
+#[test]
+fn simulate_swings_the_tethered_filament_with_the_duffing_period() {
+    let model = format!("{}/tables/models/tethered.toml", env!("CARGO_MANIFEST_DIR"));
+    // The command, with the prime spelled in ASCII too (`cp_u`).
+    let csv = cli(&[
+        "simulate",
+        "--model",
+        &model,
+        "--points",
+        "8",
+        "--param",
+        "c1_u=0",
+        "--param",
+        "c2_u=1",
+        "--param",
+        "c3_u=0",
+        "--param",
+        "c4_u=0.5",
+        "--param",
+        "cp_u=0.2",
+        "--initial",
+        "u=0.7",
+        "--dt",
+        "0.001",
+        "--steps",
+        "20000",
+        "--every",
+        "1",
+    ])
+    .unwrap();
+    let rows: Vec<Vec<f64>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|c| c.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(
+        csv.lines().next().unwrap(),
+        "t,energy,u_0,u_1,u_2,u_3,u_4,u_5,u_6,u_7"
+    );
+    let e0 = rows[0][1];
+    assert!(
+        rows.iter().all(|r| (r[1] - e0).abs() < 1e-10 * e0),
+        "energy held"
+    );
+    let up: Vec<f64> = rows
+        .windows(2)
+        .filter(|w| w[0][2] < 0.0 && w[1][2] >= 0.0)
+        .map(|w| w[0][0] + (w[1][0] - w[0][0]) * w[0][2] / (w[0][2] - w[1][2]))
+        .collect();
+    let omega2: f64 = 1.0 + 0.49;
+    let period = 4.0 * elliptic_k(0.49 / (2.0 * omega2)) / omega2.sqrt();
+    assert!(up.len() >= 2, "{up:?}");
+    assert!(
+        ((up[1] - up[0]) / period - 1.0).abs() < 1e-5,
+        "{up:?} against {period}"
+    );
+}
+
+#[test]
+fn simulate_runs_the_larva_at_the_next_order_and_refuses_what_it_cannot() {
+    let csv = cli(&[
+        "simulate",
+        "--beyond-leading",
+        "1",
+        "-p",
+        "12",
+        "--param",
+        "c2_x=5",
+        "--initial",
+        "x:1=0.3",
+        "--steps",
+        "500",
+        "--every",
+        "100",
+    ])
+    .unwrap();
+    assert_eq!(csv.lines().count(), 7, "{csv}");
+    let energies: Vec<f64> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
+        .collect();
+    assert!(
+        energies.windows(2).all(|w| w[1] < w[0]),
+        "damped: {energies:?}"
+    );
+    for (args, says) in [
+        (vec!["--temperature", "0.1"], "Langevin noise"),
+        (vec!["--param", "c9_x=1"], "this body's coefficients: c1_x"),
+        (vec!["--initial", "w=1"], "unknown field \"w\""),
+        (vec!["--initial", "x:40=1"], "has modes 0…10"),
+        (vec!["--steps", "100000000"], "term-point-steps"),
+    ] {
+        let mut all = vec!["simulate", "--beyond-leading", "1", "-p", "12"];
+        all.extend(args);
+        let err = cli(&all).unwrap_err();
+        assert!(err.contains(says), "{err}");
+    }
+    // A linear body keeps its modal path, and says what a uniform state is for.
+    let err = cli(&["simulate", "-p", "12", "--initial", "y=1"]).unwrap_err();
+    assert!(err.contains("for a nonlinear body"), "{err}");
+}

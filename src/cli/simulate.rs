@@ -156,7 +156,7 @@ fn state(args: &Args) -> Result<(Vec<Initial>, Vec<Forcing>), CliError> {
     super::check_list("--force", args.force.len())?;
     super::check_list("--drive", args.drive.len())?;
     let mut initial = Vec::new();
-    for text in &args.initial {
+    for text in args.initial.iter().filter(|t| !is_uniform(t)) {
         let (field, mode, v) = modal_assignment(text, "--initial", 1..=2, "give Q or Q,V")?;
         initial.push(Initial {
             field,
@@ -192,12 +192,114 @@ fn state(args: &Args) -> Result<(Vec<Initial>, Vec<Forcing>), CliError> {
     Ok((initial, forcing))
 }
 
-/// Run and stream the CSV.
-pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
-    let model = args.model.load()?;
-    let params = load_params(&args.params, &model)?;
+/// `FIELD=Q[,V]`: the same displacement (and velocity) at every point.
+fn is_uniform(text: &str) -> bool {
+    text.split_once('=')
+        .is_some_and(|(target, _)| !target.contains(':'))
+}
+
+/// The uniform initial states `FIELD=Q[,V]` among the `--initial` values.
+fn uniform_state(args: &Args) -> Result<Vec<(String, f64, f64)>, CliError> {
+    let mut out = Vec::new();
+    for text in args.initial.iter().filter(|t| is_uniform(t)) {
+        let bad = |why: &str| CliError::Usage(format!("--initial {text:?}: {why}"));
+        let (field, values) = text
+            .split_once('=')
+            .ok_or_else(|| bad("expected FIELD=Q"))?;
+        let v = values
+            .split(',')
+            .map(|v| v.trim().parse::<f64>())
+            .collect::<Result<Vec<f64>, _>>()
+            .map_err(|_| bad("values must be numbers"))?;
+        if v.is_empty() || v.len() > 2 || v.iter().any(|x| !x.is_finite()) {
+            return Err(bad("give Q or Q,V, finite numbers"));
+        }
+        out.push((
+            field.trim().to_string(),
+            v[0],
+            v.get(1).copied().unwrap_or(0.0),
+        ));
+    }
+    Ok(out)
+}
+
+/// A coefficient's name as `--param` takes it: as `equations` prints it (`c'1_θ`), or in ASCII
+/// with `p` for the prime and the field's id for its symbol (`cp1_theta`).
+fn coefficient_of(name: &str, names: &[String], model: &crate::model::Model) -> Option<String> {
+    names
+        .iter()
+        .find(|n| {
+            *n == name
+                || n.rsplit_once('_').is_some_and(|(letter, symbol)| {
+                    model.fields.iter().any(|f| {
+                        f.symbol == symbol
+                            && format!("{}_{}", letter.replace('\'', "p"), f.id) == name
+                    })
+                })
+        })
+        .cloned()
+}
+
+/// A body whose surviving terms are not all squares: integrated by `dynamics::nonlinear`, each
+/// coefficient settable by `--param` under its printed name.
+fn run_nonlinear(
+    args: &Args,
+    model: &crate::model::Model,
+    out: &mut dyn Write,
+) -> Result<(), CliError> {
+    use crate::dynamics::default_coefficients;
+    use crate::dynamics::nonlinear::{coefficient_names, NonlinearBody};
+    let order = args.model.order;
+    let names = coefficient_names(model, order).map_err(CliError::usage)?;
+    super::check_list("--param", args.params.params.len())?;
+    let mut given = std::collections::BTreeMap::new();
+    let mut scales = Vec::new();
+    for text in &args.params.params {
+        let name = text
+            .split_once('=')
+            .map_or(text.as_str(), |(n, _)| n)
+            .trim();
+        match coefficient_of(name, &names, model) {
+            Some(canonical) => {
+                let value = text
+                    .split_once('=')
+                    .and_then(|(_, v)| v.trim().parse::<f64>().ok())
+                    .filter(|v| v.is_finite())
+                    .ok_or_else(|| {
+                        CliError::Usage(format!(
+                            "parameter {name}: expected {name}=a finite number"
+                        ))
+                    })?;
+                given.insert(canonical, value);
+            }
+            None => scales.push(text.clone()),
+        }
+    }
+    let scale_args = ParamArgs {
+        params: scales,
+        params_file: args.params.params_file.clone(),
+    };
+    let params = load_params(&scale_args, model).map_err(|e| match e {
+        CliError::Usage(m) => CliError::Usage(format!(
+            "{m} (this body's coefficients: {})",
+            names.join(", ")
+        )),
+        other => other,
+    })?;
+    let mut values = default_coefficients(model, order, &params).map_err(CliError::usage)?;
+    values.extend(given);
+    let body =
+        NonlinearBody::new(model, order, args.points as usize, &values).map_err(CliError::usage)?;
     let (initial, forcing) = state(args)?;
-    let config = Config {
+    let config = config(args, initial, forcing);
+    let uniform = uniform_state(args)?;
+    let ids: Vec<String> = body.fields.iter().map(|f| f.id.clone()).collect();
+    let ids: Vec<&str> = ids.iter().map(String::as_str).collect();
+    stream(args, out, &ids, |sink| body.run(&config, &uniform, sink))
+}
+
+fn config(args: &Args, initial: Vec<Initial>, forcing: Vec<Forcing>) -> Config {
+    Config {
         points: args.points as usize,
         order: args.model.order,
         dt: args.dt,
@@ -207,7 +309,38 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
         seed: args.seed,
         initial,
         forcing,
-    };
+    }
+}
+
+/// Run and stream the CSV.
+pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
+    let model = args.model.load()?;
+    let quadratic =
+        crate::dynamics::is_quadratic(&model, args.model.order).map_err(CliError::usage)?;
+    if !quadratic {
+        return run_nonlinear(args, &model, out);
+    }
+    if let Some(text) = args.initial.iter().find(|t| is_uniform(t)) {
+        return Err(CliError::Usage(format!(
+            "--initial {text:?}: the same displacement at every point is for a nonlinear body; this one is linear and takes FIELD:MODE=Q[,V]"
+        )));
+    }
+    let params = load_params(&args.params, &model)?;
+    let (initial, forcing) = state(args)?;
+    let config = config(args, initial, forcing);
+    let ids: Vec<&str> = model.fields.iter().map(|f| f.id.as_str()).collect();
+    stream(args, out, &ids, |sink| {
+        simulate(&model, &params, &config, sink)
+    })
+}
+
+/// The sink a run writes to (the file or `out`), the run itself, and its errors as the CLI's.
+fn stream(
+    args: &Args,
+    out: &mut dyn Write,
+    ids: &[&str],
+    run: impl FnOnce(&mut dyn FnMut(&Sample) -> Result<(), Halt>) -> Result<(), DynamicsError>,
+) -> Result<(), CliError> {
     let mut file;
     let sink: &mut dyn Write = match &args.out {
         Some(path) => {
@@ -219,14 +352,13 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
         }
         None => out,
     };
-    let ids: Vec<&str> = model.fields.iter().map(|f| f.id.as_str()).collect();
     let mut sink = match args.format {
         SeriesFormat::Csv => Sink::Csv(Box::new(csv::Writer::from_writer(sink))),
         SeriesFormat::Json => Sink::Json(std::io::BufWriter::new(sink), false),
     };
     let mut first = true;
-    let result = simulate(&model, &params, &config, |s| {
-        let header = first.then(|| sample_header(&ids, s));
+    let result = run(&mut |s| {
+        let header = first.then(|| sample_header(ids, s));
         first = false;
         sink.sample(header, s)
     });

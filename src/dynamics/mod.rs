@@ -17,6 +17,8 @@
 //! The energy reported is `H = Σ ½(Pᵢ² + ωᵢ²Qᵢ²)`, the paper's Eq. 1 in modal coordinates.
 
 pub mod nonlinear;
+mod nonlinear_run;
+pub use nonlinear_run::{default_coefficients, is_quadratic, MAX_NONLINEAR_WORK};
 
 use nalgebra::{Matrix2, Vector2};
 use rand::SeedableRng;
@@ -247,7 +249,7 @@ pub fn propagate(omega: f64, gamma: f64, q: f64, p: f64, t: f64) -> (f64, f64) {
     (x[0], x[1])
 }
 
-fn check_config(c: &Config) -> Result<(), DynamicsError> {
+pub(crate) fn check_config(c: &Config) -> Result<(), DynamicsError> {
     let bad = |s: String| Err(DynamicsError::Invalid(s));
     if !(c.dt.is_finite() && c.dt > 0.0) {
         return bad(format!(

@@ -69,6 +69,12 @@ pub enum NonlinearError {
     /// The engine's own error (order, points).
     #[error("{0}")]
     Engine(String),
+    /// Rest is not an equilibrium, so there are no modes about it.
+    #[error("field {field}: rest (u = 0) is not an equilibrium (a constant or odd force acts there), so modal initial states are not defined yet; use FIELD=Q[,V]")]
+    NotAtRest {
+        /// Field id.
+        field: String,
+    },
     /// Newton's method did not converge.
     #[error("the implicit step at t = {t} did not converge: take a smaller time step")]
     NoConvergence {
@@ -85,7 +91,7 @@ pub enum NonlinearError {
 
 /// Σᵣ c·(row·u)ⁿ over the rows of one stencil family.
 #[derive(Debug, Clone)]
-struct Power {
+pub(super) struct Power {
     rows: Vec<Vec<(usize, f64)>>,
     power: i32,
     coefficient: f64,
@@ -141,9 +147,9 @@ pub struct FieldSystem {
     pub id: String,
     /// Unknowns (points, or N − 1 around a ring).
     pub unknowns: usize,
-    periodic: bool,
-    potential: Vec<Power>,
-    dissipation: Vec<Power>,
+    pub(super) periodic: bool,
+    pub(super) potential: Vec<Power>,
+    pub(super) dissipation: Vec<Power>,
 }
 
 /// Gauss–Legendre nodes and weights on [0, 1], exact for polynomials of degree ≤ 2m − 1.
@@ -193,6 +199,32 @@ impl FieldSystem {
     /// E = ½|v|² + V(u).
     pub fn energy(&self, u: &[f64], v: &[f64]) -> f64 {
         0.5 * v.iter().map(|x| x * x).sum::<f64>() + self.potential(u)
+    }
+
+    /// The unit-norm modes of the linearisation about rest (u = 0), by ascending eigenvalue of
+    /// ∇²V(0): the shapes a modal initial state `FIELD:MODE=Q` takes. Rest must be an
+    /// equilibrium (∇V(0) = 0).
+    pub fn linear_modes(&self) -> Result<Vec<Vec<f64>>, NonlinearError> {
+        let n = self.unknowns;
+        let rest = vec![0.0; n];
+        let mut g = vec![0.0; n];
+        let mut h = nalgebra::DMatrix::<f64>::zeros(n, n);
+        for p in &self.potential {
+            p.gradient(&rest, 1.0, &mut g);
+            p.hessian(&rest, 1.0, &mut |i, j, x| h[(i, j)] += x);
+        }
+        if g.iter().any(|x| x.abs() > 0.0) {
+            return Err(NonlinearError::NotAtRest {
+                field: self.id.clone(),
+            });
+        }
+        let eigen = h.symmetric_eigen();
+        let mut order: Vec<usize> = (0..n).collect();
+        order.sort_by(|&a, &b| eigen.eigenvalues[a].total_cmp(&eigen.eigenvalues[b]));
+        Ok(order
+            .into_iter()
+            .map(|k| eigen.eigenvectors.column(k).iter().copied().collect())
+            .collect())
     }
 
     fn quadrature(&self) -> Vec<(f64, f64)> {
