@@ -358,3 +358,72 @@ fn simulate_runs_the_larva_at_the_next_order_and_refuses_what_it_cannot() {
     let err = cli(&["simulate", "-p", "12", "--initial", "y=1"]).unwrap_err();
     assert!(err.contains("for a nonlinear body"), "{err}");
 }
+
+#[test]
+fn modes_of_a_nonlinear_body_are_those_of_its_linearisation() {
+    let model = format!("{}/tables/models/tethered.toml", env!("CARGO_MANIFEST_DIR"));
+    // ∇V = ½c1 + c2 u + 2c4 u³ = 0 at every point: the real root, by bisection.
+    let json = cli(&[
+        "modes", "--model", &model, "-p", "5", "--param", "c1_u=1", "--param", "c2_u=1", "--param",
+        "c4_u=0.5", "--format", "json",
+    ])
+    .unwrap();
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let f = &v["fields"][0];
+    let (mut lo, mut hi) = (-2.0f64, 2.0f64);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if 0.5 + mid + mid.powi(3) > 0.0 {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    for u in f["equilibrium"].as_array().unwrap() {
+        assert!((u.as_f64().unwrap() - lo).abs() < 1e-12, "{u} against {lo}");
+    }
+    let stiffness = 1.0 + 3.0 * lo * lo;
+    for l in f["eigenvalues"].as_array().unwrap() {
+        assert!((l.as_f64().unwrap() - stiffness).abs() < 1e-12, "{l}");
+    }
+    // The larva at the next order with only its leading squares: the linear modes, by another
+    // solver (the modal one) at ω = 1.
+    let lin: serde_json::Value =
+        serde_json::from_str(&cli(&["modes", "-p", "9", "--format", "json"]).unwrap()).unwrap();
+    let next: serde_json::Value = serde_json::from_str(
+        &cli(&[
+            "modes",
+            "--beyond-leading",
+            "1",
+            "-p",
+            "9",
+            "--format",
+            "json",
+        ])
+        .unwrap(),
+    )
+    .unwrap();
+    assert_eq!(next["linearised"], true);
+    let fields = lin["fields"].as_array().unwrap();
+    for (k, f) in next["fields"].as_array().unwrap().iter().enumerate() {
+        let want: Vec<f64> = fields[k]["eigenvalues"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|m| m.as_f64().unwrap())
+            .collect();
+        let got: Vec<f64> = f["eigenvalues"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect();
+        assert_eq!(got.len(), want.len(), "field {k}");
+        for (a, b) in got.iter().zip(&want) {
+            assert!(
+                (a - b).abs() < 1e-9 * (1.0 + b.abs()),
+                "field {k}: {a} against {b}"
+            );
+        }
+    }
+}

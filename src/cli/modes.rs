@@ -41,8 +41,13 @@ pub struct Args {
 /// Compute and print the modes.
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     let model = args.model.load()?;
-    let params = load_params(&args.params, &model)?;
     let points = args.points as usize;
+    let quadratic =
+        crate::dynamics::is_quadratic(&model, args.model.order).map_err(CliError::usage)?;
+    if !quadratic {
+        return linearised(args, &model, points, out);
+    }
+    let params = load_params(&args.params, &model)?;
     let limit = args.limit.map(|k| k as usize);
     if limit.is_none() && points > MAX_FULL_SPECTRUM {
         return Err(CliError::Usage(format!(
@@ -70,4 +75,41 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
         shapes: args.shapes,
     };
     emit(out, &r, args.format)
+}
+
+/// The most unknowns a linearisation takes (a dense eigendecomposition per field).
+const MAX_LINEARISED_POINTS: usize = 2000;
+
+/// `modes` of a nonlinear body: the modes of its linearisation about each field's equilibrium.
+fn linearised(
+    args: &Args,
+    model: &crate::model::Model,
+    points: usize,
+    out: &mut dyn Write,
+) -> Result<(), CliError> {
+    if points > MAX_LINEARISED_POINTS {
+        return Err(CliError::Usage(format!(
+            "a nonlinear body is linearised on at most {MAX_LINEARISED_POINTS} points, not {points}"
+        )));
+    }
+    let body = super::nonlinear_body(&args.params, model, args.model.order, points)?;
+    let mut fields = body.linearise(args.shapes).map_err(CliError::usage)?;
+    if let Some(k) = args.limit {
+        for f in &mut fields {
+            let k = (k as usize).min(f.eigenvalues.len());
+            f.eigenvalues.truncate(k);
+            f.frequencies.truncate(k);
+            if let Some(s) = &mut f.shapes {
+                s.truncate(k);
+            }
+        }
+    }
+    let report = crate::dynamics::LinearisedReport {
+        model: model.name.clone(),
+        order: args.model.order,
+        points,
+        linearised: true,
+        fields,
+    };
+    emit(out, &report, args.format)
 }

@@ -223,23 +223,6 @@ fn uniform_state(args: &Args) -> Result<Vec<(String, f64, f64)>, CliError> {
     Ok(out)
 }
 
-/// A coefficient's name as `--param` takes it: as `equations` prints it (`c'1_θ`), or in ASCII
-/// with `p` for the prime and the field's id for its symbol (`cp1_theta`).
-fn coefficient_of(name: &str, names: &[String], model: &crate::model::Model) -> Option<String> {
-    names
-        .iter()
-        .find(|n| {
-            *n == name
-                || n.rsplit_once('_').is_some_and(|(letter, symbol)| {
-                    model.fields.iter().any(|f| {
-                        f.symbol == symbol
-                            && format!("{}_{}", letter.replace('\'', "p"), f.id) == name
-                    })
-                })
-        })
-        .cloned()
-}
-
 /// A body whose surviving terms are not all squares: integrated by `dynamics::nonlinear`, each
 /// coefficient settable by `--param` under its printed name.
 fn run_nonlinear(
@@ -247,49 +230,7 @@ fn run_nonlinear(
     model: &crate::model::Model,
     out: &mut dyn Write,
 ) -> Result<(), CliError> {
-    use crate::dynamics::default_coefficients;
-    use crate::dynamics::nonlinear::{coefficient_names, NonlinearBody};
-    let order = args.model.order;
-    let names = coefficient_names(model, order).map_err(CliError::usage)?;
-    super::check_list("--param", args.params.params.len())?;
-    let mut given = std::collections::BTreeMap::new();
-    let mut scales = Vec::new();
-    for text in &args.params.params {
-        let name = text
-            .split_once('=')
-            .map_or(text.as_str(), |(n, _)| n)
-            .trim();
-        match coefficient_of(name, &names, model) {
-            Some(canonical) => {
-                let value = text
-                    .split_once('=')
-                    .and_then(|(_, v)| v.trim().parse::<f64>().ok())
-                    .filter(|v| v.is_finite())
-                    .ok_or_else(|| {
-                        CliError::Usage(format!(
-                            "parameter {name}: expected {name}=a finite number"
-                        ))
-                    })?;
-                given.insert(canonical, value);
-            }
-            None => scales.push(text.clone()),
-        }
-    }
-    let scale_args = ParamArgs {
-        params: scales,
-        params_file: args.params.params_file.clone(),
-    };
-    let params = load_params(&scale_args, model).map_err(|e| match e {
-        CliError::Usage(m) => CliError::Usage(format!(
-            "{m} (this body's coefficients: {})",
-            names.join(", ")
-        )),
-        other => other,
-    })?;
-    let mut values = default_coefficients(model, order, &params).map_err(CliError::usage)?;
-    values.extend(given);
-    let body =
-        NonlinearBody::new(model, order, args.points as usize, &values).map_err(CliError::usage)?;
+    let body = super::nonlinear_body(&args.params, model, args.model.order, args.points as usize)?;
     let (initial, forcing) = state(args)?;
     let config = config(args, initial, forcing);
     let uniform = uniform_state(args)?;

@@ -69,11 +69,13 @@ pub enum NonlinearError {
     /// The engine's own error (order, points).
     #[error("{0}")]
     Engine(String),
-    /// Rest is not an equilibrium, so there are no modes about it.
-    #[error("field {field}: rest (u = 0) is not an equilibrium (a constant or odd force acts there), so modal initial states are not defined yet; use FIELD=Q[,V]")]
-    NotAtRest {
+    /// No equilibrium (∇V = 0) was found.
+    #[error("field {field}: no equilibrium found (∇V = 0 has no solution Newton's method reaches from rest; |∇V| stays at {residual:.3e}): the potential may be unbounded below")]
+    NoEquilibrium {
         /// Field id.
         field: String,
+        /// The smallest |∇V| reached.
+        residual: f64,
     },
     /// Newton's method did not converge.
     #[error("the implicit step at t = {t} did not converge: take a smaller time step")]
@@ -94,7 +96,7 @@ pub enum NonlinearError {
 pub(super) struct Power {
     rows: Vec<Vec<(usize, f64)>>,
     power: i32,
-    coefficient: f64,
+    pub(super) coefficient: f64,
 }
 
 impl Power {
@@ -102,7 +104,7 @@ impl Power {
         row.iter().map(|&(j, w)| w * u[j]).sum()
     }
 
-    fn value(&self, u: &[f64]) -> f64 {
+    pub(super) fn value(&self, u: &[f64]) -> f64 {
         let n = self.power;
         self.coefficient
             * self
@@ -113,7 +115,7 @@ impl Power {
     }
 
     /// Adds `scale` × the gradient.
-    fn gradient(&self, u: &[f64], scale: f64, out: &mut [f64]) {
+    pub(super) fn gradient(&self, u: &[f64], scale: f64, out: &mut [f64]) {
         let n = self.power;
         for r in &self.rows {
             let g = scale * self.coefficient * f64::from(n) * Self::dot(r, u).powi(n - 1);
@@ -124,7 +126,7 @@ impl Power {
     }
 
     /// Adds `scale` × the Hessian, entry by entry.
-    fn hessian(&self, u: &[f64], scale: f64, add: &mut impl FnMut(usize, usize, f64)) {
+    pub(super) fn hessian(&self, u: &[f64], scale: f64, add: &mut impl FnMut(usize, usize, f64)) {
         let n = self.power;
         if n < 2 {
             return;
@@ -199,32 +201,6 @@ impl FieldSystem {
     /// E = ½|v|² + V(u).
     pub fn energy(&self, u: &[f64], v: &[f64]) -> f64 {
         0.5 * v.iter().map(|x| x * x).sum::<f64>() + self.potential(u)
-    }
-
-    /// The unit-norm modes of the linearisation about rest (u = 0), by ascending eigenvalue of
-    /// ∇²V(0): the shapes a modal initial state `FIELD:MODE=Q` takes. Rest must be an
-    /// equilibrium (∇V(0) = 0).
-    pub fn linear_modes(&self) -> Result<Vec<Vec<f64>>, NonlinearError> {
-        let n = self.unknowns;
-        let rest = vec![0.0; n];
-        let mut g = vec![0.0; n];
-        let mut h = nalgebra::DMatrix::<f64>::zeros(n, n);
-        for p in &self.potential {
-            p.gradient(&rest, 1.0, &mut g);
-            p.hessian(&rest, 1.0, &mut |i, j, x| h[(i, j)] += x);
-        }
-        if g.iter().any(|x| x.abs() > 0.0) {
-            return Err(NonlinearError::NotAtRest {
-                field: self.id.clone(),
-            });
-        }
-        let eigen = h.symmetric_eigen();
-        let mut order: Vec<usize> = (0..n).collect();
-        order.sort_by(|&a, &b| eigen.eigenvalues[a].total_cmp(&eigen.eigenvalues[b]));
-        Ok(order
-            .into_iter()
-            .map(|k| eigen.eigenvectors.column(k).iter().copied().collect())
-            .collect())
     }
 
     fn quadrature(&self) -> Vec<(f64, f64)> {

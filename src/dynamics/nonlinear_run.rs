@@ -118,9 +118,10 @@ impl NonlinearBody {
                     ids.join(", ")
                 ));
             };
-            let shapes = self.fields[k]
-                .linear_modes()
+            let lin = self.fields[k]
+                .linearise(true)
                 .map_err(|e| DynamicsError::Invalid(e.to_string()))?;
+            let shapes = lin.shapes.unwrap_or_default();
             let Some(shape) = shapes.get(i.mode) else {
                 return invalid(format!(
                     "field {} has modes 0…{}, not {}",
@@ -129,6 +130,10 @@ impl NonlinearBody {
                     i.mode
                 ));
             };
+            // About the equilibrium: u = u* + Q·shape.
+            if state[k].0.iter().all(|x| *x == 0.0) {
+                state[k].0.copy_from_slice(&lin.equilibrium);
+            }
             for (j, s) in shape.iter().enumerate() {
                 state[k].0[j] += i.displacement * s;
                 state[k].1[j] += i.velocity * s;

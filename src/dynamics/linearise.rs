@@ -1,0 +1,184 @@
+//! A nonlinear body's linearisation: each field's equilibrium u* (∇V(u*) = 0, by Newton's method
+//! from rest with a least-squares step, so zero modes such as a translation do no harm) and the
+//! modes of ∇²V(u*) with the unit mass of the standard kinetic term, frequencies √λ.
+
+use super::nonlinear::{FieldSystem, NonlinearBody, NonlinearError};
+
+/// One field's linearisation.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct LinearisedField {
+    /// Field id.
+    pub field: String,
+    /// u* at each unknown.
+    pub equilibrium: Vec<f64>,
+    /// |∇V(u*)| reached.
+    pub residual: f64,
+    /// Eigenvalues of ∇²V(u*), ascending.
+    pub eigenvalues: Vec<f64>,
+    /// √λ, or `None` where λ < 0 (an unstable direction).
+    pub frequencies: Vec<Option<f64>>,
+    /// Unit-norm shapes, one per eigenvalue (when asked for).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shapes: Option<Vec<Vec<f64>>>,
+}
+
+impl FieldSystem {
+    fn gradient_at(&self, u: &[f64]) -> Vec<f64> {
+        let mut g = vec![0.0; self.unknowns];
+        for p in &self.potential {
+            p.gradient(u, 1.0, &mut g);
+        }
+        g
+    }
+
+    fn hessian_at(&self, u: &[f64]) -> nalgebra::DMatrix<f64> {
+        let mut h = nalgebra::DMatrix::zeros(self.unknowns, self.unknowns);
+        for p in &self.potential {
+            p.hessian(u, 1.0, &mut |i, j, x| h[(i, j)] += x);
+        }
+        h
+    }
+
+    /// u* with ∇V(u*) = 0, from rest: Newton's least-squares steps, halved while |∇V| grows.
+    pub fn equilibrium(&self) -> Result<(Vec<f64>, f64), NonlinearError> {
+        let norm = |g: &[f64]| g.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let scale = self
+            .potential
+            .iter()
+            .map(|p| p.coefficient.abs())
+            .fold(0.0, f64::max)
+            .max(f64::MIN_POSITIVE);
+        let mut u = vec![0.0; self.unknowns];
+        let mut g = self.gradient_at(&u);
+        let mut r = norm(&g);
+        for _ in 0..200 {
+            if r <= 1e-12 * scale * (self.unknowns as f64).sqrt() {
+                return Ok((u, r));
+            }
+            let step = self
+                .hessian_at(&u)
+                .svd(true, true)
+                .solve(&nalgebra::DVector::from_column_slice(&g), 1e-12 * scale);
+            let Ok(step) = step else { break };
+            let mut t = 1.0;
+            loop {
+                let trial: Vec<f64> = u.iter().zip(step.iter()).map(|(a, d)| a - t * d).collect();
+                let gt = self.gradient_at(&trial);
+                if norm(&gt) < r || t < 1e-6 {
+                    (u, g, r) = (trial, gt.clone(), norm(&gt));
+                    break;
+                }
+                t *= 0.5;
+            }
+            if !r.is_finite() {
+                break;
+            }
+        }
+        Err(NonlinearError::NoEquilibrium {
+            field: self.id.clone(),
+            residual: r,
+        })
+    }
+
+    /// The linearisation about the equilibrium: eigenvalues ascending, shapes unit norm with
+    /// their first significant component positive (as `modes` prints them).
+    pub fn linearise(&self, shapes: bool) -> Result<LinearisedField, NonlinearError> {
+        let (equilibrium, residual) = self.equilibrium()?;
+        let eigen = self.hessian_at(&equilibrium).symmetric_eigen();
+        let mut order: Vec<usize> = (0..self.unknowns).collect();
+        order.sort_by(|&a, &b| eigen.eigenvalues[a].total_cmp(&eigen.eigenvalues[b]));
+        // A zero mode (a translation) comes out as ±1e-16: it is zero, not unstable.
+        let top = eigen
+            .eigenvalues
+            .iter()
+            .map(|l| l.abs())
+            .fold(0.0, f64::max);
+        let eigenvalues: Vec<f64> = order
+            .iter()
+            .map(|&k| eigen.eigenvalues[k])
+            .map(|l| if l.abs() <= 1e-10 * top { 0.0 } else { l })
+            .collect();
+        let shape = |k: usize| -> Vec<f64> {
+            let v: Vec<f64> = eigen.eigenvectors.column(k).iter().copied().collect();
+            let first = v.iter().find(|x| x.abs() > 1e-12).copied().unwrap_or(1.0);
+            v.iter().map(|x| x * first.signum()).collect()
+        };
+        Ok(LinearisedField {
+            field: self.id.clone(),
+            equilibrium,
+            residual,
+            frequencies: eigenvalues
+                .iter()
+                .map(|&l| (l >= 0.0).then(|| l.sqrt()))
+                .collect(),
+            eigenvalues,
+            shapes: shapes.then(|| order.iter().map(|&k| shape(k)).collect()),
+        })
+    }
+}
+
+impl NonlinearBody {
+    /// Every field's linearisation.
+    pub fn linearise(&self, shapes: bool) -> Result<Vec<LinearisedField>, NonlinearError> {
+        self.fields.iter().map(|f| f.linearise(shapes)).collect()
+    }
+}
+
+/// `modes` of a nonlinear body: each field's linearisation about its equilibrium.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct LinearisedReport {
+    /// Model name.
+    pub model: String,
+    /// Order of the theory.
+    pub order: u32,
+    /// Points along the body.
+    pub points: usize,
+    /// Always true: these are the modes of a linearisation.
+    pub linearised: bool,
+    /// The fields.
+    pub fields: Vec<LinearisedField>,
+}
+
+impl crate::report::Report for LinearisedReport {
+    fn text(&self) -> String {
+        use std::fmt::Write as _;
+        let mut s = format!(
+            "Linearised modes of the {} model at order {} on {} points: the equations are nonlinear, so these are the modes of ∇²V about each field's equilibrium (unit mass; frequency √λ).\n",
+            self.model, self.order, self.points
+        );
+        for f in &self.fields {
+            let (lo, hi) = f
+                .equilibrium
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+                    (a.min(x), b.max(x))
+                });
+            let at = if lo == 0.0 && hi == 0.0 {
+                "at rest (u = 0)".to_string()
+            } else {
+                format!("u* from {lo:.6} to {hi:.6} (|∇V| = {:.1e})", f.residual)
+            };
+            let _ = writeln!(s, "\nfield {}: equilibrium {at}", f.field);
+            let _ = writeln!(s, "  mode  eigenvalue      frequency");
+            for (i, (l, w)) in f.eigenvalues.iter().zip(&f.frequencies).enumerate() {
+                let w = w.map_or("unstable".to_string(), |w| format!("{w:.6}"));
+                let _ = writeln!(s, "  {i:>4}  {l:<14.6}  {w}");
+            }
+            if let Some(shapes) = &f.shapes {
+                for (i, v) in shapes.iter().enumerate() {
+                    let cells: Vec<String> = v.iter().map(|x| format!("{x:.6}")).collect();
+                    let _ = writeln!(s, "  shape {i}: {}", cells.join(" "));
+                }
+            }
+        }
+        s
+    }
+
+    fn json(&self) -> serde_json::Value {
+        serde_json::to_value(self).unwrap_or_default()
+    }
+
+    fn check(&self) -> Result<(), crate::report::NonFinite> {
+        crate::report::check_finite(self)
+    }
+}
