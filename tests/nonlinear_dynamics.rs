@@ -347,7 +347,7 @@ fn simulate_runs_the_larva_at_the_next_order_and_refuses_what_it_cannot() {
         (vec!["--param", "c9_x=1"], "this body's coefficients: c1_x"),
         (vec!["--initial", "w=1"], "unknown field \"w\""),
         (vec!["--initial", "x:40=1"], "has modes 0…10"),
-        (vec!["--steps", "100000000"], "term-point-steps"),
+        (vec!["--steps", "100000000"], "a run may take"),
     ] {
         let mut all = vec!["simulate", "--beyond-leading", "1", "-p", "12"];
         all.extend(args);

@@ -214,6 +214,7 @@ impl FieldSystem {
         let nodes = self.quadrature();
         let mut delta: Vec<f64> = v.iter().map(|x| h * x).collect();
         let mut converged = false;
+        let mut last = f64::INFINITY;
         for _ in 0..50 {
             // r(Δ) = 2Δ/h − 2v₀ + h ∫∇V(u + ξΔ) dξ + h ∇R(Δ/h)
             let mut r: Vec<f64> = (0..n).map(|i| 2.0 * delta[i] / h - 2.0 * v[i]).collect();
@@ -242,10 +243,16 @@ impl FieldSystem {
             if !change.is_finite() {
                 break;
             }
-            if change <= 1e-15 * (size + h * 1e-300) || change == 0.0 {
+            // Converged at the rounding floor: the step is an ulp or so of Δ (or of h·v₀ when Δ
+            // is near zero), or it stopped shrinking once already tiny.
+            let scale = size.max(h * v.iter().map(|x| x.abs()).fold(0.0, f64::max));
+            let floor = change <= 4e-15 * scale || change == 0.0;
+            let stalled = change >= last && change <= 1e-11 * scale;
+            if floor || stalled {
                 converged = true;
                 break;
             }
+            last = change;
         }
         if !converged {
             return Err(NonlinearError::NoConvergence { t });
