@@ -16,6 +16,7 @@
 //!
 //! The energy reported is `H = Σ ½(Pᵢ² + ωᵢ²Qᵢ²)`, the paper's Eq. 1 in modal coordinates.
 
+mod jacobian;
 mod linearise;
 pub mod nonlinear;
 mod nonlinear_run;

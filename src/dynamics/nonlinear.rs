@@ -21,7 +21,7 @@ use std::collections::BTreeMap;
 
 use num_traits::ToPrimitive;
 
-use crate::banded::BandedSym;
+use super::jacobian::Jacobian;
 use crate::boundary::Boundary;
 use crate::discretise::stencil_rows;
 use crate::model::{Density, Model};
@@ -279,49 +279,10 @@ impl FieldSystem {
                 let hi = r.iter().map(|e| e.0).max().unwrap_or(0);
                 hi - lo
             })
+            // A row that wraps around a ring spans the whole body: its corners are apart.
+            .filter(|&span| !self.periodic || 2 * span < self.unknowns)
             .max()
             .unwrap_or(0)
-    }
-}
-
-/// The Newton matrix: banded for a field with ends, dense around a ring (whose stencils wrap).
-enum Jacobian {
-    Banded(BandedSym),
-    Dense(nalgebra::DMatrix<f64>),
-}
-
-impl Jacobian {
-    fn new(n: usize, periodic: bool, p: usize) -> Jacobian {
-        if periodic {
-            Jacobian::Dense(nalgebra::DMatrix::zeros(n, n))
-        } else {
-            Jacobian::Banded(BandedSym {
-                n,
-                bands: (0..=p.min(n.saturating_sub(1)))
-                    .map(|d| vec![0.0; n - d])
-                    .collect(),
-            })
-        }
-    }
-
-    fn add(&mut self, i: usize, j: usize, x: f64) {
-        match self {
-            Jacobian::Dense(m) => m[(i, j)] += x,
-            // Symmetric: the upper band holds each pair once.
-            Jacobian::Banded(b) if i <= j => b.bands[j - i][i] += x,
-            Jacobian::Banded(_) => {}
-        }
-    }
-
-    fn solve(self, r: &[f64]) -> Vec<f64> {
-        match self {
-            Jacobian::Banded(b) => b.shifted(0.0).solve(r),
-            Jacobian::Dense(m) => m
-                .lu()
-                .solve(&nalgebra::DVector::from_column_slice(r))
-                .map(|x| x.as_slice().to_vec())
-                .unwrap_or_else(|| vec![f64::NAN; r.len()]),
-        }
     }
 }
 
