@@ -77,8 +77,9 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     emit(out, &r, args.format)
 }
 
-/// The most unknowns a linearisation takes (a dense eigendecomposition per field).
-const MAX_LINEARISED_POINTS: usize = 2000;
+/// The most points a linearisation takes: a dense eigendecomposition per field, and a dense
+/// least-squares Newton step per iteration towards the equilibrium (about a second at 400).
+const MAX_LINEARISED_POINTS: usize = 400;
 
 /// `modes` of a nonlinear body: the modes of its linearisation about each field's equilibrium.
 fn linearised(
