@@ -117,6 +117,19 @@ fn csv_halt(e: csv::Error) -> Halt {
     }
 }
 
+/// Comma-separated finite numbers, or why not.
+fn numbers(values: &str) -> Result<Vec<f64>, &'static str> {
+    let values = values
+        .split(',')
+        .map(|v| v.trim().parse::<f64>())
+        .collect::<Result<Vec<f64>, _>>()
+        .map_err(|_| "values must be numbers")?;
+    if values.iter().any(|v| !v.is_finite()) {
+        return Err("values must be finite");
+    }
+    Ok(values)
+}
+
 /// `FIELD:MODE=values`: the field, the mode and the comma-separated numbers, with `counts` the
 /// numbers of values allowed.
 fn modal_assignment(
@@ -136,14 +149,7 @@ fn modal_assignment(
         .trim()
         .parse()
         .map_err(|_| bad("the mode must be a whole number"))?;
-    let values = values
-        .split(',')
-        .map(|v| v.trim().parse::<f64>())
-        .collect::<Result<Vec<f64>, _>>()
-        .map_err(|_| bad("values must be numbers"))?;
-    if values.iter().any(|v| !v.is_finite()) {
-        return Err(bad("values must be finite"));
-    }
+    let values = numbers(values).map_err(&bad)?;
     if !counts.contains(&values.len()) {
         return Err(bad(hint));
     }
@@ -206,13 +212,9 @@ fn uniform_state(args: &Args) -> Result<Vec<(String, f64, f64)>, CliError> {
         let (field, values) = text
             .split_once('=')
             .ok_or_else(|| bad("expected FIELD=Q"))?;
-        let v = values
-            .split(',')
-            .map(|v| v.trim().parse::<f64>())
-            .collect::<Result<Vec<f64>, _>>()
-            .map_err(|_| bad("values must be numbers"))?;
-        if v.is_empty() || v.len() > 2 || v.iter().any(|x| !x.is_finite()) {
-            return Err(bad("give Q or Q,V, finite numbers"));
+        let v = numbers(values).map_err(&bad)?;
+        if v.len() > 2 {
+            return Err(bad("give Q or Q,V"));
         }
         out.push((
             field.trim().to_string(),

@@ -295,15 +295,19 @@ pub struct NonlinearBody {
 
 /// The coefficients the surviving densities name (`c1_x`, `c'_x`, …), model order.
 pub fn coefficient_names(model: &Model, order: u32) -> Result<Vec<String>, NonlinearError> {
-    let mut names = Vec::new();
-    for density in [Density::Lagrangian, Density::Rayleigh] {
-        let a =
-            analyse(model, density, order).map_err(|e| NonlinearError::Engine(e.to_string()))?;
-        for f in &a.fields {
-            names.extend(f.density.iter().filter_map(|d| d.parameter.clone()));
-        }
-    }
-    Ok(names)
+    let engine = |e: crate::reduce::OrderError| NonlinearError::Engine(e.to_string());
+    let l = analyse(model, Density::Lagrangian, order).map_err(engine)?;
+    let r = analyse(model, Density::Rayleigh, order).map_err(engine)?;
+    Ok(names_of(&[&l, &r]))
+}
+
+/// The coefficient names of analysed densities, in order.
+fn names_of(analyses: &[&crate::reduce::Analysis]) -> Vec<String> {
+    analyses
+        .iter()
+        .flat_map(|a| a.fields.iter())
+        .flat_map(|f| f.density.iter().filter_map(|d| d.parameter.clone()))
+        .collect()
 }
 
 impl NonlinearBody {
@@ -315,10 +319,10 @@ impl NonlinearBody {
         points: usize,
         values: &BTreeMap<String, f64>,
     ) -> Result<NonlinearBody, NonlinearError> {
-        let names = coefficient_names(model, order)?;
         let engine = |e: &dyn std::fmt::Display| NonlinearError::Engine(e.to_string());
         let l = analyse(model, Density::Lagrangian, order).map_err(|e| engine(&e))?;
         let r = analyse(model, Density::Rayleigh, order).map_err(|e| engine(&e))?;
+        let names = names_of(&[&l, &r]);
         let mut fields = Vec::new();
         for (lf, rf) in l.fields.iter().zip(&r.fields) {
             let field = &lf.field;

@@ -12,7 +12,7 @@ use std::sync::{Arc, Mutex};
 use std::thread::Scope;
 
 use super::accumulate::Work;
-use super::read::{plain_line, Clock, FrameReader, Row, Source};
+use super::read::{plain_line, Clock, FrameReader, LineError, Row, Source};
 use super::{FitError, FitSettings, FrameError, InputKind, Projector, MAX_LINE_BYTES};
 
 /// Bytes of text a worker parses at once (whole lines: the last one is read to its end).
@@ -29,7 +29,7 @@ struct Parsed {
     /// Lines in the chunk.
     lines: usize,
     /// Where parsing stopped, and why (the rows before it are good).
-    error: Option<(usize, String)>,
+    error: Option<(usize, LineError)>,
 }
 
 struct ParsedRow {
@@ -161,7 +161,7 @@ impl<'scope, 'env, R: BufRead + Send + 'env> Chunked<'scope, 'env, R> {
             self.done = true;
             return Err(FitError::Line {
                 line: self.base + line,
-                why,
+                why: why.to_string(),
             });
         }
         self.base += self.current.lines;

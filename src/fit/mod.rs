@@ -86,7 +86,7 @@ pub use bootstrap::{Intervals, MAX_REPLICATES};
 pub use error::FitError;
 pub use pool::{fit_inputs, Input};
 pub use project::{turning_angles, FrameError, Projector};
-pub use read::{Frame, Track, MAX_LINE_BYTES, MAX_WHOLE_FILE};
+pub use read::{Frame, LineError, Track, MAX_LINE_BYTES, MAX_WHOLE_FILE};
 pub use report::{AnimalFit, Continuum, FitReport, ModeFit, Recording, Subspace};
 pub use settings::*;
 pub use verdict::{

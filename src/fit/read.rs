@@ -263,10 +263,11 @@ impl<R: BufRead> FrameReader<R> {
             let bad = |why: String| FitError::Line { line, why };
             let row = match self.plain_width() {
                 // The common row, once the layout is known.
-                Some(width) => plain_line(&self.buf, width, &mut self.values).map_err(bad)?,
+                Some(width) => plain_line(&self.buf, width, &mut self.values)
+                    .map_err(|e| bad(e.to_string()))?,
                 None => {
                     let buf = std::mem::take(&mut self.buf);
-                    let row = match line_text(&buf).map_err(bad)?.trim() {
+                    let row = match line_text(&buf).map_err(|e| bad(e.to_string()))?.trim() {
                         "" => None,
                         text if text.starts_with('#') => None,
                         text => self.first_rows(text)?,
@@ -329,7 +330,7 @@ impl<R: BufRead> FrameReader<R> {
         let width = *self.width.get_or_insert(cells.len());
         data_row(cells.into_iter(), width, &mut self.values)
             .map(Some)
-            .map_err(bad)
+            .map_err(|e| bad(e.to_string()))
     }
 
     /// The layout found in the first rows, once a data row has been read: the row width, and
@@ -354,14 +355,42 @@ pub(super) struct Parsed {
     pub(super) missing_before: usize,
 }
 
+/// Why one line of a recording cannot be read (the line number is the caller's).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum LineError {
+    /// Longer than [`MAX_LINE_BYTES`].
+    #[error("longer than {MAX_LINE_BYTES} bytes: not a recording of midlines")]
+    TooLong,
+    /// Not UTF-8.
+    #[error("is not UTF-8 text")]
+    NotUtf8,
+    /// Another width than the first frame's.
+    #[error("{count} columns where the first frame had {width}")]
+    Width {
+        /// Cells on this line.
+        count: usize,
+        /// Cells of the first frame.
+        width: usize,
+    },
+    /// A time that is not a finite number.
+    #[error("column 1: time {0:?} is not a finite number")]
+    Time(String),
+    /// A value that is not a number.
+    #[error("column {column}: {} is not a number", clip(.text))]
+    Cell {
+        /// Column (1-based, time included).
+        column: usize,
+        /// The cell.
+        text: String,
+    },
+}
+
 /// A line's text (its bytes, the line end included), checked: not too long, UTF-8.
-fn line_text(bytes: &[u8]) -> Result<&str, String> {
+fn line_text(bytes: &[u8]) -> Result<&str, LineError> {
     if bytes.len() > MAX_LINE_BYTES {
-        return Err(format!(
-            "longer than {MAX_LINE_BYTES} bytes: not a recording of midlines"
-        ));
+        return Err(LineError::TooLong);
     }
-    std::str::from_utf8(bytes).map_err(|_| "is not UTF-8 text".to_string())
+    std::str::from_utf8(bytes).map_err(|_| LineError::NotUtf8)
 }
 
 /// One line (its bytes, the line end included) once the layout is known: plain rows of
@@ -371,7 +400,7 @@ pub(super) fn plain_line(
     bytes: &[u8],
     width: usize,
     values: &mut Vec<f64>,
-) -> Result<Option<(f64, bool)>, String> {
+) -> Result<Option<(f64, bool)>, LineError> {
     if bytes.len() <= MAX_LINE_BYTES {
         if let Some(t) = plain_row(bytes, width, values) {
             return Ok(Some((t, false)));
@@ -400,7 +429,7 @@ pub(super) fn data_row<'t>(
     mut cells: impl Iterator<Item = &'t str>,
     width: usize,
     values: &mut Vec<f64>,
-) -> Result<(f64, bool), String> {
+) -> Result<(f64, bool), LineError> {
     values.clear();
     let time = cells.next().unwrap_or_default();
     let (mut count, mut lost, mut error) = (1, false, None);
@@ -414,20 +443,23 @@ pub(super) fn data_row<'t>(
         } else if let Ok(v) = cell.parse() {
             v
         } else {
-            error = Some(format!("column {count}: {} is not a number", clip(cell)));
+            error = Some(LineError::Cell {
+                column: count,
+                text: cell.to_string(),
+            });
             continue;
         };
         lost |= !v.is_finite();
         values.push(v);
     }
     if count != width {
-        return Err(format!("{count} columns where the first frame had {width}"));
+        return Err(LineError::Width { count, width });
     }
     let t = time
         .parse()
         .ok()
         .filter(|t: &f64| t.is_finite())
-        .ok_or_else(|| format!("column 1: time {time:?} is not a finite number"))?;
+        .ok_or_else(|| LineError::Time(time.to_string()))?;
     match error {
         Some(e) => Err(e),
         None => Ok((t, lost)),
