@@ -82,39 +82,113 @@ impl BandedSym {
     /// The factorisation of `A − σI`, to solve with many right-hand sides (inverse iteration
     /// factors once per shift).
     pub fn shifted(&self, sigma: f64) -> ShiftedFactor {
-        ShiftedFactor {
-            ldlt: self.ldlt(sigma),
-            p: self.bandwidth(),
-        }
+        ShiftedFactor::new(self.ldlt(sigma), self.bandwidth())
     }
 }
 
-/// `A − σI = LDLᵀ` of a [`BandedSym`], from [`BandedSym::shifted`].
+/// `A − σI = LDLᵀ` of a [`BandedSym`], from [`BandedSym::shifted`]; L kept flat by rows and by
+/// columns so each substitution reads memory in order.
 pub struct ShiftedFactor {
-    ldlt: Ldlt,
+    /// `below[i·p + d − 1] = L[i][i − d]` (zero where i < d).
+    below: Vec<f64>,
+    /// `after[i·p + d − 1] = L[i + d][i]` (zero past the end).
+    after: Vec<f64>,
+    d: Vec<f64>,
     p: usize,
 }
 
 impl ShiftedFactor {
+    fn new(ldlt: Ldlt, p: usize) -> ShiftedFactor {
+        let n = ldlt.d.len();
+        let (mut below, mut after) = (vec![0.0; n * p], vec![0.0; n * p]);
+        for dd in 1..=p {
+            for (i, &x) in ldlt.l[dd].iter().enumerate() {
+                // l[d][i] = L[i + d][i]
+                after[i * p + dd - 1] = x;
+                below[(i + dd) * p + dd - 1] = x;
+            }
+        }
+        ShiftedFactor {
+            below,
+            after,
+            d: ldlt.d,
+            p,
+        }
+    }
+
     /// Solve `(A − σI)x = b`: forward substitution, the pivots, back substitution.
     pub fn solve(&self, b: &[f64]) -> Vec<f64> {
-        let Ldlt { l, d } = &self.ldlt;
-        let (n, p) = (d.len(), self.p);
         let mut x = b.to_vec();
-        for i in 0..n {
-            for k in i.saturating_sub(p)..i {
-                x[i] -= l[i - k][k] * x[k];
-            }
+        self.solve_in_place(&mut x);
+        x
+    }
+
+    /// [`ShiftedFactor::solve_in_place`] for p ≤ 2 (zeros stand in for a missing band).
+    fn solve_narrow(&self, x: &mut [f64]) {
+        let p = self.p;
+        let at = |v: &[f64], i: usize, d: usize| if d <= p { v[i * p + d - 1] } else { 0.0 };
+        let (mut x1, mut x2) = (0.0, 0.0);
+        for (i, xi) in x.iter_mut().enumerate() {
+            // L[i][i−d] is zero where i < d (stored so), so the zeros before x₀ are harmless.
+            let value = *xi - at(&self.below, i, 2) * x2 - at(&self.below, i, 1) * x1;
+            (x2, x1) = (x1, value);
+            *xi = value / self.d[i];
         }
+        let (mut x1, mut x2) = (0.0, 0.0);
+        for (i, xi) in x.iter_mut().enumerate().rev() {
+            let value = *xi - at(&self.after, i, 2) * x2 - at(&self.after, i, 1) * x1;
+            (x2, x1) = (x1, value);
+            *xi = value;
+        }
+    }
+
+    /// The same, overwriting `x` (which holds b) with the solution: no allocation.
+    pub fn solve_in_place(&self, x: &mut [f64]) {
+        let (n, p) = (self.d.len(), self.p);
+        match p {
+            0 => {
+                x.iter_mut().zip(&self.d).for_each(|(xi, di)| *xi /= di);
+                return;
+            }
+            // The common bands, with the last unknowns carried in registers: the substitution
+            // is a chain of dependent operations, and a trip through memory lengthens it.
+            1 | 2 => return self.solve_narrow(x),
+            _ => {}
+        }
+        // Rows past the first p read a full window of the p unknowns before them.
         for i in 0..n {
-            x[i] /= d[i];
+            let row = &self.below[i * p..(i + 1) * p];
+            let mut acc = x[i];
+            if i >= p {
+                let before = &x[i - p..i];
+                for (l, xb) in row.iter().zip(before.iter().rev()) {
+                    acc -= l * xb;
+                }
+            } else {
+                for (dd, l) in row.iter().enumerate().take(i) {
+                    acc -= l * x[i - dd - 1];
+                }
+            }
+            x[i] = acc;
+        }
+        for (xi, di) in x.iter_mut().zip(&self.d) {
+            *xi /= di;
         }
         for i in (0..n).rev() {
-            for k in i + 1..(i + p + 1).min(n) {
-                x[i] -= l[k - i][i] * x[k];
+            let col = &self.after[i * p..(i + 1) * p];
+            let mut acc = x[i];
+            if i + p < n {
+                let next = &x[i + 1..i + 1 + p];
+                for (l, xa) in col.iter().zip(next) {
+                    acc -= l * xa;
+                }
+            } else {
+                for (dd, l) in col.iter().enumerate().take(n - 1 - i) {
+                    acc -= l * x[i + dd + 1];
+                }
             }
+            x[i] = acc;
         }
-        x
     }
 }
 

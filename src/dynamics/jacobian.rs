@@ -5,7 +5,7 @@
 //! band, E the 2p unit columns of the corner indices and Ĉ the corners among them; no inverse
 //! of Ĉ is needed. A ring too small for its band to leave the corners apart is solved densely.
 
-use crate::banded::BandedSym;
+use crate::banded::{BandedSym, ShiftedFactor};
 
 /// A Newton matrix being assembled.
 pub(super) enum Jacobian {
@@ -48,13 +48,21 @@ impl Jacobian {
         }
     }
 
-    /// J⁻¹r.
+    /// J⁻¹r (factorises, solves once).
+    #[cfg(test)]
     pub(super) fn solve(self, r: &[f64]) -> Vec<f64> {
+        let mut x = r.to_vec();
+        self.factor().solve(&mut x);
+        x
+    }
+
+    /// The factorisation, to solve for many right-hand sides: an implicit run keeps it over
+    /// Newton iterations and steps while it still makes them converge.
+    pub(super) fn factor(self) -> Factored {
         match self {
-            Jacobian::Banded(b) => b.shifted(0.0).solve(r),
+            Jacobian::Banded(b) => Factored::Banded(b.shifted(0.0)),
             Jacobian::Cyclic(b, corners) => {
-                let factor = b.shifted(0.0);
-                let x0 = factor.solve(r);
+                let band = b.shifted(0.0);
                 let mut index: Vec<usize> = corners.iter().flat_map(|c| [c.0, c.1]).collect();
                 index.sort_unstable();
                 index.dedup();
@@ -68,30 +76,76 @@ impl Jacobian {
                 let z: Vec<Vec<f64>> = index
                     .iter()
                     .map(|&k| {
-                        let mut e = vec![0.0; r.len()];
+                        let mut e = vec![0.0; b.n];
                         e[k] = 1.0;
-                        factor.solve(&e)
+                        band.solve(&e)
                     })
                     .collect();
                 let etz = nalgebra::DMatrix::from_fn(m, m, |a, b| z[b][index[a]]);
-                let s = nalgebra::DMatrix::identity(m, m) + &c * etz;
-                let rhs = &c * nalgebra::DVector::from_iterator(m, index.iter().map(|&k| x0[k]));
-                let Some(y) = s.lu().solve(&rhs) else {
-                    return vec![f64::NAN; r.len()];
+                let s = (nalgebra::DMatrix::identity(m, m) + &c * etz).lu();
+                Factored::Cyclic {
+                    band,
+                    index,
+                    c,
+                    z,
+                    s,
+                }
+            }
+            Jacobian::Dense(m) => Factored::Dense(m.lu()),
+        }
+    }
+}
+
+/// A factorised Newton matrix.
+pub(super) enum Factored {
+    /// LDLᵀ of the band.
+    Banded(ShiftedFactor),
+    /// LDLᵀ of the band, and the Woodbury correction's pieces: the corner indices, Ĉ, B⁻¹E
+    /// and the LU of I + Ĉ EᵀB⁻¹E.
+    Cyclic {
+        /// The band's factor.
+        band: ShiftedFactor,
+        /// Corner indices.
+        index: Vec<usize>,
+        /// The corners among them.
+        c: nalgebra::DMatrix<f64>,
+        /// B⁻¹E by columns.
+        z: Vec<Vec<f64>>,
+        /// LU of the capacitance matrix.
+        s: nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>,
+    },
+    /// LU of the whole matrix.
+    Dense(nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>),
+}
+
+impl Factored {
+    /// x ← J⁻¹x (NaN everywhere if J is singular).
+    pub(super) fn solve(&self, x: &mut [f64]) {
+        match self {
+            Factored::Banded(f) => f.solve_in_place(x),
+            Factored::Cyclic {
+                band,
+                index,
+                c,
+                z,
+                s,
+            } => {
+                band.solve_in_place(x);
+                let m = index.len();
+                let rhs = c * nalgebra::DVector::from_iterator(m, index.iter().map(|&k| x[k]));
+                let Some(y) = s.solve(&rhs) else {
+                    return x.fill(f64::NAN);
                 };
-                let mut x = x0;
                 for (zb, yb) in z.iter().zip(y.iter()) {
                     for (xi, zi) in x.iter_mut().zip(zb) {
                         *xi -= zi * yb;
                     }
                 }
-                x
             }
-            Jacobian::Dense(m) => m
-                .lu()
-                .solve(&nalgebra::DVector::from_column_slice(r))
-                .map(|x| x.as_slice().to_vec())
-                .unwrap_or_else(|| vec![f64::NAN; r.len()]),
+            Factored::Dense(lu) => match lu.solve(&nalgebra::DVector::from_column_slice(x)) {
+                Some(y) => x.copy_from_slice(y.as_slice()),
+                None => x.fill(f64::NAN),
+            },
         }
     }
 }

@@ -9,7 +9,7 @@ use super::nonlinear::{FieldSystem, NonlinearBody, NonlinearError};
 pub struct LinearisedField {
     /// Field id.
     pub field: String,
-    /// u* at each unknown.
+    /// u* at each point (zero where held; around a ring at each unknown).
     pub equilibrium: Vec<f64>,
     /// |∇V(u*)| reached.
     pub residual: f64,
@@ -17,7 +17,7 @@ pub struct LinearisedField {
     pub eigenvalues: Vec<f64>,
     /// √λ, or `None` where λ < 0 (an unstable direction).
     pub frequencies: Vec<Option<f64>>,
-    /// Unit-norm shapes, one per eigenvalue (when asked for).
+    /// Unit-norm shapes, one per eigenvalue (when asked for), on the points as `equilibrium`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub shapes: Option<Vec<Vec<f64>>>,
 }
@@ -105,14 +105,14 @@ impl FieldSystem {
         };
         Ok(LinearisedField {
             field: self.id.clone(),
-            equilibrium,
+            equilibrium: self.embed(&equilibrium),
             residual,
             frequencies: eigenvalues
                 .iter()
                 .map(|&l| (l >= 0.0).then(|| l.sqrt()))
                 .collect(),
             eigenvalues,
-            shapes: shapes.then(|| order.iter().map(|&k| shape(k)).collect()),
+            shapes: shapes.then(|| order.iter().map(|&k| self.embed(&shape(k))).collect()),
         })
     }
 }

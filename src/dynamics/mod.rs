@@ -16,10 +16,12 @@
 //!
 //! The energy reported is `H = Σ ½(Pᵢ² + ωᵢ²Qᵢ²)`, the paper's Eq. 1 in modal coordinates.
 
+mod implicit;
 mod jacobian;
 mod linearise;
 pub mod nonlinear;
 mod nonlinear_run;
+pub use implicit::Integrator;
 pub use linearise::{LinearisedField, LinearisedReport};
 pub use nonlinear_run::{default_coefficients, is_quadratic, MAX_NONLINEAR_WORK};
 

@@ -9,19 +9,13 @@
 //! S_b v), the kinetic energy ½|v|². A square gives back the linear operator: ½c Σ(S u)² has the
 //! force −c SᵀS u, the equation's c ∂s²ᵇ… term.
 //!
-//! **Integration.** The average-vector-field scheme with the dissipation at the mean velocity:
-//! q₁ = q₀ + h v̄, v₁ = v₀ − h ∫₀¹ ∇V(q₀ + ξ(q₁ − q₀)) dξ − h ∇R(v̄), v̄ = (v₀ + v₁)/2, the
-//! integral exact by Gauss–Legendre quadrature (∇V is a polynomial in ξ). It keeps the discrete
-//! energy balance exactly, E₁ − E₀ = −h v̄·∇R(v̄), so without dissipation the energy E = ½|v|² +
-//! V is conserved to the tolerance of the solve, whatever the step; the scheme is second order
-//! and, on a linear body, the implicit midpoint rule. Each step solves for Δ = q₁ − q₀ by Newton's
-//! method with the Jacobian 2/h + h ∫ξ ∇²V dξ + ∇²R (banded for ends, dense around a ring).
+//! **Integration** is in [`super::implicit`]: the average-vector-field scheme, which keeps the
+//! discrete energy balance exactly.
 
 use std::collections::BTreeMap;
 
 use num_traits::ToPrimitive;
 
-use super::jacobian::Jacobian;
 use crate::boundary::Boundary;
 use crate::discretise::stencil_rows;
 use crate::model::{Density, Model};
@@ -58,14 +52,6 @@ pub enum NonlinearError {
         /// Its value.
         value: f64,
     },
-    /// Ends this discretisation does not hold yet.
-    #[error("field {field}: {boundary} ends hold points fixed, which this integrator does not do yet (free or periodic ends only)")]
-    Boundary {
-        /// Field symbol.
-        field: String,
-        /// The boundary.
-        boundary: String,
-    },
     /// The engine's own error (order, points).
     #[error("{0}")]
     Engine(String),
@@ -76,6 +62,12 @@ pub enum NonlinearError {
         field: String,
         /// The smallest |∇V| reached.
         residual: f64,
+    },
+    /// Noise through a dissipation that is not a sum of squares.
+    #[error("field {field}: Langevin noise needs a dissipation that is a sum of squares with non-negative coefficients (fluctuation–dissipation); run it at --temperature 0")]
+    Noise {
+        /// Field id.
+        field: String,
     },
     /// Newton's method did not converge.
     #[error("the implicit step at t = {t} did not converge: take a smaller time step")]
@@ -94,31 +86,66 @@ pub enum NonlinearError {
 /// Σᵣ c·(row·u)ⁿ over the rows of one stencil family.
 #[derive(Debug, Clone)]
 pub(super) struct Power {
-    rows: Vec<Vec<(usize, f64)>>,
+    /// Every row's (unknown, weight) entries, one after another: the hot loops read them in order.
+    entries: Vec<(usize, f64)>,
+    /// Where each row starts in `entries`, and the end.
+    starts: Vec<usize>,
     power: i32,
     pub(super) coefficient: f64,
 }
 
+/// xᵏ for the small k of a density's terms without a libm call.
+fn pow(x: f64, k: i32) -> f64 {
+    match k {
+        0 => 1.0,
+        1 => x,
+        2 => x * x,
+        3 => x * x * x,
+        _ => x.powi(k),
+    }
+}
+
 impl Power {
+    fn new(rows: Vec<Vec<(usize, f64)>>, power: i32, coefficient: f64) -> Power {
+        let mut starts = vec![0];
+        let mut entries = Vec::new();
+        for r in rows {
+            entries.extend(r);
+            starts.push(entries.len());
+        }
+        Power {
+            entries,
+            starts,
+            power,
+            coefficient,
+        }
+    }
+
+    /// The exponent n.
+    pub(super) fn power(&self) -> i32 {
+        self.power
+    }
+
+    /// The stencil rows.
+    pub(super) fn rows(&self) -> impl Iterator<Item = &[(usize, f64)]> {
+        self.starts.windows(2).map(|w| &self.entries[w[0]..w[1]])
+    }
+
     fn dot(row: &[(usize, f64)], u: &[f64]) -> f64 {
         row.iter().map(|&(j, w)| w * u[j]).sum()
     }
 
     pub(super) fn value(&self, u: &[f64]) -> f64 {
         let n = self.power;
-        self.coefficient
-            * self
-                .rows
-                .iter()
-                .map(|r| Self::dot(r, u).powi(n))
-                .sum::<f64>()
+        self.coefficient * self.rows().map(|r| pow(Self::dot(r, u), n)).sum::<f64>()
     }
 
     /// Adds `scale` × the gradient.
     pub(super) fn gradient(&self, u: &[f64], scale: f64, out: &mut [f64]) {
         let n = self.power;
-        for r in &self.rows {
-            let g = scale * self.coefficient * f64::from(n) * Self::dot(r, u).powi(n - 1);
+        let c = scale * self.coefficient * f64::from(n);
+        for r in self.rows() {
+            let g = c * pow(Self::dot(r, u), n - 1);
             for &(j, w) in r {
                 out[j] += g * w;
             }
@@ -131,8 +158,9 @@ impl Power {
         if n < 2 {
             return;
         }
-        for r in &self.rows {
-            let h = scale * self.coefficient * f64::from(n * (n - 1)) * Self::dot(r, u).powi(n - 2);
+        let c = scale * self.coefficient * f64::from(n * (n - 1));
+        for r in self.rows() {
+            let h = c * pow(Self::dot(r, u), n - 2);
             for &(i, wi) in r {
                 for &(j, wj) in r {
                     add(i, j, h * wi * wj);
@@ -150,6 +178,8 @@ pub struct FieldSystem {
     /// Unknowns (points, or N − 1 around a ring).
     pub unknowns: usize,
     pub(super) periodic: bool,
+    /// Points held at zero at the (tail, head): not unknowns.
+    pub(super) held: (usize, usize),
     pub(super) potential: Vec<Power>,
     pub(super) dissipation: Vec<Power>,
 }
@@ -184,6 +214,25 @@ impl FieldSystem {
         self.potential.iter().map(|p| p.value(u)).sum()
     }
 
+    /// A vector on the unknowns as the body's points, zeros at held points (around a ring the
+    /// unknowns, as the modal commands write them).
+    pub fn embed(&self, u: &[f64]) -> Vec<f64> {
+        let mut out = vec![0.0; self.held.0];
+        out.extend_from_slice(u);
+        out.resize(out.len() + self.held.1, 0.0);
+        out
+    }
+
+    /// The unknowns of a vector on the body's points ([`FieldSystem::embed`] undone).
+    pub fn strip(&self, points: &[f64]) -> Vec<f64> {
+        points[self.held.0..self.held.0 + self.unknowns].to_vec()
+    }
+
+    /// Whether every term is a square or linear (then each step is one solve).
+    pub(super) fn is_linear(&self) -> bool {
+        self.potential.iter().all(|p| p.power <= 2) && self.dissipation.iter().all(|p| p.power == 2)
+    }
+
     /// R(v).
     pub fn dissipation(&self, v: &[f64]) -> f64 {
         self.dissipation.iter().map(|p| p.value(v)).sum()
@@ -203,77 +252,16 @@ impl FieldSystem {
         0.5 * v.iter().map(|x| x * x).sum::<f64>() + self.potential(u)
     }
 
-    fn quadrature(&self) -> Vec<(f64, f64)> {
+    pub(super) fn quadrature(&self) -> Vec<(f64, f64)> {
         let top = self.potential.iter().map(|p| p.power).max().unwrap_or(2);
         gauss((top.max(2) as usize).div_ceil(2).min(4))
     }
 
-    /// One step of length h from (u, v), in place.
-    fn step(&self, u: &mut [f64], v: &mut [f64], h: f64, t: f64) -> Result<(), NonlinearError> {
-        let n = self.unknowns;
-        let nodes = self.quadrature();
-        let mut delta: Vec<f64> = v.iter().map(|x| h * x).collect();
-        let mut converged = false;
-        let mut last = f64::INFINITY;
-        for _ in 0..50 {
-            // r(Δ) = 2Δ/h − 2v₀ + h ∫∇V(u + ξΔ) dξ + h ∇R(Δ/h)
-            let mut r: Vec<f64> = (0..n).map(|i| 2.0 * delta[i] / h - 2.0 * v[i]).collect();
-            let mut jac = Jacobian::new(n, self.periodic, self.bandwidth());
-            for i in 0..n {
-                jac.add(i, i, 2.0 / h);
-            }
-            for &(xi, w) in &nodes {
-                let at: Vec<f64> = (0..n).map(|i| u[i] + xi * delta[i]).collect();
-                for p in &self.potential {
-                    p.gradient(&at, h * w, &mut r);
-                    p.hessian(&at, h * w * xi, &mut |i, j, x| jac.add(i, j, x));
-                }
-            }
-            let mean: Vec<f64> = delta.iter().map(|d| d / h).collect();
-            for p in &self.dissipation {
-                p.gradient(&mean, h, &mut r);
-                p.hessian(&mean, 1.0, &mut |i, j, x| jac.add(i, j, x));
-            }
-            let step = jac.solve(&r);
-            let size = delta.iter().map(|d| d.abs()).fold(0.0, f64::max);
-            let change = step.iter().map(|d| d.abs()).fold(0.0, f64::max);
-            for (d, s) in delta.iter_mut().zip(&step) {
-                *d -= s;
-            }
-            if !change.is_finite() {
-                break;
-            }
-            // Converged at the rounding floor: the step is an ulp or so of Δ (or of h·v₀ when Δ
-            // is near zero), or it stopped shrinking once already tiny.
-            let scale = size.max(h * v.iter().map(|x| x.abs()).fold(0.0, f64::max));
-            let floor = change <= 4e-15 * scale || change == 0.0;
-            let stalled = change >= last && change <= 1e-11 * scale;
-            if floor || stalled {
-                converged = true;
-                break;
-            }
-            last = change;
-        }
-        if !converged {
-            return Err(NonlinearError::NoConvergence { t });
-        }
-        for i in 0..n {
-            let v1 = 2.0 * delta[i] / h - v[i];
-            u[i] += delta[i];
-            v[i] = v1;
-        }
-        if u.iter().chain(v.iter()).all(|x| x.is_finite()) {
-            Ok(())
-        } else {
-            Err(NonlinearError::Diverged { t: t + h })
-        }
-    }
-
-    fn bandwidth(&self) -> usize {
+    pub(super) fn bandwidth(&self) -> usize {
         self.potential
             .iter()
             .chain(&self.dissipation)
-            .flat_map(|p| p.rows.iter())
+            .flat_map(|p| p.rows())
             .map(|r| {
                 let lo = r.iter().map(|e| e.0).min().unwrap_or(0);
                 let hi = r.iter().map(|e| e.0).max().unwrap_or(0);
@@ -327,17 +315,38 @@ impl NonlinearBody {
         for (lf, rf) in l.fields.iter().zip(&r.fields) {
             let field = &lf.field;
             let periodic = field.boundary == Boundary::Periodic;
-            if !periodic && field.boundary.held(2) != (0, 0) {
-                return Err(NonlinearError::Boundary {
-                    field: field.symbol.clone(),
-                    boundary: field.boundary.name(),
-                });
+            // Held ends hold what the field's highest stencil holds (a clamped beam its last
+            // two points), and every term sees the same unknowns.
+            let top = lf
+                .density
+                .iter()
+                .chain(rf.density.iter())
+                .flat_map(|d| d.term.factors().iter().map(|f| f.deriv.s))
+                .max()
+                .unwrap_or(0);
+            let held = field.boundary.held(top);
+            let min = field.boundary.min_points(top);
+            if points < min {
+                return Err(NonlinearError::Engine(
+                    crate::discretise::DiscretiseError::TooFewPoints {
+                        points,
+                        k: top,
+                        boundary: field.boundary.name(),
+                        min,
+                    }
+                    .to_string(),
+                ));
             }
-            let unknowns = if periodic { points - 1 } else { points };
+            let unknowns = if periodic {
+                points - 1
+            } else {
+                points - held.0 - held.1
+            };
             let mut system = FieldSystem {
                 id: field.id.clone(),
                 unknowns,
                 periodic,
+                held: if periodic { (0, 0) } else { held },
                 potential: Vec::new(),
                 dissipation: Vec::new(),
             };
@@ -374,17 +383,21 @@ impl NonlinearBody {
                         )));
                     }
                     let value = coefficient(dt, &names, values)?;
-                    let rows = rows(b, field.boundary, points).map_err(|e| engine(&e))?;
+                    let rows = rows(b, field.boundary, points, held).map_err(|e| engine(&e))?;
                     let exact = dt.prefactor.to_f64().unwrap_or(f64::NAN) * dt.sign as f64;
-                    let power = Power {
+                    // V = −L; R as written.
+                    let power = Power::new(
                         rows,
-                        power: n as i32,
-                        // V = −L; R as written.
-                        coefficient: match density {
+                        n as i32,
+                        match density {
                             Density::Lagrangian => -exact * value,
                             Density::Rayleigh => exact * value,
                         },
-                    };
+                    );
+                    // A term switched off costs nothing.
+                    if power.coefficient == 0.0 {
+                        continue;
+                    }
                     match density {
                         Density::Lagrangian => system.potential.push(power),
                         Density::Rayleigh => system.dissipation.push(power),
@@ -396,19 +409,6 @@ impl NonlinearBody {
             }
         }
         Ok(NonlinearBody { fields })
-    }
-
-    /// Advance every field one step of length h from time t.
-    pub fn step(
-        &self,
-        state: &mut [(Vec<f64>, Vec<f64>)],
-        h: f64,
-        t: f64,
-    ) -> Result<(), NonlinearError> {
-        for (f, (u, v)) in self.fields.iter().zip(state.iter_mut()) {
-            f.step(u, v, h, t)?;
-        }
-        Ok(())
     }
 
     /// The total energy Σ ½|v|² + V(u).
@@ -444,22 +444,34 @@ fn coefficient(
     }
 }
 
-/// The rows of S_b on `points` points with `boundary` (the identity for b = 0), as weights.
+/// The rows of S_b on `points` points with `boundary` (the identity for b = 0), as weights on
+/// the unknowns: around a ring the engine's own rows; with ends every position of the stencil
+/// along the body, the `held` = (tail, head) points dropped (they are zeros).
 fn rows(
     b: u32,
     boundary: Boundary,
     points: usize,
+    held: (usize, usize),
 ) -> Result<Vec<Vec<(usize, f64)>>, crate::discretise::DiscretiseError> {
-    if b == 0 {
-        let unknowns = if boundary == Boundary::Periodic {
-            points - 1
-        } else {
-            points
-        };
-        return Ok((0..unknowns).map(|j| vec![(j, 1.0)]).collect());
+    if boundary == Boundary::Periodic {
+        if b == 0 {
+            return Ok((0..points - 1).map(|j| vec![(j, 1.0)]).collect());
+        }
+        return Ok(stencil_rows(b, boundary, points)?
+            .into_iter()
+            .map(|r| r.into_iter().map(|(j, w)| (j, w as f64)).collect())
+            .collect());
     }
-    Ok(stencil_rows(b, boundary, points)?
-        .into_iter()
-        .map(|r| r.into_iter().map(|(j, w)| (j, w as f64)).collect())
+    let w = crate::discretise::stencil(b);
+    let (tail, head) = held;
+    Ok((0..(points + 1).saturating_sub(w.len()))
+        .map(|p| {
+            w.iter()
+                .enumerate()
+                .filter(|&(j, _)| (tail..points - head).contains(&(p + j)))
+                .map(|(j, &c)| (p + j - tail, c as f64))
+                .collect::<Vec<_>>()
+        })
+        .filter(|r| !r.is_empty())
         .collect())
 }

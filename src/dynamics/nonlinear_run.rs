@@ -4,6 +4,9 @@
 
 use std::collections::BTreeMap;
 
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
 use super::nonlinear::{NonlinearBody, NonlinearError};
 use crate::model::{Density, Model};
 use crate::reduce::{analyse, DensityTerm};
@@ -56,30 +59,26 @@ pub fn default_coefficients(
     Ok(out)
 }
 
-/// The most work a nonlinear run may take, in units of about two nanoseconds (measured: 10⁴
-/// steps of the larva at the next order on 100 points are 5.4·10⁸ units, 1.5 s; 10⁵ steps of
-/// the tethered filament on 200 points 4.2·10⁹, 5.8 s): a step costs about 30 units per term
-/// and unknown of each field, plus a dense factorisation U³/3 for a ring too small for its band.
-/// Refused before it starts.
-pub const MAX_NONLINEAR_WORK: f64 = 5e9;
+/// The most work a nonlinear run may take, in units of about four nanoseconds (measured on
+/// 10⁵ steps at N = 200: the larva at the next order with c2_x = 1 and noise, 5.4·10⁸ units in
+/// 2.4 s; the tethered filament, 3·10⁸ units in 1.3 s): about ten seconds. Refused before it
+/// starts.
+pub const MAX_NONLINEAR_WORK: f64 = 2.5e9;
 
-/// The work of one step of `body` in the units of [`MAX_NONLINEAR_WORK`].
+/// The work of one step of `body` in the units of [`MAX_NONLINEAR_WORK`]: per field, its
+/// unknowns × (terms + 2), three times over for a nonlinear field (its Newton iterations), plus
+/// a dense solve for a ring too small for its band; and `values` numbers written per report.
 fn work_per_step(body: &NonlinearBody) -> f64 {
     body.fields
         .iter()
         .map(|f| {
             let u = f.unknowns as f64;
-            let terms = (1 + f.potential.len() + f.dissipation.len()) as f64;
-            30.0 * u * terms
-                + if f.periodic && u < 40.0 {
-                    u * u * u / 3.0
-                } else {
-                    0.0
-                }
+            let terms = (f.potential.len() + f.dissipation.len()) as f64;
+            let iterations = if f.is_linear() { 1.0 } else { 3.0 };
+            iterations * (u * (terms + 2.0) + if f.periodic && u < 40.0 { u * u } else { 0.0 })
         })
         .sum()
 }
-
 impl NonlinearBody {
     /// Run `config` (time step, steps, reporting) from each field displaced uniformly by
     /// `uniform` (field id, Q, V; others at rest), reporting every `config.every` steps like
@@ -93,22 +92,17 @@ impl NonlinearBody {
         use super::{DynamicsError, Halt};
         super::check_config(config)?;
         let invalid = |s: String| Err(DynamicsError::Invalid(s));
-        if !config.forcing.is_empty() {
-            return invalid(
-                "--force and --drive act on modes, which a nonlinear body does not have yet".into(),
-            );
-        }
-        if config.temperature > 0.0 {
-            return invalid("Langevin noise on a nonlinear body is not integrated yet: run it at --temperature 0".into());
-        }
-        let work = config.steps as f64 * work_per_step(self);
+        // Each number written costs about a dozen units.
+        let values: usize = self.fields.iter().map(|f| 2 * f.unknowns).sum();
+        let work = config.steps as f64 * work_per_step(self)
+            + (config.steps / config.every) as f64 * 12.0 * values as f64;
         if work > MAX_NONLINEAR_WORK {
             return invalid(format!(
                 "{} steps of this body on {} points are about {:.0} s of work, more than the {:.0} s a run may take: fewer steps or points",
                 config.steps,
                 config.points,
-                work * 2e-9,
-                MAX_NONLINEAR_WORK * 2e-9
+                work * 4e-9,
+                MAX_NONLINEAR_WORK * 4e-9
             ));
         }
         let mut state: Vec<(Vec<f64>, Vec<f64>)> = self
@@ -127,51 +121,63 @@ impl NonlinearBody {
             state[k].0.fill(*q);
             state[k].1.fill(*v);
         }
+        // Modes of the linearisation, computed once per field that an initial state or a force
+        // names.
+        let mut linearised: BTreeMap<usize, super::LinearisedField> = BTreeMap::new();
+        let mut shape_of =
+            |field: &str, mode: usize| -> Result<(usize, Vec<f64>, Vec<f64>), DynamicsError> {
+                let Some(k) = self.fields.iter().position(|f| f.id == field) else {
+                    let ids: Vec<&str> = self.fields.iter().map(|f| f.id.as_str()).collect();
+                    return Err(DynamicsError::Invalid(format!(
+                        "unknown field {field:?} (fields: {})",
+                        ids.join(", ")
+                    )));
+                };
+                let lin = match linearised.entry(k) {
+                    std::collections::btree_map::Entry::Occupied(e) => e.into_mut(),
+                    std::collections::btree_map::Entry::Vacant(e) => e.insert(
+                        self.fields[k]
+                            .linearise(true)
+                            .map_err(|e| DynamicsError::Invalid(e.to_string()))?,
+                    ),
+                };
+                let shapes = lin.shapes.as_deref().unwrap_or_default();
+                let Some(shape) = shapes.get(mode) else {
+                    return Err(DynamicsError::Invalid(format!(
+                        "field {field} has modes 0…{}, not {mode}",
+                        shapes.len().saturating_sub(1)
+                    )));
+                };
+                let field = &self.fields[k];
+                Ok((k, field.strip(shape), field.strip(&lin.equilibrium)))
+            };
         for i in &config.initial {
-            let Some(k) = self.fields.iter().position(|f| f.id == i.field) else {
-                let ids: Vec<&str> = self.fields.iter().map(|f| f.id.as_str()).collect();
-                return invalid(format!(
-                    "unknown field {:?} (fields: {})",
-                    i.field,
-                    ids.join(", ")
-                ));
-            };
-            let lin = self.fields[k]
-                .linearise(true)
-                .map_err(|e| DynamicsError::Invalid(e.to_string()))?;
-            let shapes = lin.shapes.unwrap_or_default();
-            let Some(shape) = shapes.get(i.mode) else {
-                return invalid(format!(
-                    "field {} has modes 0…{}, not {}",
-                    i.field,
-                    shapes.len() - 1,
-                    i.mode
-                ));
-            };
+            let (k, shape, equilibrium) = shape_of(&i.field, i.mode)?;
             // About the equilibrium: u = u* + Q·shape.
             if state[k].0.iter().all(|x| *x == 0.0) {
-                state[k].0.copy_from_slice(&lin.equilibrium);
+                state[k].0.copy_from_slice(&equilibrium);
             }
             for (j, s) in shape.iter().enumerate() {
                 state[k].0[j] += i.displacement * s;
                 state[k].1[j] += i.velocity * s;
             }
         }
+        // A force on a mode of the linearisation acts along its (unit) shape.
+        let mut forces: Vec<(usize, Vec<f64>, &super::Forcing)> = Vec::new();
+        for f in &config.forcing {
+            let (k, shape, _) = shape_of(&f.field, f.mode)?;
+            forces.push((k, shape, f));
+        }
         let sample = |t: f64, state: &[(Vec<f64>, Vec<f64>)]| super::Sample {
             t,
             energy: self.energy(state),
+            // The points, as the modal run writes them (zeros where held; around a ring the
+            // unknowns, the head being the tail).
             positions: self
                 .fields
                 .iter()
                 .zip(state)
-                .map(|(f, (u, _))| {
-                    // Around a ring the head is the tail: every point written, as the modal run.
-                    let mut p = u.clone();
-                    if f.periodic {
-                        p.push(u[0]);
-                    }
-                    p
-                })
+                .map(|(f, (u, _))| f.embed(u))
                 .collect(),
             modal: Vec::new(),
             velocity: state.iter().map(|(_, v)| v.clone()).collect(),
@@ -188,13 +194,39 @@ impl NonlinearBody {
         if !report(&sample(0.0, &state), &mut sink)? {
             return Ok(());
         }
+        let h = config.dt;
+        let mut integrator = if config.temperature > 0.0 {
+            self.noisy_integrator(h, config.temperature)
+                .map_err(|e| DynamicsError::Invalid(e.to_string()))?
+        } else {
+            self.integrator(h)
+        };
+        let pushed = config.temperature > 0.0 || !forces.is_empty();
+        let mut push: Vec<Vec<f64>> = if pushed {
+            self.fields.iter().map(|f| vec![0.0; f.unknowns]).collect()
+        } else {
+            Vec::new()
+        };
+        let mut rng = ChaCha8Rng::seed_from_u64(config.seed);
         for step in 1..=config.steps {
-            let t = (step - 1) as f64 * config.dt;
-            self.step(&mut state, config.dt, t)
-                .map_err(|e| DynamicsError::Invalid(e.to_string()))?;
-            if step % config.every == 0
-                && !report(&sample(step as f64 * config.dt, &state), &mut sink)?
-            {
+            let t = (step - 1) as f64 * h;
+            let stepped = if pushed {
+                push.iter_mut().for_each(|p| p.fill(0.0));
+                integrator.kicks(&mut rng, &mut push);
+                // The force at the step's midpoint, as the scheme's mean velocity.
+                let mid = t + 0.5 * h;
+                for (k, shape, f) in &forces {
+                    let force = f.constant + f.amplitude * (f.frequency * mid + f.phase).cos();
+                    for (p, s) in push[*k].iter_mut().zip(shape) {
+                        *p += h * force * s;
+                    }
+                }
+                integrator.step_pushed(&mut state, t, &push)
+            } else {
+                integrator.step(&mut state, t)
+            };
+            stepped.map_err(|e| DynamicsError::Invalid(e.to_string()))?;
+            if step % config.every == 0 && !report(&sample(step as f64 * h, &state), &mut sink)? {
                 return Ok(());
             }
         }
