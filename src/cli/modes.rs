@@ -79,7 +79,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
 
 /// The most points a linearisation takes: a dense eigendecomposition per field, and a dense
 /// least-squares Newton step per iteration towards the equilibrium (about a second at 400).
-const MAX_LINEARISED_POINTS: usize = 400;
+pub(super) const MAX_LINEARISED_POINTS: usize = 400;
 
 /// `modes` of a nonlinear body: the modes of its linearisation about each field's equilibrium.
 fn linearised(

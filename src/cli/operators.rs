@@ -2,7 +2,7 @@
 
 use std::io::Write;
 
-use super::{write_out, CliError, ModelArgs};
+use super::{write_out, CliError, ModelArgs, ParamArgs};
 use crate::discretise::{operators, OperatorReport};
 use crate::report::Report;
 
@@ -17,6 +17,10 @@ pub struct Args {
     #[arg(long, short, value_name = "N",
           value_parser = clap::value_parser!(u64).range(1..=MAX_PRINT_POINTS as u64))]
     points: u64,
+    /// Coefficients of a nonlinear body's terms (`c2_u=1`, `cp_u=0.1`) and the scales ω, ζ its
+    /// leading squares take by default; a linear body's operators have none.
+    #[command(flatten)]
+    params: ParamArgs,
     #[command(flatten)]
     model: ModelArgs,
     /// Output format.
@@ -39,6 +43,14 @@ enum OperatorFormat {
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     let model = args.model.load()?;
     let points = args.points as usize;
+    if !crate::dynamics::is_quadratic(&model, args.model.order).map_err(CliError::usage)? {
+        return linearised(args, &model, points, out);
+    }
+    if !args.params.params.is_empty() || args.params.params_file.is_some() {
+        return Err(CliError::Usage(
+            "the operators of a linear body have no coefficients: --param is for a nonlinear one (its linearisation)".into(),
+        ));
+    }
     let r = OperatorReport {
         model: &model,
         order: args.model.order,
@@ -68,4 +80,33 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
             }
         }
     }
+}
+
+/// `operators` of a nonlinear body: the operators of its linearisation about the equilibrium.
+fn linearised(
+    args: &Args,
+    model: &crate::model::Model,
+    points: usize,
+    out: &mut dyn Write,
+) -> Result<(), CliError> {
+    if points > super::modes::MAX_LINEARISED_POINTS {
+        return Err(CliError::Usage(format!(
+            "a nonlinear body is linearised on at most {} points, not {points}",
+            super::modes::MAX_LINEARISED_POINTS
+        )));
+    }
+    let body = super::nonlinear_body(&args.params, model, args.model.order, points)?;
+    let report = crate::dynamics::LinearisedOperatorsReport {
+        model: model.name.clone(),
+        order: args.model.order,
+        points,
+        linearised: true,
+        fields: body.linearised_operators().map_err(CliError::usage)?,
+    };
+    let format = match args.format {
+        OperatorFormat::Text => crate::report::Output::Text,
+        OperatorFormat::Json => crate::report::Output::Json,
+        OperatorFormat::Csv => crate::report::Output::Csv,
+    };
+    super::emit(out, &report, format)
 }

@@ -23,7 +23,7 @@ pub struct LinearisedField {
 }
 
 impl FieldSystem {
-    fn gradient_at(&self, u: &[f64]) -> Vec<f64> {
+    pub(super) fn gradient_at(&self, u: &[f64]) -> Vec<f64> {
         let mut g = vec![0.0; self.unknowns];
         for p in &self.potential {
             p.gradient(u, 1.0, &mut g);
@@ -31,7 +31,7 @@ impl FieldSystem {
         g
     }
 
-    fn hessian_at(&self, u: &[f64]) -> nalgebra::DMatrix<f64> {
+    pub(super) fn hessian_at(&self, u: &[f64]) -> nalgebra::DMatrix<f64> {
         let mut h = nalgebra::DMatrix::zeros(self.unknowns, self.unknowns);
         for p in &self.potential {
             p.hessian(u, 1.0, &mut |i, j, x| h[(i, j)] += x);

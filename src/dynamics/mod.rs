@@ -19,10 +19,12 @@
 mod implicit;
 mod jacobian;
 mod linearise;
+mod linearised_operators;
 pub mod nonlinear;
 mod nonlinear_run;
 pub use implicit::Integrator;
 pub use linearise::{LinearisedField, LinearisedReport};
+pub use linearised_operators::{LinearisedOperator, LinearisedOperatorsReport};
 pub use nonlinear_run::{default_coefficients, is_quadratic, MAX_NONLINEAR_WORK};
 
 use nalgebra::{Matrix2, Vector2};

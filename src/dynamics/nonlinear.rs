@@ -178,6 +178,8 @@ pub struct FieldSystem {
     /// Unknowns (points, or N − 1 around a ring).
     pub unknowns: usize,
     pub(super) periodic: bool,
+    /// The field's boundary.
+    pub(super) boundary: Boundary,
     /// Points held at zero at the (tail, head): not unknowns.
     pub(super) held: (usize, usize),
     pub(super) potential: Vec<Power>,
@@ -346,6 +348,7 @@ impl NonlinearBody {
                 id: field.id.clone(),
                 unknowns,
                 periodic,
+                boundary: field.boundary,
                 held: if periodic { (0, 0) } else { held },
                 potential: Vec::new(),
                 dissipation: Vec::new(),

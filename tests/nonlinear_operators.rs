@@ -1,0 +1,141 @@
+//! `operators` of a nonlinear body: the operators of its linearisation, against the linear
+//! operators the engine prints for the same squares and against hand-built matrices.
+
+fn cli(args: &[&str]) -> Result<String, String> {
+    let mut all = vec!["theory-search"];
+    all.extend(args);
+    let mut out = Vec::new();
+    theory_search::cli::run(all, &mut out)
+        .map(|()| String::from_utf8(out).unwrap())
+        .map_err(|e| e.to_string())
+}
+
+fn json(args: &[&str]) -> serde_json::Value {
+    serde_json::from_str(&cli(args).unwrap()).unwrap()
+}
+
+fn matrix(v: &serde_json::Value) -> Vec<Vec<f64>> {
+    v.as_array()
+        .unwrap()
+        .iter()
+        .map(|r| {
+            r.as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_f64().unwrap())
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn the_linearised_larva_has_the_linear_operators() {
+    // The larva at the next order with its new terms off, linearised at rest: K = ω²D and
+    // C = 2ζωD for each field's operator D of the linear command (ω = 1.5, ζ = 0.2 on s).
+    let linear = json(&["operators", "-p", "7", "--format", "json"]);
+    let next = json(&[
+        "operators",
+        "--beyond-leading",
+        "1",
+        "-p",
+        "7",
+        "--param",
+        "omega_s=1.5",
+        "--param",
+        "zeta_s=0.2",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(next["linearised"], true);
+    for f in next["fields"].as_array().unwrap() {
+        let id = f["field"].as_str().unwrap();
+        let scale = if id == "x" {
+            (2.25, 2.0 * 0.2 * 1.5)
+        } else {
+            (1.0, 0.2)
+        };
+        let ops = linear["operators"].as_array().unwrap();
+        for (density, key, factor) in [
+            ("lagrangian", "stiffness", scale.0),
+            ("rayleigh", "damping", scale.1),
+        ] {
+            let d = ops
+                .iter()
+                .find(|o| o["field"] == id && o["density"] == density)
+                .unwrap();
+            let (want, got) = (matrix(&d["matrix"]), matrix(&f[key]));
+            assert_eq!(want.len(), got.len(), "{id} {key}");
+            for (a, b) in want.iter().flatten().zip(got.iter().flatten()) {
+                assert!(
+                    (factor * a - b).abs() < 1e-12,
+                    "{id} {key}: {b} against {}",
+                    factor * a
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn the_linearised_tethered_filament_has_its_curvature_and_friction() {
+    // ∇V = ½c1 + c2u + 2c4u³ = 0 at each point: K = (c2 + 6c4u*²)·I; R = c'(∂ts u)² gives
+    // C = 2c'·ΔᵀΔ with Δ the free first difference.
+    let model = format!("{}/tables/models/tethered.toml", env!("CARGO_MANIFEST_DIR"));
+    let v = json(&[
+        "operators",
+        "--model",
+        &model,
+        "-p",
+        "5",
+        "--param",
+        "c1_u=1",
+        "--param",
+        "c2_u=1",
+        "--param",
+        "c4_u=0.5",
+        "--param",
+        "cp_u=0.3",
+        "--format",
+        "json",
+    ]);
+    let f = &v["fields"][0];
+    let (mut lo, mut hi) = (-2.0f64, 2.0f64);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if 0.5 + mid + mid.powi(3) > 0.0 {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    let k = 1.0 + 3.0 * lo * lo;
+    for (i, row) in matrix(&f["stiffness"]).iter().enumerate() {
+        for (j, x) in row.iter().enumerate() {
+            let want = if i == j { k } else { 0.0 };
+            assert!((x - want).abs() < 1e-12, "K[{i}][{j}] = {x}, want {want}");
+        }
+    }
+    for (i, row) in matrix(&f["damping"]).iter().enumerate() {
+        for (j, x) in row.iter().enumerate() {
+            // ΔᵀΔ of the free first difference on 5 points.
+            let dtd = match (i, j) {
+                _ if i == j && (i == 0 || i == 4) => 1.0,
+                _ if i == j => 2.0,
+                _ if i.abs_diff(j) == 1 => -1.0,
+                _ => 0.0,
+            };
+            assert!((x - 0.6 * dtd).abs() < 1e-12, "C[{i}][{j}] = {x}");
+        }
+    }
+    // The text and CSV say the same.
+    let text = cli(&["operators", "--model", &model, "-p", "3"]).unwrap();
+    assert!(text.contains("stiffness K = ∇²V(u*) · 3×3"), "{text}");
+    let csv = cli(&["operators", "--model", &model, "-p", "3", "--format", "csv"]).unwrap();
+    assert!(
+        csv.starts_with("field,matrix,row,column,value\nu,stiffness,0,0,"),
+        "{csv}"
+    );
+    // A linear body's operators take no coefficient.
+    let err = cli(&["operators", "-p", "4", "--param", "c_y=1"]).unwrap_err();
+    assert!(err.contains("no coefficients"), "{err}");
+}
