@@ -45,6 +45,18 @@ pub enum DiscretiseError {
         /// The least number of points that works.
         min: usize,
     },
+    /// A surviving term the force discretisation does not take (see [`force_plan`]).
+    #[error("field {field}: {term} in the {density} density: {why}")]
+    NotAForce {
+        /// Field symbol.
+        field: String,
+        /// The term.
+        term: String,
+        /// Density name.
+        density: &'static str,
+        /// Why.
+        why: String,
+    },
     /// A surviving term that is not a square of one derivative.
     #[error("field {field}: cannot discretise {term} in the {density} density: only squares (∂sᵏφ)² (or (∂t∂sᵏφ)² for R) become operators")]
     Unsupported {
@@ -391,4 +403,163 @@ mod tests {
             [[1, -1], [-1, 1]]
         );
     }
+}
+
+/// The highest power of a force term: the integrator's quadrature is exact to degree 7.
+pub const MAX_FORCE_POWER: u32 = 8;
+
+/// One surviving term as a force: `Σ_r a·(Δᵇφ)_rⁿ` over the stencil rows, in the potential V = −L
+/// (terms without ∂t) or in R (terms in the velocity ∂tφ), with `a = factor × coefficient`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ForceTerm {
+    /// Lagrangian (then in V) or Rayleigh.
+    pub density: Density,
+    /// Space derivatives b (the stencil order; 0 the value itself).
+    pub b: u32,
+    /// The power n.
+    pub power: u32,
+    /// The exact factor of V (−prefactor·sign for L) or R (prefactor·sign), as a float.
+    pub factor: f64,
+    /// The coefficient's name, or `None` for a fixed term (coefficient 1).
+    pub parameter: Option<String>,
+    /// The term as printed, in the field's symbol.
+    pub text: String,
+}
+
+/// One field's force plan.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FieldForces {
+    /// The model's field (id, symbol, meaning, boundary).
+    pub field: crate::model::Field,
+    /// Whether the standard kinetic term ½(∂tφ)² survives (without it the field does not move).
+    pub kinetic: bool,
+    /// Points held at the (tail, head): what the field's highest stencil holds, for every term.
+    pub held: (usize, usize),
+    /// The highest stencil order among its terms.
+    pub top: u32,
+    /// The terms other than the kinetic one.
+    pub terms: Vec<ForceTerm>,
+}
+
+impl FieldForces {
+    /// Unknowns on `points` points: N − 1 around a ring, the points not held otherwise.
+    pub fn unknowns(&self, points: usize) -> usize {
+        match self.field.boundary {
+            Boundary::Periodic => points.saturating_sub(1),
+            Boundary::Ends { .. } => points.saturating_sub(self.held.0 + self.held.1),
+        }
+    }
+
+    /// The least number of points this field takes.
+    pub fn min_points(&self) -> usize {
+        self.field.boundary.min_points(self.top)
+    }
+}
+
+/// Every surviving term of `model` at `order` as a force, per field in model order: a power of
+/// one derivative, (∂sᵇφ)ⁿ in L or (∂t∂sᵇφ)ⁿ in R, with the standard kinetic term ½(∂tφ)². The
+/// discretisation is the variational one of the operators (a square gives back c·D); others
+/// (products of several factors, other time derivatives, powers above [`MAX_FORCE_POWER`]) are
+/// refused in one line.
+pub fn force_plan(model: &Model, order: u32) -> Result<Vec<FieldForces>, DiscretiseError> {
+    use num_traits::ToPrimitive;
+    let l = analyse(model, Density::Lagrangian, order)?;
+    let r = analyse(model, Density::Rayleigh, order)?;
+    let mut out = Vec::new();
+    for (lf, rf) in l.fields.iter().zip(&r.fields) {
+        let field = &lf.field;
+        let mut plan = FieldForces {
+            field: field.clone(),
+            kinetic: false,
+            held: (0, 0),
+            top: 0,
+            terms: Vec::new(),
+        };
+        for (density, terms) in [
+            (Density::Lagrangian, &lf.density),
+            (Density::Rayleigh, &rf.density),
+        ] {
+            for dt in terms {
+                let text = dt.term.render(&|_| field.symbol.clone());
+                let refuse = |why: &str| DiscretiseError::NotAForce {
+                    field: field.symbol.clone(),
+                    term: text.clone(),
+                    density: density.key(),
+                    why: why.into(),
+                };
+                let [f] = dt.term.factors() else {
+                    return Err(refuse(
+                        "products of several factors are not discretised yet",
+                    ));
+                };
+                let (a, b, n) = (f.deriv.t, f.deriv.s, f.power);
+                match (density, a) {
+                    (Density::Lagrangian, 1) if b == 0 && n == 2 && dt.parameter.is_none() => {
+                        plan.kinetic = true;
+                        continue;
+                    }
+                    (Density::Lagrangian, 0) | (Density::Rayleigh, 1) => {}
+                    _ => return Err(refuse("only the standard kinetic term ½(∂tφ)² may hold a time derivative (and ∂t once in R)")),
+                }
+                if n > MAX_FORCE_POWER {
+                    return Err(refuse(&format!(
+                        "powers above {MAX_FORCE_POWER} are not integrated"
+                    )));
+                }
+                let exact = dt.prefactor.to_f64().unwrap_or(f64::NAN) * dt.sign as f64;
+                plan.top = plan.top.max(b);
+                plan.terms.push(ForceTerm {
+                    density,
+                    b,
+                    power: n,
+                    // V = −L; R as written.
+                    factor: match density {
+                        Density::Lagrangian => -exact,
+                        Density::Rayleigh => exact,
+                    },
+                    parameter: dt.parameter.clone(),
+                    text,
+                });
+            }
+        }
+        if field.boundary != Boundary::Periodic {
+            plan.held = field.boundary.held(plan.top);
+        }
+        out.push(plan);
+    }
+    Ok(out)
+}
+
+/// The rows of Δᵇ for a field with `held` points at its ends (or around a ring), as
+/// (unknown, weight) entries: around a ring every position, indices mod N − 1; with ends every
+/// position along the body, the held points dropped (they are zeros). b = 0 is the identity.
+pub fn force_rows(
+    b: u32,
+    boundary: Boundary,
+    points: usize,
+    held: (usize, usize),
+) -> Vec<Vec<(usize, f64)>> {
+    let w = stencil(b);
+    if boundary == Boundary::Periodic {
+        let n = points.saturating_sub(1);
+        return (0..n)
+            .map(|p| {
+                w.iter()
+                    .enumerate()
+                    .map(|(j, &c)| ((p + j) % n, c as f64))
+                    .collect()
+            })
+            .collect();
+    }
+    let (tail, head) = held;
+    (0..(points + 1).saturating_sub(w.len()))
+        .map(|p| {
+            w.iter()
+                .enumerate()
+                .filter(|&(j, _)| (tail..points.saturating_sub(head)).contains(&(p + j)))
+                .map(|(j, &c)| (p + j - tail, c as f64))
+                .collect::<Vec<_>>()
+        })
+        .filter(|r| !r.is_empty())
+        .collect()
 }

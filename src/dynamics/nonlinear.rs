@@ -14,12 +14,10 @@
 
 use std::collections::BTreeMap;
 
-use num_traits::ToPrimitive;
-
 use crate::boundary::Boundary;
-use crate::discretise::stencil_rows;
+use crate::discretise::{force_plan, force_rows, DiscretiseError};
 use crate::model::{Density, Model};
-use crate::reduce::{analyse, DensityTerm};
+use crate::reduce::analyse;
 
 /// Why a body cannot be integrated here, or a step failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -207,9 +205,6 @@ fn gauss(m: usize) -> Vec<(f64, f64)> {
         .collect()
 }
 
-/// The highest power a potential term may have (4-point quadrature is exact to degree 7).
-pub const MAX_POWER: u32 = 8;
-
 impl FieldSystem {
     /// V(u).
     pub fn potential(&self, u: &[f64]) -> f64 {
@@ -302,114 +297,60 @@ fn names_of(analyses: &[&crate::reduce::Analysis]) -> Vec<String> {
 
 impl NonlinearBody {
     /// Discretise `model` at `order` on `points` points, each coefficient's value from
-    /// `values` (by the name the equations print).
+    /// `values` (by the name the equations print): the engine's force plan
+    /// ([`crate::discretise::force_plan`]) on the grid.
     pub fn new(
         model: &Model,
         order: u32,
         points: usize,
         values: &BTreeMap<String, f64>,
     ) -> Result<NonlinearBody, NonlinearError> {
-        let engine = |e: &dyn std::fmt::Display| NonlinearError::Engine(e.to_string());
-        let l = analyse(model, Density::Lagrangian, order).map_err(|e| engine(&e))?;
-        let r = analyse(model, Density::Rayleigh, order).map_err(|e| engine(&e))?;
-        let names = names_of(&[&l, &r]);
+        let plan = force_plan(model, order).map_err(NonlinearError::from)?;
+        // As `equations` lists them: every Lagrangian coefficient, then the Rayleigh ones.
+        let names: Vec<String> = [Density::Lagrangian, Density::Rayleigh]
+            .iter()
+            .flat_map(|d| {
+                plan.iter()
+                    .flat_map(move |f| f.terms.iter().filter(move |t| t.density == *d))
+            })
+            .filter_map(|t| t.parameter.clone())
+            .collect();
         let mut fields = Vec::new();
-        for (lf, rf) in l.fields.iter().zip(&r.fields) {
-            let field = &lf.field;
-            let periodic = field.boundary == Boundary::Periodic;
-            // Held ends hold what the field's highest stencil holds (a clamped beam its last
-            // two points), and every term sees the same unknowns.
-            let top = lf
-                .density
-                .iter()
-                .chain(rf.density.iter())
-                .flat_map(|d| d.term.factors().iter().map(|f| f.deriv.s))
-                .max()
-                .unwrap_or(0);
-            let held = field.boundary.held(top);
-            let min = field.boundary.min_points(top);
-            if points < min {
+        for f in plan.iter().filter(|f| f.kinetic) {
+            if points < f.min_points() {
                 return Err(NonlinearError::Engine(
-                    crate::discretise::DiscretiseError::TooFewPoints {
+                    DiscretiseError::TooFewPoints {
                         points,
-                        k: top,
-                        boundary: field.boundary.name(),
-                        min,
+                        k: f.top,
+                        boundary: f.field.boundary.name(),
+                        min: f.min_points(),
                     }
                     .to_string(),
                 ));
             }
-            let unknowns = if periodic {
-                points - 1
-            } else {
-                points - held.0 - held.1
-            };
             let mut system = FieldSystem {
-                id: field.id.clone(),
-                unknowns,
-                periodic,
-                boundary: field.boundary,
-                held: if periodic { (0, 0) } else { held },
+                id: f.field.id.clone(),
+                unknowns: f.unknowns(points),
+                periodic: f.field.boundary == Boundary::Periodic,
+                boundary: f.field.boundary,
+                held: f.held,
                 potential: Vec::new(),
                 dissipation: Vec::new(),
             };
-            let mut kinetic = false;
-            for (density, terms) in [
-                (Density::Lagrangian, &lf.density),
-                (Density::Rayleigh, &rf.density),
-            ] {
-                for dt in terms.iter() {
-                    let what = |why: &str| NonlinearError::Term {
-                        field: field.symbol.clone(),
-                        term: dt.term.render(&|_| field.symbol.clone()),
-                        density: match density {
-                            Density::Lagrangian => "lagrangian",
-                            Density::Rayleigh => "rayleigh",
-                        },
-                        why: why.into(),
-                    };
-                    let [factor] = dt.term.factors() else {
-                        return Err(what("products of several factors are not discretised yet"));
-                    };
-                    let (a, b, n) = (factor.deriv.t, factor.deriv.s, factor.power);
-                    match (density, a) {
-                        (Density::Lagrangian, 1) if b == 0 && n == 2 && dt.parameter.is_none() => {
-                            kinetic = true;
-                            continue;
-                        }
-                        (Density::Lagrangian, 0) | (Density::Rayleigh, 1) => {}
-                        _ => return Err(what("only the standard kinetic term ½(∂tφ)² may hold a time derivative (and ∂t once in R)")),
-                    }
-                    if n > MAX_POWER {
-                        return Err(what(&format!(
-                            "powers above {MAX_POWER} are not integrated"
-                        )));
-                    }
-                    let value = coefficient(dt, &names, values)?;
-                    let rows = rows(b, field.boundary, points, held).map_err(|e| engine(&e))?;
-                    let exact = dt.prefactor.to_f64().unwrap_or(f64::NAN) * dt.sign as f64;
-                    // V = −L; R as written.
-                    let power = Power::new(
-                        rows,
-                        n as i32,
-                        match density {
-                            Density::Lagrangian => -exact * value,
-                            Density::Rayleigh => exact * value,
-                        },
-                    );
-                    // A term switched off costs nothing.
-                    if power.coefficient == 0.0 {
-                        continue;
-                    }
-                    match density {
-                        Density::Lagrangian => system.potential.push(power),
-                        Density::Rayleigh => system.dissipation.push(power),
-                    }
+            for t in &f.terms {
+                let value = coefficient(t.parameter.as_deref(), &names, values)?;
+                // A term switched off costs nothing.
+                if value == 0.0 {
+                    continue;
+                }
+                let rows = force_rows(t.b, f.field.boundary, points, f.held);
+                let power = Power::new(rows, t.power as i32, t.factor * value);
+                match t.density {
+                    Density::Lagrangian => system.potential.push(power),
+                    Density::Rayleigh => system.dissipation.push(power),
                 }
             }
-            if kinetic {
-                fields.push(system);
-            }
+            fields.push(system);
         }
         Ok(NonlinearBody { fields })
     }
@@ -426,55 +367,42 @@ impl NonlinearBody {
 
 /// The value of a term's coefficient: 1 for a fixed term, else from `values`.
 fn coefficient(
-    dt: &DensityTerm,
+    name: Option<&str>,
     names: &[String],
     values: &BTreeMap<String, f64>,
 ) -> Result<f64, NonlinearError> {
-    let Some(name) = &dt.parameter else {
+    let Some(name) = name else {
         return Ok(1.0);
     };
     let value = *values.get(name).ok_or_else(|| NonlinearError::Missing {
-        name: name.clone(),
+        name: name.to_string(),
         all: names.join(", "),
     })?;
     if value.is_finite() {
         Ok(value)
     } else {
         Err(NonlinearError::NotFinite {
-            name: name.clone(),
+            name: name.to_string(),
             value,
         })
     }
 }
 
-/// The rows of S_b on `points` points with `boundary` (the identity for b = 0), as weights on
-/// the unknowns: around a ring the engine's own rows; with ends every position of the stencil
-/// along the body, the `held` = (tail, head) points dropped (they are zeros).
-fn rows(
-    b: u32,
-    boundary: Boundary,
-    points: usize,
-    held: (usize, usize),
-) -> Result<Vec<Vec<(usize, f64)>>, crate::discretise::DiscretiseError> {
-    if boundary == Boundary::Periodic {
-        if b == 0 {
-            return Ok((0..points - 1).map(|j| vec![(j, 1.0)]).collect());
+impl From<DiscretiseError> for NonlinearError {
+    fn from(e: DiscretiseError) -> NonlinearError {
+        match e {
+            DiscretiseError::NotAForce {
+                field,
+                term,
+                density,
+                why,
+            } => NonlinearError::Term {
+                field,
+                term,
+                density,
+                why,
+            },
+            other => NonlinearError::Engine(other.to_string()),
         }
-        return Ok(stencil_rows(b, boundary, points)?
-            .into_iter()
-            .map(|r| r.into_iter().map(|(j, w)| (j, w as f64)).collect())
-            .collect());
     }
-    let w = crate::discretise::stencil(b);
-    let (tail, head) = held;
-    Ok((0..(points + 1).saturating_sub(w.len()))
-        .map(|p| {
-            w.iter()
-                .enumerate()
-                .filter(|&(j, _)| (tail..points - head).contains(&(p + j)))
-                .map(|(j, &c)| (p + j - tail, c as f64))
-                .collect::<Vec<_>>()
-        })
-        .filter(|r| !r.is_empty())
-        .collect())
 }
