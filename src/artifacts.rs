@@ -1,7 +1,7 @@
 //! Everything the tool generates into the repository, and the one helper that keeps it fresh.
 //!
 //! [`generated_files`] lists each generated file with the contents the engine gives *now*
-//! (the operators' Rust source from [`crate::codegen`], the tables from [`crate::table`], the
+//! (the operators' and the forces' Rust source from [`crate::codegen`], the tables from [`crate::table`], the
 //! rule list from [`crate::catalogue`]); `theory-search emit` writes them, and the freshness
 //! test calls [`ensure_file_contents`] for every one, so a checked-in table can never drift
 //! from the engine that made it.
@@ -9,7 +9,7 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use crate::codegen::{header, operators_source, CodegenError, TABLE_ORDER};
+use crate::codegen::{forces_source, header, operators_source, CodegenError, TABLE_ORDER};
 use crate::model::{Density, Model};
 use crate::reduce::{analyse, OrderError};
 use crate::table::{render, Format};
@@ -76,6 +76,10 @@ pub fn generated_files_for(
         (
             PathBuf::from("src/generated/operators.rs"),
             operators_source(&model, order)?,
+        ),
+        (
+            PathBuf::from("src/generated/forces.rs"),
+            forces_source(&model, order)?,
         ),
         (PathBuf::from("tables/table1.md"), md(Density::Lagrangian)?),
         (PathBuf::from("tables/rayleigh.md"), md(Density::Rayleigh)?),

@@ -8,7 +8,7 @@ use std::process::{Command, Stdio};
 use serde::Serialize;
 
 use crate::discretise::DiscretiseError;
-use crate::discretise::{plan, stencil};
+use crate::discretise::{force_plan, plan_squares, stencil};
 use crate::model::{Boundary, Model};
 
 /// Why generated code could not be made.
@@ -35,6 +35,7 @@ pub enum CodegenError {
 }
 
 const OPERATORS_TEMPLATE: &str = include_str!("../templates/operators.rs.tera");
+const FORCES_TEMPLATE: &str = include_str!("../templates/forces.rs.tera");
 
 /// The order of the checked-in tables (the paper's Table 1).
 pub const TABLE_ORDER: u32 = crate::model::DEFAULT_ORDER;
@@ -176,7 +177,7 @@ pub fn rustfmt(source: &str) -> Result<String, CodegenError> {
 pub fn operators_source(model: &Model, order: u32) -> Result<String, CodegenError> {
     let mut stencils: Vec<StencilContext> = Vec::new();
     let mut ops: Vec<OperatorContext> = Vec::new();
-    for p in plan(model, order)? {
+    for p in plan_squares(model, order)? {
         // The plan names the model's own fields.
         let Some(field) = model.field(&p.field) else {
             continue;
@@ -215,5 +216,97 @@ pub fn operators_source(model: &Model, order: u32) -> Result<String, CodegenErro
     ctx.insert("model", &comment(&model.name));
     ctx.insert("order", &order);
     let source = tera.render("operators.rs", &ctx)?;
+    rustfmt(&source)
+}
+
+/// One term of the force template.
+#[derive(Debug, Serialize)]
+struct ForceTermContext {
+    /// `lagrangian` or `rayleigh`.
+    density: &'static str,
+    /// The term as printed, cleaned for a comment.
+    text: String,
+    /// The same as a Rust string literal.
+    text_lit: String,
+    /// The stencil weights, as float literals.
+    weights: String,
+    /// The exact factor, as a float literal.
+    factor: String,
+    /// `Some(k)` or `None`: which coefficient multiplies it.
+    slot: String,
+    power: u32,
+    velocity: bool,
+}
+
+/// One field of the force template.
+#[derive(Debug, Serialize)]
+struct FieldForceContext {
+    field_lit: String,
+    meaning: String,
+    boundary: String,
+    periodic: bool,
+    tail: usize,
+    head: usize,
+    min: usize,
+    /// Coefficient names as Rust string literals.
+    coefficients: Vec<String>,
+    terms: Vec<ForceTermContext>,
+}
+
+/// The Rust source of the forces of `model` at `order` (every surviving term, squares or not),
+/// rendered through the tera template and formatted.
+pub fn forces_source(model: &Model, order: u32) -> Result<String, CodegenError> {
+    let mut fields = Vec::new();
+    for f in force_plan(model, order)?.into_iter().filter(|f| f.kinetic) {
+        let mut names: Vec<String> = Vec::new();
+        let terms = f
+            .terms
+            .iter()
+            .map(|t| {
+                let slot = match &t.parameter {
+                    Some(name) => {
+                        let slot = names.iter().position(|n| n == name).unwrap_or_else(|| {
+                            names.push(name.clone());
+                            names.len() - 1
+                        });
+                        format!("Some({slot})")
+                    }
+                    None => "None".into(),
+                };
+                ForceTermContext {
+                    density: t.density.key(),
+                    text: comment(&t.text),
+                    text_lit: literal(&t.text),
+                    weights: stencil(t.b)
+                        .iter()
+                        .map(|c| format!("{c}.0"))
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                    factor: format!("{:?}", t.factor),
+                    slot,
+                    power: t.power,
+                    velocity: t.density == crate::model::Density::Rayleigh,
+                }
+            })
+            .collect();
+        fields.push(FieldForceContext {
+            field_lit: literal(&f.field.id),
+            meaning: comment(&format!("{} ({})", f.field.id, f.field.meaning)),
+            boundary: f.field.boundary.name(),
+            periodic: f.field.boundary == Boundary::Periodic,
+            tail: f.held.0,
+            head: f.held.1,
+            min: f.min_points(),
+            coefficients: names.iter().map(|n| literal(n)).collect(),
+            terms,
+        });
+    }
+    let mut tera = tera::Tera::new();
+    tera.add_raw_template("forces.rs", FORCES_TEMPLATE)?;
+    let mut ctx = tera::Context::new();
+    ctx.insert("fields", &fields);
+    ctx.insert("model", &comment(&model.name));
+    ctx.insert("order", &order);
+    let source = tera.render("forces.rs", &ctx)?;
     rustfmt(&source)
 }

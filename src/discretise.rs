@@ -221,29 +221,43 @@ pub struct Planned {
 }
 
 /// The operators the surviving terms of `model` at `order` give, in model field order,
-/// Lagrangian before Rayleigh.
+/// Lagrangian before Rayleigh; refused when a term is not a square (a nonlinear body).
 pub fn plan(model: &Model, order: u32) -> Result<Vec<Planned>, DiscretiseError> {
+    for density in Density::ALL {
+        let a = analyse(model, density, order)?;
+        for f in &a.fields {
+            if let Some(t) = f
+                .survivors
+                .iter()
+                .find(|t| term_shape(density, t) == TermShape::Unsupported)
+            {
+                return Err(DiscretiseError::Unsupported {
+                    field: f.field.id.clone(),
+                    density: density.key().into(),
+                    term: t.to_string(),
+                });
+            }
+        }
+    }
+    plan_squares(model, order)
+}
+
+/// The operators of the squares among the surviving terms of `model` at `order` (the other
+/// terms are forces: [`force_plan`]), in the order of [`plan`].
+pub fn plan_squares(model: &Model, order: u32) -> Result<Vec<Planned>, DiscretiseError> {
     let mut out = Vec::new();
     for density in Density::ALL {
         let a = analyse(model, density, order)?;
         for f in &a.fields {
             for t in &f.survivors {
-                match term_shape(density, t) {
-                    TermShape::Stencil(k) => out.push(Planned {
+                if let TermShape::Stencil(k) = term_shape(density, t) {
+                    out.push(Planned {
                         field: f.field.id.clone(),
                         density,
                         term: t.clone(),
                         boundary: f.field.boundary,
                         k,
-                    }),
-                    TermShape::Mass => {}
-                    TermShape::Unsupported => {
-                        return Err(DiscretiseError::Unsupported {
-                            field: f.field.id.clone(),
-                            density: density.key().into(),
-                            term: t.to_string(),
-                        })
-                    }
+                    });
                 }
             }
         }

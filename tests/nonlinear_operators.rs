@@ -139,3 +139,35 @@ fn the_linearised_tethered_filament_has_its_curvature_and_friction() {
     let err = cli(&["operators", "-p", "4", "--param", "c_y=1"]).unwrap_err();
     assert!(err.contains("no coefficients"), "{err}");
 }
+
+#[test]
+fn every_shipped_model_runs_through_every_numerical_command() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/models");
+    let out = std::env::temp_dir().join(format!("ts-emit-{}", std::process::id()));
+    let out = out.to_str().unwrap();
+    let mut seen = 0;
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        let path = path.to_str().unwrap();
+        for command in [
+            &["operators", "-p", "12"][..],
+            &["modes", "-p", "12"],
+            &["simulate", "-p", "12", "--steps", "20"],
+            &["emit", "--out", out],
+        ] {
+            let mut args = command.to_vec();
+            args.extend(["--model", path]);
+            cli(&args).unwrap_or_else(|e| panic!("{path}: {command:?}: {e}"));
+        }
+        // The emitted forces are the engine's, for this model.
+        let forces = std::fs::read_to_string(format!("{out}/src/generated/forces.rs")).unwrap();
+        let model = theory_search::model::Model::from_toml(&std::fs::read_to_string(path).unwrap())
+            .unwrap();
+        assert_eq!(
+            forces,
+            theory_search::codegen::forces_source(&model, 4).unwrap()
+        );
+        seen += 1;
+    }
+    assert!(seen >= 6, "{seen} models");
+}

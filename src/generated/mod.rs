@@ -2,6 +2,7 @@
 //! `templates/`). The files here other than this one are never edited by hand; a test
 //! regenerates them in memory and fails if they differ.
 
+pub mod forces;
 pub mod operators;
 
 /// Why a generated operator cannot be applied or built.
