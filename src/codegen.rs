@@ -236,6 +236,7 @@ struct ForceTermContext {
     slot: String,
     power: u32,
     velocity: bool,
+    kinetic: bool,
 }
 
 /// One field of the force template.
@@ -285,7 +286,8 @@ pub fn forces_source(model: &Model, order: u32) -> Result<String, CodegenError> 
                     factor: format!("{:?}", t.factor),
                     slot,
                     power: t.power,
-                    velocity: t.density == crate::model::Density::Rayleigh,
+                    velocity: t.density == crate::model::Density::Rayleigh || t.kinetic,
+                    kinetic: t.kinetic,
                 }
             })
             .collect();

@@ -423,11 +423,14 @@ mod tests {
 pub const MAX_FORCE_POWER: u32 = 8;
 
 /// One surviving term as a force: `Σ_r a·(Δᵇφ)_rⁿ` over the stencil rows, in the potential V = −L
-/// (terms without ∂t) or in R (terms in the velocity ∂tφ), with `a = factor × coefficient`.
+/// (terms without ∂t), the kinetic energy T (the Lagrangian's terms in the velocity ∂tφ) or in R
+/// (the Rayleigh terms, in the velocity), with `a = factor × coefficient`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ForceTerm {
-    /// Lagrangian (then in V) or Rayleigh.
+    /// Lagrangian (then in V, or in T for a term in the velocity) or Rayleigh.
     pub density: Density,
+    /// A Lagrangian term in the velocity (∂t∂sᵇφ)ⁿ: part of the kinetic energy T, beside ½(∂tφ)².
+    pub kinetic: bool,
     /// Space derivatives b (the stencil order; 0 the value itself).
     pub b: u32,
     /// The power n.
@@ -471,9 +474,10 @@ impl FieldForces {
 }
 
 /// Every surviving term of `model` at `order` as a force, per field in model order: a power of
-/// one derivative, (∂sᵇφ)ⁿ in L or (∂t∂sᵇφ)ⁿ in R, with the standard kinetic term ½(∂tφ)². The
+/// one derivative, (∂sᵇφ)ⁿ or (∂t∂sᵇφ)ⁿ in L, (∂t∂sᵇφ)ⁿ in R, beside the standard kinetic term
+/// ½(∂tφ)². The
 /// discretisation is the variational one of the operators (a square gives back c·D); others
-/// (products of several factors, other time derivatives, powers above [`MAX_FORCE_POWER`]) are
+/// (products of several factors, ∂t twice, powers above [`MAX_FORCE_POWER`]) are
 /// refused in one line.
 pub fn force_plan(model: &Model, order: u32) -> Result<Vec<FieldForces>, DiscretiseError> {
     use num_traits::ToPrimitive;
@@ -512,8 +516,8 @@ pub fn force_plan(model: &Model, order: u32) -> Result<Vec<FieldForces>, Discret
                         plan.kinetic = true;
                         continue;
                     }
-                    (Density::Lagrangian, 0) | (Density::Rayleigh, 1) => {}
-                    _ => return Err(refuse("only the standard kinetic term ½(∂tφ)² may hold a time derivative (and ∂t once in R)")),
+                    (Density::Lagrangian, 0 | 1) | (Density::Rayleigh, 1) => {}
+                    _ => return Err(refuse("a term may hold ∂t at most once")),
                 }
                 if n > MAX_FORCE_POWER {
                     return Err(refuse(&format!(
@@ -526,11 +530,12 @@ pub fn force_plan(model: &Model, order: u32) -> Result<Vec<FieldForces>, Discret
                     density,
                     b,
                     power: n,
-                    // V = −L; R as written.
-                    factor: match density {
-                        Density::Lagrangian => -exact,
-                        Density::Rayleigh => exact,
+                    // V = −L, T = L (its terms in the velocity); R as written.
+                    factor: match (density, a) {
+                        (Density::Lagrangian, 0) => -exact,
+                        _ => exact,
                     },
+                    kinetic: density == Density::Lagrangian && a == 1,
                     parameter: dt.parameter.clone(),
                     text,
                 });

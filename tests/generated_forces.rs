@@ -94,7 +94,7 @@ fn the_larvas_forces_are_its_linear_operators() {
 }
 
 /// A harness around generated source: evaluates F and the Jacobians of every field at given
-/// points, coefficients, u and v, printing `F i x`, `U i j x`, `V i j x` lines.
+/// points, coefficients, u and v, printing `F k i x`, `U k i j x`, `V k i j x`, `M k i j x` lines.
 fn harness(source: &str, points: usize, inputs: &[(Vec<f64>, Vec<f64>, Vec<f64>)]) -> String {
     let list = |x: &[f64]| {
         let cells: Vec<String> = x.iter().map(|v| format!("{v:?}")).collect();
@@ -103,7 +103,7 @@ fn harness(source: &str, points: usize, inputs: &[(Vec<f64>, Vec<f64>, Vec<f64>)
     let mut main = String::from("\nfn main() {\n");
     for (k, (c, u, v)) in inputs.iter().enumerate() {
         main += &format!(
-            "    {{ let f = &FORCES[{k}]; let (c, u, v): (&[f64], &[f64], &[f64]) = ({}, {}, {});\n      let mut out = vec![0.0; u.len()]; f.force({points}, c, u, v, &mut out).unwrap();\n      for (i, x) in out.iter().enumerate() {{ println!(\"F {k} {{i}} {{x:?}}\"); }}\n      f.jacobian({points}, c, u, v, &mut |i, j, x| println!(\"U {k} {{i}} {{j}} {{x:?}}\"), &mut |i, j, x| println!(\"V {k} {{i}} {{j}} {{x:?}}\")).unwrap(); }}\n",
+            "    {{ let f = &FORCES[{k}]; let (c, u, v): (&[f64], &[f64], &[f64]) = ({}, {}, {});\n      let mut out = vec![0.0; u.len()]; f.force({points}, c, u, v, &mut out).unwrap();\n      for (i, x) in out.iter().enumerate() {{ println!(\"F {k} {{i}} {{x:?}}\"); }}\n      f.jacobian({points}, c, u, v, &mut |i, j, x| println!(\"U {k} {{i}} {{j}} {{x:?}}\"), &mut |i, j, x| println!(\"V {k} {{i}} {{j}} {{x:?}}\")).unwrap();\n      f.mass({points}, c, v, &mut |i, j, x| println!(\"M {k} {{i}} {{j}} {{x:?}}\")).unwrap(); }}\n",
             list(c),
             list(u),
             list(v)
@@ -164,6 +164,7 @@ fn check_emitted(model: &Model, points: usize) {
     let printed = harness(&source, points, &inputs);
     let mut force: BTreeMap<(usize, usize), f64> = BTreeMap::new();
     let mut du: BTreeMap<(usize, usize, usize), f64> = BTreeMap::new();
+    let mut mass: BTreeMap<(usize, usize, usize), f64> = BTreeMap::new();
     for line in printed.lines() {
         let w: Vec<&str> = line.split(' ').collect();
         let at = |i: usize| w[i].parse::<usize>().unwrap();
@@ -172,6 +173,7 @@ fn check_emitted(model: &Model, points: usize) {
                 force.insert((at(1), at(2)), w[3].parse().unwrap());
             }
             "U" => *du.entry((at(1), at(2), at(3))).or_default() += w[4].parse::<f64>().unwrap(),
+            "M" => *mass.entry((at(1), at(2), at(3))).or_default() += w[4].parse::<f64>().unwrap(),
             _ => {}
         }
     }
@@ -188,6 +190,20 @@ fn check_emitted(model: &Model, points: usize) {
             body.energy(&state)
         };
         let friction = f.dissipation_gradient(v);
+        // The mass ∇²T(v) is the integrator's.
+        let m = f.mass(v);
+        for i in 0..f.unknowns {
+            for j in 0..f.unknowns {
+                let got = mass.get(&(k, i, j)).copied().unwrap_or(0.0);
+                assert!(
+                    (got - m[(i, j)]).abs() < 1e-12,
+                    "{} field {}: M[{i}][{j}] = {got} against {}",
+                    model.name,
+                    f.id,
+                    m[(i, j)]
+                );
+            }
+        }
         for i in 0..f.unknowns {
             let h = 1e-5;
             let (mut up, mut down) = (u.clone(), u.clone());
@@ -243,4 +259,12 @@ fn emitted_nonlinear_forces_are_the_integrators() {
     )
     .unwrap();
     check_emitted(&zebrafish, 8);
+    // The worm at the next order: kinetic terms ½k2(∂ts x)² and k1(∂t x)⁴ in the mass.
+    let mut worm = Model::from_toml(
+        &std::fs::read_to_string(format!("{dir}/tables/models/worm.toml")).unwrap(),
+    )
+    .unwrap();
+    worm.lagrangian.beyond_leading = 1;
+    worm.rayleigh.beyond_leading = 1;
+    check_emitted(&worm, 7);
 }

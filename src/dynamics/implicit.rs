@@ -84,7 +84,10 @@ pub(super) struct FieldStepper<'a> {
     system: &'a FieldSystem,
     stiffness: Sparse,
     friction: Sparse,
+    /// The squares of the kinetic energy beyond ½|v|², as a matrix (the mass is I + this).
+    mass: Sparse,
     potential: Vec<&'a Power>,
+    kinetic: Vec<&'a Power>,
     dissipation: Vec<&'a Power>,
     nodes: Vec<(f64, f64)>,
     bandwidth: usize,
@@ -97,6 +100,8 @@ pub(super) struct FieldStepper<'a> {
     delta: Vec<f64>,
     r: Vec<f64>,
     at: Vec<f64>,
+    /// ∇T_nl(v₀) of the step, for the momentum change.
+    p0: Vec<f64>,
 }
 
 /// The contraction above which the kept Newton matrix is refreshed.
@@ -113,7 +118,9 @@ impl<'a> FieldStepper<'a> {
         FieldStepper {
             stiffness: Sparse::hessian_of(system.potential.iter().filter(square), n),
             friction: Sparse::hessian_of(system.dissipation.iter().filter(square), n),
+            mass: Sparse::hessian_of(system.kinetic.iter().filter(square), n),
             potential: system.potential.iter().filter(|p| !square(p)).collect(),
+            kinetic: system.kinetic.iter().filter(|p| !square(p)).collect(),
             dissipation: system.dissipation.iter().filter(|p| !square(p)).collect(),
             nodes: system.quadrature(),
             bandwidth: system.bandwidth(),
@@ -123,16 +130,24 @@ impl<'a> FieldStepper<'a> {
             delta: vec![0.0; n],
             r: vec![0.0; n],
             at: vec![0.0; n],
+            p0: vec![0.0; n],
             system,
         }
     }
 
     /// Noise at temperature kT for steps of h, through the quadratic dissipation only.
     fn with_noise(mut self, h: f64, kt: f64) -> Result<FieldStepper<'a>, NonlinearError> {
+        if !self.kinetic.is_empty() {
+            return Err(NonlinearError::Noise {
+                field: self.system.id.clone(),
+                why: "a kinetic energy quadratic in the velocity",
+            });
+        }
         for p in &self.system.dissipation {
             if p.power() != 2 || p.coefficient < 0.0 {
                 return Err(NonlinearError::Noise {
                     field: self.system.id.clone(),
+                    why: "a dissipation that is a sum of squares with non-negative coefficients",
                 });
             }
             let amplitude = (4.0 * p.coefficient * kt * h).sqrt();
@@ -145,12 +160,20 @@ impl<'a> FieldStepper<'a> {
         self.system.is_linear()
     }
 
-    /// The Newton matrix at the current Δ from u, factorised.
-    fn factorise(&mut self, u: &[f64], h: f64) {
+    /// The Newton matrix at the current Δ from (u, v), factorised.
+    fn factorise(&mut self, u: &[f64], v: &[f64], h: f64) {
         let n = self.system.unknowns;
         let mut jac = Jacobian::new(n, self.system.periodic, self.bandwidth);
         for i in 0..n {
             jac.add(i, i, 2.0 / h);
+        }
+        self.mass.add_to(2.0 / h, &mut jac);
+        // ∂/∂Δ of ∇T(v₁), v₁ = 2Δ/h − v₀.
+        for (a, (d, x)) in self.at.iter_mut().zip(self.delta.iter().zip(v)) {
+            *a = 2.0 * d / h - x;
+        }
+        for p in &self.kinetic {
+            p.hessian(&self.at, 2.0 / h, &mut |i, j, x| jac.add(i, j, x));
         }
         self.stiffness.add_to(0.5 * h, &mut jac);
         self.friction.add_to(1.0, &mut jac);
@@ -180,6 +203,25 @@ impl<'a> FieldStepper<'a> {
         }
         for (ri, p) in r.iter_mut().zip(push) {
             *ri -= p;
+        }
+        // The momentum change beyond v₁ − v₀: M_q(v₁ − v₀) + ∇T_nl(v₁) − ∇T_nl(v₀).
+        if !self.mass.entries.is_empty() || !self.kinetic.is_empty() {
+            for i in 0..r.len() {
+                at[i] = 2.0 * delta[i] / h - 2.0 * v[i];
+            }
+            self.mass.mul_add(at, 1.0, r);
+            for (a, (d, x)) in at.iter_mut().zip(delta.iter().zip(v)) {
+                *a = 2.0 * d / h - x;
+            }
+            for p in &self.kinetic {
+                p.gradient(at, 1.0, r);
+            }
+            for (ri, p) in r.iter_mut().zip(&self.p0) {
+                *ri -= p;
+            }
+            for i in 0..r.len() {
+                at[i] = u[i] + 0.5 * delta[i];
+            }
         }
         self.stiffness.mul_add(at, h, r);
         self.friction.mul_add(delta, 1.0, r);
@@ -221,12 +263,13 @@ impl<'a> FieldStepper<'a> {
     ) -> Result<(), NonlinearError> {
         if self.factor.is_none() {
             self.delta.fill(0.0);
-            self.factorise(u, h);
+            self.factorise(u, v, h);
         }
         let Self { r, delta, .. } = self;
         for (i, ri) in r.iter_mut().enumerate() {
             *ri = 2.0 * v[i] + push.get(i).copied().unwrap_or(0.0);
         }
+        self.mass.mul_add(v, 2.0, r);
         self.stiffness.mul_add(u, -h, r);
         // Power-1 terms: a constant force.
         for p in &self.potential {
@@ -280,12 +323,16 @@ impl<'a> FieldStepper<'a> {
             let kick = push.get(i).copied().unwrap_or(0.0);
             *d = h * (v[i] + 0.5 * kick + 0.5 * h * self.accel[i]);
         }
+        self.p0.fill(0.0);
+        for p in &self.kinetic {
+            p.gradient(v, 1.0, &mut self.p0);
+        }
         let mut last = f64::INFINITY;
         let mut converged = false;
         for _ in 0..MAX_ITERATIONS {
             self.residual(u, v, h, push);
             if self.factor.is_none() {
-                self.factorise(u, h);
+                self.factorise(u, v, h);
             }
             let Some(factor) = &self.factor else { break };
             factor.solve(&mut self.r);

@@ -81,10 +81,39 @@ impl FieldSystem {
     }
 
     /// The linearisation about the equilibrium: eigenvalues ascending, shapes unit norm with
-    /// their first significant component positive (as `modes` prints them).
+    /// their first significant component positive (as `modes` prints them); with kinetic terms
+    /// beyond ½|v|², the modes of K x = λ M x, M = ∇²T(0), shapes of unit M-norm.
     pub fn linearise(&self, shapes: bool) -> Result<LinearisedField, NonlinearError> {
         let (equilibrium, residual) = self.equilibrium()?;
-        let eigen = self.hessian_at(&equilibrium).symmetric_eigen();
+        // With a mass M = ∇²T(0) other than I: K x = λ M x through M = LLᵀ, the symmetric
+        // problem L⁻¹KL⁻ᵀ y = λ y, x = L⁻ᵀ y (so xᵀMx = 1).
+        let stiffness = self.hessian_at(&equilibrium);
+        let mass = self.mass(&vec![0.0; self.unknowns]);
+        let cholesky = if self.kinetic.is_empty() {
+            None
+        } else {
+            let l = mass
+                .clone()
+                .cholesky()
+                .ok_or_else(|| NonlinearError::NotPositiveMass {
+                    field: self.id.clone(),
+                })?
+                .l();
+            Some(l)
+        };
+        let (reduced, back) = match &cholesky {
+            None => (stiffness, None),
+            Some(l) => {
+                let inv =
+                    l.clone()
+                        .try_inverse()
+                        .ok_or_else(|| NonlinearError::NotPositiveMass {
+                            field: self.id.clone(),
+                        })?;
+                (&inv * stiffness * inv.transpose(), Some(inv.transpose()))
+            }
+        };
+        let eigen = reduced.symmetric_eigen();
         let mut order: Vec<usize> = (0..self.unknowns).collect();
         order.sort_by(|&a, &b| eigen.eigenvalues[a].total_cmp(&eigen.eigenvalues[b]));
         // A zero mode (a translation) comes out as ±1e-16: it is zero, not unstable.
@@ -99,7 +128,11 @@ impl FieldSystem {
             .map(|l| if l.abs() <= 1e-10 * top { 0.0 } else { l })
             .collect();
         let shape = |k: usize| -> Vec<f64> {
-            let v: Vec<f64> = eigen.eigenvectors.column(k).iter().copied().collect();
+            let y = eigen.eigenvectors.column(k);
+            let v: Vec<f64> = match &back {
+                None => y.iter().copied().collect(),
+                Some(b) => (b * y).iter().copied().collect(),
+            };
             let first = v.iter().find(|x| x.abs() > 1e-12).copied().unwrap_or(1.0);
             v.iter().map(|x| x * first.signum()).collect()
         };

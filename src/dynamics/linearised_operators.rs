@@ -1,7 +1,8 @@
 //! `operators` of a nonlinear body: the operators of its linearisation. About each field's
 //! equilibrium u* (∇V(u*) = 0, as for `modes`), the stiffness K = ∇²V(u*) and the damping
-//! C = ∇²R(0) are the matrices the linear equations ü = −K(u − u*) − C u̇ act with, in units of
-//! the point spacing: for a square ½c(∂sᵏφ)² they are c times the linear operator D.
+//! C = ∇²R(0) are the matrices the linear equations M ü = −K(u − u*) − C u̇ act with, in units of
+//! the point spacing: for a square ½c(∂sᵏφ)² they are c times the linear operator D. With
+//! kinetic terms beyond ½(∂tφ)² the mass M = ∇²T(0) multiplies ü (the identity otherwise).
 
 use super::nonlinear::{FieldSystem, NonlinearBody, NonlinearError};
 
@@ -22,6 +23,8 @@ pub struct LinearisedOperator {
     pub stiffness: Vec<Vec<f64>>,
     /// C = ∇²R(0).
     pub damping: Vec<Vec<f64>>,
+    /// M = ∇²T(0), the mass (the identity with the standard kinetic term alone).
+    pub mass: Vec<Vec<f64>>,
 }
 
 impl FieldSystem {
@@ -48,6 +51,12 @@ impl FieldSystem {
                 .map(|i| k.row(i).iter().copied().collect())
                 .collect(),
             damping: self.damping_at(&vec![0.0; self.unknowns]),
+            mass: {
+                let m = self.mass(&vec![0.0; self.unknowns]);
+                (0..self.unknowns)
+                    .map(|i| m.row(i).iter().copied().collect())
+                    .collect()
+            },
         })
     }
 }
@@ -102,7 +111,7 @@ impl crate::report::Report for LinearisedOperatorsReport {
     fn text(&self) -> String {
         use std::fmt::Write as _;
         let mut s = format!(
-            "Linearised operators of the {} model at order {} on N = {} points: the equations are nonlinear, so these are K = ∇²V(u*) and C = ∇²R(0) about each field's equilibrium u*, in units of the point spacing (ü = −K(u − u*) − C u̇).\n",
+            "Linearised operators of the {} model at order {} on N = {} points: the equations are nonlinear, so these are K = ∇²V(u*) and C = ∇²R(0) about each field's equilibrium u*, in units of the point spacing (M ü = −K(u − u*) − C u̇, M = I unless printed).\n",
             self.model, self.order, self.points
         );
         for f in &self.fields {
@@ -134,6 +143,19 @@ impl crate::report::Report for LinearisedOperatorsReport {
                 f.field,
                 matrix_text(&f.damping)
             );
+            let identity = f.mass.iter().enumerate().all(|(i, r)| {
+                r.iter()
+                    .enumerate()
+                    .all(|(j, &x)| x == if i == j { 1.0 } else { 0.0 })
+            });
+            if !identity {
+                let _ = write!(
+                    s,
+                    "{} · mass M = ∇²T(0) · {n}×{n}\n{}",
+                    f.field,
+                    matrix_text(&f.mass)
+                );
+            }
         }
         s
     }
@@ -147,24 +169,28 @@ impl crate::report::Report for LinearisedOperatorsReport {
         Some(crate::report::csv_table(
             &["field", "matrix", "row", "column", "value"],
             self.fields.iter().flat_map(|f| {
-                [("stiffness", &f.stiffness), ("damping", &f.damping)]
-                    .into_iter()
-                    .flat_map(move |(name, m)| {
-                        m.iter().enumerate().flat_map(move |(i, row)| {
-                            row.iter()
-                                .enumerate()
-                                .filter(|(_, x)| **x != 0.0)
-                                .map(move |(j, x)| {
-                                    vec![
-                                        f.field.clone(),
-                                        name.to_string(),
-                                        i.to_string(),
-                                        j.to_string(),
-                                        crate::report::number(*x),
-                                    ]
-                                })
-                        })
+                [
+                    ("stiffness", &f.stiffness),
+                    ("damping", &f.damping),
+                    ("mass", &f.mass),
+                ]
+                .into_iter()
+                .flat_map(move |(name, m)| {
+                    m.iter().enumerate().flat_map(move |(i, row)| {
+                        row.iter()
+                            .enumerate()
+                            .filter(|(_, x)| **x != 0.0)
+                            .map(move |(j, x)| {
+                                vec![
+                                    f.field.clone(),
+                                    name.to_string(),
+                                    i.to_string(),
+                                    j.to_string(),
+                                    crate::report::number(*x),
+                                ]
+                            })
                     })
+                })
             }),
         ))
     }

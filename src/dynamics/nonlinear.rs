@@ -62,8 +62,16 @@ pub enum NonlinearError {
         residual: f64,
     },
     /// Noise through a dissipation that is not a sum of squares.
-    #[error("field {field}: Langevin noise needs a dissipation that is a sum of squares with non-negative coefficients (fluctuation–dissipation); run it at --temperature 0")]
+    #[error("field {field}: Langevin noise needs {why} (fluctuation–dissipation); run it at --temperature 0")]
     Noise {
+        /// Field id.
+        field: String,
+        /// What it needs.
+        why: &'static str,
+    },
+    /// A mass matrix ∇²T(0) that is not positive definite.
+    #[error("field {field}: the kinetic energy is not positive at rest (its mass matrix ∇²T(0) is not positive definite): the motion is not defined")]
+    NotPositiveMass {
         /// Field id.
         field: String,
     },
@@ -181,6 +189,8 @@ pub struct FieldSystem {
     /// Points held at zero at the (tail, head): not unknowns.
     pub(super) held: (usize, usize),
     pub(super) potential: Vec<Power>,
+    /// The kinetic energy's terms beside ½|v|² (in the velocity).
+    pub(super) kinetic: Vec<Power>,
     pub(super) dissipation: Vec<Power>,
 }
 
@@ -227,7 +237,18 @@ impl FieldSystem {
 
     /// Whether every term is a square or linear (then each step is one solve).
     pub(super) fn is_linear(&self) -> bool {
-        self.potential.iter().all(|p| p.power <= 2) && self.dissipation.iter().all(|p| p.power == 2)
+        self.potential.iter().all(|p| p.power <= 2)
+            && self.dissipation.iter().all(|p| p.power == 2)
+            && self.kinetic.iter().all(|p| p.power == 2)
+    }
+
+    /// The mass matrix ∇²T(v), dense.
+    pub fn mass(&self, v: &[f64]) -> nalgebra::DMatrix<f64> {
+        let mut m = nalgebra::DMatrix::identity(self.unknowns, self.unknowns);
+        for p in &self.kinetic {
+            p.hessian(v, 1.0, &mut |i, j, x| m[(i, j)] += x);
+        }
+        m
     }
 
     /// R(v).
@@ -244,9 +265,15 @@ impl FieldSystem {
         g
     }
 
-    /// E = ½|v|² + V(u).
+    /// E = v·∇T(v) − T(v) + V(u): ½|v|² + Σ (n − 1)·(each kinetic term of power n) + V(u).
     pub fn energy(&self, u: &[f64], v: &[f64]) -> f64 {
-        0.5 * v.iter().map(|x| x * x).sum::<f64>() + self.potential(u)
+        0.5 * v.iter().map(|x| x * x).sum::<f64>()
+            + self
+                .kinetic
+                .iter()
+                .map(|p| f64::from(p.power - 1) * p.value(v))
+                .sum::<f64>()
+            + self.potential(u)
     }
 
     pub(super) fn quadrature(&self) -> Vec<(f64, f64)> {
@@ -257,6 +284,7 @@ impl FieldSystem {
     pub(super) fn bandwidth(&self) -> usize {
         self.potential
             .iter()
+            .chain(&self.kinetic)
             .chain(&self.dissipation)
             .flat_map(|p| p.rows())
             .map(|r| {
@@ -335,6 +363,7 @@ impl NonlinearBody {
                 boundary: f.field.boundary,
                 held: f.held,
                 potential: Vec::new(),
+                kinetic: Vec::new(),
                 dissipation: Vec::new(),
             };
             for t in &f.terms {
@@ -346,6 +375,7 @@ impl NonlinearBody {
                 let rows = force_rows(t.b, f.field.boundary, points, f.held);
                 let power = Power::new(rows, t.power as i32, t.factor * value);
                 match t.density {
+                    _ if t.kinetic => system.kinetic.push(power),
                     Density::Lagrangian => system.potential.push(power),
                     Density::Rayleigh => system.dissipation.push(power),
                 }

@@ -2,9 +2,10 @@
 //! Forces of the larva model at order 4, generated from every term the engine
 //! kept, squares or not (see `theory-search equations`). Each term is `Σ_r a·(w_r·φ)ⁿ` over the
 //! rows w_r of its k-th difference stencil, in the potential V = −L (terms without ∂t) or the
-//! dissipation R (terms in the velocity), `a` its exact factor times its coefficient. A field's
-//! force is `F(u, v) = −∇V(u) − ∇R(v)` (the equation of motion is ü = F with the standard
-//! kinetic term), its Jacobians `∂F/∂u = −∇²V(u)` and `∂F/∂v = −∇²R(v)`; a square ½c(∂sᵏφ)²
+//! dissipation R (terms in the velocity) or the kinetic energy T beside ½|v|², `a` its exact
+//! factor times its coefficient. A field's force is `F(u, v) = −∇V(u) − ∇R(v)`, its Jacobians
+//! `∂F/∂u = −∇²V(u)` and `∂F/∂v = −∇²R(v)`, its mass `M(v) = ∇²T(v)`: the equation of motion
+//! is `M(v) v̇ = F(u, v)` (ü = F with the standard kinetic term alone); a square ½c(∂sᵏφ)²
 //! gives back −c·D of the linear operators. Self-contained: this file needs only `std`.
 
 /// Why a force cannot be evaluated.
@@ -45,7 +46,7 @@ impl std::fmt::Display for ForceError {
 impl std::error::Error for ForceError {}
 
 /// One term: `Σ_r a·(w_r·x)ⁿ` with `a = factor × c[slot]` (× 1 for a fixed term), x the
-/// displacement u (a term of V) or the velocity v (a term of R).
+/// displacement u (a term of V) or the velocity v (a term of R, or of the kinetic energy T).
 #[derive(Debug, Clone, Copy)]
 pub struct ForceTerm {
     /// The term as printed.
@@ -58,8 +59,10 @@ pub struct ForceTerm {
     pub slot: Option<usize>,
     /// The power n.
     pub power: i32,
-    /// In R (of the velocity) rather than V.
+    /// Of the velocity (in R or T) rather than the displacement (in V).
     pub velocity: bool,
+    /// In the kinetic energy T, beside ½|v|²: it enters the mass, not the force.
+    pub kinetic: bool,
 }
 
 /// One field's generated force.
@@ -131,7 +134,7 @@ impl FieldForce {
     ) -> Result<(), ForceError> {
         self.check(points, c, &[u.len(), v.len(), out.len()])?;
         out.fill(0.0);
-        for t in self.terms {
+        for t in self.terms.iter().filter(|t| !t.kinetic) {
             let (stencil, a) = self.stencil(t, c);
             stencil.force(points, a, t.power, if t.velocity { v } else { u }, out);
         }
@@ -149,12 +152,33 @@ impl FieldForce {
         dv: &mut dyn FnMut(usize, usize, f64),
     ) -> Result<(), ForceError> {
         self.check(points, c, &[u.len(), v.len()])?;
-        for t in self.terms {
+        for t in self.terms.iter().filter(|t| !t.kinetic) {
             let (stencil, a) = self.stencil(t, c);
             match t.velocity {
                 true => stencil.jacobian(points, a, t.power, v, dv),
                 false => stencil.jacobian(points, a, t.power, u, du),
             }
+        }
+        Ok(())
+    }
+
+    /// Adds each entry (i, j, x) of the mass M(v) = ∇²T(v) to `add` (the identity for the
+    /// standard kinetic term alone): the equation of motion is M(v) v̇ = F(u, v).
+    pub fn mass(
+        &self,
+        points: usize,
+        c: &[f64],
+        v: &[f64],
+        add: &mut dyn FnMut(usize, usize, f64),
+    ) -> Result<(), ForceError> {
+        self.check(points, c, &[v.len()])?;
+        for i in 0..v.len() {
+            add(i, i, 1.0);
+        }
+        for t in self.terms.iter().filter(|t| t.kinetic) {
+            let (stencil, a) = self.stencil(t, c);
+            // The Jacobian of −∇T is −∇²T.
+            stencil.jacobian(points, -a, t.power, v, add);
         }
         Ok(())
     }
@@ -246,6 +270,7 @@ pub const FORCES: &[FieldForce] = &[
                 slot: Some(0),
                 power: 2,
                 velocity: false,
+                kinetic: false,
             },
             // rayleigh · (∂ts x)²
             ForceTerm {
@@ -255,6 +280,7 @@ pub const FORCES: &[FieldForce] = &[
                 slot: Some(1),
                 power: 2,
                 velocity: true,
+                kinetic: false,
             },
         ],
     },
@@ -274,6 +300,7 @@ pub const FORCES: &[FieldForce] = &[
                 slot: Some(0),
                 power: 2,
                 velocity: false,
+                kinetic: false,
             },
             // rayleigh · (∂ts θ)²
             ForceTerm {
@@ -283,6 +310,7 @@ pub const FORCES: &[FieldForce] = &[
                 slot: Some(1),
                 power: 2,
                 velocity: true,
+                kinetic: false,
             },
         ],
     },
@@ -302,6 +330,7 @@ pub const FORCES: &[FieldForce] = &[
                 slot: Some(0),
                 power: 2,
                 velocity: false,
+                kinetic: false,
             },
             // rayleigh · (∂tss y)²
             ForceTerm {
@@ -311,6 +340,7 @@ pub const FORCES: &[FieldForce] = &[
                 slot: Some(1),
                 power: 2,
                 velocity: true,
+                kinetic: false,
             },
         ],
     },
@@ -330,6 +360,7 @@ pub const FORCES: &[FieldForce] = &[
                 slot: Some(0),
                 power: 2,
                 velocity: false,
+                kinetic: false,
             },
             // rayleigh · (∂tss z)²
             ForceTerm {
@@ -339,6 +370,7 @@ pub const FORCES: &[FieldForce] = &[
                 slot: Some(1),
                 power: 2,
                 velocity: true,
+                kinetic: false,
             },
         ],
     },
