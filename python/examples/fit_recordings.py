@@ -31,13 +31,13 @@ for path in sorted(data.glob("*.csv")):
     print(f"{path.name}: {r.frames} frames, ω = {r.omega:.4f} {omega}, "
           f"overlaps {np.round(r.mode_overlap[:3], 3)}; {verdicts}")
     fig, (left, right) = plt.subplots(1, 2, figsize=(9, 3.5))
-    s = np.linspace(0, 1, r.shapes.shape[1])
+    s = np.linspace(0, 1, r.shapes.shape[0])
     for k in range(3):
-        # The principal component k drawn on the mode shapes it is made of.
-        pc = r.components[k] @ r.shapes
-        sign = np.sign(pc @ r.shapes[k]) or 1.0
+        # The principal component k drawn on the mode shapes (columns) it is made of.
+        pc = r.shapes @ r.components[k]
+        sign = np.sign(pc @ r.shapes[:, k]) or 1.0
         left.plot(s, sign * pc, label=f"PC {k + 1}")
-        left.plot(s, r.shapes[k], "k:", lw=1)
+        left.plot(s, r.shapes[:, k], "k:", lw=1)
     left.set_xlabel("arc length (tail → head)")
     left.legend(frameon=False, loc="upper left", bbox_to_anchor=(1, 1))
     modes = np.arange(1, len(r.pca_variance_share) + 1)

@@ -36,6 +36,18 @@ create_exception!(
     TheorySearchError,
     "Unreadable or malformed data (the CLI's exit code 1)."
 );
+create_exception!(
+    _native,
+    MissingError,
+    TheorySearchError,
+    "A file that does not exist (the CLI's exit code 1)."
+);
+create_exception!(
+    _native,
+    OutputError,
+    TheorySearchError,
+    "Output that cannot be written (the CLI's exit code 1)."
+);
 
 fn usage(e: impl std::fmt::Display) -> PyErr {
     UsageError::new_err(one_line(&e.to_string()))
@@ -355,6 +367,9 @@ fn fit_error(e: FitError) -> PyErr {
     let text = one_line(&e.to_string());
     match e.innermost() {
         FitError::Invalid(_) => UsageError::new_err(text),
+        FitError::Open(io) if io.kind() == std::io::ErrorKind::NotFound => {
+            MissingError::new_err(text)
+        }
         _ => InputError::new_err(text),
     }
 }
@@ -466,6 +481,33 @@ fn fit_paths<'py>(
     fit_out(py, report)
 }
 
+/// Run a command line of the `theory-search` CLI in this process (GIL released); its standard
+/// output as bytes. Every command is reachable this way with the CLI's own parsing, messages and
+/// numbers; the error is typed by the CLI's error variant, never read from its text.
+#[pyfunction]
+fn run_cli<'py>(py: Python<'py>, args: Vec<String>) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
+    use theory_search::cli::CliError;
+    let mut all = vec!["theory-search".to_string()];
+    all.extend(args);
+    let (out, result) = py.detach(|| {
+        let mut out = Vec::new();
+        let result = theory_search::cli::run(all, &mut out);
+        (out, result)
+    });
+    match result {
+        Ok(()) => Ok(pyo3::types::PyBytes::new(py, &out)),
+        Err(e) => {
+            let text = one_line(&e.to_string());
+            Err(match e {
+                CliError::Usage(_) | CliError::Role(_) => UsageError::new_err(text),
+                CliError::Missing(_) => MissingError::new_err(text),
+                CliError::Output(_) => OutputError::new_err(text),
+                _ => InputError::new_err(text),
+            })
+        }
+    }
+}
+
 /// The native module.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -473,6 +515,9 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("TheorySearchError", py.get_type::<TheorySearchError>())?;
     m.add("UsageError", py.get_type::<UsageError>())?;
     m.add("InputError", py.get_type::<InputError>())?;
+    m.add("MissingError", py.get_type::<MissingError>())?;
+    m.add("OutputError", py.get_type::<OutputError>())?;
+    m.add_function(wrap_pyfunction!(run_cli, m)?)?;
     m.add_function(wrap_pyfunction!(larva_toml, m)?)?;
     m.add_function(wrap_pyfunction!(check_model, m)?)?;
     m.add_function(wrap_pyfunction!(table_json, m)?)?;

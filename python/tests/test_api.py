@@ -18,23 +18,27 @@ DATA = ROOT / ".." / "shared" / "data"
 def test_modes_are_the_eigenvalues_of_the_returned_operators():
     points = 30
     ops = {(o["field"], o["density"]): o["matrix"] for o in ts.operators(points)}
-    for fm in ts.modes(points, shapes=True):
-        stiffness = ops[(fm["field"], "lagrangian")].astype(float)
+    for field, fm in ts.modes(points, shapes=True).items():
+        stiffness = ops[(field, "lagrangian")].astype(float)
         expected = scipy.linalg.eigh(stiffness, eigvals_only=True)
-        np.testing.assert_allclose(fm["eigenvalues"], expected, atol=1e-9, rtol=1e-9)
-        # Shapes are eigenvectors: D v = λ v, column by column.
-        v = fm["shapes"]
-        np.testing.assert_allclose(stiffness @ v, v * fm["eigenvalues"], atol=1e-8)
+        np.testing.assert_allclose(fm.eigenvalues, expected, atol=1e-9, rtol=1e-9)
+        # Shapes are eigenvectors as columns (numpy's eigh): D v = λ v.
+        v = fm.shapes
+        assert v.shape == (stiffness.shape[0], len(fm.eigenvalues))
+        np.testing.assert_allclose(stiffness @ v, v * fm.eigenvalues, atol=1e-8)
 
 
 def test_modes_take_the_lowest_k_and_the_scales():
     full = ts.modes(200, params={"omega_b": 2.0})
     few = ts.modes(200, params={"omega_b": 2.0}, k=5)
-    for a, b in zip(full, few):
-        np.testing.assert_allclose(b["eigenvalues"], a["eigenvalues"][:5], rtol=1e-9, atol=1e-12)
-    y = next(f for f in full if f["field"] == "y")
-    assert y["omega"] == 2.0
-    np.testing.assert_allclose(y["frequencies"], 2.0 * np.sqrt(y["eigenvalues"]), atol=1e-12)
+    assert list(full) == ["x", "theta", "y", "z"]
+    for field in full:
+        np.testing.assert_allclose(
+            few[field].eigenvalues, full[field].eigenvalues[:5], rtol=1e-9, atol=1e-12
+        )
+    y = full["y"]
+    assert y.omega == 2.0 and y.shapes is None
+    np.testing.assert_allclose(y.frequencies, 2.0 * np.sqrt(y.eigenvalues), atol=1e-12)
 
 
 def test_table_rows_follow_the_rules_as_stated():
@@ -77,7 +81,7 @@ def test_simulate_reaches_equipartition():
     out = ts.simulate(points=12, steps=200_000, dt=0.5, every=5, temperature=kt, seed=3,
                       params={"omega_b": 1.0, "zeta_b": 0.2})
     q = out["modal"]["y"][2000:]
-    lam = next(f for f in ts.modes(12) if f["field"] == "y")["eigenvalues"]
+    lam = ts.modes(12)["y"].eigenvalues
     # Var Qᵢ = kT/(ω²λᵢ) for the first non-zero modes (independent of the simulator's code).
     for i in (2, 3):
         assert abs(q[:, i].var() * lam[i] / kt - 1.0) < 0.15, (i, q[:, i].var() * lam[i] / kt)
@@ -162,7 +166,12 @@ def test_models_from_text_and_files(tmp_path):
         (lambda: ts.Model("name = 1"), ts.UsageError),
         (lambda: ts.modes(12, params={"omega_b": float("nan")}), ts.UsageError),
         (lambda: ts.modes(1), ts.UsageError),
-        (lambda: ts.fit("/nonexistent/file.csv"), ts.InputError),
+        (lambda: ts.fit("/nonexistent/file.csv"), FileNotFoundError),
+        (lambda: ts.Model.from_toml("missing.toml"), FileNotFoundError),
+        (lambda: ts.modes(points=0), ValueError),
+        (lambda: ts.modes(points=-1), ValueError),
+        (lambda: ts.modes(points=10**30), ValueError),
+        (lambda: ts.behave("flying"), ValueError),
         (lambda: ts.fit(np.zeros((10, 6, 3))), ts.UsageError),
         (lambda: ts.fit(np.zeros((10, 6, 2)), window=4), ts.UsageError),
         (lambda: ts.fit(np.zeros((20, 6, 2)), nonsense=1), ts.UsageError),

@@ -1,13 +1,15 @@
 """theory-search from Python: the symmetry engine, the modes and the fit, numpy in and out.
 
-The functions wrap the Rust library (not the command-line binary). Errors are raised as
-``TheorySearchError`` (``UsageError`` for bad arguments, settings or models, ``InputError`` for
-unreadable data) with the same one-line messages the command line prints.
+The functions wrap the Rust library (not the command-line binary): every command, with its
+options as keyword arguments. Errors are ``TheorySearchError`` and the builtin Python code
+catches: ``UsageError`` is a ``ValueError`` (bad arguments, settings or models), a missing file a
+``FileNotFoundError`` (``MissingFileError``), ``InputError`` a ``ValueError`` (malformed data),
+``OutputError`` an ``OSError``; each with the one-line message the command line prints.
 
 >>> import theory_search as ts
 >>> m = ts.modes(points=12, k=3)
->>> m[2]["field"], m[2]["eigenvalues"].shape
-('y', (3,))
+>>> m["y"].eigenvalues.shape
+(3,)
 """
 
 from __future__ import annotations
@@ -19,28 +21,90 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
 import numpy as np
 
 from . import _native
-from ._native import InputError, TheorySearchError, UsageError
+from ._commands import (
+    asymmetry,
+    behave,
+    count,
+    figures,
+    interactions,
+    mathieu,
+    parts,
+    rules,
+    run,
+    stats,
+)
+from ._errors import (
+    InputError,
+    MissingFileError,
+    OutputError,
+    TheorySearchError,
+    UsageError,
+    count as _count,
+    translated as _translated,
+)
+from ._results import FieldModes, Modes, Result
+
+try:
+    from importlib.metadata import PackageNotFoundError, version as _version
+
+    try:
+        __version__ = _version("theory-search")
+    except PackageNotFoundError:  # run from a source tree without installing
+        __version__ = "0.1.0"
+except ImportError:  # pragma: no cover (Python < 3.8)
+    __version__ = "0.1.0"
 
 __all__ = [
+    "__version__",
     "Model",
+    "Result",
+    "Modes",
+    "FieldModes",
     "FitResult",
     "TheorySearchError",
     "UsageError",
     "InputError",
+    "MissingFileError",
+    "OutputError",
     "table",
     "equations",
     "operators",
     "modes",
     "simulate",
+    "behave",
+    "stats",
+    "asymmetry",
+    "mathieu",
+    "interactions",
+    "parts",
+    "count",
+    "rules",
+    "figures",
     "fit",
+    "run",
 ]
+
+# Native calls raise the Python exceptions of `_errors`.
+_native_call = {
+    name: _translated(getattr(_native, name))
+    for name in (
+        "check_model",
+        "table_json",
+        "equations_json",
+        "operators",
+        "modes",
+        "simulate",
+        "fit_arrays",
+        "fit_paths",
+    )
+}
 
 
 class Model:
     """A body: its fields, roles, boundaries and symmetry requirements (a model file)."""
 
     def __init__(self, toml: str) -> None:
-        name, fields = _native.check_model(toml)
+        name, fields = _native_call["check_model"](toml)
         self.toml = toml
         self.name = name
         self.fields = fields
@@ -53,8 +117,11 @@ class Model:
     @classmethod
     def from_toml(cls, path_or_text: Union[str, os.PathLike]) -> "Model":
         """A model from a TOML file path or from TOML text."""
-        text = str(path_or_text)
-        if "\n" not in text and os.path.exists(text):
+        text = os.fspath(path_or_text) if isinstance(path_or_text, os.PathLike) else str(path_or_text)
+        looks_like_path = "\n" not in text and "=" not in text and "[" not in text
+        if isinstance(path_or_text, os.PathLike) or looks_like_path:
+            if not os.path.exists(text):
+                raise MissingFileError(f"cannot read {text}: no such file")
             with open(text, encoding="utf-8") as f:
                 text = f.read()
         return cls(text)
@@ -81,11 +148,53 @@ def table(
     its orders, each rule's verdict in ``satisfies`` and the reason of each rejection in
     ``rejected``), ``survivors`` per field, ``densities`` and ``notes``. Each density's dict has
     ``to_pandas()`` when pandas is installed."""
-    doc = json.loads(_native.table_json(order, _toml(model), basis, density))
+    _count("order", order, 1, 32)
+    doc = json.loads(_native_call["table_json"](order, _toml(model), basis, density))
     for key in ("lagrangian", "rayleigh"):
         if key in doc:
             doc[key] = _Density(doc[key])
-    return doc
+    return Table(doc)
+
+
+class Table(dict):
+    """Table 1 and its Rayleigh twin: a dict by density (``t["lagrangian"]["rows"]``), a
+    DataFrame of every row by ``to_pandas()``, rendered as HTML in Jupyter."""
+
+    def to_pandas(self):
+        """Every row of every density, with a ``density`` column (needs pandas)."""
+        import pandas as pd
+
+        frames = []
+        for key in ("lagrangian", "rayleigh"):
+            if key in self:
+                df = self[key].to_pandas()
+                df.insert(0, "density", key)
+                frames.append(df)
+        return pd.concat(frames, ignore_index=True)
+
+    def to_dict(self) -> Dict[str, Any]:
+        """Plain data."""
+        return json.loads(json.dumps(self))
+
+    def _repr_html_(self) -> str:
+        import html
+
+        parts = []
+        for key in ("lagrangian", "rayleigh"):
+            if key not in self:
+                continue
+            rows = self[key]["rows"]
+            columns = [c for c in ("term", "delta", "epsilon", "tau", "sigma") if rows and c in rows[0]]
+            head = "".join(f"<th>{html.escape(c)}</th>" for c in columns + ["kept"])
+            body = "".join(
+                "<tr>"
+                + "".join(f"<td>{html.escape(str(r.get(c, '')))}</td>" for c in columns)
+                + f"<td>{'✓' if not r.get('rejected') else html.escape('; '.join(map(str, r['rejected'])) if isinstance(r['rejected'], list) else str(r['rejected']))}</td>"
+                + "</tr>"
+                for r in rows
+            )
+            parts.append(f"<h4>{key}</h4><table><tr>{head}</tr>{body}</table>")
+        return "".join(parts)
 
 
 class _Density(dict):
@@ -104,7 +213,8 @@ def equations(
     """The equations of motion: per field the right-hand side of ∂t²φ, each term with its
     derivative orders, sign, coefficient, exact prefactor and sign claim (or, for survivors that
     are not all quadratic, the exact nonlinear equations with ``"nonlinear": True``)."""
-    return json.loads(_native.equations_json(order, _toml(model), basis))
+    _count("order", order, 1, 32)
+    return Result(json.loads(_native_call["equations_json"](order, _toml(model), basis)))
 
 
 def operators(
@@ -112,7 +222,9 @@ def operators(
 ) -> List[Dict[str, Any]]:
     """Every discretised operator on ``points`` points: dicts with ``field``, ``density``,
     ``term``, ``boundary``, ``k`` and the exact integer ``matrix`` (numpy int64)."""
-    return _native.operators(points, order, _toml(model))
+    _count("points", points, 1, 2000)
+    _count("order", order, 1, 32)
+    return _native_call["operators"](points, order, _toml(model))
 
 
 def modes(
@@ -122,12 +234,16 @@ def modes(
     shapes: bool = False,
     k: Optional[int] = None,
     order: int = 4,
-) -> List[Dict[str, Any]]:
-    """Each field's modes on ``points`` points (the ``k`` lowest, or all): numpy arrays
-    ``eigenvalues``, ``frequencies``, ``damping_ratios``, ``variance_shares`` and, with
-    ``shapes=True``, ``shapes`` (points × modes); ``params`` sets ``omega_<scale>`` and
-    ``zeta_<scale>``."""
-    return _native.modes(points, order, _toml(model), dict(params or {}), shapes, k)
+) -> Modes:
+    """Each field's modes on ``points`` points (the ``k`` lowest, or all), keyed by field id:
+    ``m["y"].eigenvalues``, ``.frequencies``, ``.damping_ratios``, ``.variance_shares`` and, with
+    ``shapes=True``, ``.shapes`` (points × modes: one mode per column, as ``numpy.linalg.eigh``);
+    ``params`` sets ``omega_<scale>`` and ``zeta_<scale>``."""
+    _count("points", points, 1, 10_000_000)
+    _count("order", order, 1, 32)
+    if k is not None:
+        _count("k", k, 1)
+    return Modes(_native_call["modes"](points, order, _toml(model), dict(params or {}), shapes, k))
 
 
 def simulate(
@@ -143,7 +259,12 @@ def simulate(
 ) -> Dict[str, Any]:
     """Integrate the modal equations (Langevin noise at ``temperature``): ``t`` and, per field,
     ``positions[field]`` (samples × points) and ``modal[field]`` (samples × modes)."""
-    return _native.simulate(
+    _count("points", points, 1, 2000)
+    _count("steps", steps, 1)
+    _count("every", every, 1)
+    _count("seed", seed, 0)
+    _count("order", order, 1, 32)
+    return _native_call["simulate"](
         points, steps, dt, every, temperature, seed, order, _toml(model), dict(params or {})
     )
 
@@ -157,7 +278,12 @@ class FitResult:
         self.frequencies = frequencies
         self.psd = psd
         self.components = components
-        self.shapes = shapes
+        # Points × modes, one mode per column (as `modes()` and `numpy.linalg.eigh`).
+        self.shapes = np.asarray(shapes).T
+        # Always present, empty when the report has none.
+        self.warnings: List[str] = []
+        self.animals: List[Dict[str, Any]] = []
+        self.intervals: Optional[Dict[str, Any]] = None
         for key, value in report.items():
             if isinstance(value, list) and value and all(
                 isinstance(v, (int, float)) or isinstance(v, list) for v in value
@@ -168,6 +294,23 @@ class FitResult:
     def to_dict(self) -> Dict[str, Any]:
         """The report as plain data (the CLI's ``--format json``)."""
         return json.loads(json.dumps(self._report))
+
+    def to_pandas(self):
+        """One row per fitted mode (needs pandas)."""
+        import pandas as pd
+
+        return pd.json_normalize(self._report.get("modes") or [])
+
+    def _repr_html_(self) -> str:
+        import html
+
+        head = html.escape(repr(self))
+        try:
+            table = self.to_pandas().to_html(max_rows=40)
+        except ImportError:
+            table = ""
+        notes = "".join(f"<li>{html.escape(str(w))}</li>" for w in self.warnings)
+        return f"<p><b>{head}</b></p>{table}" + (f"<ul>{notes}</ul>" if notes else "")
 
     def __repr__(self) -> str:
         return f"FitResult(frames={self._report['frames']}, omega={self._report['omega']:.6g}, beta={self._report['beta']:.6g})"
@@ -203,7 +346,7 @@ def fit(
         paths = [midlines] if isinstance(midlines, (str, os.PathLike)) else list(midlines)
         if fps is not None:
             options["fps"] = fps
-        out = _native.fit_paths([os.fspath(p) for p in paths], toml, options)
+        out = _native_call["fit_paths"]([os.fspath(p) for p in paths], toml, options)
     else:
         animals = midlines if isinstance(midlines, (list, tuple)) else [midlines]
         animals = [np.ascontiguousarray(a, dtype=float) for a in animals]
@@ -215,6 +358,6 @@ def fit(
         else:
             times = t if isinstance(t, (list, tuple)) else [t]
             times = [np.ascontiguousarray(x, dtype=float) for x in times]
-        out = _native.fit_arrays(animals, times, toml, options)
+        out = _native_call["fit_arrays"](animals, times, toml, options)
     report, frequencies, psd, components, shapes = out
     return FitResult(json.loads(report), frequencies, psd, components, shapes)

@@ -1,7 +1,7 @@
 """Type stubs of theory_search."""
 
 import os
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
+from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -9,11 +9,61 @@ import numpy.typing as npt
 class TheorySearchError(Exception):
     """Any error of theory-search (a one-line message)."""
 
-class UsageError(TheorySearchError):
+class UsageError(TheorySearchError, ValueError):
     """A bad argument, setting or model."""
 
-class InputError(TheorySearchError):
-    """Unreadable or malformed data."""
+class InputError(TheorySearchError, ValueError):
+    """Malformed data."""
+
+class MissingFileError(TheorySearchError, FileNotFoundError):
+    """A file that does not exist."""
+
+class OutputError(TheorySearchError, OSError):
+    """Output that cannot be written."""
+
+__version__: str
+
+class Result(Dict[str, Any]):
+    """A command's JSON document: items as printed, attributes with numpy arrays."""
+
+    def __getattr__(self, name: str) -> Any: ...
+    def to_dict(self) -> Dict[str, Any]: ...
+    def to_pandas(self) -> Any: ...
+    def _repr_html_(self) -> str: ...
+
+class FieldModes:
+    """One field's modes; shapes are points × modes (columns), or None."""
+
+    field: str
+    eigenvalues: npt.NDArray[np.float64]
+    frequencies: npt.NDArray[np.float64]
+    damping_ratios: npt.NDArray[np.float64]
+    variance_shares: npt.NDArray[np.float64]
+    shapes: Optional[npt.NDArray[np.float64]]
+    k: Optional[int]
+    omega: Optional[float]
+    zeta: Optional[float]
+    nullity: Optional[int]
+    inverse_trace: Optional[float]
+    def to_dict(self) -> Dict[str, Any]: ...
+    def to_pandas(self) -> Any: ...
+
+class Modes(Mapping[str, FieldModes]):
+    """Every field's modes, keyed by field id."""
+
+    def __getitem__(self, field: str) -> FieldModes: ...
+    def __iter__(self) -> Iterator[str]: ...
+    def __len__(self) -> int: ...
+    def to_dict(self) -> Dict[str, Any]: ...
+    def to_pandas(self) -> Any: ...
+    def _repr_html_(self) -> str: ...
+
+class Table(Dict[str, Any]):
+    """Table 1 and its Rayleigh twin, by density."""
+
+    def to_dict(self) -> Dict[str, Any]: ...
+    def to_pandas(self) -> Any: ...
+    def _repr_html_(self) -> str: ...
 
 class Model:
     """A body: fields, roles, boundaries and requirements (a model file)."""
@@ -33,10 +83,10 @@ ModelLike = Optional[Union[Model, str, os.PathLike[str]]]
 
 def table(
     order: int = 4, model: ModelLike = None, basis: str = "powers", density: str = "both"
-) -> Dict[str, Any]:
+) -> Table:
     """Table 1 and its Rayleigh twin: rows, verdicts with reasons, survivors per field."""
 
-def equations(order: int = 4, model: ModelLike = None, basis: str = "powers") -> Dict[str, Any]:
+def equations(order: int = 4, model: ModelLike = None, basis: str = "powers") -> Result:
     """The equations of motion, each term with its sign claim (or the exact nonlinear ones)."""
 
 def operators(points: int, order: int = 4, model: ModelLike = None) -> List[Dict[str, Any]]:
@@ -49,8 +99,8 @@ def modes(
     shapes: bool = False,
     k: Optional[int] = None,
     order: int = 4,
-) -> List[Dict[str, Any]]:
-    """Each field's eigenvalues, frequencies, damping ratios, variance shares (and shapes)."""
+) -> Modes:
+    """Each field's modes keyed by field id (shapes as points × modes columns)."""
 
 def simulate(
     points: int = 12,
@@ -94,6 +144,8 @@ class FitResult:
     shapes: npt.NDArray[np.float64]
     def to_dict(self) -> Dict[str, Any]:
         """The report as plain data (the CLI's --format json)."""
+    def to_pandas(self) -> Any: ...
+    def _repr_html_(self) -> str: ...
 
 def fit(
     midlines: Union[
@@ -105,3 +157,62 @@ def fit(
     **options: Any,
 ) -> FitResult:
     """Fit the theory to midlines (arrays frames × points × 2, NaN for lost points) or files."""
+
+def run(
+    command: Sequence[str], model: ModelLike = None, params: Optional[Mapping[str, float]] = None, **options: Any
+) -> Result:
+    """Any command, its options as keyword arguments, its JSON document as a Result."""
+
+def behave(
+    behaviour: str,
+    points: int = 12,
+    model: ModelLike = None,
+    params: Optional[Mapping[str, float]] = None,
+    order: int = 4,
+    **options: Any,
+) -> Result:
+    """One of the paper's behaviours (peristalsis, rolling, rearing, hunching, self-righting)."""
+
+def stats(
+    kind: str,
+    points: int = 12,
+    model: ModelLike = None,
+    params: Optional[Mapping[str, float]] = None,
+    order: int = 4,
+    **options: Any,
+) -> Result:
+    """Statistics: equipartition, explore or pair."""
+
+def asymmetry(
+    coupling: float,
+    points: int = 12,
+    model: ModelLike = None,
+    params: Optional[Mapping[str, float]] = None,
+    **options: Any,
+) -> Result:
+    """Forward/backward asymmetry (App. C)."""
+
+def mathieu(**options: Any) -> Result:
+    """The Mathieu stability chart (App. D)."""
+
+def interactions(order: int = 4, model: ModelLike = None, density: str = "both", **options: Any) -> Result:
+    """The interaction terms between fields."""
+
+def parts(order: int = 4, model: ModelLike = None, density: str = "both", **options: Any) -> Result:
+    """The densities split into parts."""
+
+def count(max_order: int = 8, model: ModelLike = None, basis: str = "powers") -> Result:
+    """Candidate terms per order."""
+
+def rules(order: int = 4, model: ModelLike = None) -> Result:
+    """The rule registry."""
+
+def figures(
+    directory: Union[str, os.PathLike[str]],
+    only: Optional[str] = None,
+    points: int = 12,
+    model: ModelLike = None,
+    params: Optional[Mapping[str, float]] = None,
+    **options: Any,
+) -> List[str]:
+    """Write the paper's figures (SVG) into a directory; the paths written."""

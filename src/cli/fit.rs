@@ -211,6 +211,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     let report = result.map_err(|e| match e.innermost() {
         FitError::Invalid(_) => CliError::Usage(e.to_string()),
         FitError::Output(_) => CliError::Output(e.to_string()),
+        FitError::Open(io) => CliError::read(io, e.to_string()),
         _ => CliError::Input(e.to_string()),
     })?;
     if let Some(dir) = &args.figures {
@@ -232,7 +233,7 @@ const EXTENSIONS: [&str; 4] = ["csv", "txt", "wcon", "json"];
 /// The files of `dir` whose names `keep` accepts, in name order.
 fn files_in(dir: &Path, keep: &dyn Fn(&str) -> bool) -> Result<Vec<PathBuf>, CliError> {
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
-        .map_err(|e| CliError::Input(format!("cannot read {}: {e}", dir.display())))?
+        .map_err(|e| CliError::read(&e, format!("cannot read {}: {e}", dir.display())))?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.is_file() && p.file_name().and_then(|n| n.to_str()).is_some_and(keep))
         .collect();

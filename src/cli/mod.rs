@@ -106,6 +106,9 @@ pub enum CliError {
     /// A file that cannot be read, or a model file that is invalid (exit 1).
     #[error("{0}")]
     Input(String),
+    /// A file that does not exist (exit 1; Python's `FileNotFoundError`).
+    #[error("{0}")]
+    Missing(String),
     /// Output that cannot be written (exit 1).
     #[error("{0}")]
     Output(String),
@@ -116,7 +119,7 @@ impl CliError {
     pub fn exit_code(&self) -> u8 {
         match self {
             CliError::Usage(_) | CliError::Role(_) => 2,
-            CliError::Input(_) | CliError::Output(_) => 1,
+            CliError::Input(_) | CliError::Missing(_) | CliError::Output(_) => 1,
         }
     }
 
@@ -127,8 +130,17 @@ impl CliError {
         match self {
             CliError::Usage(m) => CliError::Usage(bound_line(&m)),
             CliError::Input(m) => CliError::Input(bound_line(&m)),
+            CliError::Missing(m) => CliError::Missing(bound_line(&m)),
             CliError::Output(m) => CliError::Output(bound_line(&m)),
             role => role,
+        }
+    }
+
+    /// An input error from a failed read: [`CliError::Missing`] where the file does not exist.
+    pub(crate) fn read(e: &std::io::Error, message: String) -> CliError {
+        match e.kind() {
+            std::io::ErrorKind::NotFound => CliError::Missing(message),
+            _ => CliError::Input(message),
         }
     }
 
@@ -316,7 +328,7 @@ pub const MAX_TEXT_FILE: u64 = 1 << 20;
 fn read_text(path: &std::path::Path) -> Result<String, CliError> {
     use std::io::Read;
     let cannot =
-        |e: std::io::Error| CliError::Input(format!("cannot read {}: {e}", path.display()));
+        |e: std::io::Error| CliError::read(&e, format!("cannot read {}: {e}", path.display()));
     let mut text = String::new();
     std::fs::File::open(path)
         .map_err(cannot)?

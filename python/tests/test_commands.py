@@ -1,0 +1,96 @@
+"""Every command from Python: the same JSON documents as the command-line binary (run here as a
+separate process), modes keyed by field against numpy, results as objects and DataFrames."""
+
+import json
+import os
+import pathlib
+import subprocess
+
+import numpy as np
+import pytest
+
+import theory_search as ts
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+BINARY = ROOT / "target" / "release" / "theory-search"
+
+
+def cli_json(*args):
+    """The binary's --format json document (cargo test --release builds it before pytest)."""
+    assert BINARY.exists(), f"build the binary first: {BINARY}"
+    out = subprocess.run(
+        [str(BINARY), *args, "--format", "json"], check=True, capture_output=True, text=True
+    )
+    return json.loads(out.stdout)
+
+
+def test_every_command_is_a_function():
+    for name in ("table", "equations", "operators", "modes", "simulate", "behave", "stats",
+                 "asymmetry", "mathieu", "interactions", "parts", "count", "rules", "fit",
+                 "figures"):
+        assert callable(getattr(ts, name)), name
+        assert getattr(ts, name).__doc__, name
+    assert ts.__version__ == "0.1.0"
+
+
+@pytest.mark.parametrize(
+    "call, args",
+    [
+        (lambda: ts.behave("rolling", points=9), ["behave", "rolling", "-p", "9"]),
+        (lambda: ts.behave("rearing"), ["behave", "rearing", "-p", "12"]),
+        (lambda: ts.behave("self-righting"), ["behave", "self-righting", "-p", "12"]),
+        (lambda: ts.stats("explore", samples=500, seed=3),
+         ["stats", "explore", "--samples", "500", "--seed", "3", "-p", "12"]),
+        (lambda: ts.stats("pair", samples=300), ["stats", "pair", "--samples", "300", "-p", "12"]),
+        (lambda: ts.asymmetry(coupling=-0.5), ["asymmetry", "--coupling", "-0.5", "-p", "12"]),
+        (lambda: ts.mathieu(columns=6, rows=5), ["mathieu", "--columns", "6", "--rows", "5"]),
+        (lambda: ts.interactions(order=5), ["interactions", "--order", "5"]),
+        (lambda: ts.parts(), ["parts", "--order", "4", "--density", "both"]),
+        (lambda: ts.count(max_order=5), ["count", "--max-order", "5"]),
+        (lambda: ts.rules(), ["rules", "--order", "4"]),
+        (lambda: ts.run(["modes"], points=7, shapes=True), ["modes", "-p", "7", "--shapes"]),
+    ],
+)
+def test_results_are_the_binarys_documents(call, args):
+    got = call()
+    want = cli_json(*args)
+    want = want if isinstance(want, dict) else {"rows": want}
+    assert got.to_dict() == want
+
+
+def test_modes_by_field_are_numpys_eigh_of_the_free_beam():
+    m = ts.modes(points=57, shapes=True)
+    d4 = next(o["matrix"] for o in ts.operators(57) if o["field"] == "y").astype(float)
+    np.testing.assert_allclose(m["y"].eigenvalues, np.linalg.eigvalsh(d4), atol=1e-9)
+    v = m["y"].shapes
+    assert v.shape == (57, 57)
+    np.testing.assert_allclose(d4 @ v, v * m["y"].eigenvalues, atol=1e-8)
+    np.testing.assert_allclose(v.T @ v, np.eye(57), atol=1e-9)
+
+
+def test_results_have_arrays_frames_and_html():
+    pd = pytest.importorskip("pandas")
+    r = ts.stats("explore", samples=400)
+    assert isinstance(r.to_pandas(), pd.DataFrame)
+    t = ts.table(order=4)
+    frame = t.to_pandas()
+    assert isinstance(frame, pd.DataFrame) and set(frame["density"]) == {"lagrangian", "rayleigh"}
+    html = t._repr_html_()
+    assert "<table>" in html and "(∂ss φ)²" in html
+    m = ts.modes(points=12)
+    assert len(m.to_pandas()) == sum(len(f.eigenvalues) for f in m.values())
+    assert "<table" in m._repr_html_()
+    mathieu = ts.mathieu(columns=4, rows=3)
+    assert isinstance(mathieu.rows, list) and len(mathieu.to_pandas()) > 0
+
+
+def test_figures_are_written(tmp_path):
+    written = ts.figures(tmp_path, only="mode_shapes")
+    assert [os.path.basename(p) for p in written] == ["mode_shapes.svg"]
+    assert open(written[0], encoding="utf-8").read().startswith("<svg")
+
+
+def test_a_model_object_reaches_every_command(tmp_path):
+    planar = ts.Model.from_toml(ROOT / "tables" / "models" / "planar.toml")
+    r = ts.parts(model=planar)
+    assert r["model"] == "planar"

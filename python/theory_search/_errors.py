@@ -1,0 +1,65 @@
+"""The exceptions of theory_search: each a ``TheorySearchError`` and the builtin Python code
+catches for its kind, with the command line's one-line message."""
+
+from __future__ import annotations
+
+import functools
+from typing import Any, Callable, TypeVar
+
+from . import _native
+
+
+class TheorySearchError(Exception):
+    """Any error of theory-search (a one-line message)."""
+
+
+class UsageError(TheorySearchError, ValueError):
+    """A bad argument, setting or model (the command line's exit code 2)."""
+
+
+class InputError(TheorySearchError, ValueError):
+    """Unreadable or malformed data (the command line's exit code 1)."""
+
+
+class MissingFileError(TheorySearchError, FileNotFoundError):
+    """A file that does not exist."""
+
+
+class OutputError(TheorySearchError, OSError):
+    """Output that cannot be written."""
+
+
+_KINDS = (
+    (_native.UsageError, UsageError),
+    (_native.MissingError, MissingFileError),
+    (_native.OutputError, OutputError),
+    (_native.InputError, InputError),
+    (_native.TheorySearchError, TheorySearchError),
+)
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+
+def translated(fn: F) -> F:
+    """``fn`` with the native exceptions raised as the Python ones above."""
+
+    @functools.wraps(fn)
+    def call(*args: Any, **kwargs: Any) -> Any:
+        try:
+            return fn(*args, **kwargs)
+        except _native.TheorySearchError as e:
+            for native, python in _KINDS:
+                if isinstance(e, native):
+                    raise python(str(e)) from None
+            raise
+
+    return call  # type: ignore[return-value]
+
+
+def count(name: str, value: Any, least: int = 0, most: int = 2**63 - 1) -> int:
+    """A whole number argument, checked as the command line checks it."""
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise UsageError(f"invalid value {value!r} for {name}: a whole number is needed")
+    if not least <= value <= most:
+        raise UsageError(f"invalid value '{value}' for {name}: {value} is not in {least}..={most}")
+    return value

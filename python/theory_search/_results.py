@@ -1,0 +1,165 @@
+"""Result objects: a command's JSON document with attribute access, numbers as numpy arrays,
+``to_dict()``, ``to_pandas()`` and an HTML rendering for Jupyter."""
+
+from __future__ import annotations
+
+import html
+import json
+from typing import Any, Dict, Iterator, List, Mapping, Optional
+
+import numpy as np
+
+
+def _numeric(value: Any) -> bool:
+    """A list of numbers, or of equal-length lists of numbers."""
+    if not isinstance(value, list) or not value:
+        return False
+    if all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value):
+        return True
+    return all(
+        isinstance(row, list)
+        and len(row) == len(value[0])
+        and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in row)
+        for row in value
+    )
+
+
+def _arrays(value: Any) -> Any:
+    if _numeric(value):
+        return np.asarray(value, dtype=float)
+    if isinstance(value, dict):
+        return {k: _arrays(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_arrays(v) for v in value]
+    return value
+
+
+def _table(doc: Any) -> Optional[List[Dict[str, Any]]]:
+    """The document's main table: its first list of objects (searched breadth first)."""
+    queue = [doc]
+    while queue:
+        item = queue.pop(0)
+        if isinstance(item, list) and item and all(isinstance(r, dict) for r in item):
+            return item
+        if isinstance(item, dict):
+            queue.extend(item.values())
+    return None
+
+
+class Result(dict):
+    """A command's result. Item access gives the JSON document as the command line's
+    ``--format json`` prints it; attribute access the same with lists of numbers as numpy
+    arrays. ``to_dict()`` is plain data, ``to_pandas()`` the main table as a DataFrame."""
+
+    def __getattr__(self, name: str) -> Any:
+        try:
+            return _arrays(self[name])
+        except KeyError:
+            raise AttributeError(name) from None
+
+    def to_dict(self) -> Dict[str, Any]:
+        """The document as plain data (a deep copy)."""
+        return json.loads(json.dumps(self))
+
+    def to_pandas(self) -> Any:
+        """The main table (the first list of records) as a pandas DataFrame (needs pandas)."""
+        import pandas as pd
+
+        rows = _table(dict(self))
+        return pd.json_normalize(rows if rows is not None else [dict(self)])
+
+    def _repr_html_(self) -> str:
+        try:
+            return self.to_pandas().to_html(max_rows=60)
+        except ImportError:
+            return "<pre>" + html.escape(json.dumps(self, indent=1)[:20000]) + "</pre>"
+
+
+class FieldModes:
+    """One field's modes: numpy arrays ``eigenvalues``, ``frequencies``, ``damping_ratios``,
+    ``variance_shares`` and ``shapes`` (points × modes, one mode per column like
+    ``numpy.linalg.eigh``; ``None`` unless asked for)."""
+
+    def __init__(self, record: Mapping[str, Any]) -> None:
+        self.field: str = record["field"]
+        self.eigenvalues = np.asarray(record.get("eigenvalues", []), dtype=float)
+        self.frequencies = np.asarray(record.get("frequencies", []), dtype=float)
+        self.damping_ratios = np.asarray(record.get("damping_ratios", []), dtype=float)
+        self.variance_shares = np.asarray(record.get("variance_shares", []), dtype=float)
+        shapes = record.get("shapes")
+        self.shapes = None if shapes is None else np.asarray(shapes, dtype=float)
+        # The operator's order k, the scales ω and ζ, the zero modes and Σλ⁻¹ (absent: None).
+        self.k: Optional[int] = record.get("k")
+        self.omega: Optional[float] = record.get("omega")
+        self.zeta: Optional[float] = record.get("zeta")
+        self.nullity: Optional[int] = record.get("nullity")
+        self.inverse_trace: Optional[float] = record.get("inverse_trace")
+
+    def to_dict(self) -> Dict[str, Any]:
+        """Plain data."""
+        return {
+            "field": self.field,
+            "eigenvalues": self.eigenvalues.tolist(),
+            "frequencies": self.frequencies.tolist(),
+            "damping_ratios": self.damping_ratios.tolist(),
+            "variance_shares": self.variance_shares.tolist(),
+            "shapes": None if self.shapes is None else self.shapes.tolist(),
+        }
+
+    def to_pandas(self) -> Any:
+        """One row per mode (needs pandas)."""
+        import pandas as pd
+
+        return pd.DataFrame(
+            {
+                "eigenvalue": self.eigenvalues,
+                "frequency": self.frequencies,
+                "damping_ratio": self.damping_ratios,
+                "variance_share": self.variance_shares,
+            }
+        )
+
+    def __repr__(self) -> str:
+        return f"FieldModes({self.field!r}, {len(self.eigenvalues)} modes)"
+
+
+class Modes(Mapping[str, FieldModes]):
+    """Every field's modes, keyed by field id: ``m["y"].eigenvalues``, ``m["y"].shapes``."""
+
+    def __init__(self, records: List[Mapping[str, Any]]) -> None:
+        self._fields = {r["field"]: FieldModes(r) for r in records}
+
+    def __getitem__(self, field: str) -> FieldModes:
+        return self._fields[field]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._fields)
+
+    def __len__(self) -> int:
+        return len(self._fields)
+
+    def to_dict(self) -> Dict[str, Any]:
+        """Plain data, field by field."""
+        return {k: v.to_dict() for k, v in self._fields.items()}
+
+    def to_pandas(self) -> Any:
+        """One row per field and mode (needs pandas)."""
+        import pandas as pd
+
+        frames = []
+        for k, v in self._fields.items():
+            df = v.to_pandas()
+            df.insert(0, "mode", range(len(df)))
+            df.insert(0, "field", k)
+            frames.append(df)
+        return pd.concat(frames, ignore_index=True)
+
+    def _repr_html_(self) -> str:
+        try:
+            return self.to_pandas().to_html(max_rows=60)
+        except ImportError:
+            return "<pre>" + html.escape(repr(self)) + "</pre>"
+
+    def __repr__(self) -> str:
+        inner = ", ".join(f"{k!r}: {len(v.eigenvalues)} modes" for k, v in self._fields.items())
+        return f"Modes({{{inner}}})"
