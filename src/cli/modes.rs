@@ -79,7 +79,22 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
 
 /// The most points a linearisation takes: a dense eigendecomposition per field, and a dense
 /// least-squares Newton step per iteration towards the equilibrium (about a second at 400).
-pub(super) const MAX_LINEARISED_POINTS: usize = 400;
+const MAX_LINEARISED_POINTS: usize = 400;
+
+/// A nonlinear body to linearise, on at most [`MAX_LINEARISED_POINTS`] points.
+pub(super) fn linearisable(
+    params: &super::ParamArgs,
+    model: &crate::model::Model,
+    order: u32,
+    points: usize,
+) -> Result<crate::dynamics::nonlinear::NonlinearBody, CliError> {
+    if points > MAX_LINEARISED_POINTS {
+        return Err(CliError::Usage(format!(
+            "a nonlinear body is linearised on at most {MAX_LINEARISED_POINTS} points, not {points}"
+        )));
+    }
+    super::nonlinear_body(params, model, order, points)
+}
 
 /// `modes` of a nonlinear body: the modes of its linearisation about each field's equilibrium.
 fn linearised(
@@ -88,12 +103,7 @@ fn linearised(
     points: usize,
     out: &mut dyn Write,
 ) -> Result<(), CliError> {
-    if points > MAX_LINEARISED_POINTS {
-        return Err(CliError::Usage(format!(
-            "a nonlinear body is linearised on at most {MAX_LINEARISED_POINTS} points, not {points}"
-        )));
-    }
-    let body = super::nonlinear_body(&args.params, model, args.model.order, points)?;
+    let body = linearisable(&args.params, model, args.model.order, points)?;
     let mut fields = body.linearise(args.shapes).map_err(CliError::usage)?;
     if let Some(k) = args.limit {
         for f in &mut fields {

@@ -89,13 +89,7 @@ fn linearised(
     points: usize,
     out: &mut dyn Write,
 ) -> Result<(), CliError> {
-    if points > super::modes::MAX_LINEARISED_POINTS {
-        return Err(CliError::Usage(format!(
-            "a nonlinear body is linearised on at most {} points, not {points}",
-            super::modes::MAX_LINEARISED_POINTS
-        )));
-    }
-    let body = super::nonlinear_body(&args.params, model, args.model.order, points)?;
+    let body = super::modes::linearisable(&args.params, model, args.model.order, points)?;
     let report = crate::dynamics::LinearisedOperatorsReport {
         model: model.name.clone(),
         order: args.model.order,
