@@ -1,0 +1,88 @@
+"""Plots of theory_search results with matplotlib (an optional extra: ``pip install
+theory-search[plot]`` or any matplotlib). Each function takes a result object, draws on a new
+figure (or the ``ax`` given) and returns the matplotlib ``Figure``; legends sit outside the
+data, text is at least 8 pt at the default size."""
+
+from __future__ import annotations
+
+from typing import Any, Optional, Sequence
+
+import numpy as np
+
+
+def _axes(ax: Any, ncols: int = 1, width: float = 7.0, height: float = 3.2):
+    import matplotlib.pyplot as plt
+
+    if ax is not None:
+        return ax.figure, [ax] if ncols == 1 else ax
+    fig, axes = plt.subplots(1, ncols, figsize=(width, height), constrained_layout=True)
+    return fig, list(np.atleast_1d(axes))
+
+
+def modes(result: Any, field: str = "y", count: int = 4, ax: Any = None):
+    """The first ``count`` non-zero mode shapes of ``field`` from :func:`theory_search.modes`
+    called with ``shapes=True`` (columns of ``result[field].shapes``) along the body."""
+    fm = result[field]
+    if fm.shapes is None:
+        raise ValueError("modes() was called without shapes=True")
+    fig, (axis,) = _axes(ax)
+    s = np.linspace(0.0, 1.0, fm.shapes.shape[0])
+    nonzero = [i for i, lam in enumerate(fm.eigenvalues) if lam > 1e-9][:count]
+    for i in nonzero:
+        axis.plot(s, fm.shapes[:, i], label=f"mode {i} (λ = {fm.eigenvalues[i]:.3g})")
+    axis.axhline(0.0, color="0.7", lw=0.5)
+    axis.set_xlabel("arc length (tail → head)")
+    axis.set_ylabel(f"{field} shape")
+    axis.legend(frameon=False, loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8)
+    return fig
+
+
+def spectrum(fit: Any, modes: Sequence[int] = (0, 1, 2, 3), ax: Any = None):
+    """The Welch spectra of a fit's mode coordinates (:func:`theory_search.fit`), log scale,
+    each with the frequency the theory gives it."""
+    fig, (axis,) = _axes(ax)
+    records = {m["index"]: m for m in (fit.to_dict().get("modes") or [])}
+    for k in modes:
+        if k >= len(fit.psd):
+            continue
+        (line,) = axis.semilogy(fit.frequencies, fit.psd[k], label=f"mode {k}")
+        theory = records.get(k, {}).get("theory_angular_frequency")
+        if theory:
+            axis.axvline(theory / (2 * np.pi), color=line.get_color(), ls=":", lw=1)
+    axis.set_xlabel("frequency (per time unit)")
+    axis.set_ylabel("power spectral density")
+    axis.legend(frameon=False, loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8)
+    return fig
+
+
+def simulation(sim: Any, field: str = "y", points: Optional[Sequence[int]] = None, ax: Any = None):
+    """Positions of ``field`` against time from :func:`theory_search.simulate` (a few points)."""
+    fig, (axis,) = _axes(ax)
+    q = np.asarray(sim["positions"][field])
+    chosen = points if points is not None else sorted({0, q.shape[1] // 2, q.shape[1] - 1})
+    for j in chosen:
+        axis.plot(sim["t"], q[:, j], lw=1, label=f"{field}_{j}")
+    axis.set_xlabel("t")
+    axis.set_ylabel(field)
+    axis.legend(frameon=False, loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8)
+    return fig
+
+
+def verdicts(fit: Any, ax: Any = None):
+    """The fit's tests of the theory's predictions: each exponent with its interval against the
+    value the theory predicts, and the verdict."""
+    fig, (axis,) = _axes(ax, height=0.6 + 0.5 * max(1, len(fit.tests)))
+    names = list(fit.tests)
+    for y, name in enumerate(names):
+        t = fit.tests[name]
+        axis.plot([t["expected"]], [y], "k|", ms=14)
+        if t.get("interval"):
+            lo, hi = t["interval"]
+            axis.plot([lo, hi], [y, y], "-", color="C0", lw=3)
+        if t.get("exponent") is not None:
+            axis.plot([t["exponent"]], [y], "o", color="C0")
+        axis.annotate(t["verdict"], (1.01, y), xycoords=("axes fraction", "data"), va="center", fontsize=9)
+    axis.set_yticks(range(len(names)), names)
+    axis.set_ylim(-0.5, len(names) - 0.5)
+    axis.set_xlabel("exponent (bar: interval; |: the theory's value)")
+    return fig
