@@ -434,3 +434,88 @@ fn modes_of_a_nonlinear_body_are_those_of_its_linearisation() {
         }
     }
 }
+
+#[test]
+fn the_tethered_filament_agrees_with_rk4_on_its_printed_equation() {
+    // `equations --model tethered.toml` prints ∂t²u = −½c1 − c2 u + 2c' ∂t∂s²u − 3/2 c3 u²
+    // − 2c4 u³. RK4 on that equation, discretised by hand (∂t∂s² of the velocity: the second
+    // difference, one-sided at the free ends, the natural condition), against the implicit
+    // integrator with every coefficient on.
+    let printed = cli(&[
+        "equations",
+        "--model",
+        concat!(env!("CARGO_MANIFEST_DIR"), "/tables/models/tethered.toml"),
+    ])
+    .unwrap();
+    assert!(
+        printed.contains("∂t² u = −1/2 c1_u − c2_u u + 2 c'_u ∂t∂s² u − 3/2 c3_u u² − 2 c4_u u³"),
+        "{printed}"
+    );
+    let (c1, c2, c3, c4, cp) = (0.4, 1.3, 0.2, 0.5, 0.15);
+    let v = values(&[
+        ("c1_u", c1),
+        ("c2_u", c2),
+        ("c3_u", c3),
+        ("c4_u", c4),
+        ("c'_u", cp),
+    ]);
+    let n = 7;
+    let body = NonlinearBody::new(&tethered(), 4, n, &v).unwrap();
+    let accel = |u: &[f64], w: &[f64]| -> Vec<f64> {
+        (0..n)
+            .map(|i| {
+                // Σ of the differences to the neighbours there are: w_{i−1} − 2w_i + w_{i+1}
+                // inside, w_{i±1} − w_i at an end.
+                let mut lap = 0.0;
+                if i > 0 {
+                    lap += w[i - 1] - w[i];
+                }
+                if i + 1 < n {
+                    lap += w[i + 1] - w[i];
+                }
+                -0.5 * c1 - c2 * u[i] + 2.0 * cp * lap
+                    - 1.5 * c3 * u[i] * u[i]
+                    - 2.0 * c4 * u[i].powi(3)
+            })
+            .collect()
+    };
+    let u0: Vec<f64> = (0..n).map(|j| 0.5 * (0.9 * j as f64).cos()).collect();
+    let w0: Vec<f64> = (0..n).map(|j| 0.3 * (1.3 * j as f64).sin()).collect();
+    let (mut q, mut p) = (u0.clone(), w0.clone());
+    let k = 1e-3;
+    let steps = 5000;
+    for _ in 0..steps {
+        let a1 = accel(&q, &p);
+        let (q2, p2): (Vec<f64>, Vec<f64>) = (0..n)
+            .map(|i| (q[i] + 0.5 * k * p[i], p[i] + 0.5 * k * a1[i]))
+            .unzip();
+        let a2 = accel(&q2, &p2);
+        let (q3, p3): (Vec<f64>, Vec<f64>) = (0..n)
+            .map(|i| (q[i] + 0.5 * k * p2[i], p[i] + 0.5 * k * a2[i]))
+            .unzip();
+        let a3 = accel(&q3, &p3);
+        let (q4, p4): (Vec<f64>, Vec<f64>) =
+            (0..n).map(|i| (q[i] + k * p3[i], p[i] + k * a3[i])).unzip();
+        let a4 = accel(&q4, &p4);
+        for i in 0..n {
+            q[i] += k / 6.0 * (p[i] + 2.0 * p2[i] + 2.0 * p3[i] + p4[i]);
+            p[i] += k / 6.0 * (a1[i] + 2.0 * a2[i] + 2.0 * a3[i] + a4[i]);
+        }
+    }
+    let mut state = vec![(u0, w0)];
+    let mut integrator = body.integrator(k);
+    for step in 0..steps {
+        integrator.step(&mut state, step as f64 * k).unwrap();
+    }
+    for i in 0..n {
+        // The midpoint scheme is second order: 5 time units at h = 10⁻³.
+        assert!(
+            (state[0].0[i] - q[i]).abs() < 1e-6 && (state[0].1[i] - p[i]).abs() < 1e-6,
+            "point {i}: ({}, {}) against RK4 ({}, {})",
+            state[0].0[i],
+            state[0].1[i],
+            q[i],
+            p[i]
+        );
+    }
+}
