@@ -171,3 +171,47 @@ fn every_shipped_model_runs_through_every_numerical_command() {
     }
     assert!(seen >= 6, "{seen} models");
 }
+
+#[test]
+fn a_linear_body_takes_its_printed_coefficients_as_scales() {
+    // c = ω², c′ = ζω of the field's scale: the same run as with the scales themselves.
+    let by_names = cli(&[
+        "simulate",
+        "-p",
+        "9",
+        "--param",
+        "c_y=4",
+        "--param",
+        "cp_y=0.6",
+        "--param",
+        "c_z=4",
+        "--initial",
+        "y:3=0.5",
+        "--steps",
+        "300",
+        "--every",
+        "100",
+    ])
+    .unwrap();
+    let by_scales = cli(&[
+        "simulate",
+        "-p",
+        "9",
+        "--param",
+        "omega_b=2",
+        "--param",
+        "zeta_b=0.3",
+        "--initial",
+        "y:3=0.5",
+        "--steps",
+        "300",
+        "--every",
+        "100",
+    ])
+    .unwrap();
+    assert_eq!(by_names, by_scales);
+    let err = cli(&["modes", "-p", "9", "--param", "c_y=4", "--param", "c_z=2"]).unwrap_err();
+    assert!(err.contains("share the scale b"), "{err}");
+    let err = cli(&["modes", "-p", "9", "--param", "c_y=-1"]).unwrap_err();
+    assert!(err.contains("ω² > 0"), "{err}");
+}

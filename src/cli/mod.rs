@@ -17,6 +17,7 @@ use crate::theory::Theory;
 
 mod asymmetry;
 mod behave;
+mod coefficients;
 mod count;
 mod emit;
 mod equations;
@@ -357,74 +358,6 @@ fn load_model(path: &Option<PathBuf>) -> Result<Model, CliError> {
 }
 
 use crate::model::one_line;
-
-/// A coefficient's name as `--param` takes it: as `equations` prints it (`c'1_θ`), or in ASCII
-/// with `p` for the prime and the field's id for its symbol (`cp1_theta`).
-fn coefficient_of(name: &str, names: &[String], model: &crate::model::Model) -> Option<String> {
-    names
-        .iter()
-        .find(|n| {
-            *n == name
-                || n.rsplit_once('_').is_some_and(|(letter, symbol)| {
-                    model.fields.iter().any(|f| {
-                        f.symbol == symbol
-                            && format!("{}_{}", letter.replace('\'', "p"), f.id) == name
-                    })
-                })
-        })
-        .cloned()
-}
-
-/// The discretised nonlinear body of `model`: coefficients from `--param` under their printed
-/// (or ASCII) names, the rest by [`crate::dynamics::default_coefficients`] from the scales.
-fn nonlinear_body(
-    args: &ParamArgs,
-    model: &Model,
-    order: u32,
-    points: usize,
-) -> Result<crate::dynamics::nonlinear::NonlinearBody, CliError> {
-    use crate::dynamics::nonlinear::{coefficient_names, NonlinearBody};
-    let names = coefficient_names(model, order).map_err(CliError::usage)?;
-    check_list("--param", args.params.len())?;
-    let mut given = std::collections::BTreeMap::new();
-    let mut scales = Vec::new();
-    for text in &args.params {
-        let name = text
-            .split_once('=')
-            .map_or(text.as_str(), |(n, _)| n)
-            .trim();
-        match coefficient_of(name, &names, model) {
-            Some(canonical) => {
-                let value = text
-                    .split_once('=')
-                    .and_then(|(_, v)| v.trim().parse::<f64>().ok())
-                    .filter(|v| v.is_finite())
-                    .ok_or_else(|| {
-                        CliError::Usage(format!(
-                            "parameter {name}: expected {name}=a finite number"
-                        ))
-                    })?;
-                given.insert(canonical, value);
-            }
-            None => scales.push(text.clone()),
-        }
-    }
-    let scale_args = ParamArgs {
-        params: scales,
-        params_file: args.params_file.clone(),
-    };
-    let params = load_params(&scale_args, model).map_err(|e| match e {
-        CliError::Usage(m) => CliError::Usage(format!(
-            "{m} (this body's coefficients: {})",
-            names.join(", ")
-        )),
-        other => other,
-    })?;
-    let mut values =
-        crate::dynamics::default_coefficients(model, order, &params).map_err(CliError::usage)?;
-    values.extend(given);
-    NonlinearBody::new(model, order, points, &values).map_err(CliError::usage)
-}
 
 fn load_params(args: &ParamArgs, model: &Model) -> Result<Params, CliError> {
     check_list("--param", args.params.len())?;

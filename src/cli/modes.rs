@@ -2,7 +2,7 @@
 
 use std::io::Write;
 
-use super::{emit, load_params, CliError, ModelArgs, ParamArgs};
+use super::{emit, CliError, ModelArgs, ParamArgs};
 use crate::modal::{field_modes, ModesReport};
 use crate::report::Output;
 
@@ -47,7 +47,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     if !quadratic {
         return linearised(args, &model, points, out);
     }
-    let params = load_params(&args.params, &model)?;
+    let params = super::coefficients::linear_params(&args.params, &model, args.model.order)?;
     let limit = args.limit.map(|k| k as usize);
     if limit.is_none() && points > MAX_FULL_SPECTRUM {
         return Err(CliError::Usage(format!(
@@ -93,7 +93,7 @@ pub(super) fn linearisable(
             "a nonlinear body is linearised on at most {MAX_LINEARISED_POINTS} points, not {points}"
         )));
     }
-    super::nonlinear_body(params, model, order, points)
+    super::coefficients::nonlinear_body(params, model, order, points)
 }
 
 /// `modes` of a nonlinear body: the modes of its linearisation about each field's equilibrium.

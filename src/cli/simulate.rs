@@ -3,7 +3,7 @@
 use std::io::Write;
 use std::path::PathBuf;
 
-use super::{load_params, CliError, ModelArgs, ParamArgs};
+use super::{CliError, ModelArgs, ParamArgs};
 use crate::dynamics::{
     sample_header, sample_row, simulate, Config, DynamicsError, Forcing, Halt, Initial, Sample,
 };
@@ -232,7 +232,12 @@ fn run_nonlinear(
     model: &crate::model::Model,
     out: &mut dyn Write,
 ) -> Result<(), CliError> {
-    let body = super::nonlinear_body(&args.params, model, args.model.order, args.points as usize)?;
+    let body = super::coefficients::nonlinear_body(
+        &args.params,
+        model,
+        args.model.order,
+        args.points as usize,
+    )?;
     let (initial, forcing) = state(args)?;
     let config = config(args, initial, forcing);
     let uniform = uniform_state(args)?;
@@ -268,7 +273,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
             "--initial {text:?}: the same displacement at every point is for a nonlinear body; this one is linear and takes FIELD:MODE=Q[,V]"
         )));
     }
-    let params = load_params(&args.params, &model)?;
+    let params = super::coefficients::linear_params(&args.params, &model, args.model.order)?;
     let (initial, forcing) = state(args)?;
     let config = config(args, initial, forcing);
     let ids: Vec<&str> = model.fields.iter().map(|f| f.id.as_str()).collect();
