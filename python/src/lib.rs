@@ -277,24 +277,27 @@ fn simulate<'py>(
         forcing: Vec::new(),
     };
     let fields = model.fields.len();
-    let (t, positions, modal) = py
+    let (t, energy, positions, modal) = py
         .detach(|| {
             let mut t = Vec::new();
+            let mut energy = Vec::new();
             let mut positions: Vec<Vec<Vec<f64>>> = vec![Vec::new(); fields];
             let mut modal: Vec<Vec<Vec<f64>>> = vec![Vec::new(); fields];
             theory_search::dynamics::simulate(&model, &params, &config, |s| {
                 t.push(s.t);
+                energy.push(s.energy);
                 for f in 0..fields {
                     positions[f].push(s.positions[f].clone());
                     modal[f].push(s.modal[f].clone());
                 }
                 Ok(())
             })
-            .map(|_| (t, positions, modal))
+            .map(|_| (t, energy, positions, modal))
         })
         .map_err(usage)?;
     let out = PyDict::new(py);
     out.set_item("t", PyArray1::from_vec(py, t))?;
+    out.set_item("energy", PyArray1::from_vec(py, energy))?;
     let (p, q) = (PyDict::new(py), PyDict::new(py));
     for (f, field) in model.fields.iter().enumerate() {
         p.set_item(
@@ -508,6 +511,13 @@ fn run_cli<'py>(py: Python<'py>, args: Vec<String>) -> PyResult<Bound<'py, pyo3:
     }
 }
 
+/// Whether every surviving term of `model` at `order` is a square (the exact modal path).
+#[pyfunction]
+#[pyo3(signature = (order, model))]
+fn is_quadratic(order: u32, model: Option<&str>) -> PyResult<bool> {
+    theory_search::dynamics::is_quadratic(&model_of(model)?, order).map_err(usage)
+}
+
 /// The native module.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -518,6 +528,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("MissingError", py.get_type::<MissingError>())?;
     m.add("OutputError", py.get_type::<OutputError>())?;
     m.add_function(wrap_pyfunction!(run_cli, m)?)?;
+    m.add_function(wrap_pyfunction!(is_quadratic, m)?)?;
     m.add_function(wrap_pyfunction!(larva_toml, m)?)?;
     m.add_function(wrap_pyfunction!(check_model, m)?)?;
     m.add_function(wrap_pyfunction!(table_json, m)?)?;

@@ -96,6 +96,7 @@ _native_call = {
         "simulate",
         "fit_arrays",
         "fit_paths",
+        "is_quadratic",
     )
 }
 
@@ -246,6 +247,19 @@ def modes(
     return Modes(_native_call["modes"](points, order, _toml(model), dict(params or {}), shapes, k))
 
 
+def _assignments(values: Any) -> List[str]:
+    """``{"y:2": (1.0, 0.0)}`` or ``["y:2=1,0"]`` as the command line's ``KEY=A[,B…]`` texts."""
+    if values is None:
+        return []
+    if isinstance(values, Mapping):
+        out = []
+        for key, v in values.items():
+            parts = v if isinstance(v, (list, tuple)) else [v]
+            out.append(f"{key}=" + ",".join(repr(float(x)) for x in parts))
+        return out
+    return [str(v) for v in values]
+
+
 def simulate(
     points: int = 12,
     steps: int = 1000,
@@ -256,17 +270,52 @@ def simulate(
     model: Optional[Union[Model, str]] = None,
     params: Optional[Mapping[str, float]] = None,
     order: int = 4,
+    initial: Any = None,
+    force: Any = None,
+    drive: Any = None,
 ) -> Dict[str, Any]:
-    """Integrate the modal equations (Langevin noise at ``temperature``): ``t`` and, per field,
-    ``positions[field]`` (samples × points) and ``modal[field]`` (samples × modes)."""
+    """Integrate the equations of motion (Langevin noise at ``temperature``): ``t``,
+    ``energy`` and, per field, ``positions[field]`` (samples × points) and ``modal[field]``
+    (samples × modes; empty for a nonlinear body). ``initial`` is ``{"y:2": (Q, V)}`` (a mode) or
+    ``{"u": Q}`` (every point), ``force`` ``{"y:2": F}``, ``drive`` ``{"x:1": (F0, Ω[, φ])}``, as
+    the command line's ``--initial``, ``--force``, ``--drive``; ``params`` sets scales or the
+    coefficients ``equations`` prints."""
     _count("points", points, 1, 2000)
     _count("steps", steps, 1)
     _count("every", every, 1)
     _count("seed", seed, 0)
     _count("order", order, 1, 32)
-    return _native_call["simulate"](
-        points, steps, dt, every, temperature, seed, order, _toml(model), dict(params or {})
+    simple = initial is None and force is None and drive is None and not (
+        params and any(not k.startswith(("omega_", "zeta_")) for k in params)
     )
+    if simple and _native_call["is_quadratic"](order, _toml(model)):
+        return _native_call["simulate"](
+            points, steps, dt, every, temperature, seed, order, _toml(model), dict(params or {})
+        )
+    doc = run(
+        ["simulate"],
+        model,
+        params,
+        points=points,
+        steps=steps,
+        dt=dt,
+        every=every,
+        temperature=temperature,
+        seed=seed,
+        order=order,
+        initial=_assignments(initial),
+        force=_assignments(force),
+        drive=_assignments(drive),
+    )
+    columns, rows = doc["columns"], np.asarray(doc["rows"], dtype=float).reshape(-1, len(doc["columns"]))
+    fields = (model if isinstance(model, Model) else Model.from_toml(model) if model else Model.larva()).fields
+    out: Dict[str, Any] = {"t": rows[:, 0], "energy": rows[:, 1], "positions": {}, "modal": {}}
+    for f in fields:
+        pos = [i for i, c in enumerate(columns) if c.rsplit("_", 1)[0] == f and c.rsplit("_", 1)[1].isdigit()]
+        mod = [i for i, c in enumerate(columns) if c.startswith(f"q_{f}_") and c[len(f) + 3:].isdigit()]
+        out["positions"][f] = rows[:, pos]
+        out["modal"][f] = rows[:, mod]
+    return out
 
 
 class FitResult:

@@ -112,8 +112,11 @@ def simulate(
     model: ModelLike = None,
     params: Optional[Mapping[str, float]] = None,
     order: int = 4,
+    initial: Any = None,
+    force: Any = None,
+    drive: Any = None,
 ) -> Dict[str, Any]:
-    """Times, and per field the positions and modal coordinates as numpy arrays."""
+    """Times, energies, and per field the positions and modal coordinates as numpy arrays."""
 
 class FitResult:
     """A fit's numbers as attributes, its spectra, components and shapes as arrays."""
