@@ -198,10 +198,10 @@ def asymmetry(
 def mathieu(**options: Any) -> Result:
     """The Mathieu stability chart (App. D)."""
 
-def interactions(order: int = 4, model: ModelLike = None, density: str = "both", **options: Any) -> Result:
+def interactions(order: int = 4, model: ModelLike = None, density: Optional[str] = None, **options: Any) -> Result:
     """The interaction terms between fields."""
 
-def parts(order: int = 4, model: ModelLike = None, density: str = "both", **options: Any) -> Result:
+def parts(order: int = 4, model: ModelLike = None, density: Optional[str] = None, **options: Any) -> Result:
     """The densities split into parts."""
 
 def count(max_order: int = 8, model: ModelLike = None, basis: str = "powers") -> Result:

@@ -118,13 +118,17 @@ def mathieu(**options: Any) -> Result:
     return run(["mathieu"], **options)
 
 
-def interactions(order: int = 4, model: Any = None, density: str = "both", **options: Any) -> Result:
-    """The interaction terms between fields the requirements admit."""
+def interactions(
+    order: int = 4, model: Any = None, density: Optional[str] = None, **options: Any
+) -> Result:
+    """The interaction terms between fields the requirements admit (``density`` as for
+    :func:`parts`)."""
     return run(["interactions"], model, order=order, density=density, **options)
 
 
-def parts(order: int = 4, model: Any = None, density: str = "both", **options: Any) -> Result:
-    """The density split into kinetic, potential and interaction parts."""
+def parts(order: int = 4, model: Any = None, density: Optional[str] = None, **options: Any) -> Result:
+    """The density split into kinetic, potential and interaction parts (``density``:
+    ``"lagrangian"``, ``"rayleigh"`` or ``"both"``; the command's default without it)."""
     return run(["parts"], model, order=order, density=density, **options)
 
 
