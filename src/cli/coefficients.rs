@@ -27,6 +27,43 @@ pub(super) fn coefficient_of(
         .cloned()
 }
 
+/// `--param` split into the coefficients it sets (canonical name, value) and the scale
+/// assignments left for [`load_params`] (with the `--params` file).
+fn split(
+    args: &ParamArgs,
+    names: &[String],
+    model: &Model,
+) -> Result<(Vec<(String, f64)>, ParamArgs), CliError> {
+    check_list("--param", args.params.len())?;
+    let mut coefficients = Vec::new();
+    let mut scales = Vec::new();
+    for text in &args.params {
+        let (name, value) = text.split_once('=').unwrap_or((text.as_str(), ""));
+        let name = name.trim();
+        match coefficient_of(name, names, model) {
+            Some(canonical) => {
+                let value = value
+                    .trim()
+                    .parse::<f64>()
+                    .ok()
+                    .filter(|v| v.is_finite())
+                    .ok_or_else(|| {
+                        CliError::Usage(format!(
+                            "parameter {name}: expected {name}=a finite number"
+                        ))
+                    })?;
+                coefficients.push((canonical, value));
+            }
+            None => scales.push(text.clone()),
+        }
+    }
+    let scale_args = ParamArgs {
+        params: scales,
+        params_file: args.params_file.clone(),
+    };
+    Ok((coefficients, scale_args))
+}
+
 /// The discretised nonlinear body of `model`: coefficients from `--param` under their printed
 /// (or ASCII) names, the rest by [`crate::dynamics::default_coefficients`] from the scales.
 pub(super) fn nonlinear_body(
@@ -37,34 +74,7 @@ pub(super) fn nonlinear_body(
 ) -> Result<crate::dynamics::nonlinear::NonlinearBody, CliError> {
     use crate::dynamics::nonlinear::{coefficient_names, NonlinearBody};
     let names = coefficient_names(model, order).map_err(CliError::usage)?;
-    check_list("--param", args.params.len())?;
-    let mut given = std::collections::BTreeMap::new();
-    let mut scales = Vec::new();
-    for text in &args.params {
-        let name = text
-            .split_once('=')
-            .map_or(text.as_str(), |(n, _)| n)
-            .trim();
-        match coefficient_of(name, &names, model) {
-            Some(canonical) => {
-                let value = text
-                    .split_once('=')
-                    .and_then(|(_, v)| v.trim().parse::<f64>().ok())
-                    .filter(|v| v.is_finite())
-                    .ok_or_else(|| {
-                        CliError::Usage(format!(
-                            "parameter {name}: expected {name}=a finite number"
-                        ))
-                    })?;
-                given.insert(canonical, value);
-            }
-            None => scales.push(text.clone()),
-        }
-    }
-    let scale_args = ParamArgs {
-        params: scales,
-        params_file: args.params_file.clone(),
-    };
+    let (given, scale_args) = split(args, &names, model)?;
     let params = load_params(&scale_args, model).map_err(|e| match e {
         CliError::Usage(m) => CliError::Usage(format!(
             "{m} (this body's coefficients: {})",
@@ -89,33 +99,7 @@ pub(super) fn linear_params(
 ) -> Result<Params, CliError> {
     let names =
         crate::dynamics::nonlinear::coefficient_names(model, order).map_err(CliError::usage)?;
-    let mut coefficients = Vec::new();
-    let mut scales = Vec::new();
-    for text in &args.params {
-        let name = text
-            .split_once('=')
-            .map_or(text.as_str(), |(n, _)| n)
-            .trim();
-        match coefficient_of(name, &names, model) {
-            Some(canonical) => {
-                let value = text
-                    .split_once('=')
-                    .and_then(|(_, v)| v.trim().parse::<f64>().ok())
-                    .filter(|v| v.is_finite())
-                    .ok_or_else(|| {
-                        CliError::Usage(format!(
-                            "parameter {name}: expected {name}=a finite number"
-                        ))
-                    })?;
-                coefficients.push((canonical, value));
-            }
-            None => scales.push(text.clone()),
-        }
-    }
-    let scale_args = ParamArgs {
-        params: scales,
-        params_file: args.params_file.clone(),
-    };
+    let (mut coefficients, scale_args) = split(args, &names, model)?;
     let mut params = load_params(&scale_args, model)?;
     if coefficients.is_empty() {
         return Ok(params);
