@@ -1,21 +1,31 @@
-//! `theory-search figures`: the SVG figures of a body.
+//! `theory-search figures`: the figures of a body, as SVG, PNG or PDF at a printed width.
 
 use std::io::Write;
 use std::path::PathBuf;
 
 use super::{write_out, BodyArgs, CliError, SampleArgs};
-use crate::figures::{write_figures, FigureError, FigureSettings, FIGURES};
+use crate::figures::{write_figures, FigureError, FigureSettings, Format, Page, FIGURES};
 
 /// Arguments of `figures`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Directory to write the SVG files into (created if missing); `fit --figures DIR` names
+    /// Directory to write the figures into (created if missing); `fit --figures DIR` names
     /// its figure folder the same way. `--out` is an alias.
     #[arg(long, value_name = "DIR", visible_alias = "out")]
     figures: PathBuf,
-    /// Only this figure (e.g. `mode_shapes.svg`; the `.svg` may be left off).
+    /// Only this figure (e.g. `mode_shapes`; an extension is ignored).
     #[arg(long, value_name = "NAME")]
     only: Option<String>,
+    /// File format of the figures.
+    #[arg(long, value_enum, default_value_t = Format::Svg)]
+    format: Format,
+    /// Printed width in millimetres, 60 to 600 (180: a journal's full width). The layout
+    /// follows the width, so text is 7.4 pt at any width.
+    #[arg(long, value_name = "MM", default_value_t = 180.0)]
+    width: f64,
+    /// Resolution of PNG figures, dots per inch (30 to 1200).
+    #[arg(long, value_name = "DPI", default_value_t = 300.0)]
+    dpi: f64,
     /// Draws of the sampled figures (pair density, 3-point bend).
     #[command(flatten)]
     sample: SampleArgs,
@@ -31,13 +41,20 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
         points: args.body.points,
         seed: args.sample.seed,
         samples: args.sample.samples,
+        page: Page {
+            format: args.format,
+            width_mm: args.width,
+            dpi: args.dpi,
+        },
     };
+    settings.page.check().map_err(usage)?;
+    // Figures are named by their SVG file; any of the three extensions names the same one.
     let only = args.only.as_ref().map(|name| {
-        if name.ends_with(".svg") {
-            name.clone()
-        } else {
-            format!("{name}.svg")
-        }
+        let stem = [".svg", ".png", ".pdf"]
+            .iter()
+            .find_map(|e| name.strip_suffix(e))
+            .unwrap_or(name);
+        format!("{stem}.svg")
     });
     let names: Vec<&str> = match &only {
         Some(name) => vec![name.as_str()],
@@ -52,11 +69,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
         bar.inc(1);
     });
     bar.finish_and_clear();
-    let written = written.map_err(|e| match e {
-        e @ FigureError::Io { .. } => CliError::Output(e.to_string()),
-        FigureError::Body(m) => CliError::Usage(m),
-        FigureError::Invalid(m) => CliError::Usage(m),
-    })?;
+    let written = written.map_err(usage)?;
     let mut t = String::new();
     for p in &written.written {
         t += &format!("wrote {}\n", p.display());
@@ -65,4 +78,39 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
         t += &format!("skipped {name}: {why}\n");
     }
     write_out(out, &t)
+}
+
+/// A figure error as the CLI reports it: unwritable files are output errors, the rest usage.
+pub(super) fn usage(e: FigureError) -> CliError {
+    match e {
+        e @ FigureError::Io { .. } => CliError::Output(e.to_string()),
+        FigureError::Body(m) | FigureError::Invalid(m) => CliError::Usage(m),
+    }
+}
+
+/// `fit`'s figure options: the format and printed width of `--figures DIR`.
+#[derive(Debug, clap::Args)]
+pub struct FitPageArgs {
+    /// File format of the `--figures` files.
+    #[arg(long, value_enum, default_value_t = Format::Svg)]
+    figure_format: Format,
+    /// Printed width of the `--figures` files in millimetres (60 to 600).
+    #[arg(long, value_name = "MM", default_value_t = 180.0)]
+    figure_width: f64,
+    /// Resolution of PNG `--figures`, dots per inch (30 to 1200).
+    #[arg(long, value_name = "DPI", default_value_t = 300.0)]
+    figure_dpi: f64,
+}
+
+impl FitPageArgs {
+    /// The page, checked.
+    pub fn page(&self) -> Result<Page, CliError> {
+        let page = Page {
+            format: self.figure_format,
+            width_mm: self.figure_width,
+            dpi: self.figure_dpi,
+        };
+        page.check().map_err(usage)?;
+        Ok(page)
+    }
 }

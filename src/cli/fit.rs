@@ -88,9 +88,11 @@ pub struct Args {
     /// Unit of the coordinates (e.g. `mm`), printed with the point spacing.
     #[arg(long, value_name = "UNIT")]
     length_unit: Option<String>,
-    /// Also write the fit's SVG figures into this directory.
+    /// Also write the fit's figures into this directory (SVG unless `--figure-format`).
     #[arg(long, value_name = "DIR")]
     figures: Option<PathBuf>,
+    #[command(flatten)]
+    page: super::figures::FitPageArgs,
     /// Also write every frame's modal coordinates to this CSV file (t, q_<mode>, …).
     #[arg(long, value_name = "FILE")]
     series: Option<PathBuf>,
@@ -139,6 +141,8 @@ enum FitEstimator {
 
 /// Fit and print.
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
+    // Figure options are checked before the (possibly long) fit.
+    let page = args.page.page()?;
     let model = args.model.load()?;
     let mut settings = FitSettings::new(match args.kind {
         FitKind::Midline => InputKind::Midline,
@@ -215,7 +219,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
         _ => CliError::Input(e.to_string()),
     })?;
     if let Some(dir) = &args.figures {
-        crate::figures::write_fit(dir, &report).map_err(|e| CliError::Output(e.to_string()))?;
+        crate::figures::write_fit(dir, &report, &page).map_err(super::figures::usage)?;
     }
     if let Some(path) = &args.params_out {
         write_params(path, &model, &report)?;

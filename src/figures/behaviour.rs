@@ -18,7 +18,7 @@ pub(super) fn bh(e: behaviour::BehaviourError) -> FigureError {
 }
 
 /// Fig. 3: the two stages of self-righting.
-pub(super) fn self_righting(theory: &Theory) -> Result<String, FigureError> {
+pub(super) fn self_righting(theory: &Theory, width: u32) -> Result<String, FigureError> {
     let n = theory.points;
     let settings = RightingSettings::default();
     let r = behaviour::self_righting(theory, &settings).map_err(bh)?;
@@ -102,11 +102,12 @@ pub(super) fn self_righting(theory: &Theory) -> Result<String, FigureError> {
     }
     panels[4].zero = true;
     render(
+        width,
         &format!(
             "Self-righting, N = {n}, ζ₁ = {} (paper Fig. 3); attach at {:.1}, righted at {:.1}",
             r.damping_ratio, r.attachment_time, r.righting_time
         ),
-        (1000, 1050),
+        360,
         (3, 2),
         &panels,
     )
@@ -114,7 +115,7 @@ pub(super) fn self_righting(theory: &Theory) -> Result<String, FigureError> {
 
 /// Fig. 4: a constant force on the first dorsoventral bending mode (rearing) and on the first
 /// axial mode (hunching): the transient and the shifted equilibrium shape.
-pub(super) fn rearing_hunching(theory: &Theory) -> Result<String, FigureError> {
+pub(super) fn rearing_hunching(theory: &Theory, width: u32) -> Result<String, FigureError> {
     let n = theory.points;
     let mut panels = Vec::new();
     let field = |behaviour: &str| -> Result<(usize, String), FigureError> {
@@ -183,8 +184,9 @@ pub(super) fn rearing_hunching(theory: &Theory) -> Result<String, FigureError> {
         panels.push(b);
     }
     render(
+        width,
         &format!("Rearing and hunching, N = {n} (paper §3.3.2, Fig. 4)"),
-        (1000, 760),
+        380,
         (2, 2),
         &panels,
     )
@@ -204,7 +206,7 @@ pub(super) fn settling_end(transient: &[(f64, f64)], equilibrium: f64) -> f64 {
 
 /// App. C: forward and backward frequencies of the self-interacting axial pair against the
 /// amplitude, with the nonlinear pair's simulated frequencies.
-pub(super) fn asymmetry() -> Result<String, FigureError> {
+pub(super) fn asymmetry(width: u32) -> Result<String, FigureError> {
     let c = -std::f64::consts::FRAC_1_SQRT_2;
     let roots = |a: f64| behaviour::asymmetry_roots(c, a, 1.0);
     let mut sim = (Vec::new(), Vec::new());
@@ -234,8 +236,9 @@ pub(super) fn asymmetry() -> Result<String, FigureError> {
     );
     p.zero = true;
     render(
+        width,
         "Forward/backward asymmetry of the axial pair (paper App. C, corrected cA²)",
-        (760, 520),
+        520,
         (1, 1),
         &[p],
     )
@@ -247,6 +250,7 @@ pub(super) fn equipartition(
     settings: &FigureSettings,
 ) -> Result<String, FigureError> {
     let n = theory.points;
+    let width = settings.page.canvas_width();
     let kt = 0.5;
     // 200 000 steps, fewer on long bodies so that the figure takes seconds (the title says how
     // many postures went in).
@@ -285,11 +289,12 @@ pub(super) fn equipartition(
     );
     overlap.zero = true;
     render(
+        width,
         &format!(
             "Equipartition from Langevin dynamics: {} postures of y, N = {n}, kT = {kt} (paper App. B)",
             c.frames
         ),
-        (1000, 420),
+        400,
         (1, 2),
         &[shares, overlap],
     )
@@ -302,6 +307,7 @@ pub(super) fn pair(
     settings: &FigureSettings,
 ) -> Result<String, FigureError> {
     let n = theory.points;
+    let width = settings.page.canvas_width();
     let m = 0.1;
     let o = behaviour::pair_orbit(theory, kind, m, 2.0).map_err(bh)?;
     let orbit: Vec<(f64, f64)> = o.trajectory.iter().map(|&(_, a, b)| (a, b)).collect();
@@ -361,18 +367,19 @@ pub(super) fn pair(
     let mut dens_panel = panel("amplitude density at β = 100", "amplitude A", "p(A)", dens);
     dens_panel.zero = true;
     render(
+        width,
         &format!(
             "{what}: pair frequency ω = {:.4}, M = {m}, N = {n} (paper Figs. 6–7)",
             o.omega
         ),
-        (1200, 420),
+        420,
         (1, 3),
         &[orbit_panel, panel(title, px, pfield, postures), dens_panel],
     )
 }
 
 /// Fig. 8A: the free energy of a pair across M = 0.
-pub(super) fn free_energy(theory: &Theory) -> Result<String, FigureError> {
+pub(super) fn free_energy(theory: &Theory, width: u32) -> Result<String, FigureError> {
     let o = behaviour::pair_orbit(theory, PairKind::Peristalsis, 0.1, 1.0).map_err(bh)?;
     let mut lines = Vec::new();
     for beta in [1.0, 3.0, 10.0] {
@@ -388,11 +395,12 @@ pub(super) fn free_energy(theory: &Theory) -> Result<String, FigureError> {
         lines.push(series(format!("β = {beta}"), pts, Mark::Line));
     }
     render(
+        width,
         &format!(
             "Free energy of the first axial pair, ω = {:.4} (paper Fig. 8A)",
             o.omega
         ),
-        (700, 480),
+        480,
         (1, 1),
         &[panel(
             "F(M) = ln(βω/2π²)/β + |M|ω: a kink at M = 0",
@@ -409,6 +417,7 @@ pub(super) fn bend_angle(
     settings: &FigureSettings,
 ) -> Result<String, FigureError> {
     let n = theory.points;
+    let width = settings.page.canvas_width();
     let beta = 10_000.0;
     let e = behaviour::explore(theory, beta, settings.samples, settings.seed).map_err(bh)?;
     let deg: Vec<f64> = e.bend.iter().map(|b| b.to_degrees()).collect();
@@ -419,8 +428,9 @@ pub(super) fn bend_angle(
         (-0.5 * (x / sd).powi(2)).exp() / (sd * (2.0 * std::f64::consts::PI).sqrt())
     });
     render(
+        width,
         &format!("3-point body bend in unbiased exploration, β = {beta}, N = {n} (paper Fig. 8D)"),
-        (700, 480),
+        480,
         (1, 1),
         &[panel(
             "tail–midpoint–head turning angle",
@@ -439,29 +449,35 @@ pub(super) fn bend_angle(
 }
 
 /// App. D: the Mathieu stability chart with the first tongue's small-ε edges.
-pub(super) fn mathieu() -> Result<String, FigureError> {
+pub(super) fn mathieu(width: u32) -> Result<String, FigureError> {
     let (nx, ny, emax) = (161usize, 61usize, 0.6);
     let (lo, hi) = (0.5, 4.5);
     let chart_points = behaviour::stability_chart(1.0, (lo, hi), emax, (nx, ny)).map_err(bh)?;
     let mut svg = String::new();
     let mut curves = Curves::new(0);
     {
-        let root = SVGBackend::with_string(&mut svg, (800, 520)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut svg, (width, 560)).into_drawing_area();
         root.fill(&WHITE).map_err(err)?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(
-                "Mathieu stability: Φ̈ + λ²[1 − 2ε cos ωt]Φ = 0 (paper App. D)",
-                ("sans-serif", 18),
-            )
-            .margin(10)
-            .x_label_area_size(40)
-            .y_label_area_size(50)
+        let root = headed(
+            &root,
+            "Mathieu stability: Φ̈ + λ²[1 − 2ε cos ωt]Φ = 0 (paper App. D)",
+            TITLE,
+        )?;
+        // The key is a caption: a legend box would hide a tongue at any width.
+        let root = headed(
+            &root,
+            "shaded: unstable (|tr M| > 2); lines: the first tongue's edges ω/λ = 2√(1 ± ε)",
+            CAPTION,
+        )?;
+        let mut chart = chart_builder(&root)
             .build_cartesian_2d(lo..hi, 0.0..emax)
             .map_err(err)?;
         chart
             .configure_mesh()
             .x_desc("drive frequency ω/λ")
             .y_desc("modulation depth ε")
+            .label_style(("sans-serif", TEXT))
+            .axis_desc_style(("sans-serif", TEXT))
             .light_line_style(WHITE)
             .draw()
             .map_err(err)?;
@@ -474,39 +490,20 @@ pub(super) fn mathieu() -> Result<String, FigureError> {
                     RGBColor(214, 39, 40).mix(0.5).filled(),
                 )
             }))
-            .map_err(err)?
-            .label("unstable (|tr M| > 2)")
-            .legend(|(x, y)| {
-                Rectangle::new(
-                    [(x, y - 5), (x + 16, y + 5)],
-                    RGBColor(214, 39, 40).mix(0.5).filled(),
-                )
-            });
+            .map_err(err)?;
         let pixels = chart.plotting_area().get_pixel_range();
-        for (sign, name) in [(-1.0, "2√(1 − ε)"), (1.0, "2√(1 + ε)")] {
+        for sign in [-1.0, 1.0] {
             let edge: Vec<(f64, f64)> = curve(0.0, emax, 100, |e| e)
                 .into_iter()
                 .map(|(e, _)| (2.0 * (1.0 + sign * e).sqrt(), e))
                 .collect();
             curves.add(&edge, &pixels, (&(lo..hi), &(0.0..emax)), (BLACK, false));
-            chart
-                .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
-                .map_err(err)?
-                .label(format!("first tongue edge {name}"))
-                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLACK));
         }
         chart
             .draw_series(std::iter::once(Rectangle::new(
                 [(lo, 0.0), (lo, 0.0)],
                 curves.marker.filled(),
             )))
-            .map_err(err)?;
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK.mix(0.4))
-            .position(SeriesLabelPosition::UpperRight)
-            .draw()
             .map_err(err)?;
         root.present().map_err(err)?;
     }

@@ -4,7 +4,7 @@ use super::plot::*;
 use super::FigureError;
 
 /// The fit's principal components against the mode shapes (Fig. 2A style).
-fn fit_shapes(r: &crate::fit::FitReport) -> Result<String, FigureError> {
+fn fit_shapes(r: &crate::fit::FitReport, width: u32) -> Result<String, FigureError> {
     let shown = r.modes.len().min(4);
     let mut shape_panels = Vec::new();
     let titles: Vec<String> = (0..shown)
@@ -42,11 +42,12 @@ fn fit_shapes(r: &crate::fit::FitReport) -> Result<String, FigureError> {
         ));
     }
     render(
+        width,
         &format!(
             "Principal components of {} frames against the theory's modes",
             r.frames
         ),
-        (1000, 760),
+        380,
         (2, 2),
         &shape_panels,
     )
@@ -55,7 +56,7 @@ fn fit_shapes(r: &crate::fit::FitReport) -> Result<String, FigureError> {
 /// The verdict: each mode's fitted Ωᵢ (95 % error bars) against √λᵢ with the theory's line
 /// ω√λ, and its variance against λᵢ on log–log axes with the noise floor and the slope −1
 /// through the voting modes; voting modes and the others apart.
-fn fit_verdict(r: &crate::fit::FitReport) -> Result<String, FigureError> {
+fn fit_verdict(r: &crate::fit::FitReport, width: u32) -> Result<String, FigureError> {
     let fits = &r.modes_fit;
     let fitted: Vec<&crate::fit::ModeSpectralFit> = fits.iter().filter(|m| m.omega > 0.0).collect();
     let split = |votes: bool, f: &dyn Fn(&crate::fit::ModeSpectralFit) -> (f64, f64)| {
@@ -152,12 +153,13 @@ fn fit_verdict(r: &crate::fit::FitReport) -> Result<String, FigureError> {
         lines,
     );
     render(
+        width,
         &format!(
             "Does the theory hold? {} frames, {} voting modes",
             r.frames,
             d.modes.len()
         ),
-        (1000, 460),
+        440,
         (1, 2),
         &[dispersion, variance],
     )
@@ -165,9 +167,14 @@ fn fit_verdict(r: &crate::fit::FitReport) -> Result<String, FigureError> {
 
 /// The fit's figures (Fig. 2 style): principal components against mode shapes, variance shares,
 /// spectra, and measured against fitted modal frequencies.
-pub fn fit_figures(r: &crate::fit::FitReport) -> Result<Vec<(&'static str, String)>, FigureError> {
+/// Laid out for `page` (its width; the format is for the writer).
+pub fn fit_figures(
+    r: &crate::fit::FitReport,
+    page: &super::Page,
+) -> Result<Vec<(&'static str, String)>, FigureError> {
+    let width = page.canvas_width();
     let shown = r.modes.len().min(4);
-    let shapes = fit_shapes(r)?;
+    let shapes = fit_shapes(r, width)?;
     let idx = |k: usize| r.modes[k].index as f64;
     let share = |v: &[f64]| -> Vec<(f64, f64)> {
         v.iter()
@@ -245,11 +252,12 @@ pub fn fit_figures(r: &crate::fit::FitReport) -> Result<Vec<(&'static str, Strin
         })
         .collect();
     let summary = render(
+        width,
         &format!(
             "Fit of {} frames: ω = {:.4}, β = {:.4} (paper Fig. 2)",
             r.frames, r.omega, r.beta
         ),
-        (1000, 780),
+        390,
         (2, 2),
         &[
             shares,
@@ -266,6 +274,6 @@ pub fn fit_figures(r: &crate::fit::FitReport) -> Result<Vec<(&'static str, Strin
     Ok(vec![
         ("fit_shapes.svg", shapes),
         ("fit_summary.svg", summary),
-        ("fit_verdict.svg", fit_verdict(r)?),
+        ("fit_verdict.svg", fit_verdict(r, width)?),
     ])
 }

@@ -1,8 +1,9 @@
-//! SVG figures of the modes and the behaviour models (the paper's Figs. 2, 3, 6, 7, 8 and the
-//! Mathieu chart of App. D), drawn with plotters' SVG backend.
+//! Figures of the modes and the behaviour models (the paper's Figs. 2, 3, 6, 7, 8 and the
+//! Mathieu chart of App. D), drawn as SVG with plotters' SVG backend and written as SVG, PNG or
+//! PDF at a chosen printed width ([`Page`]).
 //!
-//! Text goes into the SVG as `<text>` elements, so no font library is needed to write a figure
-//! (plotters' own font features stay off). Every figure is computed here from the library, never
+//! Text goes into the SVG as `<text>` elements (plotters' own font features stay off); PNG and
+//! PDF render it with an embedded DejaVu Sans. No text is smaller than 7 pt in print. Every figure is computed here from the library, never
 //! read from a file; all quantities are dimensionless (time in units of the field's 1/ω, the
 //! default scales ω = 1, ζ = 0.1 unless `params` says otherwise) and each axis says so.
 
@@ -11,6 +12,7 @@ use std::path::{Path, PathBuf};
 mod behaviour;
 mod fit;
 mod modes;
+mod page;
 mod plot;
 
 use crate::behaviour::PairKind;
@@ -21,6 +23,7 @@ use behaviour::{
 };
 pub use fit::fit_figures;
 use modes::{mode_shapes, spectrum};
+pub use page::{Format, Page, DPI, PX_PER_MM, WIDTH_MM};
 
 /// Why a figure could not be made.
 #[derive(Debug, thiserror::Error)]
@@ -57,6 +60,8 @@ pub struct FigureSettings {
     pub seed: u64,
     /// Samples of the sampled figures (pair density, 3-point bend).
     pub samples: usize,
+    /// Format and printed width (the layout follows the width).
+    pub page: Page,
 }
 
 impl Default for FigureSettings {
@@ -65,6 +70,7 @@ impl Default for FigureSettings {
             points: 12,
             seed: 1,
             samples: 100_000,
+            page: Page::default(),
         }
     }
 }
@@ -90,18 +96,20 @@ pub fn figure(
     theory: &Theory,
     settings: &FigureSettings,
 ) -> Result<String, FigureError> {
+    settings.page.check()?;
+    let width = settings.page.canvas_width();
     match name {
-        "mode_shapes.svg" => mode_shapes(theory),
-        "spectrum.svg" => spectrum(theory),
-        "self_righting.svg" => self_righting(theory),
-        "rearing_hunching.svg" => rearing_hunching(theory),
-        "asymmetry.svg" => asymmetry(),
+        "mode_shapes.svg" => mode_shapes(theory, width),
+        "spectrum.svg" => spectrum(theory, width),
+        "self_righting.svg" => self_righting(theory, width),
+        "rearing_hunching.svg" => rearing_hunching(theory, width),
+        "asymmetry.svg" => asymmetry(width),
         "equipartition.svg" => equipartition(theory, settings),
         "peristalsis.svg" => pair(theory, PairKind::Peristalsis, settings),
         "rolling.svg" => pair(theory, PairKind::Rolling, settings),
-        "free_energy.svg" => free_energy(theory),
+        "free_energy.svg" => free_energy(theory, width),
         "bend_angle.svg" => bend_angle(theory, settings),
-        "mathieu.svg" => mathieu(),
+        "mathieu.svg" => mathieu(width),
         _ => Err(FigureError::Invalid(format!(
             "unknown figure {name:?} (figures: {})",
             FIGURES.join(", ")
@@ -136,12 +144,15 @@ pub fn write_figures(
             FIGURES.join(", ")
         )));
     }
+    settings.page.check()?;
     create_dir(dir)?;
     let mut out = Written::default();
     for name in names {
         progress(name);
         match figure(name, theory, settings) {
-            Ok(svg) => out.written.push(write_svg(dir, name, &svg)?),
+            Ok(svg) => out
+                .written
+                .push(write_figure(dir, name, &svg, &settings.page)?),
             Err(FigureError::Body(why)) if names.len() > 1 => {
                 out.skipped.push((name.to_string(), why))
             }
@@ -159,9 +170,11 @@ fn create_dir(dir: &Path) -> Result<(), FigureError> {
     })
 }
 
-fn write_svg(dir: &Path, name: &str, svg: &str) -> Result<PathBuf, FigureError> {
-    let path = dir.join(name);
-    std::fs::write(&path, svg).map_err(|source| FigureError::Io {
+/// Write figure `name` (`….svg`) as `page` says: the file takes the format's extension.
+fn write_figure(dir: &Path, name: &str, svg: &str, page: &Page) -> Result<PathBuf, FigureError> {
+    let path = dir.join(name).with_extension(page.format.extension());
+    let bytes = page.encode(svg)?;
+    std::fs::write(&path, bytes).map_err(|source| FigureError::Io {
         action: "write",
         path: path.clone(),
         source,
@@ -169,11 +182,16 @@ fn write_svg(dir: &Path, name: &str, svg: &str) -> Result<PathBuf, FigureError> 
     Ok(path)
 }
 
-/// Write [`fit_figures`] into `dir`.
-pub fn write_fit(dir: &Path, r: &crate::fit::FitReport) -> Result<Vec<PathBuf>, FigureError> {
+/// Write [`fit_figures`] into `dir`, laid out and encoded as `page` says.
+pub fn write_fit(
+    dir: &Path,
+    r: &crate::fit::FitReport,
+    page: &Page,
+) -> Result<Vec<PathBuf>, FigureError> {
+    page.check()?;
     create_dir(dir)?;
-    fit_figures(r)?
+    fit_figures(r, page)?
         .iter()
-        .map(|(name, svg)| write_svg(dir, name, svg))
+        .map(|(name, svg)| write_figure(dir, name, svg, page))
         .collect()
 }

@@ -5,7 +5,7 @@ use super::{err, FigureError};
 use crate::theory::Theory;
 
 /// Fig. 2A: the first four non-zero mode shapes of every field.
-pub(super) fn mode_shapes(theory: &Theory) -> Result<String, FigureError> {
+pub(super) fn mode_shapes(theory: &Theory, width: u32) -> Result<String, FigureError> {
     let n = theory.points;
     let fields = &theory.modes;
     let titles: Vec<String> = fields
@@ -41,15 +41,16 @@ pub(super) fn mode_shapes(theory: &Theory) -> Result<String, FigureError> {
     }
     let rows = fields.len().div_ceil(2);
     render(
+        width,
         &format!("Mode shapes on N = {n} points (paper Fig. 2A)"),
-        (1000, 380 * rows as u32),
+        380,
         (rows, 2),
         &panels,
     )
 }
 
 /// Fig. 2B–C: eigenvalues and equipartition variance shares.
-pub(super) fn spectrum(theory: &Theory) -> Result<String, FigureError> {
+pub(super) fn spectrum(theory: &Theory, width: u32) -> Result<String, FigureError> {
     let n = theory.points;
     let fields = &theory.modes;
     let nonzero = |f: &crate::modal::FieldModes| -> Vec<(usize, f64, f64)> {
@@ -93,8 +94,9 @@ pub(super) fn spectrum(theory: &Theory) -> Result<String, FigureError> {
     );
     right.zero = true;
     render(
+        width,
         &format!("Eigenvalues and variance shares, N = {n} (paper Fig. 2B–C)"),
-        (1000, 420),
+        400,
         (1, 2),
         &[
             panel(

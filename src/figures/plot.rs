@@ -3,6 +3,7 @@
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::{err, FigureError};
 
@@ -106,10 +107,69 @@ pub(super) fn tick(v: f64) -> String {
     text.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
-/// Where the legend goes, and the y range that leaves room for it: the corner whose legend-sized
-/// box holds the fewest data points; when every corner holds some, the y axis grows upward by
-/// the legend's height so it sits above the data (upper right). `plot` is the plotting area's
-/// size in pixels.
+/// Text size in plotters' units (it writes `font-size` = size / 1.24: 14.5 px, 7.4 pt in print
+/// at [`super::page::PX_PER_MM`]); the smallest text of every figure.
+pub(super) const TEXT: u32 = 18;
+/// A panel's caption.
+pub(super) const CAPTION: u32 = 20;
+/// A figure's title.
+pub(super) const TITLE: u32 = 22;
+/// The narrowest panel, in pixels: a figure narrower than its columns need takes fewer columns.
+const MIN_PANEL: u32 = 320;
+
+/// The size plotters gives the legend box of `labels` at [`TEXT`]: its own naive font metrics
+/// (em = size / 1.24², 0.7 em a byte, lines 1.25 size apart), a 30 px swatch column and 10 px
+/// margins. The box is drawn 5 px inside a corner of the plotting area.
+fn legend_box(labels: &[&str]) -> (f64, f64) {
+    let size = TEXT as f64;
+    let em = size / 1.24 / 1.24;
+    let width = labels
+        .iter()
+        .map(|l| (em * 0.7 * l.len() as f64).round())
+        .fold(0.0, f64::max);
+    let rows = labels.len().saturating_sub(1) as f64;
+    let height = (rows * size * 1.25).round() + em.round() + (em * 0.24).round();
+    (width + 30.0 + 20.0, height + 20.0)
+}
+
+/// Whether anything of series `s` (in pixels of a plot `xr × yr` mapped onto `plot`) comes
+/// within a few pixels of the box `[x0, x1] × [y0, y1]` (pixels, y down).
+fn touches(
+    s: &Series,
+    map: &dyn Fn(f64, f64) -> (f64, f64),
+    (x0, x1, y0, y1): (f64, f64, f64, f64),
+) -> bool {
+    let pad = 4.0;
+    let inside = |(x, y): (f64, f64), r: f64| {
+        x > x0 - pad - r && x < x1 + pad + r && y > y0 - pad - r && y < y1 + pad + r
+    };
+    // A segment, walked in steps of at most 2 px.
+    let segment = |a: (f64, f64), b: (f64, f64)| {
+        let (p, q) = (map(a.0, a.1), map(b.0, b.1));
+        let steps = ((q.0 - p.0).hypot(q.1 - p.1) / 2.0).ceil().clamp(1.0, 1e5) as usize;
+        (0..=steps).any(|k| {
+            let t = k as f64 / steps as f64;
+            inside((p.0 + t * (q.0 - p.0), p.1 + t * (q.1 - p.1)), 1.0)
+        })
+    };
+    match s.mark {
+        Mark::Line | Mark::Dashed => s.points.windows(2).any(|w| segment(w[0], w[1])),
+        Mark::Dots => s.points.iter().any(|&(x, y)| inside(map(x, y), 3.0)),
+        Mark::Errors => s.points.chunks_exact(2).any(|p| segment(p[0], p[1])),
+        Mark::Bars(w) => s.points.iter().any(|&(x, h)| {
+            let (a, b) = (map(x, 0.0), map(x + w, h));
+            a.0.min(b.0) < x1 + pad
+                && a.0.max(b.0) > x0 - pad
+                && a.1.min(b.1) < y1 + pad
+                && a.1.max(b.1) > y0 - pad
+        }),
+    }
+}
+
+/// Where the legend goes, and the y range that leaves room for it: the first corner whose
+/// legend box touches no data or marker line; when every corner would, the y axis grows upward
+/// by the legend's height so it sits above the data (upper right). `plot` is the plotting
+/// area's size in pixels.
 pub(super) fn legend_place(
     p: &Panel,
     plot: (f64, f64),
@@ -123,37 +183,42 @@ pub(super) fn legend_place(
         .chain(p.markers.iter().map(|m| m.1.as_str()))
         .filter(|n| !n.is_empty())
         .collect();
-    let chars = labels.iter().map(|l| l.chars().count()).max().unwrap_or(0);
-    // plotters' legend: 11 px text rows about 15 px apart, a 16 px swatch, padding.
-    let fw = ((chars as f64 * 6.5 + 50.0) / plot.0).min(0.9);
-    let fh = ((labels.len() as f64 * 15.0 + 14.0) / plot.1).min(0.6);
-    let (w, h) = (xr.end - xr.start, yr.end - yr.start);
-    let count = |right: bool, upper: bool| {
-        p.series
-            .iter()
-            .flat_map(|s| s.points.iter())
-            .filter(|&&(x, y)| {
-                let fx = (x - xr.start) / w;
-                let fy = (y - yr.start) / h;
-                (if right { fx > 1.0 - fw } else { fx < fw })
-                    && (if upper { fy > 1.0 - fh } else { fy < fh })
-            })
-            .count()
+    if labels.is_empty() {
+        return (SeriesLabelPosition::UpperRight, yr.clone());
+    }
+    let (bw, bh) = legend_box(&labels);
+    let map = |yr: &std::ops::Range<f64>| {
+        let (xr, yr) = (xr.clone(), yr.clone());
+        move |x: f64, y: f64| {
+            (
+                plot.0 * (x - xr.start) / (xr.end - xr.start),
+                plot.1 * (1.0 - (y - yr.start) / (yr.end - yr.start)),
+            )
+        }
     };
-    let (pos, n) = [
-        (SeriesLabelPosition::UpperRight, count(true, true)),
-        (SeriesLabelPosition::UpperLeft, count(false, true)),
-        (SeriesLabelPosition::LowerRight, count(true, false)),
-        (SeriesLabelPosition::LowerLeft, count(false, false)),
-    ]
-    .into_iter()
-    .min_by_key(|(_, n)| *n)
-    .unwrap_or((SeriesLabelPosition::UpperRight, 0));
-    if n == 0 || labels.is_empty() {
+    let free = |right: bool, upper: bool| {
+        let x0 = if right { plot.0 - bw - 5.0 } else { 5.0 };
+        let y0 = if upper { 5.0 } else { plot.1 - bh - 5.0 };
+        let b = (x0, x0 + bw, y0, y0 + bh);
+        let m = map(yr);
+        !p.series.iter().any(|s| touches(s, &m, b))
+            && !p.markers.iter().any(|&(x, _)| {
+                let px = m(x, 0.0).0;
+                px > b.0 - 4.0 && px < b.1 + 4.0
+            })
+    };
+    let corners = [
+        (SeriesLabelPosition::UpperRight, true, true),
+        (SeriesLabelPosition::UpperLeft, false, true),
+        (SeriesLabelPosition::LowerRight, true, false),
+        (SeriesLabelPosition::LowerLeft, false, false),
+    ];
+    if let Some((pos, _, _)) = corners.into_iter().find(|&(_, r, u)| free(r, u)) {
         return (pos, yr.clone());
     }
-    // Headroom: the data keep the lower 1 − fh of the axis.
-    let top = yr.start + h / (1.0 - fh);
+    // Headroom: the data keep the plot below the box (and its 5 px gap and padding).
+    let fh = ((bh + 12.0) / plot.1).min(0.8);
+    let top = yr.start + (yr.end - yr.start) / (1.0 - fh);
     (SeriesLabelPosition::UpperRight, yr.start..top)
 }
 
@@ -256,18 +321,12 @@ pub(super) fn draw(area: &Area, p: &Panel, id: usize) -> Result<Curves, FigureEr
         p.series.iter().flat_map(|s| s.points.iter().map(|q| q.1)),
         p.zero || bars,
     );
-    // The plotting area: the panel less the label areas, caption and margins below.
-    let (pw, ph) = area.dim_in_pixel();
-    let plot = (
-        (pw as f64 - 56.0 - 16.0).max(50.0),
-        (ph as f64 - 36.0 - 16.0 - 30.0).max(50.0),
-    );
+    let area = &headed(area, p.title, CAPTION)?;
+    let plot = plot_size(area)?;
+    // Markers span the data's range, not headroom made for the legend.
+    let data_top = yr.end;
     let (legend_at, yr) = legend_place(p, plot, &xr, &yr);
-    let mut chart = ChartBuilder::on(area)
-        .caption(p.title, ("sans-serif", 16))
-        .margin(8)
-        .x_label_area_size(36)
-        .y_label_area_size(56)
+    let mut chart = chart_builder(area)
         .build_cartesian_2d(xr.clone(), yr.clone())
         .map_err(err)?;
     chart
@@ -276,6 +335,11 @@ pub(super) fn draw(area: &Area, p: &Panel, id: usize) -> Result<Curves, FigureEr
         .y_desc(p.y)
         .x_label_formatter(&|v| tick(*v))
         .y_label_formatter(&|v| tick(*v))
+        // As many ticks as fit a label of ~6 characters (x) or a line of text (y) apart.
+        .x_labels(((plot.0 / 50.0) as usize).clamp(5, 10))
+        .y_labels(((plot.1 / 32.0) as usize).clamp(5, 10))
+        .label_style(("sans-serif", TEXT))
+        .axis_desc_style(("sans-serif", TEXT))
         .light_line_style(WHITE)
         .draw()
         .map_err(err)?;
@@ -342,7 +406,7 @@ pub(super) fn draw(area: &Area, p: &Panel, id: usize) -> Result<Curves, FigureEr
     for (x, label) in &p.markers {
         chart
             .draw_series(LineSeries::new(
-                vec![(*x, yr.start), (*x, yr.end)],
+                vec![(*x, yr.start), (*x, data_top)],
                 BLUE.mix(0.6),
             ))
             .map_err(err)?
@@ -361,7 +425,7 @@ pub(super) fn draw(area: &Area, p: &Panel, id: usize) -> Result<Curves, FigureEr
             .configure_series_labels()
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK.mix(0.4))
-            .label_font(("sans-serif", 11))
+            .label_font(("sans-serif", TEXT))
             .position(legend_at)
             .draw()
             .map_err(err)?;
@@ -369,20 +433,69 @@ pub(super) fn draw(area: &Area, p: &Panel, id: usize) -> Result<Curves, FigureEr
     Ok(curves)
 }
 
-/// Render panels in a grid of `rows × cols` under a title, returning the SVG text.
+/// A panel's chart: margins and label areas (room for [`TEXT`]-sized ticks and axis names).
+pub(super) fn chart_builder<'a, 'b>(area: &'a Area<'b>) -> ChartBuilder<'a, 'b, SVGBackend<'b>> {
+    let mut b = ChartBuilder::on(area);
+    b.margin(8).x_label_area_size(52).y_label_area_size(86);
+    b
+}
+
+/// The plotting area's size in pixels that [`chart_builder`] leaves on `area`, measured on a
+/// scratch canvas (the legend is placed before the chart is built).
+fn plot_size(area: &Area) -> Result<(f64, f64), FigureError> {
+    let mut scratch = String::new();
+    let root = SVGBackend::with_string(&mut scratch, area.dim_in_pixel()).into_drawing_area();
+    let chart = chart_builder(&root)
+        .build_cartesian_2d(0.0..1.0, 0.0..1.0)
+        .map_err(err)?;
+    let (w, h) = chart.plotting_area().dim_in_pixel();
+    Ok((w as f64, h as f64))
+}
+
+/// Write `text` centred at the top of `area` in plotters' `size`, wrapped to its width
+/// ([`wrap`]); the area below it comes back.
+pub(super) fn headed<'a>(area: &Area<'a>, text: &str, size: u32) -> Result<Area<'a>, FigureError> {
+    let width = area.dim_in_pixel().0;
+    let lines = wrap(text, width as f64 - 16.0, size);
+    let band = 10 + lines.len() as u32 * (size + 4);
+    let (head, rest) = area.split_vertically(band);
+    let style =
+        TextStyle::from(("sans-serif", size).into_font()).pos(Pos::new(HPos::Center, VPos::Top));
+    for (k, line) in lines.iter().enumerate() {
+        let y = 6 + k as i32 * (size + 4) as i32;
+        head.draw_text(line, &style, (width as i32 / 2, y))
+            .map_err(err)?;
+    }
+    Ok(rest)
+}
+
+/// Render panels under a title, `grid` = (rows, columns) of `row_height` pixels each on a
+/// canvas `width` pixels wide ([`super::page::Page::canvas_width`]); a canvas too narrow for
+/// the columns takes fewer (panels in reading order). Returns the SVG text.
 pub(super) fn render(
+    width: u32,
     title: &str,
-    size: (u32, u32),
+    row_height: u32,
     grid: (usize, usize),
     panels: &[Panel],
 ) -> Result<String, FigureError> {
+    let cols = grid.1.min((width / MIN_PANEL).max(1) as usize).max(1);
+    let rows = grid.0.max(panels.len().div_ceil(cols));
+    // The title's lines, measured as `headed` will wrap them.
+    let band = 10 + wrap(title, width as f64 - 16.0, TITLE).len() as u32 * (TITLE + 4);
+    let size = (width, row_height * rows as u32 + band);
     let mut svg = String::new();
     let mut curves = Vec::new();
     {
         let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
         root.fill(&WHITE).map_err(err)?;
-        let root = root.titled(title, ("sans-serif", 20)).map_err(err)?;
-        for (id, (area, p)) in root.split_evenly(grid).iter().zip(panels).enumerate() {
+        let root = headed(&root, title, TITLE)?;
+        for (id, (area, p)) in root
+            .split_evenly((rows, cols))
+            .iter()
+            .zip(panels)
+            .enumerate()
+        {
             curves.push(draw(area, p, id)?);
         }
         root.present().map_err(err)?;
@@ -391,6 +504,24 @@ pub(super) fn render(
         c.splice(&mut svg);
     }
     Ok(svg)
+}
+
+/// `text` in lines of at most `width` pixels at plotters' `size` (words kept whole; the
+/// rendered font's 0.55 em a character is the measure).
+pub(super) fn wrap(text: &str, width: f64, size: u32) -> Vec<String> {
+    let per_char = 0.55 * size as f64 / 1.24;
+    let most = ((width / per_char) as usize).max(10);
+    let mut lines: Vec<String> = Vec::new();
+    for word in text.split(' ') {
+        match lines.last_mut() {
+            Some(line) if line.chars().count() + 1 + word.chars().count() <= most => {
+                line.push(' ');
+                line.push_str(word);
+            }
+            _ => lines.push(word.to_string()),
+        }
+    }
+    lines
 }
 
 /// Curves of `f` on `n + 1` points of [a, b].

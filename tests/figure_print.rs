@@ -1,0 +1,306 @@
+//! Figures on paper: text of at least 7 pt at every printed width, every character in the
+//! embedded font, no legend over data, and PNG/PDF files of the width asked for. Each check reads
+//! the written SVG, PNG or PDF back (geometry from the output, not from the layout code).
+
+use std::process::Command;
+
+use theory_search::figures::{figure, FigureError, FigureSettings, Format, Page, FIGURES};
+use theory_search::modal::Params;
+use theory_search::model::Model;
+use theory_search::theory::Theory;
+
+const MODELS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/models");
+
+fn settings(width_mm: f64) -> FigureSettings {
+    FigureSettings {
+        samples: 5_000,
+        page: Page {
+            width_mm,
+            ..Page::default()
+        },
+        ..FigureSettings::default()
+    }
+}
+
+/// Every figure every shipped model can make, at `width_mm`, as the SVG file says it.
+fn all_svgs(width_mm: f64) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    for entry in std::fs::read_dir(MODELS).unwrap() {
+        let path = entry.unwrap().path();
+        let model = Model::from_toml(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        // The tethered filament is nonlinear: it has no modal theory to draw.
+        let Ok(theory) = Theory::new(model, 4, 12, Params::default()) else {
+            continue;
+        };
+        let s = settings(width_mm);
+        for name in FIGURES {
+            match figure(name, &theory, &s) {
+                Ok(svg) => out.push((
+                    format!("{} {name} at {width_mm} mm", path.display()),
+                    String::from_utf8(s.page.encode(&svg).unwrap()).unwrap(),
+                )),
+                Err(FigureError::Body(_)) => {}
+                Err(e) => panic!("{name}: {e}"),
+            }
+        }
+    }
+    out.extend(fit_svgs(width_mm));
+    out
+}
+
+/// The fit's figures of the example recording, written by the command.
+fn fit_svgs(width_mm: f64) -> Vec<(String, String)> {
+    let dir = std::env::temp_dir().join(format!(
+        "theory-search-print-{}-{width_mm}",
+        std::process::id()
+    ));
+    let example = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/examples/midlines.csv");
+    let out = Command::new(env!("CARGO_BIN_EXE_theory-search"))
+        .args(["fit", example, "--figure-width", &width_mm.to_string()])
+        .arg("--figures")
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mut svgs = Vec::new();
+    for name in ["fit_shapes.svg", "fit_summary.svg", "fit_verdict.svg"] {
+        let svg = std::fs::read_to_string(dir.join(name)).unwrap();
+        svgs.push((format!("{name} at {width_mm} mm"), svg));
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+    svgs
+}
+
+/// The value of attribute `name` in the element text `tag`.
+fn attr<'a>(tag: &'a str, name: &str) -> Option<&'a str> {
+    let at = tag.find(&format!(" {name}=\""))? + name.len() + 3;
+    tag[at..].split('"').next()
+}
+
+fn num(tag: &str, name: &str) -> f64 {
+    attr(tag, name).unwrap().parse().unwrap()
+}
+
+/// Each element `<kind …>` of the SVG, in document order, with its text content.
+fn elements(svg: &str) -> Vec<(&str, &str, &str)> {
+    svg.split('<')
+        .skip(1)
+        .filter(|e| !e.starts_with('/'))
+        .map(|e| {
+            let kind = e.split([' ', '>', '/']).next().unwrap();
+            let (tag, text) = e.split_once('>').unwrap_or((e, ""));
+            (kind, tag, text.trim())
+        })
+        .collect()
+}
+
+#[test]
+fn text_prints_at_seven_points_or_more_at_every_width() {
+    for width in [60.0, 85.0, 180.0, 300.0] {
+        for (what, svg) in all_svgs(width) {
+            let root = elements(&svg)[0].1;
+            let printed: f64 = attr(root, "width")
+                .and_then(|w| w.strip_suffix("mm"))
+                .unwrap_or_else(|| panic!("{what}: width not in mm"))
+                .parse()
+                .unwrap();
+            assert_eq!(printed, width, "{what}");
+            let view_w: f64 = attr(root, "viewBox")
+                .unwrap()
+                .split(' ')
+                .nth(2)
+                .unwrap()
+                .parse()
+                .unwrap();
+            let smallest = elements(&svg)
+                .iter()
+                .filter(|e| e.0 == "text")
+                .map(|e| num(e.1, "font-size"))
+                .fold(f64::INFINITY, f64::min);
+            let points = smallest * printed / view_w / 25.4 * 72.0;
+            assert!(points >= 7.0, "{what}: {points:.2} pt");
+        }
+    }
+}
+
+#[test]
+fn every_character_has_a_glyph_in_the_embedded_font() {
+    let font = ttf_parser::Face::parse(dejavu::sans::regular(), 0).unwrap();
+    let mut seen = std::collections::BTreeSet::new();
+    for (what, svg) in all_svgs(180.0) {
+        for (_, _, text) in elements(&svg).iter().filter(|e| e.0 == "text") {
+            for c in text.chars() {
+                if seen.insert(c) {
+                    assert!(font.glyph_index(c).is_some(), "{what}: no glyph for {c:?}");
+                }
+            }
+        }
+    }
+    assert!(
+        seen.contains(&'θ') && seen.contains(&'√'),
+        "Greek and maths were checked"
+    );
+}
+
+/// Whether the segment p–q comes into the open box (x0, y0, x1, y1).
+fn crosses(p: (f64, f64), q: (f64, f64), b: (f64, f64, f64, f64)) -> bool {
+    let steps = ((q.0 - p.0).hypot(q.1 - p.1) / 0.5).ceil().max(1.0) as usize;
+    (0..=steps).any(|k| {
+        let t = k as f64 / steps as f64;
+        let (x, y) = (p.0 + t * (q.0 - p.0), p.1 + t * (q.1 - p.1));
+        x > b.0 && x < b.2 && y > b.1 && y < b.3
+    })
+}
+
+#[test]
+fn no_legend_covers_data() {
+    let mut legends = 0;
+    for width in [85.0, 180.0] {
+        for (what, svg) in all_svgs(width) {
+            let all = elements(&svg);
+            for (k, legend) in all.iter().enumerate() {
+                // plotters' legend: a white box at opacity 0.85, drawn after the panel's data.
+                if !(legend.0 == "rect" && attr(legend.1, "opacity") == Some("0.85")) {
+                    continue;
+                }
+                legends += 1;
+                let (x, y) = (num(legend.1, "x"), num(legend.1, "y"));
+                let b = (
+                    x,
+                    y,
+                    x + num(legend.1, "width"),
+                    y + num(legend.1, "height"),
+                );
+                for (kind, tag, _) in &all[..k] {
+                    let hit = match *kind {
+                        "polyline" => {
+                            let pts: Vec<(f64, f64)> = attr(tag, "points")
+                                .unwrap()
+                                .split_whitespace()
+                                .map(|p| {
+                                    let (a, c) = p.split_once(',').unwrap();
+                                    (a.parse().unwrap(), c.parse().unwrap())
+                                })
+                                .collect();
+                            pts.windows(2).any(|w| crosses(w[0], w[1], b))
+                        }
+                        "circle" => {
+                            let (cx, cy, r) = (num(tag, "cx"), num(tag, "cy"), num(tag, "r"));
+                            cx + r > b.0 && cx - r < b.2 && cy + r > b.1 && cy - r < b.3
+                        }
+                        // Bars and chart cells; not the white background or another legend.
+                        "rect" if attr(tag, "fill") != Some("#FFFFFF") => {
+                            let (rx, ry) = (num(tag, "x"), num(tag, "y"));
+                            let (rw, rh) = (num(tag, "width"), num(tag, "height"));
+                            rx + rw > b.0 && rx < b.2 && ry + rh > b.1 && ry < b.3
+                        }
+                        _ => false,
+                    };
+                    assert!(
+                        !hit,
+                        "{what}: the legend at {b:?} covers a {kind}: {tag:.120}"
+                    );
+                }
+            }
+        }
+    }
+    assert!(legends > 50, "{legends} legends checked");
+}
+
+fn cli(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_theory-search"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn the_command_writes_png_and_pdf_of_the_width_asked_for() {
+    let dir = std::env::temp_dir().join(format!("theory-search-png-{}", std::process::id()));
+    let d = dir.to_str().unwrap();
+    let (code, out, err) = cli(&[
+        "figures",
+        "--only",
+        "spectrum",
+        "--format",
+        "png",
+        "--width",
+        "85",
+        "--dpi",
+        "200",
+        "--figures",
+        d,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(
+        out,
+        format!("wrote {}\n", dir.join("spectrum.png").display())
+    );
+    let png = resvg::tiny_skia::Pixmap::load_png(dir.join("spectrum.png")).unwrap();
+    // 85 mm at 200 dpi.
+    assert_eq!(png.width(), (85.0f64 / 25.4 * 200.0).ceil() as u32);
+    let dark = png.pixels().iter().filter(|p| p.red() < 100).count();
+    assert!(dark > 1000, "text and axes are drawn: {dark}");
+    let (code, _, err) = cli(&[
+        "figures",
+        "--only",
+        "mathieu.svg",
+        "--format",
+        "pdf",
+        "--width",
+        "120",
+        "--figures",
+        d,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let pdf = std::fs::read(dir.join("mathieu.pdf")).unwrap();
+    let text = String::from_utf8_lossy(&pdf);
+    assert!(text.starts_with("%PDF-"));
+    // 120 mm = 340.157 pt.
+    assert!(text.contains("/MediaBox [0 0 340.15"), "{:.300}", text);
+    std::fs::remove_dir_all(&dir).unwrap();
+    for (args, says) in [
+        (
+            vec!["--width", "NaN"],
+            "figure width NaN mm is not in 60..=600 mm",
+        ),
+        (
+            vec!["--width", "10"],
+            "figure width 10 mm is not in 60..=600 mm",
+        ),
+        (
+            vec!["--dpi", "1e6"],
+            "resolution 1000000 dpi is not in 30..=1200 dpi",
+        ),
+        (vec!["--format", "gif"], "invalid value 'gif'"),
+    ] {
+        let mut all = vec!["figures", "--figures", d];
+        all.extend(args);
+        let (code, _, err) = cli(&all);
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains(says), "{err}");
+        assert!(
+            !dir.exists(),
+            "nothing written before the settings are checked"
+        );
+    }
+    let example = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/examples/midlines.csv");
+    let (code, _, err) = cli(&["fit", example, "--figures", d, "--figure-width=-1"]);
+    assert_eq!(code, 2);
+    assert_eq!(err, "error: figure width -1 mm is not in 60..=600 mm\n");
+    assert!(Page {
+        format: Format::Png,
+        ..Page::default()
+    }
+    .check()
+    .is_ok());
+}
