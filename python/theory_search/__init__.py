@@ -112,12 +112,29 @@ class Model:
 
     @classmethod
     def larva(cls) -> "Model":
-        """The embedded Drosophila larva model."""
+        """The embedded Drosophila larva model.
+
+        Returns
+        -------
+        Model
+            With ``toml`` (the model file's text), ``name`` and ``fields`` (field ids).
+        """
         return cls(_native.larva_toml())
 
     @classmethod
     def from_toml(cls, path_or_text: Union[str, os.PathLike]) -> "Model":
-        """A model from a TOML file path or from TOML text."""
+        """A model from a TOML file or from TOML text, validated.
+
+        Parameters
+        ----------
+        path_or_text : str or path
+            A path to a model file, or the file's text.
+
+        Returns
+        -------
+        Model
+            With ``toml`` (the model file's text), ``name`` and ``fields`` (field ids).
+        """
         text = os.fspath(path_or_text) if isinstance(path_or_text, os.PathLike) else str(path_or_text)
         looks_like_path = "\n" not in text and "=" not in text and "[" not in text
         if isinstance(path_or_text, os.PathLike) or looks_like_path:
@@ -145,10 +162,27 @@ def table(
     basis: str = "powers",
     density: str = "both",
 ) -> Dict[str, Any]:
-    """Table 1 (and its Rayleigh twin): per density, ``rows`` (one dict per candidate term with
-    its orders, each rule's verdict in ``satisfies`` and the reason of each rejection in
-    ``rejected``), ``survivors`` per field, ``densities`` and ``notes``. Each density's dict has
-    ``to_pandas()`` when pandas is installed."""
+    """Table 1 (and its Rayleigh twin): every candidate term and each requirement's verdict.
+
+    Parameters
+    ----------
+    order : int
+        Order of the expansion (1 to 32).
+    model : Model, path or TOML text, optional
+        The body (the embedded larva when None).
+    basis : str
+        ``"powers"`` or ``"monomials"``.
+    density : str
+        ``"lagrangian"``, ``"rayleigh"`` or ``"both"``.
+
+    Returns
+    -------
+    Table
+        A dict with ``order``, ``model`` and per density (``lagrangian``, ``rayleigh``) a dict
+        of ``rows`` (one per candidate term: its orders, each rule's verdict in ``satisfies``,
+        each rejection's reason in ``rejected``), ``survivors`` per field, ``densities`` and
+        ``notes``. ``to_pandas()`` gives one row per term; Jupyter renders it as HTML.
+    """
     _count("order", order, 1, 32)
     doc = json.loads(_native_call["table_json"](order, _toml(model), basis, density))
     for key in ("lagrangian", "rayleigh"):
@@ -211,9 +245,25 @@ class _Density(dict):
 def equations(
     order: int = 4, model: Optional[Union[Model, str]] = None, basis: str = "powers"
 ) -> Dict[str, Any]:
-    """The equations of motion: per field the right-hand side of ∂t²φ, each term with its
-    derivative orders, sign, coefficient, exact prefactor and sign claim (or, for survivors that
-    are not all quadratic, the exact nonlinear equations with ``"nonlinear": True``)."""
+    """The equations of motion, each term with its sign and the reason for it.
+
+    Parameters
+    ----------
+    order : int
+        Order of the expansion (1 to 32).
+    model : Model, path or TOML text, optional
+        The body (the embedded larva when None).
+    basis : str
+        ``"powers"`` or ``"monomials"``.
+
+    Returns
+    -------
+    Result
+        ``order``, ``equations`` (per field the right-hand side of ∂t²φ: each term's
+        derivative orders, sign, coefficient, exact prefactor and sign claim; the exact
+        nonlinear equation with ``"nonlinear": True`` where survivors are not all quadratic),
+        ``notes``.
+    """
     _count("order", order, 1, 32)
     return Result(json.loads(_native_call["equations_json"](order, _toml(model), basis)))
 
@@ -221,8 +271,23 @@ def equations(
 def operators(
     points: int, order: int = 4, model: Optional[Union[Model, str]] = None
 ) -> List[Dict[str, Any]]:
-    """Every discretised operator on ``points`` points: dicts with ``field``, ``density``,
-    ``term``, ``boundary``, ``k`` and the exact integer ``matrix`` (numpy int64)."""
+    """Every discretised operator on ``points`` points, as exact integers.
+
+    Parameters
+    ----------
+    points : int
+        Points along the body.
+    order : int
+        Order of the expansion (1 to 32).
+    model : Model, path or TOML text, optional
+        The body (the embedded larva when None).
+
+    Returns
+    -------
+    list of dict
+        One per operator: ``field``, ``density``, ``term``, ``boundary``, ``k`` and the
+        ``matrix`` (numpy int64, points × points).
+    """
     _count("points", points, 1, 2000)
     _count("order", order, 1, 32)
     return _native_call["operators"](points, order, _toml(model))
@@ -236,10 +301,31 @@ def modes(
     k: Optional[int] = None,
     order: int = 4,
 ) -> Modes:
-    """Each field's modes on ``points`` points (the ``k`` lowest, or all), keyed by field id:
-    ``m["y"].eigenvalues``, ``.frequencies``, ``.damping_ratios``, ``.variance_shares`` and, with
-    ``shapes=True``, ``.shapes`` (points × modes: one mode per column, as ``numpy.linalg.eigh``);
-    ``params`` sets ``omega_<scale>`` and ``zeta_<scale>``."""
+    """Each field's modes: eigenvalues and shapes of its discretised operator.
+
+    Parameters
+    ----------
+    points : int
+        Points along the body.
+    model : Model, path or TOML text, optional
+        The body (the embedded larva when None).
+    params : mapping, optional
+        ``omega_<scale>`` and ``zeta_<scale>`` (defaults ω = 1, ζ = 0.1).
+    shapes : bool
+        Also return the mode shapes.
+    k : int, optional
+        Only the ``k`` lowest modes of each field.
+    order : int
+        Order of the expansion (1 to 32).
+
+    Returns
+    -------
+    Modes
+        A mapping field id → ``FieldModes`` with ``eigenvalues``, ``frequencies``,
+        ``damping_ratios``, ``variance_shares``, ``nullity``, ``omega``, ``zeta`` and, with
+        ``shapes=True``, ``shapes`` (points × modes: one mode per column, as
+        ``numpy.linalg.eigh``); ``to_pandas()`` on each.
+    """
     _count("points", points, 1, 10_000_000)
     _count("order", order, 1, 32)
     if k is not None:
@@ -274,12 +360,41 @@ def simulate(
     force: Any = None,
     drive: Any = None,
 ) -> Dict[str, Any]:
-    """Integrate the equations of motion (Langevin noise at ``temperature``): ``t``,
-    ``energy`` and, per field, ``positions[field]`` (samples × points) and ``modal[field]``
-    (samples × modes; empty for a nonlinear body). ``initial`` is ``{"y:2": (Q, V)}`` (a mode) or
-    ``{"u": Q}`` (every point), ``force`` ``{"y:2": F}``, ``drive`` ``{"x:1": (F0, Ω[, φ])}``, as
-    the command line's ``--initial``, ``--force``, ``--drive``; ``params`` sets scales or the
-    coefficients ``equations`` prints."""
+    """Integrate the equations of motion, with Langevin noise at ``temperature``.
+
+    Parameters
+    ----------
+    points : int
+        Points along the body.
+    steps : int
+        Time steps.
+    dt : float
+        Step length (units of 1/ω).
+    every : int
+        Keep every ``every``-th step.
+    temperature : float
+        kT of the noise (0: none).
+    seed : int
+        Seed of the noise.
+    model : Model, path or TOML text, optional
+        The body (the embedded larva when None).
+    params : mapping, optional
+        Scales (``omega_<scale>``, ``zeta_<scale>``) or the coefficients ``equations`` prints.
+    order : int
+        Order of the expansion (1 to 32).
+    initial : mapping, optional
+        ``{"y:2": (Q, V)}`` (a mode) or ``{"u": Q}`` (every point), as ``--initial``.
+    force : mapping, optional
+        ``{"y:2": F}``: a constant force on a mode, as ``--force``.
+    drive : mapping, optional
+        ``{"x:1": (F0, Ω[, φ])}``: a sinusoidal force on a mode, as ``--drive``.
+
+    Returns
+    -------
+    dict
+        ``t`` (samples), ``energy`` (samples), ``positions`` (field → samples × points) and
+        ``modal`` (field → samples × modes; empty for a nonlinear body).
+    """
     _count("points", points, 1, 2000)
     _count("steps", steps, 1)
     _count("every", every, 1)
@@ -382,13 +497,31 @@ def fit(
 ) -> FitResult:
     """Fit the theory to tracked midlines.
 
-    ``midlines`` is a numpy array (frames × points × 2, NaN where the tracker lost a point), a
-    list of such arrays (one per animal), a path, or a list of paths (any format the ``fit``
-    command reads: CSV, DeepLabCut, WCON). ``t`` gives the times (one array, or one per animal);
-    without it frames are ``1/fps`` apart (or one time unit). ``options`` are the command's:
-    ``points``, ``window``, ``fit_modes``, ``omega``, ``fill_gaps``, ``head`` ("first"/"last"),
-    ``bootstrap``, ``seed``, ``time_unit``, ``length_unit``, ``kind``, ``field``, ``order``,
-    ``min_likelihood``, ``track_column``.
+    Parameters
+    ----------
+    midlines : array, list of arrays, path or list of paths
+        A numpy array (frames × points × 2, NaN where the tracker lost a point), one per
+        animal, or files the ``fit`` command reads (CSV, DeepLabCut, WCON).
+    t : array or list of arrays, optional
+        The frames' times (one array per animal); without it frames are ``1/fps`` apart.
+    fps : float, optional
+        Frames per second (one time unit per frame without it or ``t``).
+    model : Model, path or TOML text, optional
+        The body (the embedded larva when None).
+    options
+        The command's: ``points``, ``window``, ``fit_modes``, ``omega``, ``fill_gaps``,
+        ``head`` ("first"/"last"), ``bootstrap``, ``seed``, ``time_unit``, ``length_unit``,
+        ``kind``, ``field``, ``order``, ``min_likelihood``, ``track_column``.
+
+    Returns
+    -------
+    FitResult
+        The report's numbers as attributes: ``omega``, ``beta``, ``frames``, ``modes``,
+        ``modes_fit``, ``tests`` (each prediction's exponent, interval and verdict),
+        ``warnings``, ``animals``, ``intervals`` (always present), ``pca_variance_share``,
+        ``theory_variance_share``, ``mode_overlap``; the arrays ``frequencies``, ``psd``
+        (modes × frequencies), ``components`` and ``shapes`` (points × modes); ``to_dict()``,
+        ``to_pandas()``.
     """
     toml = _toml(model)
     if _is_paths(midlines):

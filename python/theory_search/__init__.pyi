@@ -216,6 +216,10 @@ def figures(
     points: int = 12,
     model: ModelLike = None,
     params: Optional[Mapping[str, float]] = None,
+    format: str = "svg",
+    width: float = 180.0,
+    dpi: float = 300.0,
     **options: Any,
 ) -> List[str]:
-    """Write the paper's figures (SVG) into a directory; the paths written."""
+    """Write the paper's figures (SVG, PNG or PDF at a printed width) into a directory; the
+    paths written."""

@@ -55,8 +55,26 @@ def run(
     params: Optional[Mapping[str, float]] = None,
     **options: Any,
 ) -> Result:
-    """Run any command (``["behave", "rolling"]``) with ``options`` as its command-line options
-    and return its JSON document as a :class:`Result`."""
+    """Run any command with ``options`` as its command-line options.
+
+    Parameters
+    ----------
+    command : sequence of str
+        The command and its positional words, e.g. ``["behave", "rolling"]``.
+    model : Model, path or TOML text, optional
+        The body (the embedded larva when None).
+    params : mapping, optional
+        Scales by name, ``{"omega_b": 2.0}`` as ``--param omega_b=2.0``.
+    options
+        ``name=value`` becomes ``--name value`` (``_`` as ``-``); a list repeats the option,
+        ``True`` is a bare flag, ``None``/``False`` leave it out.
+
+    Returns
+    -------
+    Result
+        The command's ``--format json`` document: ``result["key"]`` as printed,
+        ``result.key`` with lists of numbers as numpy arrays, ``to_dict()``, ``to_pandas()``.
+    """
     from . import Model
 
     argv = _argv(command, params=params, options=options) + ["--format", "json"]
@@ -78,10 +96,33 @@ def behave(
     order: int = 4,
     **options: Any,
 ) -> Result:
-    """One of the paper's behaviours: ``"peristalsis"``, ``"rolling"``, ``"rearing"``,
-    ``"hunching"``, ``"self-righting"``; ``options`` are the command's (``momentum``,
-    ``periods``, ``force``, ``duration``, ``tolerance``, ``mode_damping``, ``theta0``,
-    ``attachment``, ``sweep``, ``beyond_leading``)."""
+    """One of the paper's behaviours.
+
+    Parameters
+    ----------
+    behaviour : str
+        ``"peristalsis"``, ``"rolling"``, ``"rearing"``, ``"hunching"`` or ``"self-righting"``.
+    points : int
+        Points along the body.
+    model : Model, path or TOML text, optional
+        The body (the embedded larva when None).
+    params : mapping, optional
+        Scales by name, ``{"omega_b": 2.0}`` as ``--param omega_b=2.0``.
+    order : int
+        Order of the expansion.
+    options
+        The command's: ``momentum``, ``periods``, ``force``, ``duration``, ``tolerance``,
+        ``mode_damping``, ``theta0``, ``attachment``, ``sweep``, ``beyond_leading``.
+
+    Returns
+    -------
+    Result
+        Peristalsis and rolling: ``kind``, ``omega``, ``momentum``, ``amplitude``,
+        ``angular_velocity``, ``trajectory``, ``postures``. Rearing and hunching: ``field``,
+        ``mode``, ``force``, ``equilibrium``, ``shape``, ``transient``. Self-righting:
+        ``attachment_time``, ``righting_time``, ``alignment_times``, ``damping_ratio``,
+        ``frames``.
+    """
     return run(["behave", behaviour], model, params, points=points, order=order, **options)
 
 
@@ -93,9 +134,33 @@ def stats(
     order: int = 4,
     **options: Any,
 ) -> Result:
-    """Statistics: ``"equipartition"`` (``field``, ``steps``, ``temperature``, ``seed``),
-    ``"explore"`` (``beta``, ``samples``, ``seed``) or ``"pair"`` (``omega``, ``beta``,
-    ``momentum``, ``samples``, ``seed``)."""
+    """Statistics of the body at equilibrium.
+
+    Parameters
+    ----------
+    kind : str
+        ``"equipartition"`` (options ``field``, ``steps``, ``temperature``, ``seed``),
+        ``"explore"`` (``beta``, ``samples``, ``seed``) or ``"pair"`` (``omega``, ``beta``,
+        ``momentum``, ``samples``, ``seed``).
+    points : int
+        Points along the body.
+    model : Model, path or TOML text, optional
+        The body (the embedded larva when None).
+    params : mapping, optional
+        Scales by name, ``{"omega_b": 2.0}`` as ``--param omega_b=2.0``.
+    order : int
+        Order of the expansion.
+    options
+        The command's, as listed under ``kind``.
+
+    Returns
+    -------
+    Result
+        Equipartition: ``pca_variance_share``, ``theory_variance_share``, ``overlap``.
+        Explore: ``bend_sd``, ``bend_sd_linear``, ``modal_variance``, ``theory_variance``,
+        ``fitted_beta``. Pair: ``partition_function``, ``free_energy``,
+        ``amplitude_at_minimum``, ``mean_amplitude``, ``samples``.
+    """
     return run(["stats", kind], model, params, points=points, order=order, **options)
 
 
@@ -106,13 +171,44 @@ def asymmetry(
     params: Optional[Mapping[str, float]] = None,
     **options: Any,
 ) -> Result:
-    """Forward/backward asymmetry of App. C at ``coupling`` (``amplitude``, ``omega``)."""
+    """Forward/backward asymmetry of App. C.
+
+    Parameters
+    ----------
+    coupling : float
+        The nonlinear coupling c.
+    points : int
+        Points along the body.
+    model : Model, path or TOML text, optional
+        The body (the embedded larva when None).
+    params : mapping, optional
+        Scales by name, ``{"omega_b": 2.0}`` as ``--param omega_b=2.0``.
+    options
+        The command's: ``amplitude``, ``omega``.
+
+    Returns
+    -------
+    Result
+        ``coupling``, ``amplitude``, ``omega``, ``forward``, ``backward``, ``ratio``,
+        ``simulated_forward``, ``simulated_backward``.
+    """
     return run(["asymmetry"], model, params, coupling=coupling, points=points, **options)
 
 
 def mathieu(**options: Any) -> Result:
-    """The Mathieu stability chart of App. D (``lambda_``, ``ratio_min``, ``ratio_max``,
-    ``epsilon_max``, ``columns``, ``rows``)."""
+    """The Mathieu stability chart of App. D.
+
+    Parameters
+    ----------
+    options
+        The command's: ``lambda_`` (the mode's λ), ``ratio_min``, ``ratio_max``,
+        ``epsilon_max``, ``columns``, ``rows``.
+
+    Returns
+    -------
+    Result
+        ``rows``: one dict per grid point (drive frequency ratio, ε, trace, stable).
+    """
     if "lambda_" in options:
         options["lambda"] = options.pop("lambda_")
     return run(["mathieu"], **options)
@@ -121,24 +217,84 @@ def mathieu(**options: Any) -> Result:
 def interactions(
     order: int = 4, model: Any = None, density: Optional[str] = None, **options: Any
 ) -> Result:
-    """The interaction terms between fields the requirements admit (``density`` as for
-    :func:`parts`)."""
+    """The interaction terms between fields that the requirements admit.
+
+    Parameters
+    ----------
+    order : int
+        Order of the expansion.
+    model : Model, path or TOML text, optional
+        The body (the embedded larva when None).
+    density : str, optional
+        ``"lagrangian"``, ``"rayleigh"`` or ``"both"`` (the command's default without it).
+    options
+        The command's other options (``basis``, ``beyond_leading``).
+
+    Returns
+    -------
+    Result
+        ``model``, ``analyses`` (per density: the pairs of fields and their coupling terms).
+    """
     return run(["interactions"], model, order=order, density=density, **options)
 
 
 def parts(order: int = 4, model: Any = None, density: Optional[str] = None, **options: Any) -> Result:
-    """The density split into kinetic, potential and interaction parts (``density``:
-    ``"lagrangian"``, ``"rayleigh"`` or ``"both"``; the command's default without it)."""
+    """The density split into kinetic, potential and interaction parts.
+
+    Parameters
+    ----------
+    order : int
+        Order of the expansion.
+    model : Model, path or TOML text, optional
+        The body (the embedded larva when None).
+    density : str, optional
+        ``"lagrangian"``, ``"rayleigh"`` or ``"both"`` (the command's default without it).
+    options
+        The command's other options (``basis``, ``beyond_leading``).
+
+    Returns
+    -------
+    Result
+        ``model``, ``order``, ``densities`` (each with its parts and their terms).
+    """
     return run(["parts"], model, order=order, density=density, **options)
 
 
 def count(max_order: int = 8, model: Any = None, basis: str = "powers") -> Result:
-    """How many candidate terms there are at each order."""
+    """How many candidate terms there are at each order.
+
+    Parameters
+    ----------
+    max_order : int
+        The highest order counted.
+    model : Model, path or TOML text, optional
+        The body (the embedded larva when None).
+    basis : str
+        ``"powers"`` or ``"monomials"``.
+
+    Returns
+    -------
+    Result
+        ``model``, ``rows`` (per order: candidates, admitted, survivors).
+    """
     return run(["count"], model, max_order=max_order, basis=basis)
 
 
 def rules(order: int = 4, model: Any = None) -> Result:
-    """The rule registry: each requirement and what it does to a term."""
+    """The rule registry: each requirement and what it does to a term.
+
+    Parameters
+    ----------
+    order : int
+        Order of the expansion.
+    model : Model, path or TOML text, optional
+        The body (the embedded larva when None).
+
+    Returns
+    -------
+    Result
+        ``rules`` (each requirement's name, transformation and reason), ``requirements``.
+    """
     return run(["rules"], model, order=order)
 
 
@@ -148,15 +304,48 @@ def figures(
     points: int = 12,
     model: Any = None,
     params: Optional[Mapping[str, float]] = None,
+    format: str = "svg",
+    width: float = 180.0,
+    dpi: float = 300.0,
     **options: Any,
 ) -> List[str]:
-    """Write the paper's figures (SVG) into ``directory``; the paths written."""
+    """Write the paper's figures into ``directory`` (created if missing).
+
+    Parameters
+    ----------
+    directory : str or path
+        Where the files go.
+    only : str, optional
+        One figure (``"mode_shapes"``, ``"spectrum"``, ``"self_righting"``, …).
+    points : int
+        Points along the body.
+    model : Model, path or TOML text, optional
+        The body (the embedded larva when None).
+    params : mapping, optional
+        Scales by name, ``{"omega_b": 2.0}`` as ``--param omega_b=2.0``.
+    format : str
+        ``"svg"``, ``"png"`` or ``"pdf"``.
+    width : float
+        Printed width in millimetres (60 to 600); text prints at 7.4 pt at any width.
+    dpi : float
+        Resolution of a PNG.
+    options
+        The command's: ``samples``, ``seed``, ``order``, ``beyond_leading``.
+
+    Returns
+    -------
+    list of str
+        The paths written, in the order made. A figure the body cannot make (a role its model
+        lacks) is skipped with a ``UserWarning`` saying why.
+    """
+    import warnings
+
     from . import Model
 
     argv = _argv(
         ["figures", "--figures", os.fspath(directory)],
         params=params,
-        options=dict(only=only, points=points, **options),
+        options=dict(only=only, points=points, format=format, width=width, dpi=dpi, **options),
     )
     if model is not None:
         toml = model.toml if isinstance(model, Model) else Model.from_toml(model).toml
@@ -164,14 +353,16 @@ def figures(
             path = os.path.join(d, "model.toml")
             with open(path, "w", encoding="utf-8") as f:
                 f.write(toml)
-            _run(argv + ["--model", path])
+            out = _run(argv + ["--model", path])
     else:
-        _run(argv)
-    written = sorted(
-        os.path.join(os.fspath(directory), n)
-        for n in os.listdir(directory)
-        if n.endswith(".svg")
-    )
+        out = _run(argv)
+    written = []
+    text = out if isinstance(out, str) else out.decode("utf-8")
+    for line in text.splitlines():
+        if line.startswith("wrote "):
+            written.append(line[len("wrote ") :])
+        elif line.startswith("skipped "):
+            warnings.warn(line, UserWarning, stacklevel=2)
     if not written:
         raise UsageError(f"no figure was written into {os.fspath(directory)}")
     return written

@@ -20,8 +20,23 @@ def _axes(ax: Any, ncols: int = 1, width: float = 7.0, height: float = 3.2):
 
 
 def modes(result: Any, field: str = "y", count: int = 4, ax: Any = None):
-    """The first ``count`` non-zero mode shapes of ``field`` from :func:`theory_search.modes`
-    called with ``shapes=True`` (columns of ``result[field].shapes``) along the body."""
+    """The first non-zero mode shapes of a field along the body.
+
+    Parameters
+    ----------
+    result : Modes
+        From :func:`theory_search.modes` called with ``shapes=True``.
+    field : str
+        The field id.
+    count : int
+        How many modes.
+    ax : matplotlib Axes, optional
+        Draw into these axes (a new figure when None).
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn into (``axes`` holds its panels).
+    """
     fm = result[field]
     if fm.shapes is None:
         raise ValueError("modes() was called without shapes=True")
@@ -38,8 +53,22 @@ def modes(result: Any, field: str = "y", count: int = 4, ax: Any = None):
 
 
 def spectrum(fit: Any, modes: Sequence[int] = (0, 1, 2, 3), ax: Any = None):
-    """The Welch spectra of a fit's mode coordinates (:func:`theory_search.fit`), log scale,
-    each with the frequency the theory gives it."""
+    """The Welch spectra of a fit's mode coordinates, log scale, each with the frequency the
+    theory gives it.
+
+    Parameters
+    ----------
+    fit : FitResult
+        From :func:`theory_search.fit`.
+    modes : sequence of int
+        Which fitted modes (rows of ``fit.psd``).
+    ax : matplotlib Axes, optional
+        Draw into these axes (a new figure when None).
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn into (``axes`` holds its panels).
+    """
     fig, (axis,) = _axes(ax)
     records = {m["index"]: m for m in (fit.to_dict().get("modes") or [])}
     for k in modes:
@@ -56,7 +85,23 @@ def spectrum(fit: Any, modes: Sequence[int] = (0, 1, 2, 3), ax: Any = None):
 
 
 def simulation(sim: Any, field: str = "y", points: Optional[Sequence[int]] = None, ax: Any = None):
-    """Positions of ``field`` against time from :func:`theory_search.simulate` (a few points)."""
+    """Positions of a field against time.
+
+    Parameters
+    ----------
+    sim : dict
+        From :func:`theory_search.simulate`.
+    field : str
+        The field id.
+    points : sequence of int, optional
+        Which points (tail, middle and head when None).
+    ax : matplotlib Axes, optional
+        Draw into these axes (a new figure when None).
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn into (``axes`` holds its panels).
+    """
     fig, (axis,) = _axes(ax)
     q = np.asarray(sim["positions"][field])
     chosen = points if points is not None else sorted({0, q.shape[1] // 2, q.shape[1] - 1})
@@ -70,7 +115,19 @@ def simulation(sim: Any, field: str = "y", points: Optional[Sequence[int]] = Non
 
 def verdicts(fit: Any, ax: Any = None):
     """The fit's tests of the theory's predictions: each exponent with its interval against the
-    value the theory predicts, and the verdict."""
+    value the theory predicts, and the verdict.
+
+    Parameters
+    ----------
+    fit : FitResult
+        From :func:`theory_search.fit`.
+    ax : matplotlib Axes, optional
+        Draw into these axes (a new figure when None).
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn into (``axes`` holds its panels).
+    """
     fig, (axis,) = _axes(ax, height=0.6 + 0.5 * max(1, len(fit.tests)))
     names = list(fit.tests)
     for y, name in enumerate(names):
