@@ -46,3 +46,22 @@ def test_function_signatures_match():
         assert (args.kwarg is not None) == any(
             p.kind == p.VAR_KEYWORD for p in runtime.parameters.values()
         ), name
+
+
+def test_mypy_stubtest_finds_the_stubs_true():
+    """mypy's stubtest: every stub (the public package and the native module) against the
+    installed package at runtime: names, signatures, classes, `__all__`."""
+    import subprocess
+    import sys
+    import tempfile
+
+    config = pathlib.Path(__file__).resolve().parents[2] / "pyproject.toml"
+    with tempfile.TemporaryDirectory() as cwd:  # away from the source tree
+        run = subprocess.run(
+            [sys.executable, "-m", "mypy.stubtest", "theory_search", "--mypy-config-file", str(config)],
+            cwd=cwd,
+            capture_output=True,
+            text=True,
+        )
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert "Success" in run.stdout

@@ -57,6 +57,7 @@ except ImportError:  # pragma: no cover (Python < 3.8)
 __all__ = [
     "__version__",
     "Model",
+    "ModelLike",
     "Result",
     "Modes",
     "FieldModes",
@@ -146,6 +147,10 @@ class Model:
 
     def __repr__(self) -> str:
         return f"Model({self.name!r}, fields={self.fields!r})"
+
+
+# What every `model=` argument takes: a Model, a model file's path or its TOML text.
+ModelLike = Union[Model, str, "os.PathLike[str]", None]
 
 
 def _toml(model: Optional[Union[Model, str]]) -> Optional[str]:

@@ -6,6 +6,37 @@ from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Union
 import numpy as np
 import numpy.typing as npt
 
+__all__ = [
+    "__version__",
+    "Model",
+    "ModelLike",
+    "Result",
+    "Modes",
+    "FieldModes",
+    "FitResult",
+    "TheorySearchError",
+    "UsageError",
+    "InputError",
+    "MissingFileError",
+    "OutputError",
+    "table",
+    "equations",
+    "operators",
+    "modes",
+    "simulate",
+    "behave",
+    "stats",
+    "asymmetry",
+    "mathieu",
+    "interactions",
+    "parts",
+    "count",
+    "rules",
+    "figures",
+    "fit",
+    "run",
+]
+
 class TheorySearchError(Exception):
     """Any error of theory-search (a one-line message)."""
 
@@ -34,6 +65,7 @@ class Result(Dict[str, Any]):
 class FieldModes:
     """One field's modes; shapes are points × modes (columns), or None."""
 
+    def __init__(self, record: Mapping[str, Any]) -> None: ...
     field: str
     eigenvalues: npt.NDArray[np.float64]
     frequencies: npt.NDArray[np.float64]
@@ -51,6 +83,7 @@ class FieldModes:
 class Modes(Mapping[str, FieldModes]):
     """Every field's modes, keyed by field id."""
 
+    def __init__(self, records: List[Mapping[str, Any]]) -> None: ...
     def __getitem__(self, field: str) -> FieldModes: ...
     def __iter__(self) -> Iterator[str]: ...
     def __len__(self) -> int: ...
@@ -121,6 +154,14 @@ def simulate(
 class FitResult:
     """A fit's numbers as attributes, its spectra, components and shapes as arrays."""
 
+    def __init__(
+        self,
+        report: Dict[str, Any],
+        frequencies: npt.NDArray[np.float64],
+        psd: npt.NDArray[np.float64],
+        components: npt.NDArray[np.float64],
+        shapes: npt.NDArray[np.float64],
+    ) -> None: ...
     frames: int
     omega: float
     beta: float

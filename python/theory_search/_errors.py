@@ -4,7 +4,7 @@ catches for its kind, with the command line's one-line message."""
 from __future__ import annotations
 
 import functools
-from typing import Any, Callable, TypeVar
+from typing import Any, Callable, Tuple, Type, TypeVar
 
 from . import _native
 
@@ -29,7 +29,8 @@ class OutputError(TheorySearchError, OSError):
     """Output that cannot be written."""
 
 
-_KINDS = (
+# Each native exception and the Python one it becomes (most specific first).
+_KINDS: Tuple[Tuple[Type[BaseException], Type[BaseException]], ...] = (
     (_native.UsageError, UsageError),
     (_native.MissingError, MissingFileError),
     (_native.OutputError, OutputError),

@@ -1,0 +1,71 @@
+"""The compiled module (Rust, pyo3): what the Python package calls. Not a public API."""
+
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = [
+    "TheorySearchError",
+    "UsageError",
+    "InputError",
+    "MissingError",
+    "OutputError",
+    "run_cli",
+    "is_quadratic",
+    "larva_toml",
+    "check_model",
+    "table_json",
+    "equations_json",
+    "operators",
+    "modes",
+    "simulate",
+    "fit_arrays",
+    "fit_paths",
+]
+
+class TheorySearchError(Exception): ...
+class UsageError(TheorySearchError): ...
+class InputError(TheorySearchError): ...
+class MissingError(TheorySearchError): ...
+class OutputError(TheorySearchError): ...
+
+_FitOut = Tuple[
+    str, NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]
+]
+
+def run_cli(args: Sequence[str]) -> bytes: ...
+def is_quadratic(order: int, model: Optional[str]) -> bool: ...
+def larva_toml() -> str: ...
+def check_model(toml: str) -> Tuple[str, List[str]]: ...
+def table_json(order: int, model: Optional[str], basis: str, density: str) -> str: ...
+def equations_json(order: int, model: Optional[str], basis: str) -> str: ...
+def operators(points: int, order: int, model: Optional[str]) -> List[Dict[str, Any]]: ...
+def modes(
+    points: int,
+    order: int,
+    model: Optional[str],
+    params: Optional[Mapping[str, float]],
+    shapes: bool,
+    k: Optional[int],
+) -> List[Dict[str, Any]]: ...
+def simulate(
+    points: int,
+    steps: int,
+    dt: float,
+    every: int,
+    temperature: float,
+    seed: int,
+    order: int,
+    model: Optional[str],
+    params: Optional[Mapping[str, float]],
+) -> Dict[str, Any]: ...
+def fit_arrays(
+    animals: Sequence[NDArray[np.float64]],
+    times: Sequence[NDArray[np.float64]],
+    model: Optional[str],
+    options: Optional[Mapping[str, Any]],
+) -> _FitOut: ...
+def fit_paths(
+    paths: Sequence[str], model: Optional[str], options: Optional[Mapping[str, Any]]
+) -> _FitOut: ...
