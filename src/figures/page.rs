@@ -21,6 +21,12 @@ pub const WIDTH_MM: std::ops::RangeInclusive<f64> = 60.0..=600.0;
 /// The PNG resolutions accepted, in dots per inch.
 pub const DPI: std::ops::RangeInclusive<f64> = 30.0..=1200.0;
 
+/// The widest PNG, in pixels (a 600 mm page at 850 dpi).
+pub const MAX_PNG_WIDTH: f64 = 20_000.0;
+
+/// The most pixels a PNG may have (400 MB of RGBA while it is drawn).
+pub const MAX_PNG_PIXELS: f64 = 1e8;
+
 /// The file format of a figure.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum Format {
@@ -84,6 +90,14 @@ impl Page {
                 DPI.end()
             )));
         }
+        let pixels = self.width_mm / 25.4 * self.dpi;
+        if self.format == Format::Png && pixels > MAX_PNG_WIDTH {
+            return Err(FigureError::Invalid(format!(
+                "a PNG {} mm wide at {} dpi would be {pixels:.0} pixels wide, over the \
+                 {MAX_PNG_WIDTH} pixel limit: lower --dpi or --width",
+                self.width_mm, self.dpi
+            )));
+        }
         Ok(())
     }
 
@@ -144,6 +158,11 @@ fn png(tree: &usvg::Tree, dpi: f64) -> Result<Vec<u8>, FigureError> {
         (size.width() * scale).ceil() as u32,
         (size.height() * scale).ceil() as u32,
     );
+    if w as f64 * h as f64 > MAX_PNG_PIXELS {
+        return Err(FigureError::Invalid(format!(
+            "a {w} × {h} pixel PNG is over the {MAX_PNG_PIXELS:e} pixel limit: lower --dpi"
+        )));
+    }
     let mut pixmap = resvg::tiny_skia::Pixmap::new(w, h)
         .ok_or_else(|| FigureError::Invalid(format!("cannot make a {w} × {h} image")))?;
     pixmap.fill(resvg::tiny_skia::Color::WHITE);
