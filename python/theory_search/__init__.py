@@ -33,6 +33,7 @@ from ._commands import (
     run,
     stats,
 )
+from ._docs import shared
 from ._errors import (
     InputError,
     MissingFileError,
@@ -161,6 +162,7 @@ def _toml(model: Optional[Union[Model, str]]) -> Optional[str]:
     return Model.from_toml(model).toml
 
 
+@shared
 def table(
     order: int = 4,
     model: Optional[Union[Model, str]] = None,
@@ -171,12 +173,9 @@ def table(
 
     Parameters
     ----------
-    order : int
-        Order of the expansion (1 to 32).
-    model : Model, path or TOML text, optional
-        The body (the embedded larva when None).
-    basis : str
-        ``"powers"`` or ``"monomials"``.
+    @order
+    @model
+    @basis
     density : str
         ``"lagrangian"``, ``"rayleigh"`` or ``"both"``.
 
@@ -247,6 +246,7 @@ class _Density(dict):
         return pd.json_normalize(self["rows"])
 
 
+@shared
 def equations(
     order: int = 4, model: Optional[Union[Model, str]] = None, basis: str = "powers"
 ) -> Dict[str, Any]:
@@ -254,12 +254,9 @@ def equations(
 
     Parameters
     ----------
-    order : int
-        Order of the expansion (1 to 32).
-    model : Model, path or TOML text, optional
-        The body (the embedded larva when None).
-    basis : str
-        ``"powers"`` or ``"monomials"``.
+    @order
+    @model
+    @basis
 
     Returns
     -------
@@ -273,6 +270,7 @@ def equations(
     return Result(json.loads(_native_call["equations_json"](order, _toml(model), basis)))
 
 
+@shared
 def operators(
     points: int, order: int = 4, model: Optional[Union[Model, str]] = None
 ) -> List[Dict[str, Any]]:
@@ -280,12 +278,9 @@ def operators(
 
     Parameters
     ----------
-    points : int
-        Points along the body.
-    order : int
-        Order of the expansion (1 to 32).
-    model : Model, path or TOML text, optional
-        The body (the embedded larva when None).
+    @points
+    @order
+    @model
 
     Returns
     -------
@@ -298,6 +293,7 @@ def operators(
     return _native_call["operators"](points, order, _toml(model))
 
 
+@shared
 def modes(
     points: int,
     model: Optional[Union[Model, str]] = None,
@@ -310,18 +306,15 @@ def modes(
 
     Parameters
     ----------
-    points : int
-        Points along the body.
-    model : Model, path or TOML text, optional
-        The body (the embedded larva when None).
+    @points
+    @model
     params : mapping, optional
         ``omega_<scale>`` and ``zeta_<scale>`` (defaults ω = 1, ζ = 0.1).
     shapes : bool
         Also return the mode shapes.
     k : int, optional
         Only the ``k`` lowest modes of each field.
-    order : int
-        Order of the expansion (1 to 32).
+    @order
 
     Returns
     -------
@@ -351,6 +344,7 @@ def _assignments(values: Any) -> List[str]:
     return [str(v) for v in values]
 
 
+@shared
 def simulate(
     points: int = 12,
     steps: int = 1000,
@@ -369,8 +363,7 @@ def simulate(
 
     Parameters
     ----------
-    points : int
-        Points along the body.
+    @points
     steps : int
         Time steps.
     dt : float
@@ -381,12 +374,10 @@ def simulate(
         kT of the noise (0: none).
     seed : int
         Seed of the noise.
-    model : Model, path or TOML text, optional
-        The body (the embedded larva when None).
+    @model
     params : mapping, optional
         Scales (``omega_<scale>``, ``zeta_<scale>``) or the coefficients ``equations`` prints.
-    order : int
-        Order of the expansion (1 to 32).
+    @order
     initial : mapping, optional
         ``{"y:2": (Q, V)}`` (a mode) or ``{"u": Q}`` (every point), as ``--initial``.
     force : mapping, optional
@@ -493,6 +484,7 @@ def _is_paths(x: Any) -> bool:
     )
 
 
+@shared
 def fit(
     midlines: Any,
     t: Optional[Any] = None,
@@ -511,8 +503,7 @@ def fit(
         The frames' times (one array per animal); without it frames are ``1/fps`` apart.
     fps : float, optional
         Frames per second (one time unit per frame without it or ``t``).
-    model : Model, path or TOML text, optional
-        The body (the embedded larva when None).
+    @model
     options
         The command's: ``points``, ``window``, ``fit_modes``, ``omega``, ``fill_gaps``,
         ``head`` ("first"/"last"), ``bootstrap``, ``seed``, ``time_unit``, ``length_unit``,

@@ -9,6 +9,7 @@ import tempfile
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
 
 from . import _native
+from ._docs import shared
 from ._errors import UsageError, translated
 from ._results import Result
 
@@ -49,6 +50,7 @@ def _argv(
     return argv
 
 
+@shared
 def run(
     command: Sequence[str],
     model: Any = None,
@@ -61,10 +63,8 @@ def run(
     ----------
     command : sequence of str
         The command and its positional words, e.g. ``["behave", "rolling"]``.
-    model : Model, path or TOML text, optional
-        The body (the embedded larva when None).
-    params : mapping, optional
-        Scales by name, ``{"omega_b": 2.0}`` as ``--param omega_b=2.0``.
+    @model
+    @params
     options
         ``name=value`` becomes ``--name value`` (``_`` as ``-``); a list repeats the option,
         ``True`` is a bare flag, ``None``/``False`` leave it out.
@@ -88,6 +88,7 @@ def run(
         return _result(_run(argv + ["--model", path]))
 
 
+@shared
 def behave(
     behaviour: str,
     points: int = 12,
@@ -102,14 +103,10 @@ def behave(
     ----------
     behaviour : str
         ``"peristalsis"``, ``"rolling"``, ``"rearing"``, ``"hunching"`` or ``"self-righting"``.
-    points : int
-        Points along the body.
-    model : Model, path or TOML text, optional
-        The body (the embedded larva when None).
-    params : mapping, optional
-        Scales by name, ``{"omega_b": 2.0}`` as ``--param omega_b=2.0``.
-    order : int
-        Order of the expansion.
+    @points
+    @model
+    @params
+    @order
     options
         The command's: ``momentum``, ``periods``, ``force``, ``duration``, ``tolerance``,
         ``mode_damping``, ``theta0``, ``attachment``, ``sweep``, ``beyond_leading``.
@@ -126,6 +123,7 @@ def behave(
     return run(["behave", behaviour], model, params, points=points, order=order, **options)
 
 
+@shared
 def stats(
     kind: str,
     points: int = 12,
@@ -142,14 +140,10 @@ def stats(
         ``"equipartition"`` (options ``field``, ``steps``, ``temperature``, ``seed``),
         ``"explore"`` (``beta``, ``samples``, ``seed``) or ``"pair"`` (``omega``, ``beta``,
         ``momentum``, ``samples``, ``seed``).
-    points : int
-        Points along the body.
-    model : Model, path or TOML text, optional
-        The body (the embedded larva when None).
-    params : mapping, optional
-        Scales by name, ``{"omega_b": 2.0}`` as ``--param omega_b=2.0``.
-    order : int
-        Order of the expansion.
+    @points
+    @model
+    @params
+    @order
     options
         The command's, as listed under ``kind``.
 
@@ -164,6 +158,7 @@ def stats(
     return run(["stats", kind], model, params, points=points, order=order, **options)
 
 
+@shared
 def asymmetry(
     coupling: float,
     points: int = 12,
@@ -177,12 +172,9 @@ def asymmetry(
     ----------
     coupling : float
         The nonlinear coupling c.
-    points : int
-        Points along the body.
-    model : Model, path or TOML text, optional
-        The body (the embedded larva when None).
-    params : mapping, optional
-        Scales by name, ``{"omega_b": 2.0}`` as ``--param omega_b=2.0``.
+    @points
+    @model
+    @params
     options
         The command's: ``amplitude``, ``omega``.
 
@@ -214,6 +206,7 @@ def mathieu(**options: Any) -> Result:
     return run(["mathieu"], **options)
 
 
+@shared
 def interactions(
     order: int = 4, model: Any = None, density: Optional[str] = None, **options: Any
 ) -> Result:
@@ -221,12 +214,9 @@ def interactions(
 
     Parameters
     ----------
-    order : int
-        Order of the expansion.
-    model : Model, path or TOML text, optional
-        The body (the embedded larva when None).
-    density : str, optional
-        ``"lagrangian"``, ``"rayleigh"`` or ``"both"`` (the command's default without it).
+    @order
+    @model
+    @density
     options
         The command's other options (``basis``, ``beyond_leading``).
 
@@ -238,17 +228,15 @@ def interactions(
     return run(["interactions"], model, order=order, density=density, **options)
 
 
+@shared
 def parts(order: int = 4, model: Any = None, density: Optional[str] = None, **options: Any) -> Result:
     """The density split into kinetic, potential and interaction parts.
 
     Parameters
     ----------
-    order : int
-        Order of the expansion.
-    model : Model, path or TOML text, optional
-        The body (the embedded larva when None).
-    density : str, optional
-        ``"lagrangian"``, ``"rayleigh"`` or ``"both"`` (the command's default without it).
+    @order
+    @model
+    @density
     options
         The command's other options (``basis``, ``beyond_leading``).
 
@@ -260,6 +248,7 @@ def parts(order: int = 4, model: Any = None, density: Optional[str] = None, **op
     return run(["parts"], model, order=order, density=density, **options)
 
 
+@shared
 def count(max_order: int = 8, model: Any = None, basis: str = "powers") -> Result:
     """How many candidate terms there are at each order.
 
@@ -267,10 +256,8 @@ def count(max_order: int = 8, model: Any = None, basis: str = "powers") -> Resul
     ----------
     max_order : int
         The highest order counted.
-    model : Model, path or TOML text, optional
-        The body (the embedded larva when None).
-    basis : str
-        ``"powers"`` or ``"monomials"``.
+    @model
+    @basis
 
     Returns
     -------
@@ -280,15 +267,14 @@ def count(max_order: int = 8, model: Any = None, basis: str = "powers") -> Resul
     return run(["count"], model, max_order=max_order, basis=basis)
 
 
+@shared
 def rules(order: int = 4, model: Any = None) -> Result:
     """The rule registry: each requirement and what it does to a term.
 
     Parameters
     ----------
-    order : int
-        Order of the expansion.
-    model : Model, path or TOML text, optional
-        The body (the embedded larva when None).
+    @order
+    @model
 
     Returns
     -------
@@ -298,6 +284,7 @@ def rules(order: int = 4, model: Any = None) -> Result:
     return run(["rules"], model, order=order)
 
 
+@shared
 def figures(
     directory: Union[str, os.PathLike],
     only: Optional[str] = None,
@@ -317,12 +304,9 @@ def figures(
         Where the files go.
     only : str, optional
         One figure (``"mode_shapes"``, ``"spectrum"``, ``"self_righting"``, …).
-    points : int
-        Points along the body.
-    model : Model, path or TOML text, optional
-        The body (the embedded larva when None).
-    params : mapping, optional
-        Scales by name, ``{"omega_b": 2.0}`` as ``--param omega_b=2.0``.
+    @points
+    @model
+    @params
     format : str
         ``"svg"``, ``"png"`` or ``"pdf"``.
     width : float

@@ -9,6 +9,8 @@ from typing import Any, Optional, Sequence
 
 import numpy as np
 
+from ._docs import shared
+
 
 def _axes(ax: Any, ncols: int = 1, width: float = 7.0, height: float = 3.2):
     import matplotlib.pyplot as plt
@@ -19,6 +21,7 @@ def _axes(ax: Any, ncols: int = 1, width: float = 7.0, height: float = 3.2):
     return fig, list(np.atleast_1d(axes))
 
 
+@shared
 def modes(result: Any, field: str = "y", count: int = 4, ax: Any = None):
     """The first non-zero mode shapes of a field along the body.
 
@@ -30,12 +33,8 @@ def modes(result: Any, field: str = "y", count: int = 4, ax: Any = None):
         The field id.
     count : int
         How many modes.
-    ax : matplotlib Axes, optional
-        Draw into these axes (a new figure when None).
-    Returns
-    -------
-    matplotlib.figure.Figure
-        The figure drawn into (``axes`` holds its panels).
+    @ax
+    @figure
     """
     fm = result[field]
     if fm.shapes is None:
@@ -52,6 +51,7 @@ def modes(result: Any, field: str = "y", count: int = 4, ax: Any = None):
     return fig
 
 
+@shared
 def spectrum(fit: Any, modes: Sequence[int] = (0, 1, 2, 3), ax: Any = None):
     """The Welch spectra of a fit's mode coordinates, log scale, each with the frequency the
     theory gives it.
@@ -62,12 +62,8 @@ def spectrum(fit: Any, modes: Sequence[int] = (0, 1, 2, 3), ax: Any = None):
         From :func:`theory_search.fit`.
     modes : sequence of int
         Which fitted modes (rows of ``fit.psd``).
-    ax : matplotlib Axes, optional
-        Draw into these axes (a new figure when None).
-    Returns
-    -------
-    matplotlib.figure.Figure
-        The figure drawn into (``axes`` holds its panels).
+    @ax
+    @figure
     """
     fig, (axis,) = _axes(ax)
     records = {m["index"]: m for m in (fit.to_dict().get("modes") or [])}
@@ -84,6 +80,7 @@ def spectrum(fit: Any, modes: Sequence[int] = (0, 1, 2, 3), ax: Any = None):
     return fig
 
 
+@shared
 def simulation(sim: Any, field: str = "y", points: Optional[Sequence[int]] = None, ax: Any = None):
     """Positions of a field against time.
 
@@ -95,12 +92,8 @@ def simulation(sim: Any, field: str = "y", points: Optional[Sequence[int]] = Non
         The field id.
     points : sequence of int, optional
         Which points (tail, middle and head when None).
-    ax : matplotlib Axes, optional
-        Draw into these axes (a new figure when None).
-    Returns
-    -------
-    matplotlib.figure.Figure
-        The figure drawn into (``axes`` holds its panels).
+    @ax
+    @figure
     """
     fig, (axis,) = _axes(ax)
     q = np.asarray(sim["positions"][field])
@@ -113,6 +106,7 @@ def simulation(sim: Any, field: str = "y", points: Optional[Sequence[int]] = Non
     return fig
 
 
+@shared
 def verdicts(fit: Any, ax: Any = None):
     """The fit's tests of the theory's predictions: each exponent with its interval against the
     value the theory predicts, and the verdict.
@@ -121,12 +115,8 @@ def verdicts(fit: Any, ax: Any = None):
     ----------
     fit : FitResult
         From :func:`theory_search.fit`.
-    ax : matplotlib Axes, optional
-        Draw into these axes (a new figure when None).
-    Returns
-    -------
-    matplotlib.figure.Figure
-        The figure drawn into (``axes`` holds its panels).
+    @ax
+    @figure
     """
     fig, (axis,) = _axes(ax, height=0.6 + 0.5 * max(1, len(fit.tests)))
     names = list(fit.tests)
