@@ -118,3 +118,17 @@ def test_simulate_takes_initial_states_forces_and_drives_as_the_binary():
     assert np.ptp(t["energy"]) < 1e-9 * t["energy"][0]
     # The plain linear run has its energy too.
     assert ts.simulate(points=8, steps=10)["energy"].shape == (11,)
+
+
+def test_a_simulation_is_the_commands_csv_as_a_dataframe():
+    # The exact modal path (native) and the command line print the same samples.
+    sim = ts.simulate(points=7, steps=40, every=10, temperature=0.2, seed=4)
+    doc = cli_json("simulate", "-p", "7", "--steps", "40", "--every", "10", "--temperature", "0.2",
+                   "--seed", "4")
+    df = sim.to_pandas()
+    assert list(df.columns) == doc["columns"]
+    np.testing.assert_allclose(df.to_numpy(), np.asarray(doc["rows"]), rtol=1e-12, atol=1e-15)
+    assert sim.t is sim["t"] and set(sim.to_dict()) == {"t", "energy", "positions", "modal"}
+    # Operators are results too: items as printed, plain data by to_dict().
+    op = ts.operators(5)[0]
+    assert op.field == op["field"] and op.to_dict()["matrix"] == op["matrix"].tolist()

@@ -43,7 +43,7 @@ from ._errors import (
     count as _count,
     translated as _translated,
 )
-from ._results import FieldModes, Modes, Result
+from ._results import FieldModes, Modes, Result, Simulation
 
 try:
     from importlib.metadata import PackageNotFoundError, version as _version
@@ -63,6 +63,7 @@ __all__ = [
     "Modes",
     "FieldModes",
     "FitResult",
+    "Simulation",
     "TheorySearchError",
     "UsageError",
     "InputError",
@@ -273,7 +274,7 @@ def equations(
 @shared
 def operators(
     points: int, order: int = 4, model: Optional[Union[Model, str]] = None
-) -> List[Dict[str, Any]]:
+) -> List[Result]:
     """Every discretised operator on ``points`` points, as exact integers.
 
     Parameters
@@ -284,13 +285,13 @@ def operators(
 
     Returns
     -------
-    list of dict
+    list of Result
         One per operator: ``field``, ``density``, ``term``, ``boundary``, ``k`` and the
-        ``matrix`` (numpy int64, points × points).
+        ``matrix`` (numpy int64, points × points); ``to_dict()``.
     """
     _count("points", points, 1, 2000)
     _count("order", order, 1, 32)
-    return _native_call["operators"](points, order, _toml(model))
+    return [Result(d) for d in _native_call["operators"](points, order, _toml(model))]
 
 
 @shared
@@ -358,7 +359,7 @@ def simulate(
     initial: Any = None,
     force: Any = None,
     drive: Any = None,
-) -> Dict[str, Any]:
+) -> Simulation:
     """Integrate the equations of motion, with Langevin noise at ``temperature``.
 
     Parameters
@@ -387,9 +388,10 @@ def simulate(
 
     Returns
     -------
-    dict
-        ``t`` (samples), ``energy`` (samples), ``positions`` (field → samples × points) and
-        ``modal`` (field → samples × modes; empty for a nonlinear body).
+    Simulation
+        A dict with attribute access: ``t`` (samples), ``energy`` (samples), ``positions``
+        (field → samples × points) and ``modal`` (field → samples × modes; empty for a
+        nonlinear body); ``to_pandas()`` gives the command line's CSV columns, ``to_dict()``.
     """
     _count("points", points, 1, 2000)
     _count("steps", steps, 1)
@@ -400,8 +402,10 @@ def simulate(
         params and any(not k.startswith(("omega_", "zeta_")) for k in params)
     )
     if simple and _native_call["is_quadratic"](order, _toml(model)):
-        return _native_call["simulate"](
-            points, steps, dt, every, temperature, seed, order, _toml(model), dict(params or {})
+        return Simulation(
+            _native_call["simulate"](
+                points, steps, dt, every, temperature, seed, order, _toml(model), dict(params or {})
+            )
         )
     doc = run(
         ["simulate"],
@@ -426,7 +430,7 @@ def simulate(
         mod = [i for i, c in enumerate(columns) if c.startswith(f"q_{f}_") and c[len(f) + 3:].isdigit()]
         out["positions"][f] = rows[:, pos]
         out["modal"][f] = rows[:, mod]
-    return out
+    return Simulation(out)
 
 
 class FitResult:

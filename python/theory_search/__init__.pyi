@@ -14,6 +14,7 @@ __all__ = [
     "Modes",
     "FieldModes",
     "FitResult",
+    "Simulation",
     "TheorySearchError",
     "UsageError",
     "InputError",
@@ -122,7 +123,7 @@ def table(
 def equations(order: int = 4, model: ModelLike = None, basis: str = "powers") -> Result:
     """The equations of motion, each term with its sign claim (or the exact nonlinear ones)."""
 
-def operators(points: int, order: int = 4, model: ModelLike = None) -> List[Dict[str, Any]]:
+def operators(points: int, order: int = 4, model: ModelLike = None) -> List[Result]:
     """Every discretised operator, with its exact integer matrix as a numpy array."""
 
 def modes(
@@ -148,8 +149,20 @@ def simulate(
     initial: Any = None,
     force: Any = None,
     drive: Any = None,
-) -> Dict[str, Any]:
+) -> Simulation:
     """Times, energies, and per field the positions and modal coordinates as numpy arrays."""
+
+class Simulation(Dict[str, Any]):
+    """A simulation: t, energy, positions and modal (field → samples × points / modes)."""
+
+    t: npt.NDArray[np.float64]
+    energy: npt.NDArray[np.float64]
+    positions: Dict[str, npt.NDArray[np.float64]]
+    modal: Dict[str, npt.NDArray[np.float64]]
+    def __getattr__(self, name: str) -> Any: ...
+    def to_dict(self) -> Dict[str, Any]: ...
+    def to_pandas(self) -> Any: ...
+    def _repr_html_(self) -> str: ...
 
 class FitResult:
     """A fit's numbers as attributes, its spectra, components and shapes as arrays."""

@@ -58,8 +58,8 @@ class Result(dict):
             raise AttributeError(name) from None
 
     def to_dict(self) -> Dict[str, Any]:
-        """The document as plain data (a deep copy)."""
-        return json.loads(json.dumps(self))
+        """The document as plain data (a deep copy; numpy arrays as lists)."""
+        return json.loads(json.dumps(self, default=lambda a: np.asarray(a).tolist()))
 
     def to_pandas(self) -> Any:
         """The main table (the first list of records) as a pandas DataFrame (needs pandas)."""
@@ -163,3 +163,47 @@ class Modes(Mapping[str, FieldModes]):
     def __repr__(self) -> str:
         inner = ", ".join(f"{k!r}: {len(v.eigenvalues)} modes" for k, v in self._fields.items())
         return f"Modes({{{inner}}})"
+
+
+class Simulation(dict):
+    """A simulation: ``t`` and ``energy`` (one value per sample), ``positions`` (field → samples
+    × points) and ``modal`` (field → samples × modes; empty for a nonlinear body), as items or
+    attributes. ``to_pandas()`` is the command line's CSV as a DataFrame (columns ``t``,
+    ``energy``, ``<field>_<point>``, ``q_<field>_<mode>``)."""
+
+    def __getattr__(self, name: str) -> Any:
+        try:
+            return self[name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+    def to_dict(self) -> Dict[str, Any]:
+        """Plain data: arrays as lists."""
+        return {
+            "t": np.asarray(self["t"]).tolist(),
+            "energy": np.asarray(self["energy"]).tolist(),
+            "positions": {f: np.asarray(a).tolist() for f, a in self["positions"].items()},
+            "modal": {f: np.asarray(a).tolist() for f, a in self["modal"].items()},
+        }
+
+    def to_pandas(self) -> Any:
+        """One row per sample, the CSV's columns (needs pandas)."""
+        import pandas as pd
+
+        columns: Dict[str, Any] = {"t": self["t"], "energy": self["energy"]}
+        for kind, prefix in (("positions", ""), ("modal", "q_")):
+            for field, values in self[kind].items():
+                values = np.asarray(values)
+                for j in range(values.shape[1]):
+                    columns[f"{prefix}{field}_{j}"] = values[:, j]
+        return pd.DataFrame(columns)
+
+    def _repr_html_(self) -> str:
+        try:
+            return self.to_pandas().to_html(max_rows=20, max_cols=12)
+        except ImportError:
+            return "<pre>" + html.escape(repr(self)) + "</pre>"
+
+    def __repr__(self) -> str:
+        shapes = ", ".join(f"{f}: {np.shape(a)}" for f, a in self["positions"].items())
+        return f"Simulation({len(self['t'])} samples; positions {shapes})"
