@@ -37,8 +37,15 @@ def test_modes_take_the_lowest_k_and_the_scales():
             few[field].eigenvalues, full[field].eigenvalues[:5], rtol=1e-9, atol=1e-12
         )
     y = full["y"]
-    assert y.omega == 2.0 and y.shapes is None
+    assert y.omega == 2.0
     np.testing.assert_allclose(y.frequencies, 2.0 * np.sqrt(y.eigenvalues), atol=1e-12)
+    # Shapes not asked for are computed on first read: the k lowest, as asked with shapes=True.
+    assert few["y"]._shapes is None
+    np.testing.assert_array_equal(
+        few["y"].shapes, ts.modes(200, params={"omega_b": 2.0}, k=5, shapes=True)["y"].shapes
+    )
+    # One native call computed every field's shapes.
+    assert few["y"].shapes.shape == (200, 5) and set(few._with_shapes) == set(few)
 
 
 def test_table_rows_follow_the_rules_as_stated():

@@ -60,7 +60,7 @@ def test_results_are_the_binarys_documents(call, args):
 
 
 def test_modes_by_field_are_numpys_eigh_of_the_free_beam():
-    m = ts.modes(points=57, shapes=True)
+    m = ts.modes(points=57)
     d4 = next(o["matrix"] for o in ts.operators(57) if o["field"] == "y").astype(float)
     np.testing.assert_allclose(m["y"].eigenvalues, np.linalg.eigvalsh(d4), atol=1e-9)
     v = m["y"].shapes

@@ -312,7 +312,8 @@ def modes(
     params : mapping, optional
         ``omega_<scale>`` and ``zeta_<scale>`` (defaults ω = 1, ζ = 0.1).
     shapes : bool
-        Also return the mode shapes.
+        Compute the mode shapes now (otherwise the first read of a field's ``shapes``
+        computes them, once, for every field).
     k : int, optional
         Only the ``k`` lowest modes of each field.
     @order
@@ -321,15 +322,19 @@ def modes(
     -------
     Modes
         A mapping field id → ``FieldModes`` with ``eigenvalues``, ``frequencies``,
-        ``damping_ratios``, ``variance_shares``, ``nullity``, ``omega``, ``zeta`` and, with
-        ``shapes=True``, ``shapes`` (points × modes: one mode per column, as
-        ``numpy.linalg.eigh``); ``to_pandas()`` on each.
+        ``damping_ratios``, ``variance_shares``, ``nullity``, ``omega``, ``zeta`` and
+        ``shapes`` (points × modes: one mode per column, as ``numpy.linalg.eigh``);
+        ``to_pandas()`` on each.
     """
     _count("points", points, 1, 10_000_000)
     _count("order", order, 1, 32)
     if k is not None:
         _count("k", k, 1)
-    return Modes(_native_call["modes"](points, order, _toml(model), dict(params or {}), shapes, k))
+    args = (points, order, _toml(model), dict(params or {}))
+    return Modes(
+        _native_call["modes"](*args, shapes, k),
+        load_shapes=lambda: _native_call["modes"](*args, True, k),
+    )
 
 
 def _assignments(values: Any) -> List[str]:

@@ -1,7 +1,7 @@
 """Type stubs of theory_search."""
 
 import os
-from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Union
+from typing import Any, Callable, Dict, Iterator, List, Mapping, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -64,15 +64,20 @@ class Result(Dict[str, Any]):
     def _repr_html_(self) -> str: ...
 
 class FieldModes:
-    """One field's modes; shapes are points × modes (columns), or None."""
+    """One field's modes; shapes are points × modes (columns), computed on first read."""
 
-    def __init__(self, record: Mapping[str, Any]) -> None: ...
+    def __init__(
+        self,
+        record: Mapping[str, Any],
+        shapes_of: Optional[Callable[[], Optional[npt.NDArray[np.float64]]]] = None,
+    ) -> None: ...
     field: str
     eigenvalues: npt.NDArray[np.float64]
     frequencies: npt.NDArray[np.float64]
     damping_ratios: npt.NDArray[np.float64]
     variance_shares: npt.NDArray[np.float64]
-    shapes: Optional[npt.NDArray[np.float64]]
+    @property
+    def shapes(self) -> Optional[npt.NDArray[np.float64]]: ...
     k: Optional[int]
     omega: Optional[float]
     zeta: Optional[float]
@@ -84,7 +89,11 @@ class FieldModes:
 class Modes(Mapping[str, FieldModes]):
     """Every field's modes, keyed by field id."""
 
-    def __init__(self, records: List[Mapping[str, Any]]) -> None: ...
+    def __init__(
+        self,
+        records: List[Mapping[str, Any]],
+        load_shapes: Optional[Callable[[], List[Mapping[str, Any]]]] = None,
+    ) -> None: ...
     def __getitem__(self, field: str) -> FieldModes: ...
     def __iter__(self) -> Iterator[str]: ...
     def __len__(self) -> int: ...

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import html
 import json
-from typing import Any, Dict, Iterator, List, Mapping, Optional
+from typing import Any, Callable, Dict, Iterator, List, Mapping, Optional
 
 import numpy as np
 
@@ -78,22 +78,37 @@ class Result(dict):
 class FieldModes:
     """One field's modes: numpy arrays ``eigenvalues``, ``frequencies``, ``damping_ratios``,
     ``variance_shares`` and ``shapes`` (points × modes, one mode per column like
-    ``numpy.linalg.eigh``; ``None`` unless asked for)."""
+    ``numpy.linalg.eigh``; computed when first read unless ``modes(shapes=True)`` computed
+    them already)."""
 
-    def __init__(self, record: Mapping[str, Any]) -> None:
+    def __init__(
+        self,
+        record: Mapping[str, Any],
+        shapes_of: Optional[Callable[[], Optional[np.ndarray]]] = None,
+    ) -> None:
         self.field: str = record["field"]
         self.eigenvalues = np.asarray(record.get("eigenvalues", []), dtype=float)
         self.frequencies = np.asarray(record.get("frequencies", []), dtype=float)
         self.damping_ratios = np.asarray(record.get("damping_ratios", []), dtype=float)
         self.variance_shares = np.asarray(record.get("variance_shares", []), dtype=float)
         shapes = record.get("shapes")
-        self.shapes = None if shapes is None else np.asarray(shapes, dtype=float)
+        self._shapes = None if shapes is None else np.asarray(shapes, dtype=float)
+        self._shapes_of = shapes_of
         # The operator's order k, the scales ω and ζ, the zero modes and Σλ⁻¹ (absent: None).
         self.k: Optional[int] = record.get("k")
         self.omega: Optional[float] = record.get("omega")
         self.zeta: Optional[float] = record.get("zeta")
         self.nullity: Optional[int] = record.get("nullity")
         self.inverse_trace: Optional[float] = record.get("inverse_trace")
+
+    @property
+    def shapes(self) -> Optional[np.ndarray]:
+        """The mode shapes, points × modes (one unit-norm mode per column); the first read
+        computes them (once) when ``modes()`` was called without ``shapes=True``."""
+        if self._shapes is None and self._shapes_of is not None:
+            self._shapes = self._shapes_of()
+            self._shapes_of = None
+        return self._shapes
 
     def to_dict(self) -> Dict[str, Any]:
         """Plain data."""
@@ -124,10 +139,32 @@ class FieldModes:
 
 
 class Modes(Mapping[str, FieldModes]):
-    """Every field's modes, keyed by field id: ``m["y"].eigenvalues``, ``m["y"].shapes``."""
+    """Every field's modes, keyed by field id: ``m["y"].eigenvalues``, ``m["y"].shapes``.
+    ``load_shapes`` (when given) computes every field's records with shapes, once, the first
+    time a field's ``shapes`` is read."""
 
-    def __init__(self, records: List[Mapping[str, Any]]) -> None:
-        self._fields = {r["field"]: FieldModes(r) for r in records}
+    def __init__(
+        self,
+        records: List[Mapping[str, Any]],
+        load_shapes: Optional[Callable[[], List[Mapping[str, Any]]]] = None,
+    ) -> None:
+        self._load_shapes = load_shapes
+        self._with_shapes: Optional[Dict[str, Any]] = None
+        self._fields = {
+            r["field"]: FieldModes(
+                r, None if load_shapes is None or r.get("shapes") is not None else self._loader(r["field"])
+            )
+            for r in records
+        }
+
+    def _loader(self, field: str) -> Callable[[], Optional[np.ndarray]]:
+        return lambda: self._shapes_for(field)
+
+    def _shapes_for(self, field: str) -> Optional[np.ndarray]:
+        if self._with_shapes is None and self._load_shapes is not None:
+            self._with_shapes = {r["field"]: r.get("shapes") for r in self._load_shapes()}
+        shapes = (self._with_shapes or {}).get(field)
+        return None if shapes is None else np.asarray(shapes, dtype=float)
 
     def __getitem__(self, field: str) -> FieldModes:
         return self._fields[field]

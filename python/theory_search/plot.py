@@ -28,7 +28,7 @@ def modes(result: Any, field: str = "y", count: int = 4, ax: Any = None):
     Parameters
     ----------
     result : Modes
-        From :func:`theory_search.modes` called with ``shapes=True``.
+        From :func:`theory_search.modes`.
     field : str
         The field id.
     count : int
@@ -38,7 +38,7 @@ def modes(result: Any, field: str = "y", count: int = 4, ax: Any = None):
     """
     fm = result[field]
     if fm.shapes is None:
-        raise ValueError("modes() was called without shapes=True")
+        raise ValueError(f"no mode shapes for {field!r}")
     fig, (axis,) = _axes(ax)
     s = np.linspace(0.0, 1.0, fm.shapes.shape[0])
     nonzero = [i for i, lam in enumerate(fm.eigenvalues) if lam > 1e-9][:count]
