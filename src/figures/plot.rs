@@ -187,23 +187,20 @@ pub(super) fn legend_place(
         return (SeriesLabelPosition::UpperRight, yr.clone());
     }
     let (bw, bh) = legend_box(&labels);
-    let map = |yr: &std::ops::Range<f64>| {
-        let (xr, yr) = (xr.clone(), yr.clone());
-        move |x: f64, y: f64| {
-            (
-                plot.0 * (x - xr.start) / (xr.end - xr.start),
-                plot.1 * (1.0 - (y - yr.start) / (yr.end - yr.start)),
-            )
-        }
+    // Data to pixels of the plotting area (y down).
+    let map = |x: f64, y: f64| {
+        (
+            plot.0 * (x - xr.start) / (xr.end - xr.start),
+            plot.1 * (1.0 - (y - yr.start) / (yr.end - yr.start)),
+        )
     };
     let free = |right: bool, upper: bool| {
         let x0 = if right { plot.0 - bw - 5.0 } else { 5.0 };
         let y0 = if upper { 5.0 } else { plot.1 - bh - 5.0 };
         let b = (x0, x0 + bw, y0, y0 + bh);
-        let m = map(yr);
-        !p.series.iter().any(|s| touches(s, &m, b))
+        !p.series.iter().any(|s| touches(s, &map, b))
             && !p.markers.iter().any(|&(x, _)| {
-                let px = m(x, 0.0).0;
+                let px = map(x, 0.0).0;
                 px > b.0 - 4.0 && px < b.1 + 4.0
             })
     };
