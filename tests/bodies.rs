@@ -20,16 +20,8 @@ fn tmp(name: &str) -> PathBuf {
     dir
 }
 
-/// Run the CLI in-process: Ok(stdout) or Err((exit code, message)).
-fn run(args: &[&str]) -> Result<String, (u8, String)> {
-    let mut out = Vec::new();
-    let mut full = vec!["theory-search"];
-    full.extend_from_slice(args);
-    match theory_search::cli::run(full, &mut out) {
-        Ok(()) => Ok(String::from_utf8(out).unwrap()),
-        Err(e) => Err((e.exit_code(), e.to_string())),
-    }
-}
+mod common;
+use common::in_process as run;
 
 /// Which (body, command) pairs are refused, and a phrase the refusal must contain. Everything
 /// else must succeed.

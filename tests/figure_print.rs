@@ -211,17 +211,8 @@ fn no_legend_covers_data() {
     assert!(legends > 50, "{legends} legends checked");
 }
 
-fn cli(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_theory-search"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+mod common;
+use common::binary as cli;
 
 #[test]
 fn the_command_writes_png_and_pdf_of_the_width_asked_for() {

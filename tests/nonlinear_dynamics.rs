@@ -2,6 +2,9 @@
 //! oscillator's exact period (an elliptic integral), energy held without dissipation, the
 //! discrete energy balance with it, and a linear beam against RK4 on hand-built stencils.
 
+mod common;
+use common::cli;
+
 use std::collections::BTreeMap;
 
 use theory_search::dynamics::nonlinear::{coefficient_names, NonlinearBody};
@@ -249,15 +252,6 @@ fn missing_and_unsupported_say_so() {
         .unwrap_err()
         .to_string();
     assert!(err.contains("not a finite number"), "{err}");
-}
-
-fn cli(args: &[&str]) -> Result<String, String> {
-    let mut all = vec!["theory-search"];
-    all.extend(args);
-    let mut out = Vec::new();
-    theory_search::cli::run(all, &mut out)
-        .map(|()| String::from_utf8(out).unwrap())
-        .map_err(|e| e.to_string())
 }
 
 #[test]

@@ -2,6 +2,8 @@
 //! worm: ½k2(∂ts x)² and k1(∂t x)⁴): the energy balance of the integrator, its order where T is
 //! not quadratic, the linearisation's generalised eigenproblem K x = λ M x.
 
+mod common;
+
 use std::collections::BTreeMap;
 
 use theory_search::dynamics::nonlinear::{coefficient_names, NonlinearBody};
@@ -105,11 +107,7 @@ fn a_quartic_kinetic_energy_holds_energy_to_second_order() {
 }
 
 fn cli(args: &[&str]) -> String {
-    let mut all = vec!["theory-search"];
-    all.extend(args);
-    let mut out = Vec::new();
-    theory_search::cli::run(all, &mut out).unwrap();
-    String::from_utf8(out).unwrap()
+    common::cli(args).unwrap()
 }
 
 #[test]

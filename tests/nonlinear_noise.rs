@@ -3,14 +3,8 @@
 //! the linear modes; a Boltzmann integral by quadrature), and modal forces against the modal
 //! path's exact propagators.
 
-fn cli(args: &[&str]) -> Result<String, String> {
-    let mut all = vec!["theory-search"];
-    all.extend(args);
-    let mut out = Vec::new();
-    theory_search::cli::run(all, &mut out)
-        .map(|()| String::from_utf8(out).unwrap())
-        .map_err(|e| e.to_string())
-}
+mod common;
+use common::cli;
 
 /// The rows of a `simulate` CSV after the header, as numbers, without the first `skip` rows.
 fn rows(csv: &str, skip: usize) -> Vec<Vec<f64>> {

@@ -1,14 +1,8 @@
 //! `operators` of a nonlinear body: the operators of its linearisation, against the linear
 //! operators the engine prints for the same squares and against hand-built matrices.
 
-fn cli(args: &[&str]) -> Result<String, String> {
-    let mut all = vec!["theory-search"];
-    all.extend(args);
-    let mut out = Vec::new();
-    theory_search::cli::run(all, &mut out)
-        .map(|()| String::from_utf8(out).unwrap())
-        .map_err(|e| e.to_string())
-}
+mod common;
+use common::cli;
 
 fn json(args: &[&str]) -> serde_json::Value {
     serde_json::from_str(&cli(args).unwrap()).unwrap()

@@ -1,0 +1,34 @@
+//! Helpers the integration tests share: the command line run as a user runs it (the binary) or
+//! in this process (the library's `cli::run`). Each test target uses what it needs.
+#![allow(dead_code)]
+
+use std::process::Command;
+
+/// The binary with `args`: (exit code, stdout, stderr).
+pub fn binary(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_theory-search"))
+        .args(args)
+        .output()
+        .expect("the binary runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// The command line run in this process: Ok(stdout) or Err((exit code, message)).
+pub fn in_process(args: &[&str]) -> Result<String, (u8, String)> {
+    let mut all = vec!["theory-search"];
+    all.extend_from_slice(args);
+    let mut out = Vec::new();
+    match theory_search::cli::run(all, &mut out) {
+        Ok(()) => Ok(String::from_utf8(out).expect("UTF-8 output")),
+        Err(e) => Err((e.exit_code(), e.to_string())),
+    }
+}
+
+/// [`in_process`] with the message alone as the error.
+pub fn cli(args: &[&str]) -> Result<String, String> {
+    in_process(args).map_err(|(_, message)| message)
+}
