@@ -217,8 +217,7 @@ def interactions(
     @order
     @model
     @density
-    options
-        The command's other options (``basis``, ``beyond_leading``).
+    @term_options
 
     Returns
     -------
@@ -237,8 +236,7 @@ def parts(order: int = 4, model: Any = None, density: Optional[str] = None, **op
     @order
     @model
     @density
-    options
-        The command's other options (``basis``, ``beyond_leading``).
+    @term_options
 
     Returns
     -------

@@ -14,6 +14,7 @@ SHARED = {
     "basis": 'basis : str\n    ``"powers"`` or ``"monomials"``.',
     "density": "density : str, optional\n"
     '    ``"lagrangian"``, ``"rayleigh"`` or ``"both"`` (the command\'s default without it).',
+    "term_options": "options\n    The command's other options (``basis``, ``beyond_leading``).",
     "ax": "ax : matplotlib Axes, optional\n    Draw into these axes (a new figure when None).",
     "figure": "\nReturns\n-------\nmatplotlib.figure.Figure\n"
     "    The figure drawn into (``axes`` holds its panels).",
