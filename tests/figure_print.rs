@@ -3,6 +3,7 @@
 //! the written SVG, PNG or PDF back (geometry from the output, not from the layout code).
 
 use std::process::Command;
+use std::sync::{Arc, Mutex};
 
 use theory_search::figures::{figure, FigureError, FigureSettings, Format, Page, FIGURES};
 use theory_search::modal::Params;
@@ -22,8 +23,23 @@ fn settings(width_mm: f64) -> FigureSettings {
     }
 }
 
-/// Every figure every shipped model can make, at `width_mm`, as the SVG file says it.
-fn all_svgs(width_mm: f64) -> Vec<(String, String)> {
+/// Every figure every shipped model can make, at `width_mm`, as the SVG file says it; made once
+/// per width for all the tests of this file.
+fn all_svgs(width_mm: f64) -> Arc<Vec<(String, String)>> {
+    static MADE: Mutex<Vec<(u64, Arc<Vec<(String, String)>>)>> = Mutex::new(Vec::new());
+    // Held while making: one test makes a width, the others wait for it (the fit's figures go
+    // through a directory named by the width).
+    let mut made = MADE.lock().unwrap();
+    let key = width_mm.to_bits();
+    if let Some((_, svgs)) = made.iter().find(|(k, _)| *k == key) {
+        return svgs.clone();
+    }
+    let svgs = Arc::new(make_svgs(width_mm));
+    made.push((key, svgs.clone()));
+    svgs
+}
+
+fn make_svgs(width_mm: f64) -> Vec<(String, String)> {
     let mut out = Vec::new();
     for entry in std::fs::read_dir(MODELS).unwrap() {
         let path = entry.unwrap().path();
@@ -101,7 +117,7 @@ fn elements(svg: &str) -> Vec<(&str, &str, &str)> {
 #[test]
 fn text_prints_at_seven_points_or_more_at_every_width() {
     for width in [60.0, 85.0, 180.0, 300.0] {
-        for (what, svg) in all_svgs(width) {
+        for (what, svg) in all_svgs(width).iter() {
             let root = elements(&svg)[0].1;
             let printed: f64 = attr(root, "width")
                 .and_then(|w| w.strip_suffix("mm"))
@@ -131,7 +147,7 @@ fn text_prints_at_seven_points_or_more_at_every_width() {
 fn every_character_has_a_glyph_in_the_embedded_font() {
     let font = ttf_parser::Face::parse(dejavu::sans::regular(), 0).unwrap();
     let mut seen = std::collections::BTreeSet::new();
-    for (what, svg) in all_svgs(180.0) {
+    for (what, svg) in all_svgs(180.0).iter() {
         for (_, _, text) in elements(&svg).iter().filter(|e| e.0 == "text") {
             for c in text.chars() {
                 if seen.insert(c) {
@@ -160,7 +176,7 @@ fn crosses(p: (f64, f64), q: (f64, f64), b: (f64, f64, f64, f64)) -> bool {
 fn no_legend_covers_data() {
     let mut legends = 0;
     for width in [85.0, 180.0] {
-        for (what, svg) in all_svgs(width) {
+        for (what, svg) in all_svgs(width).iter() {
             let all = elements(&svg);
             for (k, legend) in all.iter().enumerate() {
                 // plotters' legend: a white box at opacity 0.85, drawn after the panel's data.
