@@ -23,10 +23,13 @@ fn settings(width_mm: f64) -> FigureSettings {
     }
 }
 
+/// (what, SVG text) of each figure.
+type Svgs = Vec<(String, String)>;
+
 /// Every figure every shipped model can make, at `width_mm`, as the SVG file says it; made once
 /// per width for all the tests of this file.
-fn all_svgs(width_mm: f64) -> Arc<Vec<(String, String)>> {
-    static MADE: Mutex<Vec<(u64, Arc<Vec<(String, String)>>)>> = Mutex::new(Vec::new());
+fn all_svgs(width_mm: f64) -> Arc<Svgs> {
+    static MADE: Mutex<Vec<(u64, Arc<Svgs>)>> = Mutex::new(Vec::new());
     // Held while making: one test makes a width, the others wait for it (the fit's figures go
     // through a directory named by the width).
     let mut made = MADE.lock().unwrap();
@@ -39,7 +42,7 @@ fn all_svgs(width_mm: f64) -> Arc<Vec<(String, String)>> {
     svgs
 }
 
-fn make_svgs(width_mm: f64) -> Vec<(String, String)> {
+fn make_svgs(width_mm: f64) -> Svgs {
     let mut out = Vec::new();
     for entry in std::fs::read_dir(MODELS).unwrap() {
         let path = entry.unwrap().path();
@@ -118,7 +121,7 @@ fn elements(svg: &str) -> Vec<(&str, &str, &str)> {
 fn text_prints_at_seven_points_or_more_at_every_width() {
     for width in [60.0, 85.0, 180.0, 300.0] {
         for (what, svg) in all_svgs(width).iter() {
-            let root = elements(&svg)[0].1;
+            let root = elements(svg)[0].1;
             let printed: f64 = attr(root, "width")
                 .and_then(|w| w.strip_suffix("mm"))
                 .unwrap_or_else(|| panic!("{what}: width not in mm"))
@@ -132,7 +135,7 @@ fn text_prints_at_seven_points_or_more_at_every_width() {
                 .unwrap()
                 .parse()
                 .unwrap();
-            let smallest = elements(&svg)
+            let smallest = elements(svg)
                 .iter()
                 .filter(|e| e.0 == "text")
                 .map(|e| num(e.1, "font-size"))
@@ -148,7 +151,7 @@ fn every_character_has_a_glyph_in_the_embedded_font() {
     let font = ttf_parser::Face::parse(dejavu::sans::regular(), 0).unwrap();
     let mut seen = std::collections::BTreeSet::new();
     for (what, svg) in all_svgs(180.0).iter() {
-        for (_, _, text) in elements(&svg).iter().filter(|e| e.0 == "text") {
+        for (_, _, text) in elements(svg).iter().filter(|e| e.0 == "text") {
             for c in text.chars() {
                 if seen.insert(c) {
                     assert!(font.glyph_index(c).is_some(), "{what}: no glyph for {c:?}");
@@ -177,7 +180,7 @@ fn no_legend_covers_data() {
     let mut legends = 0;
     for width in [85.0, 180.0] {
         for (what, svg) in all_svgs(width).iter() {
-            let all = elements(&svg);
+            let all = elements(svg);
             for (k, legend) in all.iter().enumerate() {
                 // plotters' legend: a white box at opacity 0.85, drawn after the panel's data.
                 if !(legend.0 == "rect" && attr(legend.1, "opacity") == Some("0.85")) {
