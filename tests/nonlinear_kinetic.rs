@@ -3,6 +3,7 @@
 //! not quadratic, the linearisation's generalised eigenproblem K x = λ M x.
 
 mod common;
+use common::matrix;
 
 use std::collections::BTreeMap;
 
@@ -130,19 +131,6 @@ fn the_linearised_modes_solve_the_generalised_eigenproblem() {
     modes.extend(common);
     let ops: serde_json::Value = serde_json::from_str(&cli(&ops)).unwrap();
     let modes: serde_json::Value = serde_json::from_str(&cli(&modes)).unwrap();
-    let matrix = |v: &serde_json::Value| -> Vec<Vec<f64>> {
-        v.as_array()
-            .unwrap()
-            .iter()
-            .map(|r| {
-                r.as_array()
-                    .unwrap()
-                    .iter()
-                    .map(|x| x.as_f64().unwrap())
-                    .collect()
-            })
-            .collect()
-    };
     let x = &ops["fields"][0];
     assert_eq!(x["field"], "x");
     let (k, m) = (matrix(&x["stiffness"]), matrix(&x["mass"]));

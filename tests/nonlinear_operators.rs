@@ -2,24 +2,10 @@
 //! operators the engine prints for the same squares and against hand-built matrices.
 
 mod common;
-use common::cli;
+use common::{cli, matrix};
 
 fn json(args: &[&str]) -> serde_json::Value {
     serde_json::from_str(&cli(args).unwrap()).unwrap()
-}
-
-fn matrix(v: &serde_json::Value) -> Vec<Vec<f64>> {
-    v.as_array()
-        .unwrap()
-        .iter()
-        .map(|r| {
-            r.as_array()
-                .unwrap()
-                .iter()
-                .map(|x| x.as_f64().unwrap())
-                .collect()
-        })
-        .collect()
 }
 
 #[test]

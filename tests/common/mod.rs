@@ -32,3 +32,18 @@ pub fn in_process(args: &[&str]) -> Result<String, (u8, String)> {
 pub fn cli(args: &[&str]) -> Result<String, String> {
     in_process(args).map_err(|(_, message)| message)
 }
+
+/// A JSON array of arrays of numbers (a printed matrix) as rows.
+pub fn matrix(v: &serde_json::Value) -> Vec<Vec<f64>> {
+    v.as_array()
+        .expect("an array of rows")
+        .iter()
+        .map(|r| {
+            r.as_array()
+                .expect("a row")
+                .iter()
+                .map(|x| x.as_f64().expect("a number"))
+                .collect()
+        })
+        .collect()
+}
