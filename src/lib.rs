@@ -13,6 +13,7 @@
 pub mod artifacts;
 pub mod banded;
 pub mod behaviour;
+pub mod body;
 pub mod boundary;
 pub mod catalogue;
 pub mod cli;
@@ -21,6 +22,7 @@ pub mod discretise;
 pub mod dynamics;
 pub mod enumerate;
 pub mod equations;
+pub mod failure;
 pub mod figures;
 pub mod fit;
 pub mod generated;

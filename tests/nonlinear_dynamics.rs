@@ -345,7 +345,7 @@ fn simulate_runs_the_larva_at_the_next_order_and_refuses_what_it_cannot() {
             vec!["--temperature", "0.1", "--param", "c'2_x=-1"],
             "Langevin noise needs",
         ),
-        (vec!["--param", "c9_x=1"], "this body's coefficients: c1_x"),
+        (vec!["--param", "c9_x=1"], "coefficients: c1_x"),
         (vec!["--initial", "w=1"], "unknown field \"w\""),
         (vec!["--initial", "x:40=1"], "has modes 0…10"),
         (vec!["--steps", "100000000"], "a run may take"),

@@ -191,7 +191,10 @@ fn a_linear_body_takes_its_printed_coefficients_as_scales() {
     .unwrap();
     assert_eq!(by_names, by_scales);
     let err = cli(&["modes", "-p", "9", "--param", "c_y=4", "--param", "c_z=2"]).unwrap_err();
-    assert!(err.contains("share the scale b"), "{err}");
+    assert!(
+        err.contains("omega_b") && err.contains("share this scale"),
+        "{err}"
+    );
     let err = cli(&["modes", "-p", "9", "--param", "c_y=-1"]).unwrap_err();
     assert!(err.contains("ω² > 0"), "{err}");
 }

@@ -11,11 +11,13 @@ use pyo3::create_exception;
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use theory_search::body::{Body, BodyError, BodyModes, BodyOperators, Start};
 use theory_search::enumerate::Basis;
+use theory_search::failure::Failure;
 use theory_search::fit::{
     fit_inputs, FitError, FitReport, FitSettings, Frame, Input, InputKind, Track,
 };
-use theory_search::modal::{field_modes, Params};
+use theory_search::modal::Params;
 use theory_search::model::{one_line, Density, Model};
 
 create_exception!(
@@ -41,6 +43,12 @@ create_exception!(
     MissingError,
     TheorySearchError,
     "A file that does not exist (the CLI's exit code 1)."
+);
+create_exception!(
+    _native,
+    NumericalError,
+    TheorySearchError,
+    "A computation that failed on valid input (the CLI's exit code 3)."
 );
 create_exception!(
     _native,
@@ -158,54 +166,153 @@ fn equations_json(order: u32, model: Option<&str>, basis: &str) -> PyResult<Stri
     }
 }
 
-/// Every operator on `points` points: dicts with the exact integer matrix as a numpy array.
+/// The library's error as its Python exception, by the kind of failure.
+fn raised(failure: Failure, text: String) -> PyErr {
+    match failure {
+        Failure::Usage => UsageError::new_err(text),
+        Failure::Input => InputError::new_err(text),
+        Failure::Numerical => NumericalError::new_err(text),
+        Failure::Output => OutputError::new_err(text),
+    }
+}
+
+fn body_error(e: BodyError) -> PyErr {
+    raised(e.failure(), one_line(&e.to_string()))
+}
+
+/// The body of the model at `order`, its scales and coefficients by name (as `--param`).
+fn body_of(
+    order: u32,
+    beyond_leading: Option<u32>,
+    model: Option<&str>,
+    params: Option<HashMap<String, f64>>,
+) -> PyResult<Body> {
+    let mut assignments: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
+    // A dict has no order; the library's checks then go name by name, the same every time.
+    assignments.sort_by(|a, b| a.0.cmp(&b.0));
+    Body::new(
+        model_of(model)?,
+        order,
+        beyond_leading,
+        Params::default(),
+        &assignments,
+    )
+    .map_err(body_error)
+}
+
+/// Rows as a numpy matrix (rows × columns; `columns` when there are no rows).
+fn matrix<'py>(
+    py: Python<'py>,
+    rows: &[Vec<f64>],
+    columns: usize,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let n = rows.len();
+    let a = numpy::ndarray::Array2::from_shape_fn(
+        (n, if n == 0 { columns } else { rows[0].len() }),
+        |(i, j)| rows[i][j],
+    );
+    Ok(a.into_pyarray(py))
+}
+
+/// Every operator on `points` points: dicts with the exact integer matrix as a numpy array
+/// (a linear body), or the stiffness, damping and mass of the linearisation (a nonlinear one).
 #[pyfunction]
-#[pyo3(signature = (points, order, model))]
+#[pyo3(signature = (points, order, beyond_leading, model, params))]
 fn operators<'py>(
     py: Python<'py>,
     points: usize,
     order: u32,
+    beyond_leading: Option<u32>,
     model: Option<&str>,
+    params: Option<HashMap<String, f64>>,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
-    let model = model_of(model)?;
-    let ops = py
-        .detach(|| theory_search::discretise::operators(&model, order, points))
-        .map_err(usage)?;
-    ops.into_iter()
-        .map(|op| {
-            let d = PyDict::new(py);
-            d.set_item("field", &op.field)?;
-            d.set_item("density", &op.density)?;
-            d.set_item("term", &op.term)?;
-            d.set_item("boundary", &op.boundary)?;
-            d.set_item("k", op.k)?;
-            d.set_item(
-                "matrix",
-                PyArray2::from_vec2(py, &op.matrix).map_err(usage)?,
-            )?;
-            Ok(d)
-        })
-        .collect()
+    let body = body_of(order, beyond_leading, model, params)?;
+    let ops = py.detach(|| body.operators(points)).map_err(body_error)?;
+    match ops {
+        BodyOperators::Exact(ops) => ops
+            .into_iter()
+            .map(|op| {
+                let d = PyDict::new(py);
+                d.set_item("field", &op.field)?;
+                d.set_item("density", &op.density)?;
+                d.set_item("term", &op.term)?;
+                d.set_item("boundary", &op.boundary)?;
+                d.set_item("k", op.k)?;
+                d.set_item(
+                    "matrix",
+                    PyArray2::from_vec2(py, &op.matrix).map_err(usage)?,
+                )?;
+                Ok(d)
+            })
+            .collect(),
+        BodyOperators::Linearised(fields) => fields
+            .into_iter()
+            .map(|op| {
+                let d = PyDict::new(py);
+                d.set_item("field", &op.field)?;
+                d.set_item("boundary", &op.boundary)?;
+                d.set_item("linearised", true)?;
+                d.set_item("equilibrium", PyArray1::from_vec(py, op.equilibrium))?;
+                d.set_item("residual", op.residual)?;
+                d.set_item("stiffness", matrix(py, &op.stiffness, op.size)?)?;
+                d.set_item("damping", matrix(py, &op.damping, op.size)?)?;
+                d.set_item("mass", matrix(py, &op.mass, op.size)?)?;
+                Ok(d)
+            })
+            .collect(),
+    }
 }
 
 /// Each field's modes: eigenvalues, frequencies, damping ratios, variance shares, and the
-/// shapes (points × modes) when asked.
+/// shapes (points × modes) when asked; of a nonlinear body, its linearisation's (frequencies
+/// NaN where λ < 0, an unstable direction; the equilibrium and its residual).
 #[pyfunction]
-#[pyo3(signature = (points, order, model, params, shapes, k))]
+#[pyo3(signature = (points, order, beyond_leading, model, params, shapes, k))]
+#[allow(clippy::too_many_arguments)]
 fn modes<'py>(
     py: Python<'py>,
     points: usize,
     order: u32,
+    beyond_leading: Option<u32>,
     model: Option<&str>,
     params: Option<HashMap<String, f64>>,
     shapes: bool,
     k: Option<usize>,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
-    let model = model_of(model)?;
-    let params = params_of(params)?;
+    let body = body_of(order, beyond_leading, model, params)?;
     let all = py
-        .detach(|| field_modes(&model, order, points, &params, k, shapes))
-        .map_err(usage)?;
+        .detach(|| body.modes(points, k, shapes))
+        .map_err(body_error)?;
+    let all = match all {
+        BodyModes::Exact(all) => all,
+        BodyModes::Linearised(fields) => {
+            return fields
+                .into_iter()
+                .map(|f| {
+                    let d = PyDict::new(py);
+                    d.set_item("field", &f.field)?;
+                    d.set_item("linearised", true)?;
+                    d.set_item("equilibrium", PyArray1::from_vec(py, f.equilibrium))?;
+                    d.set_item("residual", f.residual)?;
+                    let frequencies: Vec<f64> = f
+                        .frequencies
+                        .iter()
+                        .map(|w| w.unwrap_or(f64::NAN))
+                        .collect();
+                    d.set_item("frequencies", PyArray1::from_vec(py, frequencies))?;
+                    if let Some(s) = &f.shapes {
+                        // Modes as columns, as numpy.linalg.eigh.
+                        let n = s.first().map_or(0, Vec::len);
+                        let a =
+                            numpy::ndarray::Array2::from_shape_fn((n, s.len()), |(i, j)| s[j][i]);
+                        d.set_item("shapes", a.into_pyarray(py))?;
+                    }
+                    d.set_item("eigenvalues", PyArray1::from_vec(py, f.eigenvalues))?;
+                    Ok(d)
+                })
+                .collect();
+        }
+    };
     all.into_iter()
         .map(|fm| {
             let d = PyDict::new(py);
@@ -246,10 +353,14 @@ fn modes<'py>(
         .collect()
 }
 
-/// Simulate (Langevin at `temperature`, or deterministic at 0): times and each field's
-/// positions and modal coordinates, one row per kept step.
+/// What a run starts from and what pushes it, as the command line's texts.
+type StartTexts = (Vec<String>, Vec<String>, Vec<String>);
+
+/// Simulate (Langevin at `temperature`, or deterministic at 0) from `start` (`--initial`,
+/// `--force`, `--drive` texts): times, energies and each field's positions and modal
+/// coordinates (none for a nonlinear body), one row per kept step.
 #[pyfunction]
-#[pyo3(signature = (points, steps, dt, every, temperature, seed, order, model, params))]
+#[pyo3(signature = (points, steps, dt, every, temperature, seed, order, beyond_leading, model, params, start))]
 #[allow(clippy::too_many_arguments)]
 fn simulate<'py>(
     py: Python<'py>,
@@ -260,11 +371,13 @@ fn simulate<'py>(
     temperature: f64,
     seed: u64,
     order: u32,
+    beyond_leading: Option<u32>,
     model: Option<&str>,
     params: Option<HashMap<String, f64>>,
+    start: StartTexts,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let model = model_of(model)?;
-    let params = params_of(params)?;
+    let body = body_of(order, beyond_leading, model, params)?;
+    let start = Start::parse(&start.0, &start.1, &start.2).map_err(body_error)?;
     let config = theory_search::dynamics::Config {
         points,
         order,
@@ -276,42 +389,58 @@ fn simulate<'py>(
         initial: Vec::new(),
         forcing: Vec::new(),
     };
-    let fields = model.fields.len();
-    let (t, energy, positions, modal) = py
-        .detach(|| {
-            let mut t = Vec::new();
-            let mut energy = Vec::new();
-            let mut positions: Vec<Vec<Vec<f64>>> = vec![Vec::new(); fields];
-            let mut modal: Vec<Vec<Vec<f64>>> = vec![Vec::new(); fields];
-            theory_search::dynamics::simulate(&model, &params, &config, |s| {
+    type Series = (
+        Vec<String>,
+        Vec<f64>,
+        Vec<f64>,
+        Vec<Vec<Vec<f64>>>,
+        Vec<Vec<Vec<f64>>>,
+    );
+    let (ids, t, energy, positions, modal) = py
+        .detach(|| -> Result<Series, BodyError> {
+            let mut out: Series = Default::default();
+            body.simulate(&config, &start, |ids, s| {
+                let (names, t, energy, positions, modal) = &mut out;
+                if names.is_empty() {
+                    *names = ids.to_vec();
+                    *positions = vec![Vec::new(); ids.len()];
+                    *modal = vec![Vec::new(); ids.len()];
+                }
                 t.push(s.t);
                 energy.push(s.energy);
-                for f in 0..fields {
+                for f in 0..ids.len() {
                     positions[f].push(s.positions[f].clone());
-                    modal[f].push(s.modal[f].clone());
+                    modal[f].push(s.modal.get(f).cloned().unwrap_or_default());
                 }
                 Ok(())
-            })
-            .map(|_| (t, energy, positions, modal))
+            })?;
+            Ok(out)
         })
-        .map_err(usage)?;
+        .map_err(body_error)?;
     let out = PyDict::new(py);
     out.set_item("t", PyArray1::from_vec(py, t))?;
     out.set_item("energy", PyArray1::from_vec(py, energy))?;
     let (p, q) = (PyDict::new(py), PyDict::new(py));
-    for (f, field) in model.fields.iter().enumerate() {
-        p.set_item(
-            &field.id,
-            PyArray2::from_vec2(py, &positions[f]).map_err(usage)?,
-        )?;
-        q.set_item(
-            &field.id,
-            PyArray2::from_vec2(py, &modal[f]).map_err(usage)?,
-        )?;
+    for (f, id) in ids.iter().enumerate() {
+        p.set_item(id, matrix(py, &positions[f], 0)?)?;
+        q.set_item(id, matrix(py, &modal[f], 0)?)?;
     }
     out.set_item("positions", p)?;
     out.set_item("modal", q)?;
     Ok(out)
+}
+
+/// The library's limits, so Python checks what the command line checks without copying them.
+#[pyfunction]
+fn limits(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("order", theory_search::enumerate::MAX_ORDER)?;
+    d.set_item("beyond_leading", theory_search::model::MAX_BEYOND_LEADING)?;
+    d.set_item("points", theory_search::modal::MAX_POINTS)?;
+    d.set_item("simulate_points", theory_search::dynamics::MAX_SIM_POINTS)?;
+    d.set_item("operator_points", theory_search::body::MAX_OPERATOR_POINTS)?;
+    d.set_item("text_file", theory_search::cli::MAX_TEXT_FILE)?;
+    Ok(d)
 }
 
 /// The fit's settings from keyword arguments.
@@ -322,9 +451,16 @@ fn settings_of(options: Option<&Bound<'_, PyDict>>) -> PyResult<FitSettings> {
     };
     for (key, value) in options.iter() {
         let key: String = key.extract()?;
+        // A value of the wrong type or range (points=-1, window=2**64) is a usage error.
+        let bad = |e: PyErr| {
+            usage(format!(
+                "fit option {key}: {}",
+                theory_search::markup::bound_line(&e.value(value.py()).to_string())
+            ))
+        };
         match key.as_str() {
             "kind" => {
-                s.kind = match value.extract::<String>()?.as_str() {
+                s.kind = match value.extract::<String>().map_err(bad)?.as_str() {
                     "midline" => InputKind::Midline,
                     "lengths" => InputKind::Lengths,
                     other => {
@@ -334,16 +470,16 @@ fn settings_of(options: Option<&Bound<'_, PyDict>>) -> PyResult<FitSettings> {
                     }
                 }
             }
-            "field" => s.field = value.extract()?,
-            "order" => s.order = value.extract()?,
-            "points" => s.points = value.extract()?,
-            "window" => s.window = value.extract()?,
-            "fit_modes" => s.fit_modes = value.extract()?,
-            "omega" => s.omega = value.extract()?,
-            "ring" => s.ring = value.extract()?,
-            "fill_gaps" => s.fill_gaps = value.extract()?,
+            "field" => s.field = value.extract().map_err(bad)?,
+            "order" => s.order = value.extract().map_err(bad)?,
+            "points" => s.points = value.extract().map_err(bad)?,
+            "window" => s.window = value.extract().map_err(bad)?,
+            "fit_modes" => s.fit_modes = value.extract().map_err(bad)?,
+            "omega" => s.omega = value.extract().map_err(bad)?,
+            "ring" => s.ring = value.extract().map_err(bad)?,
+            "fill_gaps" => s.fill_gaps = value.extract().map_err(bad)?,
             "head" => {
-                s.head_first = match value.extract::<String>()?.as_str() {
+                s.head_first = match value.extract::<String>().map_err(bad)?.as_str() {
                     "first" => true,
                     "last" => false,
                     other => {
@@ -353,13 +489,13 @@ fn settings_of(options: Option<&Bound<'_, PyDict>>) -> PyResult<FitSettings> {
                     }
                 }
             }
-            "fps" => s.fps = value.extract()?,
-            "min_likelihood" => s.min_likelihood = value.extract()?,
-            "track_column" => s.track_column = value.extract()?,
-            "bootstrap" => s.bootstrap = value.extract()?,
-            "seed" => s.seed = value.extract()?,
-            "time_unit" => s.time_unit = value.extract()?,
-            "length_unit" => s.length_unit = value.extract()?,
+            "fps" => s.fps = value.extract().map_err(bad)?,
+            "min_likelihood" => s.min_likelihood = value.extract().map_err(bad)?,
+            "track_column" => s.track_column = value.extract().map_err(bad)?,
+            "bootstrap" => s.bootstrap = value.extract().map_err(bad)?,
+            "seed" => s.seed = value.extract().map_err(bad)?,
+            "time_unit" => s.time_unit = value.extract().map_err(bad)?,
+            "length_unit" => s.length_unit = value.extract().map_err(bad)?,
             other => return Err(usage(format!("fit has no option {other:?}"))),
         }
     }
@@ -502,20 +638,11 @@ fn run_cli<'py>(py: Python<'py>, args: Vec<String>) -> PyResult<Bound<'py, pyo3:
         Err(e) => {
             let text = one_line(&e.to_string());
             Err(match e {
-                CliError::Usage(_) | CliError::Role(_) => UsageError::new_err(text),
                 CliError::Missing(_) => MissingError::new_err(text),
-                CliError::Output(_) => OutputError::new_err(text),
-                _ => InputError::new_err(text),
+                other => raised(other.failure(), text),
             })
         }
     }
-}
-
-/// Whether every surviving term of `model` at `order` is a square (the exact modal path).
-#[pyfunction]
-#[pyo3(signature = (order, model))]
-fn is_quadratic(order: u32, model: Option<&str>) -> PyResult<bool> {
-    theory_search::dynamics::is_quadratic(&model_of(model)?, order).map_err(usage)
 }
 
 /// The native module.
@@ -527,8 +654,9 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("InputError", py.get_type::<InputError>())?;
     m.add("MissingError", py.get_type::<MissingError>())?;
     m.add("OutputError", py.get_type::<OutputError>())?;
+    m.add("NumericalError", py.get_type::<NumericalError>())?;
     m.add_function(wrap_pyfunction!(run_cli, m)?)?;
-    m.add_function(wrap_pyfunction!(is_quadratic, m)?)?;
+    m.add_function(wrap_pyfunction!(limits, m)?)?;
     m.add_function(wrap_pyfunction!(larva_toml, m)?)?;
     m.add_function(wrap_pyfunction!(check_model, m)?)?;
     m.add_function(wrap_pyfunction!(table_json, m)?)?;

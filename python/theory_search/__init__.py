@@ -4,7 +4,8 @@ The functions wrap the Rust library (not the command-line binary): every command
 options as keyword arguments. Errors are ``TheorySearchError`` and the builtin Python code
 catches: ``UsageError`` is a ``ValueError`` (bad arguments, settings or models), a missing file a
 ``FileNotFoundError`` (``MissingFileError``), ``InputError`` a ``ValueError`` (malformed data),
-``OutputError`` an ``OSError``; each with the one-line message the command line prints.
+``OutputError`` an ``OSError``, ``NumericalError`` (a computation that failed on valid input)
+an ``ArithmeticError``; each with the one-line message the command line prints.
 
 >>> import theory_search as ts
 >>> m = ts.modes(points=12, k=3)
@@ -37,6 +38,7 @@ from ._docs import shared
 from ._errors import (
     InputError,
     MissingFileError,
+    NumericalError,
     OutputError,
     TheorySearchError,
     UsageError,
@@ -69,6 +71,7 @@ __all__ = [
     "InputError",
     "MissingFileError",
     "OutputError",
+    "NumericalError",
     "table",
     "equations",
     "operators",
@@ -87,6 +90,9 @@ __all__ = [
     "run",
 ]
 
+# The library's limits (order, points), read from it rather than copied.
+_LIMITS = _native.limits()
+
 # Native calls raise the Python exceptions of `_errors`.
 _native_call = {
     name: _translated(getattr(_native, name))
@@ -99,7 +105,6 @@ _native_call = {
         "simulate",
         "fit_arrays",
         "fit_paths",
-        "is_quadratic",
     )
 }
 
@@ -141,10 +146,23 @@ class Model:
         text = os.fspath(path_or_text) if isinstance(path_or_text, os.PathLike) else str(path_or_text)
         looks_like_path = "\n" not in text and "=" not in text and "[" not in text
         if isinstance(path_or_text, os.PathLike) or looks_like_path:
+            shown = text if len(text) <= 80 else text[:77] + "…"
             if not os.path.exists(text):
-                raise MissingFileError(f"cannot read {text}: no such file")
-            with open(text, encoding="utf-8") as f:
-                text = f.read()
+                raise MissingFileError(f"cannot read {shown}: no such file")
+            # As the command line: at most 1 MiB (a model of eight fields is a few kilobytes),
+            # so /dev/zero or /dev/urandom is refused, not read without end.
+            limit = _LIMITS["text_file"]
+            try:
+                with open(text, "rb") as f:
+                    data = f.read(limit + 1)
+            except OSError as e:
+                raise InputError(f"cannot read {shown}: {e.strerror or e}") from None
+            if len(data) > limit:
+                raise InputError(f"{shown}: larger than {limit} bytes, not a model file")
+            try:
+                text = data.decode("utf-8")
+            except UnicodeDecodeError:
+                raise InputError(f"{shown}: not UTF-8 text, not a model file") from None
         return cls(text)
 
     def __repr__(self) -> str:
@@ -188,7 +206,7 @@ def table(
         each rejection's reason in ``rejected``), ``survivors`` per field, ``densities`` and
         ``notes``. ``to_pandas()`` gives one row per term; Jupyter renders it as HTML.
     """
-    _count("order", order, 1, 32)
+    _count("order", order, 1, _LIMITS["order"])
     doc = json.loads(_native_call["table_json"](order, _toml(model), basis, density))
     for key in ("lagrangian", "rayleigh"):
         if key in doc:
@@ -267,31 +285,56 @@ def equations(
         nonlinear equation with ``"nonlinear": True`` where survivors are not all quadratic),
         ``notes``.
     """
-    _count("order", order, 1, 32)
+    _count("order", order, 1, _LIMITS["order"])
     return Result(json.loads(_native_call["equations_json"](order, _toml(model), basis)))
 
 
 @shared
 def operators(
-    points: int, order: int = 4, model: Optional[Union[Model, str]] = None
+    points: int,
+    order: int = 4,
+    model: Optional[Union[Model, str]] = None,
+    params: Optional[Mapping[str, float]] = None,
+    beyond_leading: Optional[int] = None,
 ) -> List[Result]:
-    """Every discretised operator on ``points`` points, as exact integers.
+    """Every discretised operator on ``points`` points: exact integers for a linear body, the
+    linearisation's matrices for a nonlinear one (as ``theory-search operators``).
 
     Parameters
     ----------
     @points
     @order
     @model
+    @params
+    @beyond_leading
 
     Returns
     -------
     list of Result
-        One per operator: ``field``, ``density``, ``term``, ``boundary``, ``k`` and the
-        ``matrix`` (numpy int64, points × points); ``to_dict()``.
+        A linear body: one per operator, ``field``, ``density``, ``term``, ``boundary``, ``k``
+        and the ``matrix`` (numpy int64, points × points). A nonlinear body: one per field,
+        ``field``, ``boundary``, ``equilibrium``, ``residual`` and the ``stiffness``,
+        ``damping`` and ``mass`` matrices of its linearisation (``linearised`` is True).
     """
-    _count("points", points, 1, 2000)
-    _count("order", order, 1, 32)
-    return [Result(d) for d in _native_call["operators"](points, order, _toml(model))]
+    _count("points", points, 1, _LIMITS["operator_points"])
+    _count("order", order, 1, _LIMITS["order"])
+    args = _body_args(order, beyond_leading, model, params)
+    return [Result(d) for d in _native_call["operators"](points, *args)]
+
+
+def _body_args(order: int, beyond_leading: Optional[int], model: Any, params: Any) -> tuple:
+    """The native body arguments: order, beyond_leading, model text, params as floats."""
+    if beyond_leading is not None:
+        _count("beyond_leading", beyond_leading, 0, _LIMITS["beyond_leading"])
+    if params is not None and not isinstance(params, Mapping):
+        raise UsageError(f"params must be a mapping of names to numbers, not {type(params).__name__}")
+    values = {}
+    for name, value in (params or {}).items():
+        try:
+            values[str(name)] = float(value)
+        except (TypeError, ValueError):
+            raise UsageError(f"parameter {str(name)[:80]!r}: expected a number") from None
+    return (order, beyond_leading, _toml(model), values)
 
 
 @shared
@@ -302,6 +345,7 @@ def modes(
     shapes: bool = False,
     k: Optional[int] = None,
     order: int = 4,
+    beyond_leading: Optional[int] = None,
 ) -> Modes:
     """Each field's modes: eigenvalues and shapes of its discretised operator.
 
@@ -309,14 +353,14 @@ def modes(
     ----------
     @points
     @model
-    params : mapping, optional
-        ``omega_<scale>`` and ``zeta_<scale>`` (defaults ω = 1, ζ = 0.1).
+    @params
     shapes : bool
         Compute the mode shapes now (otherwise the first read of a field's ``shapes``
         computes them, once, for every field).
     k : int, optional
         Only the ``k`` lowest modes of each field.
     @order
+    @beyond_leading
 
     Returns
     -------
@@ -324,13 +368,15 @@ def modes(
         A mapping field id → ``FieldModes`` with ``eigenvalues``, ``frequencies``,
         ``damping_ratios``, ``variance_shares``, ``nullity``, ``omega``, ``zeta`` and
         ``shapes`` (points × modes: one mode per column, as ``numpy.linalg.eigh``);
-        ``to_pandas()`` on each.
+        ``to_pandas()`` on each. Frequencies are in radians per unit of time (1/ω). A
+        nonlinear body gives the modes of its linearisation about equilibrium (frequencies
+        NaN where an eigenvalue is negative: an unstable direction).
     """
-    _count("points", points, 1, 10_000_000)
-    _count("order", order, 1, 32)
+    _count("points", points, 1, _LIMITS["points"])
+    _count("order", order, 1, _LIMITS["order"])
     if k is not None:
         _count("k", k, 1)
-    args = (points, order, _toml(model), dict(params or {}))
+    args = (points, *_body_args(order, beyond_leading, model, params))
     return Modes(
         _native_call["modes"](*args, shapes, k),
         load_shapes=lambda: _native_call["modes"](*args, True, k),
@@ -364,6 +410,7 @@ def simulate(
     initial: Any = None,
     force: Any = None,
     drive: Any = None,
+    beyond_leading: Optional[int] = None,
 ) -> Simulation:
     """Integrate the equations of motion, with Langevin noise at ``temperature``.
 
@@ -381,9 +428,9 @@ def simulate(
     seed : int
         Seed of the noise.
     @model
-    params : mapping, optional
-        Scales (``omega_<scale>``, ``zeta_<scale>``) or the coefficients ``equations`` prints.
+    @params
     @order
+    @beyond_leading
     initial : mapping, optional
         ``{"y:2": (Q, V)}`` (a mode) or ``{"u": Q}`` (every point), as ``--initial``.
     force : mapping, optional
@@ -398,44 +445,16 @@ def simulate(
         (field → samples × points) and ``modal`` (field → samples × modes; empty for a
         nonlinear body); ``to_pandas()`` gives the command line's CSV columns, ``to_dict()``.
     """
-    _count("points", points, 1, 2000)
+    _count("points", points, 1, _LIMITS["simulate_points"])
     _count("steps", steps, 1)
     _count("every", every, 1)
     _count("seed", seed, 0)
-    _count("order", order, 1, 32)
-    simple = initial is None and force is None and drive is None and not (
-        params and any(not k.startswith(("omega_", "zeta_")) for k in params)
+    _count("order", order, 1, _LIMITS["order"])
+    start = (_assignments(initial), _assignments(force), _assignments(drive))
+    body = _body_args(order, beyond_leading, model, params)
+    return Simulation(
+        _native_call["simulate"](points, steps, dt, every, float(temperature), seed, *body, start)
     )
-    if simple and _native_call["is_quadratic"](order, _toml(model)):
-        return Simulation(
-            _native_call["simulate"](
-                points, steps, dt, every, temperature, seed, order, _toml(model), dict(params or {})
-            )
-        )
-    doc = run(
-        ["simulate"],
-        model,
-        params,
-        points=points,
-        steps=steps,
-        dt=dt,
-        every=every,
-        temperature=temperature,
-        seed=seed,
-        order=order,
-        initial=_assignments(initial),
-        force=_assignments(force),
-        drive=_assignments(drive),
-    )
-    columns, rows = doc["columns"], np.asarray(doc["rows"], dtype=float).reshape(-1, len(doc["columns"]))
-    fields = (model if isinstance(model, Model) else Model.from_toml(model) if model else Model.larva()).fields
-    out: Dict[str, Any] = {"t": rows[:, 0], "energy": rows[:, 1], "positions": {}, "modal": {}}
-    for f in fields:
-        pos = [i for i, c in enumerate(columns) if c.rsplit("_", 1)[0] == f and c.rsplit("_", 1)[1].isdigit()]
-        mod = [i for i, c in enumerate(columns) if c.startswith(f"q_{f}_") and c[len(f) + 3:].isdigit()]
-        out["positions"][f] = rows[:, pos]
-        out["modal"][f] = rows[:, mod]
-    return Simulation(out)
 
 
 class FitResult:
@@ -545,6 +564,8 @@ def fit(
         else:
             times = t if isinstance(t, (list, tuple)) else [t]
             times = [np.ascontiguousarray(x, dtype=float) for x in times]
+            if any(x.ndim != 1 for x in times):
+                raise UsageError("t must be one array of times per animal (one time per frame)")
         out = _native_call["fit_arrays"](animals, times, toml, options)
     report, frequencies, psd, components, shapes = out
     return FitResult(json.loads(report), frequencies, psd, components, shapes)

@@ -20,6 +20,7 @@ __all__ = [
     "InputError",
     "MissingFileError",
     "OutputError",
+    "NumericalError",
     "table",
     "equations",
     "operators",
@@ -52,6 +53,9 @@ class MissingFileError(TheorySearchError, FileNotFoundError):
 
 class OutputError(TheorySearchError, OSError):
     """Output that cannot be written."""
+
+class NumericalError(TheorySearchError, ArithmeticError):
+    """A computation that failed on valid input (exit code 3)."""
 
 __version__: str
 
@@ -132,8 +136,14 @@ def table(
 def equations(order: int = 4, model: ModelLike = None, basis: str = "powers") -> Result:
     """The equations of motion, each term with its sign claim (or the exact nonlinear ones)."""
 
-def operators(points: int, order: int = 4, model: ModelLike = None) -> List[Result]:
-    """Every discretised operator, with its exact integer matrix as a numpy array."""
+def operators(
+    points: int,
+    order: int = 4,
+    model: ModelLike = None,
+    params: Optional[Mapping[str, float]] = None,
+    beyond_leading: Optional[int] = None,
+) -> List[Result]:
+    """Every discretised operator (exact integers), or a nonlinear body's linearisation."""
 
 def modes(
     points: int,
@@ -142,6 +152,7 @@ def modes(
     shapes: bool = False,
     k: Optional[int] = None,
     order: int = 4,
+    beyond_leading: Optional[int] = None,
 ) -> Modes:
     """Each field's modes keyed by field id (shapes as points × modes columns)."""
 
@@ -158,6 +169,7 @@ def simulate(
     initial: Any = None,
     force: Any = None,
     drive: Any = None,
+    beyond_leading: Optional[int] = None,
 ) -> Simulation:
     """Times, energies, and per field the positions and modal coordinates as numpy arrays."""
 

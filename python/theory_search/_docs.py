@@ -9,8 +9,11 @@ SHARED = {
     "order": "order : int\n    Order of the expansion (1 to 32).",
     "points": "points : int\n    Points along the body.",
     "params": "params : mapping, optional\n"
-    '    Scales by name (``{"omega_b": 2.0}`` is ``--param omega_b=2.0``; defaults ω = 1,\n'
+    '    Scales or coefficients by name, as ``--param`` takes them (``{"omega_b": 2.0}``,\n'
+    '    ``{"c_y": 4.0}`` for c = ω², ``{"cp1_x": 0.5}`` on a nonlinear body; defaults ω = 1,\n'
     "    ζ = 0.1).",
+    "beyond_leading": "beyond_leading : int, optional\n"
+    "    Orders kept beyond the leading one in both densities (the model's own without it).",
     "basis": 'basis : str\n    ``"powers"`` or ``"monomials"``.',
     "density": "density : str, optional\n"
     '    ``"lagrangian"``, ``"rayleigh"`` or ``"both"`` (the command\'s default without it).',

@@ -4,6 +4,7 @@ catches for its kind, with the command line's one-line message."""
 from __future__ import annotations
 
 import functools
+import operator
 from typing import Any, Callable, Tuple, Type, TypeVar
 
 from . import _native
@@ -29,11 +30,17 @@ class OutputError(TheorySearchError, OSError):
     """Output that cannot be written."""
 
 
+class NumericalError(TheorySearchError, ArithmeticError):
+    """A computation that failed on valid input: no convergence, no equilibrium, overflow (the
+    command line's exit code 3)."""
+
+
 # Each native exception and the Python one it becomes (most specific first).
 _KINDS: Tuple[Tuple[Type[BaseException], Type[BaseException]], ...] = (
     (_native.UsageError, UsageError),
     (_native.MissingError, MissingFileError),
     (_native.OutputError, OutputError),
+    (_native.NumericalError, NumericalError),
     (_native.InputError, InputError),
     (_native.TheorySearchError, TheorySearchError),
 )
@@ -59,8 +66,12 @@ def translated(fn: F) -> F:
 
 def count(name: str, value: Any, least: int = 0, most: int = 2**63 - 1) -> int:
     """A whole number argument, checked as the command line checks it."""
-    if isinstance(value, bool) or not isinstance(value, int):
-        raise UsageError(f"invalid value {value!r} for {name}: a whole number is needed")
+    if isinstance(value, bool):
+        raise UsageError(f"{name} must be a whole number, not {value!r}")
+    try:
+        value = operator.index(value)  # int, numpy integers
+    except TypeError:
+        raise UsageError(f"{name} must be a whole number, not {str(value)[:80]!r}") from None
     if not least <= value <= most:
-        raise UsageError(f"invalid value '{value}' for {name}: {value} is not in {least}..={most}")
+        raise UsageError(f"{name} must be between {least} and {most}, not {value}")
     return value

@@ -11,8 +11,9 @@ __all__ = [
     "InputError",
     "MissingError",
     "OutputError",
+    "NumericalError",
     "run_cli",
-    "is_quadratic",
+    "limits",
     "larva_toml",
     "check_model",
     "table_json",
@@ -29,21 +30,29 @@ class UsageError(TheorySearchError): ...
 class InputError(TheorySearchError): ...
 class MissingError(TheorySearchError): ...
 class OutputError(TheorySearchError): ...
+class NumericalError(TheorySearchError): ...
 
 _FitOut = Tuple[
     str, NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]
 ]
 
 def run_cli(args: Sequence[str]) -> bytes: ...
-def is_quadratic(order: int, model: Optional[str]) -> bool: ...
+def limits() -> Dict[str, int]: ...
 def larva_toml() -> str: ...
 def check_model(toml: str) -> Tuple[str, List[str]]: ...
 def table_json(order: int, model: Optional[str], basis: str, density: str) -> str: ...
 def equations_json(order: int, model: Optional[str], basis: str) -> str: ...
-def operators(points: int, order: int, model: Optional[str]) -> List[Dict[str, Any]]: ...
+def operators(
+    points: int,
+    order: int,
+    beyond_leading: Optional[int],
+    model: Optional[str],
+    params: Optional[Mapping[str, float]],
+) -> List[Dict[str, Any]]: ...
 def modes(
     points: int,
     order: int,
+    beyond_leading: Optional[int],
     model: Optional[str],
     params: Optional[Mapping[str, float]],
     shapes: bool,
@@ -57,8 +66,10 @@ def simulate(
     temperature: float,
     seed: int,
     order: int,
+    beyond_leading: Optional[int],
     model: Optional[str],
     params: Optional[Mapping[str, float]],
+    start: Tuple[List[str], List[str], List[str]],
 ) -> Dict[str, Any]: ...
 def fit_arrays(
     animals: Sequence[NDArray[np.float64]],

@@ -43,7 +43,7 @@ pub use step::{analytic_step, step_response, StepResponse};
 use crate::model::{Model, Role, RoleError};
 
 /// Why a behaviour cannot run.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum BehaviourError {
     /// A parameter out of range, or a run that cannot be done.
     #[error("{0}")]
@@ -61,6 +61,14 @@ pub enum BehaviourError {
 }
 
 impl BehaviourError {
+    /// The kind of failure.
+    pub fn failure(&self) -> crate::failure::Failure {
+        match self {
+            BehaviourError::Dynamics(e) => e.failure(),
+            _ => crate::failure::Failure::Usage,
+        }
+    }
+
     fn new(why: impl Into<String>) -> BehaviourError {
         BehaviourError::Invalid(why.into())
     }

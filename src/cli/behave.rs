@@ -120,20 +120,29 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
 }
 
 fn orbit(a: &OrbitArgs, kind: PairKind, out: &mut dyn Write) -> Result<(), CliError> {
-    let theory = a.common.body.theory()?;
+    let what = match kind {
+        PairKind::Peristalsis => "behave peristalsis",
+        PairKind::Rolling => "behave rolling",
+    };
+    let theory = a.common.body.theory(what)?;
     let o = pair_orbit(&theory, kind, a.momentum, a.periods)?;
     emit(out, &o, a.common.format)
 }
 
-fn step(a: &StepArgs, name: &str, behaviour: &str, out: &mut dyn Write) -> Result<(), CliError> {
-    let theory = a.common.body.theory()?;
+fn step(
+    a: &StepArgs,
+    name: &str,
+    behaviour: &'static str,
+    out: &mut dyn Write,
+) -> Result<(), CliError> {
+    let theory = a.common.body.theory(behaviour)?;
     let field = role_fields(&theory.model, behaviour)?[0];
     let r = step_response(&theory, name, field, a.force, a.duration)?;
     emit(out, &r, a.common.format)
 }
 
 fn righting(a: &RightingArgs, out: &mut dyn Write) -> Result<(), CliError> {
-    let theory = a.common.body.theory()?;
+    let theory = a.common.body.theory("behave self-righting")?;
     let torsion = role_fields(&theory.model, "behave self-righting")?[0];
     let scale = theory.model.fields[torsion].scale();
     // The model's own ζ when the user gave it, critical damping of ζ₁ otherwise.

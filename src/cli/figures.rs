@@ -36,7 +36,7 @@ pub struct Args {
 /// Write the figures, with a progress bar on a terminal (indicatif hides it when stderr is not
 /// one); a figure whose behaviour needs a role the model lacks is skipped and said so.
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
-    let theory = args.body.theory()?;
+    let theory = args.body.theory("figures")?;
     let settings = FigureSettings {
         points: args.body.points,
         seed: args.sample.seed,

@@ -9,7 +9,9 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand};
 
+use crate::body::{Body, BodyError};
 use crate::enumerate::MAX_ORDER;
+use crate::failure::Failure;
 use crate::modal::Params;
 use crate::model::{Model, RoleError};
 use crate::report::{EmitError, Output, Report};
@@ -17,7 +19,6 @@ use crate::theory::Theory;
 
 mod asymmetry;
 mod behave;
-mod coefficients;
 mod count;
 mod emit;
 mod equations;
@@ -113,15 +114,29 @@ pub enum CliError {
     /// Output that cannot be written (exit 1).
     #[error("{0}")]
     Output(String),
+    /// The body: its coefficients, modes, operators or run (exit by the kind of failure).
+    #[error(transparent)]
+    Body(#[from] BodyError),
+    /// A behaviour model (exit by the kind of failure).
+    #[error(transparent)]
+    Behaviour(crate::behaviour::BehaviourError),
 }
 
 impl CliError {
-    /// The process exit code.
-    pub fn exit_code(&self) -> u8 {
+    /// The kind of failure (docs/commands.md, "Exit codes").
+    pub fn failure(&self) -> Failure {
         match self {
-            CliError::Usage(_) | CliError::Role(_) => 2,
-            CliError::Input(_) | CliError::Missing(_) | CliError::Output(_) => 1,
+            CliError::Usage(_) | CliError::Role(_) => Failure::Usage,
+            CliError::Input(_) | CliError::Missing(_) => Failure::Input,
+            CliError::Output(_) => Failure::Output,
+            CliError::Body(e) => e.failure(),
+            CliError::Behaviour(e) => e.failure(),
         }
+    }
+
+    /// The process exit code, by the kind of failure.
+    pub fn exit_code(&self) -> u8 {
+        self.failure().exit_code()
     }
 
     /// The same error with its message bounded ([`crate::markup::bound_line`]): input quoted
@@ -133,7 +148,7 @@ impl CliError {
             CliError::Input(m) => CliError::Input(bound_line(&m)),
             CliError::Missing(m) => CliError::Missing(bound_line(&m)),
             CliError::Output(m) => CliError::Output(bound_line(&m)),
-            role => role,
+            typed => typed,
         }
     }
 
@@ -155,7 +170,7 @@ impl From<crate::behaviour::BehaviourError> for CliError {
     fn from(e: crate::behaviour::BehaviourError) -> CliError {
         match e {
             crate::behaviour::BehaviourError::Role(r) => CliError::Role(r),
-            other => CliError::usage(other),
+            other => CliError::Behaviour(other),
         }
     }
 }
@@ -210,6 +225,29 @@ struct ParamArgs {
 }
 
 impl ParamArgs {
+    /// The body these coefficients and scales set, of the model `model` names.
+    fn body(&self, model: &ModelArgs) -> Result<Body, CliError> {
+        check_list("--param", self.params.len())?;
+        let base = base_params(self)?;
+        let assignments = self
+            .params
+            .iter()
+            .map(|p| crate::body::assignment(p))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Body::new(
+            model.load()?,
+            model.order,
+            None,
+            base,
+            &assignments,
+        )?)
+    }
+
+    /// Whether any coefficient or scale is given.
+    fn any(&self) -> bool {
+        !self.params.is_empty() || self.params_file.is_some()
+    }
+
     /// Whether a damping scale was given for `scale` (by --param or a file).
     fn sets_zeta(&self, params: &Params, scale: &str) -> bool {
         self.params_file.is_some() || params.get(&format!("zeta_{scale}")).is_some()
@@ -231,17 +269,15 @@ struct BodyArgs {
 }
 
 impl BodyArgs {
-    /// The theory of this body (every field's modes, once).
-    fn theory(&self) -> Result<Theory, CliError> {
-        let model = self.model.load()?;
-        let params = load_params(&self.params, &model)?;
+    /// The theory of this body (every field's modes, once) for `what`.
+    fn theory(&self, what: &'static str) -> Result<Theory, CliError> {
         if self.points > crate::dynamics::MAX_SIM_POINTS {
             return Err(CliError::Usage(format!(
                 "at most {} points",
                 crate::dynamics::MAX_SIM_POINTS
             )));
         }
-        Theory::new(model, self.model.order, self.points, params).map_err(CliError::usage)
+        Ok(self.params.body(&self.model)?.theory(self.points, what)?)
     }
 }
 
@@ -276,8 +312,8 @@ struct PairArgs {
 
 impl PairArgs {
     /// ω for `behaviour` (which names the role it needs in errors).
-    fn omega(&self, behaviour: &str) -> Result<f64, CliError> {
-        let scales_given = !self.params.params.is_empty() || self.params.params_file.is_some();
+    fn omega(&self, behaviour: &'static str) -> Result<f64, CliError> {
+        let scales_given = self.params.any();
         if let Some(w) = self.omega {
             // Never ignored silently: scales would have no effect beside ω itself.
             if scales_given {
@@ -290,11 +326,8 @@ impl PairArgs {
         if self.model.model.is_none() && self.points.is_none() && !scales_given {
             return Ok(1.0);
         }
-        let model = self.model.load()?;
-        let params = load_params(&self.params, &model)?;
         let points = self.points.unwrap_or(12);
-        let theory =
-            Theory::new(model, self.model.order, points, params).map_err(CliError::usage)?;
+        let theory = self.params.body(&self.model)?.theory(points, behaviour)?;
         let f = crate::behaviour::role_fields(&theory.model, behaviour)?[0];
         let fm = &theory.modes[f];
         let (i, _) = *fm.degenerate_pairs.first().ok_or_else(|| {
@@ -307,9 +340,7 @@ impl PairArgs {
     }
 }
 
-/// The most values a repeatable option takes (`--param`, `--initial`, `--force`, `--drive`):
-/// each names one scale or mode, and a model has at most 8 fields.
-pub const MAX_LIST: usize = 256;
+pub use crate::body::MAX_LIST;
 
 /// A repeatable option given more than [`MAX_LIST`] times is refused before any work.
 fn check_list(option: &str, len: usize) -> Result<(), CliError> {
@@ -359,31 +390,14 @@ fn load_model(path: &Option<PathBuf>) -> Result<Model, CliError> {
 
 use crate::model::one_line;
 
-fn load_params(args: &ParamArgs, model: &Model) -> Result<Params, CliError> {
-    check_list("--param", args.params.len())?;
+/// The scales of the `--params` file (none without one).
+fn base_params(args: &ParamArgs) -> Result<Params, CliError> {
     let mut params = Params::default();
     if let Some(path) = &args.params_file {
         // A file that is not a parameter file is an input error (exit 1), like a model file.
         params
             .set_from_toml(&read_text(path)?)
             .map_err(|e| CliError::Input(format!("{}: {e}", path.display())))?;
-    }
-    for p in &args.params {
-        params.set_assignment(p).map_err(CliError::usage)?;
-    }
-    let scales: Vec<&str> = model.fields.iter().map(|f| f.scale()).collect();
-    if let Some(name) = params.unused(&scales).first() {
-        let mut distinct: Vec<&str> = Vec::new();
-        for s in &scales {
-            if !distinct.contains(s) {
-                distinct.push(s);
-            }
-        }
-        return Err(CliError::Usage(format!(
-            "parameter {name}: no field of the {} model uses it (scales: {})",
-            model.name,
-            distinct.join(", ")
-        )));
     }
     Ok(params)
 }

@@ -4,9 +4,8 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use super::{CliError, ModelArgs, ParamArgs};
-use crate::dynamics::{
-    sample_header, sample_row, simulate, Config, DynamicsError, Forcing, Halt, Initial, Sample,
-};
+use crate::body::{BodyError, Start};
+use crate::dynamics::{sample_header, sample_row, Config, DynamicsError, Halt, Sample};
 
 /// Arguments of `simulate`.
 #[derive(Debug, clap::Args)]
@@ -117,177 +116,35 @@ fn csv_halt(e: csv::Error) -> Halt {
     }
 }
 
-/// Comma-separated finite numbers, or why not.
-fn numbers(values: &str) -> Result<Vec<f64>, &'static str> {
-    let values = values
-        .split(',')
-        .map(|v| v.trim().parse::<f64>())
-        .collect::<Result<Vec<f64>, _>>()
-        .map_err(|_| "values must be numbers")?;
-    if values.iter().any(|v| !v.is_finite()) {
-        return Err("values must be finite");
-    }
-    Ok(values)
-}
-
-/// `FIELD:MODE=values`: the field, the mode and the comma-separated numbers, with `counts` the
-/// numbers of values allowed.
-fn modal_assignment(
-    text: &str,
-    what: &str,
-    counts: std::ops::RangeInclusive<usize>,
-    hint: &str,
-) -> Result<(String, usize, Vec<f64>), CliError> {
-    let bad = |why: &str| CliError::Usage(format!("{what} {text:?}: {why}"));
-    let (target, values) = text
-        .split_once('=')
-        .ok_or_else(|| bad("expected FIELD:MODE=VALUE"))?;
-    let (field, mode) = target
-        .split_once(':')
-        .ok_or_else(|| bad("expected FIELD:MODE before '='"))?;
-    let mode: usize = mode
-        .trim()
-        .parse()
-        .map_err(|_| bad("the mode must be a whole number"))?;
-    let values = numbers(values).map_err(&bad)?;
-    if !counts.contains(&values.len()) {
-        return Err(bad(hint));
-    }
-    Ok((field.trim().to_string(), mode, values))
-}
-
-/// The initial state and forces the arguments give.
-fn state(args: &Args) -> Result<(Vec<Initial>, Vec<Forcing>), CliError> {
-    super::check_list("--initial", args.initial.len())?;
-    super::check_list("--force", args.force.len())?;
-    super::check_list("--drive", args.drive.len())?;
-    let mut initial = Vec::new();
-    for text in args.initial.iter().filter(|t| !is_uniform(t)) {
-        let (field, mode, v) = modal_assignment(text, "--initial", 1..=2, "give Q or Q,V")?;
-        initial.push(Initial {
-            field,
-            mode,
-            displacement: v[0],
-            velocity: v.get(1).copied().unwrap_or(0.0),
-        });
-    }
-    let mut forcing = Vec::new();
-    for text in &args.force {
-        let (field, mode, v) = modal_assignment(text, "--force", 1..=1, "give one value")?;
-        forcing.push(Forcing {
-            field,
-            mode,
-            constant: v[0],
-            amplitude: 0.0,
-            frequency: 0.0,
-            phase: 0.0,
-        });
-    }
-    for text in &args.drive {
-        let (field, mode, v) =
-            modal_assignment(text, "--drive", 2..=3, "give F0,OMEGA or F0,OMEGA,PHASE")?;
-        forcing.push(Forcing {
-            field,
-            mode,
-            constant: 0.0,
-            amplitude: v[0],
-            frequency: v[1],
-            phase: v.get(2).copied().unwrap_or(0.0),
-        });
-    }
-    Ok((initial, forcing))
-}
-
-/// `FIELD=Q[,V]`: the same displacement (and velocity) at every point.
-fn is_uniform(text: &str) -> bool {
-    text.split_once('=')
-        .is_some_and(|(target, _)| !target.contains(':'))
-}
-
-/// The uniform initial states `FIELD=Q[,V]` among the `--initial` values.
-fn uniform_state(args: &Args) -> Result<Vec<(String, f64, f64)>, CliError> {
-    let mut out = Vec::new();
-    for text in args.initial.iter().filter(|t| is_uniform(t)) {
-        let bad = |why: &str| CliError::Usage(format!("--initial {text:?}: {why}"));
-        let (field, values) = text
-            .split_once('=')
-            .ok_or_else(|| bad("expected FIELD=Q"))?;
-        let v = numbers(values).map_err(&bad)?;
-        if v.len() > 2 {
-            return Err(bad("give Q or Q,V"));
-        }
-        out.push((
-            field.trim().to_string(),
-            v[0],
-            v.get(1).copied().unwrap_or(0.0),
-        ));
-    }
-    Ok(out)
-}
-
-/// A body whose surviving terms are not all squares: integrated by `dynamics::nonlinear`, each
-/// coefficient settable by `--param` under its printed name.
-fn run_nonlinear(
-    args: &Args,
-    model: &crate::model::Model,
-    out: &mut dyn Write,
-) -> Result<(), CliError> {
-    let body = super::coefficients::nonlinear_body(
-        &args.params,
-        model,
-        args.model.order,
-        args.points as usize,
-    )?;
-    let (initial, forcing) = state(args)?;
-    let config = config(args, initial, forcing);
-    let uniform = uniform_state(args)?;
-    let ids: Vec<String> = body.fields.iter().map(|f| f.id.clone()).collect();
-    let ids: Vec<&str> = ids.iter().map(String::as_str).collect();
-    stream(args, out, &ids, |sink| body.run(&config, &uniform, sink))
-}
-
-fn config(args: &Args, initial: Vec<Initial>, forcing: Vec<Forcing>) -> Config {
-    Config {
+/// Run and stream the series.
+pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
+    let body = args.params.body(&args.model)?;
+    let start = Start::parse(&args.initial, &args.force, &args.drive)?;
+    let config = Config {
         points: args.points as usize,
-        order: args.model.order,
+        order: body.order(),
         dt: args.dt,
         steps: args.steps,
         every: args.every,
         temperature: args.temperature,
         seed: args.seed,
-        initial,
-        forcing,
+        initial: Vec::new(),
+        forcing: Vec::new(),
+    };
+    stream(args, out, |sink| body.simulate(&config, &start, sink))?;
+    if body.is_linear() && start.is_empty() && args.temperature == 0.0 {
+        eprintln!(
+            "warning: no --initial, --force, --drive or --temperature: the body started at rest and stayed there"
+        );
     }
-}
-
-/// Run and stream the CSV.
-pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
-    let model = args.model.load()?;
-    let quadratic =
-        crate::dynamics::is_quadratic(&model, args.model.order).map_err(CliError::usage)?;
-    if !quadratic {
-        return run_nonlinear(args, &model, out);
-    }
-    if let Some(text) = args.initial.iter().find(|t| is_uniform(t)) {
-        return Err(CliError::Usage(format!(
-            "--initial {text:?}: the same displacement at every point is for a nonlinear body; this one is linear and takes FIELD:MODE=Q[,V]"
-        )));
-    }
-    let params = super::coefficients::linear_params(&args.params, &model, args.model.order)?;
-    let (initial, forcing) = state(args)?;
-    let config = config(args, initial, forcing);
-    let ids: Vec<&str> = model.fields.iter().map(|f| f.id.as_str()).collect();
-    stream(args, out, &ids, |sink| {
-        simulate(&model, &params, &config, sink)
-    })
+    Ok(())
 }
 
 /// The sink a run writes to (the file or `out`), the run itself, and its errors as the CLI's.
 fn stream(
     args: &Args,
     out: &mut dyn Write,
-    ids: &[&str],
-    run: impl FnOnce(&mut dyn FnMut(&Sample) -> Result<(), Halt>) -> Result<(), DynamicsError>,
+    run: impl FnOnce(&mut dyn FnMut(&[String], &Sample) -> Result<(), Halt>) -> Result<(), BodyError>,
 ) -> Result<(), CliError> {
     let mut file;
     let sink: &mut dyn Write = match &args.out {
@@ -305,20 +162,25 @@ fn stream(
         SeriesFormat::Json => Sink::Json(std::io::BufWriter::new(sink), false),
     };
     let mut first = true;
-    let result = run(&mut |s| {
-        let header = first.then(|| sample_header(ids, s));
+    let result = run(&mut |ids, s| {
+        let header = first.then(|| {
+            let ids: Vec<&str> = ids.iter().map(String::as_str).collect();
+            sample_header(&ids, s)
+        });
         first = false;
         sink.sample(header, s)
     });
     let flushed = sink.finish();
     match result {
         // A closed pipe (`| head`) ends the run quietly.
-        Err(DynamicsError::Output(std::io::ErrorKind::BrokenPipe, _)) => Ok(()),
-        Err(DynamicsError::Output(_, e)) => Err(CliError::Output(format!(
+        Err(BodyError::Dynamics(DynamicsError::Output(std::io::ErrorKind::BrokenPipe, _))) => {
+            Ok(())
+        }
+        Err(BodyError::Dynamics(DynamicsError::Output(_, e))) => Err(CliError::Output(format!(
             "cannot write {}: {e}",
             where_to(&args.out)
         ))),
-        Err(e) => Err(CliError::usage(e)),
+        Err(e) => Err(e.into()),
         Ok(()) => match flushed {
             Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(CliError::Output(format!(
                 "cannot write {}: {e}",

@@ -84,7 +84,12 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
             body,
             format,
         } => {
-            let e = explore(&body.theory()?, *beta, sample.samples, sample.seed)?;
+            let e = explore(
+                &body.theory("stats explore")?,
+                *beta,
+                sample.samples,
+                sample.seed,
+            )?;
             emit(out, &e, *format)
         }
         StatsCommand::Equipartition {
@@ -95,7 +100,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
             body,
             format,
         } => {
-            let theory = body.theory()?;
+            let theory = body.theory("stats equipartition")?;
             let index = match field {
                 None => None,
                 Some(id) => Some(

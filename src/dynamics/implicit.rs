@@ -329,6 +329,10 @@ impl<'a> FieldStepper<'a> {
         }
         let mut last = f64::INFINITY;
         let mut converged = false;
+        let mut rounding = false;
+        // At rest about an equilibrium u* ≠ 0 (Δ ≈ 0, v ≈ 0) the rounding of ∇V(u) is the
+        // floor, not Δ's own size: a change below an ulp of u cannot change u + Δ.
+        let magnitude = |x: &[f64]| x.iter().map(|x| x.abs()).fold(0.0, f64::max);
         for _ in 0..MAX_ITERATIONS {
             self.residual(u, v, h, push);
             if self.factor.is_none() {
@@ -356,7 +360,7 @@ impl<'a> FieldStepper<'a> {
             } else {
                 change
             };
-            let scale = size.max(h * v.iter().map(|x| x.abs()).fold(0.0, f64::max));
+            let scale = size.max(h * magnitude(v));
             let floor = left <= 4e-15 * scale || change == 0.0;
             let stalled = change >= last && change <= 1e-11 * scale;
             if floor || stalled {
@@ -368,7 +372,11 @@ impl<'a> FieldStepper<'a> {
                 self.factor = None;
             }
             last = change;
+            rounding = change <= 4.0 * f64::EPSILON * magnitude(u);
         }
+        // Out of iterations with every change below a few ulps of u: nothing Newton could add
+        // would change u + Δ.
+        converged |= rounding;
         if !converged {
             self.factor = None;
             return Err(NonlinearError::NoConvergence { t });

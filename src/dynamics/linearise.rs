@@ -31,12 +31,29 @@ impl FieldSystem {
         g
     }
 
-    pub(super) fn hessian_at(&self, u: &[f64]) -> nalgebra::DMatrix<f64> {
+    /// ∇²V(u), refused when not finite: nalgebra's SVD and eigensolvers never return on one.
+    pub(super) fn hessian_at(&self, u: &[f64]) -> Result<nalgebra::DMatrix<f64>, NonlinearError> {
         let mut h = nalgebra::DMatrix::zeros(self.unknowns, self.unknowns);
         for p in &self.potential {
             p.hessian(u, 1.0, &mut |i, j, x| h[(i, j)] += x);
         }
-        h
+        self.finite(h, "the potential's Hessian ∇²V")
+    }
+
+    /// `m` when every entry is finite.
+    pub(super) fn finite(
+        &self,
+        m: nalgebra::DMatrix<f64>,
+        what: &'static str,
+    ) -> Result<nalgebra::DMatrix<f64>, NonlinearError> {
+        if m.iter().all(|x| x.is_finite()) {
+            Ok(m)
+        } else {
+            Err(NonlinearError::Overflow {
+                field: self.id.clone(),
+                what,
+            })
+        }
     }
 
     /// u* with ∇V(u*) = 0, from rest: Newton's least-squares steps, halved while |∇V| grows.
@@ -56,7 +73,7 @@ impl FieldSystem {
                 return Ok((u, r));
             }
             let step = self
-                .hessian_at(&u)
+                .hessian_at(&u)?
                 .svd(true, true)
                 .solve(&nalgebra::DVector::from_column_slice(&g), 1e-12 * scale);
             let Ok(step) = step else { break };
@@ -87,8 +104,8 @@ impl FieldSystem {
         let (equilibrium, residual) = self.equilibrium()?;
         // With a mass M = ∇²T(0) other than I: K x = λ M x through M = LLᵀ, the symmetric
         // problem L⁻¹KL⁻ᵀ y = λ y, x = L⁻ᵀ y (so xᵀMx = 1).
-        let stiffness = self.hessian_at(&equilibrium);
-        let mass = self.mass(&vec![0.0; self.unknowns]);
+        let stiffness = self.hessian_at(&equilibrium)?;
+        let mass = self.finite(self.mass(&vec![0.0; self.unknowns]), "the mass ∇²T(0)")?;
         let cholesky = if self.kinetic.is_empty() {
             None
         } else {
@@ -113,7 +130,9 @@ impl FieldSystem {
                 (&inv * stiffness * inv.transpose(), Some(inv.transpose()))
             }
         };
-        let eigen = reduced.symmetric_eigen();
+        let eigen = self
+            .finite(reduced, "the reduced stiffness")?
+            .symmetric_eigen();
         let mut order: Vec<usize> = (0..self.unknowns).collect();
         order.sort_by(|&a, &b| eigen.eigenvalues[a].total_cmp(&eigen.eigenvalues[b]));
         // A zero mode (a translation) comes out as ±1e-16: it is zero, not unstable.

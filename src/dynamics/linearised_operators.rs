@@ -40,7 +40,7 @@ impl FieldSystem {
     /// The linearised operators about the equilibrium.
     pub fn linearised_operator(&self) -> Result<LinearisedOperator, NonlinearError> {
         let (equilibrium, residual) = self.equilibrium()?;
-        let k = self.hessian_at(&equilibrium);
+        let k = self.hessian_at(&equilibrium)?;
         Ok(LinearisedOperator {
             field: self.id.clone(),
             boundary: self.boundary.name(),
@@ -50,9 +50,18 @@ impl FieldSystem {
             stiffness: (0..self.unknowns)
                 .map(|i| k.row(i).iter().copied().collect())
                 .collect(),
-            damping: self.damping_at(&vec![0.0; self.unknowns]),
+            damping: {
+                let c = self.damping_at(&vec![0.0; self.unknowns]);
+                if c.iter().flatten().any(|x| !x.is_finite()) {
+                    return Err(NonlinearError::Overflow {
+                        field: self.id.clone(),
+                        what: "the damping ∇²R(0)",
+                    });
+                }
+                c
+            },
             mass: {
-                let m = self.mass(&vec![0.0; self.unknowns]);
+                let m = self.finite(self.mass(&vec![0.0; self.unknowns]), "the mass ∇²T(0)")?;
                 (0..self.unknowns)
                     .map(|i| m.row(i).iter().copied().collect())
                     .collect()

@@ -34,6 +34,7 @@ use rand_distr::{Distribution, StandardNormal};
 
 use crate::modal::{field_modes, FieldModes, ModesError, Params};
 use crate::model::Model;
+use nonlinear::NonlinearError;
 
 /// The most points `simulate` takes (it keeps all N shapes of every field).
 pub const MAX_SIM_POINTS: usize = 2000;
@@ -96,7 +97,7 @@ pub struct Config {
 }
 
 /// Why a simulation cannot run.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum DynamicsError {
     /// The modes could not be computed.
     #[error(transparent)]
@@ -107,6 +108,51 @@ pub enum DynamicsError {
     /// The sink's output failed (its kind tells a closed pipe).
     #[error("cannot write: {1}")]
     Output(std::io::ErrorKind, String),
+    /// A nonlinear body's discretisation, equilibrium or step failed.
+    #[error(transparent)]
+    Nonlinear(#[from] NonlinearError),
+    /// The state, its energy or the time left the finite numbers (nothing of it is written).
+    #[error("the state overflowed f64 at t = {t} (energy {energy:.3e}): use smaller amplitudes, coefficients, forces, temperature or time step")]
+    Overflow {
+        /// The time of the sample.
+        t: f64,
+        /// Its energy.
+        energy: f64,
+    },
+}
+
+impl DynamicsError {
+    /// The kind of failure.
+    pub fn failure(&self) -> crate::failure::Failure {
+        use crate::failure::Failure;
+        match self {
+            DynamicsError::Modes(e) => e.failure(),
+            DynamicsError::Invalid(_) => Failure::Usage,
+            DynamicsError::Output(..) => Failure::Output,
+            DynamicsError::Nonlinear(e) => e.failure(),
+            DynamicsError::Overflow { .. } => Failure::Numerical,
+        }
+    }
+}
+
+/// `s` if its time, energy and every position are finite numbers: no sample that is not is
+/// ever handed to a sink.
+pub fn checked(s: Sample) -> Result<Sample, DynamicsError> {
+    let finite = s.t.is_finite()
+        && s.energy.is_finite()
+        && s.positions
+            .iter()
+            .chain(&s.modal)
+            .flatten()
+            .all(|v| v.is_finite());
+    if finite {
+        Ok(s)
+    } else {
+        Err(DynamicsError::Overflow {
+            t: s.t,
+            energy: s.energy,
+        })
+    }
 }
 
 /// One reported instant.
@@ -444,24 +490,16 @@ pub fn run(
         .collect();
     let mut rng = ChaCha8Rng::seed_from_u64(config.seed);
     let mut state = start.clone();
-    let report = |state: &[Vec<Vector2<f64>>],
-                  t: f64,
-                  sink: &mut dyn FnMut(&Sample) -> Result<(), Halt>| {
-        let s = sample(fields, &oscillators, state, t);
-        let finite = s.energy.is_finite() && s.positions.iter().flatten().all(|v| v.is_finite());
-        if !finite {
-            return Err(DynamicsError::Invalid(format!(
-                "the state overflowed f64 at t = {t} (energy {}): use smaller amplitudes, forces or temperature",
-                s.energy
-            )));
-        }
-        match sink(&s) {
-            Err(Halt::Stop) => Ok(false),
-            Err(Halt::Io(e)) => Err(DynamicsError::Output(e.kind(), e.to_string())),
-            Err(Halt::Fail(m)) => Err(DynamicsError::Invalid(m)),
-            Ok(()) => Ok(true),
-        }
-    };
+    let report =
+        |state: &[Vec<Vector2<f64>>], t: f64, sink: &mut dyn FnMut(&Sample) -> Result<(), Halt>| {
+            let s = checked(sample(fields, &oscillators, state, t))?;
+            match sink(&s) {
+                Err(Halt::Stop) => Ok(false),
+                Err(Halt::Io(e)) => Err(DynamicsError::Output(e.kind(), e.to_string())),
+                Err(Halt::Fail(m)) => Err(DynamicsError::Invalid(m)),
+                Ok(()) => Ok(true),
+            }
+        };
     if !report(&state, 0.0, &mut sink)? {
         return Ok(());
     }
@@ -569,9 +607,11 @@ pub fn sample_header(ids: &[&str], s: &Sample) -> Vec<String> {
 
 /// One CSV record of a sample.
 pub fn sample_row(s: &Sample) -> Vec<String> {
-    let mut cells = vec![s.t.to_string(), s.energy.to_string()];
+    // Exact (shortest round trip), in exponent form where plain would print dozens of digits.
+    let number = crate::report::number;
+    let mut cells = vec![number(s.t), number(s.energy)];
     for field in s.positions.iter().chain(&s.modal) {
-        cells.extend(field.iter().map(|v| v.to_string()));
+        cells.extend(field.iter().map(|&v| number(v)));
     }
     cells
 }

@@ -50,9 +50,12 @@ pub enum NonlinearError {
         /// Its value.
         value: f64,
     },
-    /// The engine's own error (order, points).
-    #[error("{0}")]
-    Engine(String),
+    /// The engine refuses the order.
+    #[error(transparent)]
+    Order(#[from] crate::reduce::OrderError),
+    /// The grid refuses the body (too few points, a term it does not take).
+    #[error(transparent)]
+    Discretise(DiscretiseError),
     /// No equilibrium (∇V = 0) was found.
     #[error("field {field}: no equilibrium found (∇V = 0 has no solution Newton's method reaches from rest; |∇V| stays at {residual:.3e}): the potential may be unbounded below")]
     NoEquilibrium {
@@ -74,6 +77,14 @@ pub enum NonlinearError {
     NotPositiveMass {
         /// Field id.
         field: String,
+    },
+    /// A matrix of the linearisation overflowed (coefficients or states too large).
+    #[error("field {field}: {what} overflows f64 (a coefficient or state too large for the numbers): use smaller coefficients")]
+    Overflow {
+        /// Field id.
+        field: String,
+        /// Which matrix.
+        what: &'static str,
     },
     /// Newton's method did not converge.
     #[error("the implicit step at t = {t} did not converge: take a smaller time step")]
@@ -308,9 +319,8 @@ pub struct NonlinearBody {
 
 /// The coefficients the surviving densities name (`c1_x`, `c'_x`, …), model order.
 pub fn coefficient_names(model: &Model, order: u32) -> Result<Vec<String>, NonlinearError> {
-    let engine = |e: crate::reduce::OrderError| NonlinearError::Engine(e.to_string());
-    let l = analyse(model, Density::Lagrangian, order).map_err(engine)?;
-    let r = analyse(model, Density::Rayleigh, order).map_err(engine)?;
+    let l = analyse(model, Density::Lagrangian, order)?;
+    let r = analyse(model, Density::Rayleigh, order)?;
     Ok(names_of(&[&l, &r]))
 }
 
@@ -346,15 +356,12 @@ impl NonlinearBody {
         let mut fields = Vec::new();
         for f in plan.iter().filter(|f| f.kinetic) {
             if points < f.min_points() {
-                return Err(NonlinearError::Engine(
-                    DiscretiseError::TooFewPoints {
-                        points,
-                        k: f.top,
-                        boundary: f.field.boundary.name(),
-                        min: f.min_points(),
-                    }
-                    .to_string(),
-                ));
+                return Err(NonlinearError::Discretise(DiscretiseError::TooFewPoints {
+                    points,
+                    k: f.top,
+                    boundary: f.field.boundary.name(),
+                    min: f.min_points(),
+                }));
             }
             let mut system = FieldSystem {
                 id: f.field.id.clone(),
@@ -418,6 +425,21 @@ fn coefficient(
     }
 }
 
+impl NonlinearError {
+    /// The kind of failure: a body or value the integrator cannot take is usage; a step, an
+    /// equilibrium search or a state that fails on valid input is numerical.
+    pub fn failure(&self) -> crate::failure::Failure {
+        use crate::failure::Failure;
+        match self {
+            NonlinearError::NoEquilibrium { .. }
+            | NonlinearError::NoConvergence { .. }
+            | NonlinearError::Diverged { .. }
+            | NonlinearError::Overflow { .. } => Failure::Numerical,
+            _ => Failure::Usage,
+        }
+    }
+}
+
 impl From<DiscretiseError> for NonlinearError {
     fn from(e: DiscretiseError) -> NonlinearError {
         match e {
@@ -432,7 +454,7 @@ impl From<DiscretiseError> for NonlinearError {
                 density,
                 why,
             },
-            other => NonlinearError::Engine(other.to_string()),
+            other => NonlinearError::Discretise(other),
         }
     }
 }

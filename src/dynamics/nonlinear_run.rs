@@ -7,6 +7,7 @@ use std::collections::BTreeMap;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
+use super::checked;
 use super::nonlinear::{NonlinearBody, NonlinearError};
 use crate::model::{Density, Model};
 use crate::reduce::{analyse, DensityTerm};
@@ -15,8 +16,7 @@ use crate::reduce::{analyse, DensityTerm};
 /// (∂sᵏφ)² and (∂t∂sᵏφ)²): then the exact modal propagators apply instead.
 pub fn is_quadratic(model: &Model, order: u32) -> Result<bool, NonlinearError> {
     for density in [Density::Lagrangian, Density::Rayleigh] {
-        let a =
-            analyse(model, density, order).map_err(|e| NonlinearError::Engine(e.to_string()))?;
+        let a = analyse(model, density, order)?;
         let square = |d: &DensityTerm| matches!(d.term.factors(), [f] if f.power == 2);
         if !a.fields.iter().all(|f| f.density.iter().all(square)) {
             return Ok(false);
@@ -33,14 +33,13 @@ pub fn default_coefficients(
     order: u32,
     params: &crate::modal::Params,
 ) -> Result<BTreeMap<String, f64>, NonlinearError> {
-    let engine = |e: crate::reduce::OrderError| NonlinearError::Engine(e.to_string());
     let mut leading = model.clone();
     leading.lagrangian.beyond_leading = 0;
     leading.rayleigh.beyond_leading = 0;
     let mut out = BTreeMap::new();
     for density in [Density::Lagrangian, Density::Rayleigh] {
-        let a = analyse(model, density, order).map_err(engine)?;
-        let first = analyse(&leading, density, order).map_err(engine)?;
+        let a = analyse(model, density, order)?;
+        let first = analyse(&leading, density, order)?;
         for (f, lead) in a.fields.iter().zip(&first.fields) {
             let scale = f.field.scale().to_string();
             let (omega, zeta) = (params.omega(&scale), params.zeta(&scale));
@@ -135,11 +134,9 @@ impl NonlinearBody {
                 };
                 let lin = match linearised.entry(k) {
                     std::collections::btree_map::Entry::Occupied(e) => e.into_mut(),
-                    std::collections::btree_map::Entry::Vacant(e) => e.insert(
-                        self.fields[k]
-                            .linearise(true)
-                            .map_err(|e| DynamicsError::Invalid(e.to_string()))?,
-                    ),
+                    std::collections::btree_map::Entry::Vacant(e) => {
+                        e.insert(self.fields[k].linearise(true)?)
+                    }
                 };
                 let shapes = lin.shapes.as_deref().unwrap_or_default();
                 let Some(shape) = shapes.get(mode) else {
@@ -191,13 +188,12 @@ impl NonlinearBody {
                 Err(Halt::Io(e)) => Err(DynamicsError::Output(e.kind(), e.to_string())),
                 Err(Halt::Fail(m)) => Err(DynamicsError::Invalid(m)),
             };
-        if !report(&sample(0.0, &state), &mut sink)? {
+        if !report(&checked(sample(0.0, &state))?, &mut sink)? {
             return Ok(());
         }
         let h = config.dt;
         let mut integrator = if config.temperature > 0.0 {
-            self.noisy_integrator(h, config.temperature)
-                .map_err(|e| DynamicsError::Invalid(e.to_string()))?
+            self.noisy_integrator(h, config.temperature)?
         } else {
             self.integrator(h)
         };
@@ -225,8 +221,10 @@ impl NonlinearBody {
             } else {
                 integrator.step(&mut state, t)
             };
-            stepped.map_err(|e| DynamicsError::Invalid(e.to_string()))?;
-            if step % config.every == 0 && !report(&sample(step as f64 * h, &state), &mut sink)? {
+            stepped?;
+            if step % config.every == 0
+                && !report(&checked(sample(step as f64 * h, &state))?, &mut sink)?
+            {
                 return Ok(());
             }
         }

@@ -253,9 +253,11 @@ pub(super) fn fit_mode(
     if psd.len() != last + 1 || last < FIRST_BIN + 5 || variance.is_nan() || variance <= 0.0 {
         return None;
     }
+    // In bins, clamped to the spectrum first (a band of 1e300 bins saturates `as usize`, and
+    // the widening below would then step from usize::MAX): at most `last` widening steps.
     let (mut lo, mut hi) = (
-        ((band.0 / df).floor() as usize).max(FIRST_BIN),
-        ((band.1 / df).ceil() as usize).min(last),
+        ((band.0 / df).floor() as usize).clamp(FIRST_BIN, last),
+        ((band.1 / df).ceil() as usize).clamp(FIRST_BIN, last),
     );
     while hi.saturating_sub(lo) < 8 && (lo > FIRST_BIN || hi < last) {
         lo = (lo - 1).max(FIRST_BIN);

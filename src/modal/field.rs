@@ -114,6 +114,20 @@ pub enum ModesError {
     },
 }
 
+impl ModesError {
+    /// The kind of failure: an eigensolver that fails on valid input is numerical; everything
+    /// else is a body or a size the solver does not take.
+    pub fn failure(&self) -> crate::failure::Failure {
+        match self {
+            ModesError::Modal {
+                source: ModalError::Solver(_),
+                ..
+            } => crate::failure::Failure::Numerical,
+            _ => crate::failure::Failure::Usage,
+        }
+    }
+}
+
 /// Frequencies, damping ratios, regimes and variance shares of a spectrum at scales ω, ζ.
 fn physical_modes(
     spectrum: &Spectrum,

@@ -1,0 +1,268 @@
+//! Scenario: every failure is one bounded line whose exit code follows its kind (usage 2,
+//! input and output 1, numerical 3: docs/commands.md), hostile numbers end at once without
+//! printing a non-finite number, and a body at rest stays at rest.
+
+use std::time::{Duration, Instant};
+
+mod common;
+use common::binary as run;
+
+const TETHERED: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/models/tethered.toml");
+const WORM: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/models/worm.toml");
+
+/// `args` fails with `code`, one line on stderr containing `needle`, nothing on stdout that
+/// is not a finite number, within a few seconds.
+fn fails(args: &[&str], code: i32, needle: &str) {
+    let started = Instant::now();
+    let (got, out, err) = run(args);
+    assert!(
+        started.elapsed() < Duration::from_secs(20),
+        "{args:?} took {:?}",
+        started.elapsed()
+    );
+    assert_eq!(got, code, "{args:?}: {err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+    assert!(err.len() < 600, "{args:?}: unbounded: {err}");
+    assert!(err.contains(needle), "{args:?}: {err}");
+    no_non_finite(&out, args);
+}
+
+fn no_non_finite(out: &str, args: &[&str]) {
+    for cell in out.split([',', '\n', ' ', '[', ']']) {
+        let cell = cell.trim().to_ascii_lowercase();
+        assert!(
+            !matches!(cell.as_str(), "inf" | "-inf" | "nan" | "null"),
+            "{args:?} printed {cell}"
+        );
+    }
+}
+
+#[test]
+fn the_exit_code_follows_the_kind_of_failure() {
+    // Usage: a name that is no scale or coefficient (and the list it gives is clipped).
+    fails(
+        &["modes", "-p", "12", "--param", "nope=1"],
+        2,
+        "no field of the larva model uses it",
+    );
+    // Input: a model file that does not exist.
+    fails(
+        &["modes", "-p", "12", "--model", "/no/such.toml"],
+        1,
+        "cannot read",
+    );
+    // Numerical: valid input on which the linearisation overflows.
+    fails(
+        &[
+            "operators",
+            "-p",
+            "4",
+            "--model",
+            TETHERED,
+            "--param",
+            "c4_u=1e308",
+        ],
+        3,
+        "overflows f64",
+    );
+    // Output: a file that cannot be created.
+    fails(
+        &[
+            "simulate",
+            "-p",
+            "6",
+            "--initial",
+            "y:2=1",
+            "--out",
+            "/no/dir/run.csv",
+        ],
+        1,
+        "cannot create",
+    );
+}
+
+#[test]
+fn huge_coefficients_and_states_end_at_once_with_finite_output() {
+    for (args, code, needle) in [
+        (
+            vec![
+                "modes",
+                "-p",
+                "4",
+                "--model",
+                TETHERED,
+                "--param",
+                "c3_u=1.7976931348623157e308",
+            ],
+            3,
+            "overflows f64",
+        ),
+        (
+            vec![
+                "simulate",
+                "-p",
+                "5",
+                "--model",
+                TETHERED,
+                "--param",
+                "c4_u=1e308",
+                "--initial",
+                "u:1=1",
+                "--steps",
+                "1",
+            ],
+            3,
+            "overflows f64",
+        ),
+        (
+            vec![
+                "simulate",
+                "-p",
+                "4",
+                "--model",
+                TETHERED,
+                "--initial",
+                "u=1e155",
+                "--steps",
+                "1",
+            ],
+            3,
+            "overflowed f64 at t = 0",
+        ),
+        (
+            vec![
+                "simulate",
+                "-p",
+                "4",
+                "--model",
+                TETHERED,
+                "--param",
+                "c3_u=1e308",
+                "--initial",
+                "u=1",
+                "--steps",
+                "1",
+            ],
+            3,
+            "overflowed f64 at t = 0",
+        ),
+        (
+            vec![
+                "simulate",
+                "-p",
+                "4",
+                "--model",
+                TETHERED,
+                "--drive",
+                "u:1=1e308,1e300",
+                "--steps",
+                "3",
+            ],
+            3,
+            "overflowed f64",
+        ),
+        (
+            vec![
+                "simulate",
+                "--points",
+                "5",
+                "--model",
+                WORM,
+                "--beyond-leading",
+                "3",
+                "--param",
+                "c1_x=-1e6",
+                "--param=c'3_θ=100",
+                "--temperature",
+                "1e300",
+                "--steps",
+                "100",
+                "--every",
+                "100",
+            ],
+            3,
+            "overflowed f64",
+        ),
+    ] {
+        fails(&args, code, needle);
+    }
+}
+
+#[test]
+fn numbers_are_printed_in_exponent_form_where_plain_would_be_dozens_of_digits() {
+    let (code, out, err) = run(&[
+        "simulate",
+        "-p",
+        "4",
+        "--dt",
+        "1e300",
+        "--steps",
+        "1",
+        "--initial",
+        "y:1=1",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.lines().nth(2).unwrap().starts_with("1e300,"), "{out}");
+    assert!(out.split(',').all(|c| c.trim().len() < 30), "{out}");
+}
+
+/// The three at-rest repros of the audit: the implicit step once stopped with "did not
+/// converge" after the motion had damped out. They run to their end and stay put.
+#[test]
+fn a_body_at_rest_stays_at_rest() {
+    for (extra, steps) in [
+        (vec!["--initial", "x:0=0.3"], "2000"),
+        (
+            vec![
+                "--param",
+                "cp1_x=0.5",
+                "--initial",
+                "x:1=0.3",
+                "--initial",
+                "x:0=0.1",
+            ],
+            "30000",
+        ),
+        (
+            vec!["--param", "cp1_x=0.5", "--initial", "x:0=0.2"],
+            "30000",
+        ),
+    ] {
+        let mut args = vec![
+            "simulate",
+            "--beyond-leading",
+            "1",
+            "--points",
+            "8",
+            "--dt",
+            "0.01",
+            "--param",
+            "c2_x=1",
+            "--param",
+            "c3_x=0.3",
+            "--every",
+            "500",
+            "--steps",
+            steps,
+        ];
+        args.extend(extra);
+        let (code, out, err) = run(&args);
+        assert_eq!(code, 0, "{args:?}: {err}");
+        let rows: Vec<Vec<f64>> = out
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').map(|c| c.parse().unwrap()).collect())
+            .collect();
+        let last = rows.last().unwrap();
+        assert_eq!(
+            last[0],
+            steps.parse::<f64>().unwrap() * 0.01,
+            "ran to its end"
+        );
+        // The last two reports, 500 steps apart, agree to rounding: at rest.
+        let before = &rows[rows.len() - 2];
+        for (a, b) in last[2..10].iter().zip(&before[2..10]) {
+            assert!((a - b).abs() <= 1e-11 * a.abs().max(1e-3), "{a} vs {b}");
+        }
+    }
+}
