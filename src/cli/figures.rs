@@ -36,7 +36,6 @@ pub struct Args {
 /// Write the figures, with a progress bar on a terminal (indicatif hides it when stderr is not
 /// one); a figure whose behaviour needs a role the model lacks is skipped and said so.
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
-    let theory = args.body.theory("figures")?;
     let settings = FigureSettings {
         points: args.body.points,
         seed: args.sample.seed,
@@ -47,7 +46,8 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
             dpi: args.dpi,
         },
     };
-    settings.page.check().map_err(usage)?;
+    settings.check().map_err(usage)?;
+    let theory = args.body.theory("figures")?;
     // Figures are named by their SVG file; any of the three extensions names the same one.
     let only = args.only.as_ref().map(|name| {
         let stem = [".svg", ".png", ".pdf"]
@@ -92,13 +92,18 @@ pub(super) fn usage(e: FigureError) -> CliError {
 #[derive(Debug, clap::Args)]
 pub struct FitPageArgs {
     /// File format of the `--figures` files.
-    #[arg(long, value_enum, default_value_t = Format::Svg)]
+    #[arg(long, value_enum, default_value_t = Format::Svg, requires = "figures")]
     figure_format: Format,
     /// Printed width of the `--figures` files in millimetres (60 to 600).
-    #[arg(long, value_name = "MM", default_value_t = 180.0)]
+    #[arg(long, value_name = "MM", default_value_t = 180.0, requires = "figures")]
     figure_width: f64,
     /// Resolution of PNG `--figures`, dots per inch (30 to 1200).
-    #[arg(long, value_name = "DPI", default_value_t = 300.0)]
+    #[arg(
+        long,
+        value_name = "DPI",
+        default_value_t = 300.0,
+        requires = "figures"
+    )]
     figure_dpi: f64,
 }
 

@@ -12,7 +12,8 @@ use crate::report::Output;
 pub struct Args {
     /// Number of points along the body (the paper uses 12): at least what the model's operators
     /// need (3 for the larva; the error names it), up to 10 000 000 with --modes K; the full
-    /// spectrum up to 1 000 000 (about ten seconds).
+    /// spectrum up to 200 000 (about two seconds), or 2000 for a field without a closed form
+    /// (clamped or mixed ends: a dense solver); a nonlinear body up to 400.
     #[arg(long, short, value_name = "N",
           value_parser = clap::value_parser!(u64).range(1..=crate::modal::MAX_POINTS as u64))]
     points: u64,

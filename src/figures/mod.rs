@@ -64,6 +64,23 @@ pub struct FigureSettings {
     pub page: Page,
 }
 
+/// The most points the figures are drawn for: every behaviour is run on the body, about six
+/// seconds at 500 points (five of them the fixed cost of the figures themselves), nine at 1000.
+pub const MAX_FIGURE_POINTS: usize = 500;
+
+impl FigureSettings {
+    /// The points and the page, checked before any work.
+    pub fn check(&self) -> Result<(), FigureError> {
+        if self.points > MAX_FIGURE_POINTS {
+            return Err(FigureError::Invalid(format!(
+                "the figures are drawn for at most {MAX_FIGURE_POINTS} points (about six seconds), not {}",
+                self.points
+            )));
+        }
+        self.page.check()
+    }
+}
+
 impl Default for FigureSettings {
     fn default() -> Self {
         FigureSettings {
