@@ -69,14 +69,6 @@ fn model_of(toml: Option<&str>) -> PyResult<Model> {
     }
 }
 
-fn params_of(params: Option<HashMap<String, f64>>) -> PyResult<Params> {
-    let mut p = Params::default();
-    for (name, value) in params.unwrap_or_default() {
-        p.set(&name, value).map_err(usage)?;
-    }
-    Ok(p)
-}
-
 fn basis_of(basis: &str) -> PyResult<Basis> {
     match basis {
         "powers" => Ok(Basis::Powers),
