@@ -1,8 +1,11 @@
 //! Hostile-input fuzzing of the command line, the model parser and the recording reader.
 //!
 //! Each case runs the real binary with a time limit and asserts the one rule: exit 0 with
-//! finite output, or exit 1 or 2 with one line on stderr, within the time budget; never a
-//! panic, an abort, a hang, NaN or ∞. The case count is `PROPTEST_CASES` (default 32 here, as
+//! finite output, or exit 1, 2 or 3 with one line on stderr, within the time budget; never a
+//! panic, an abort, a hang, NaN or ∞. Hostile III adds the nonlinear family (extreme
+//! coefficients, states, drives, temperatures and steps on the tethered filament and the worm
+//! at the next orders: every row's energy is checked with the rest) and the figure family
+//! (widths, resolutions, formats). The case count is `PROPTEST_CASES` (default 32 here, as
 //! `.ci/run` runs it); `PROPTEST_CASES=2000 cargo test --release --test fuzz` is the longer
 //! campaign for developers (docs/budgets.md).
 
@@ -84,7 +87,7 @@ fn obeys_the_rule(args: &[String], stdin: Option<&str>) {
                 .find(|w| matches!(*w, "NaN" | "inf" | "-inf" | "nan"));
             assert!(bad.is_none(), "{args:?}: printed {bad:?} with exit 0");
         }
-        1 | 2 => {
+        1..=3 => {
             assert!(err.starts_with("error: "), "{args:?}: {err}");
             assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
             assert!(!err.contains("panicked"), "{args:?}: {err}");
@@ -120,6 +123,78 @@ fn value() -> impl Strategy<Value = String> {
         (1u32..5000).prop_map(|v| v.to_string()),
         (-1e4f64..1e4).prop_map(|v| v.to_string()),
     ]
+}
+
+/// Numbers at the edge of f64, for coefficients, states and drives.
+fn extreme() -> impl Strategy<Value = String> {
+    prop_oneof![
+        value(),
+        Just("1e308".to_string()),
+        Just("1.7976931348623157e308".to_string()),
+        Just("1e155".to_string()),
+        Just("-1e6".to_string()),
+        Just("5e-324".to_string()),
+        Just("1e100".to_string()),
+    ]
+}
+
+/// A run of a nonlinear body with extreme coefficients, states, drives and settings.
+fn nonlinear_line() -> impl Strategy<Value = Vec<String>> {
+    let bodies: Vec<(Vec<&str>, &[&str], &str)> = vec![
+        (
+            vec![
+                "--model",
+                concat!(env!("CARGO_MANIFEST_DIR"), "/tables/models/tethered.toml"),
+            ],
+            &["c1_u", "c2_u", "c3_u", "c4_u", "cp_u"],
+            "u",
+        ),
+        (
+            vec![
+                "--model",
+                concat!(env!("CARGO_MANIFEST_DIR"), "/tables/models/worm.toml"),
+                "--beyond-leading",
+                "3",
+            ],
+            &["c1_x", "c'3_θ", "c2_x", "c_y"],
+            "x",
+        ),
+        (
+            vec!["--beyond-leading", "1"],
+            &["c2_x", "c3_x", "cp1_x", "c_y"],
+            "x",
+        ),
+    ];
+    let commands = ["simulate", "modes", "operators"];
+    (
+        0..bodies.len(),
+        0..commands.len(),
+        prop::collection::vec((0usize..8, extreme()), 0..4),
+        prop::collection::vec((0usize..6, extreme()), 0..3),
+    )
+        .prop_map(move |(b, c, params, settings)| {
+            let (model, names, field) = &bodies[b];
+            let mut args = vec![commands[c].to_string(), "-p".into(), "5".into()];
+            args.extend(model.iter().map(|s| s.to_string()));
+            for (i, v) in params {
+                args.push(format!("--param={}={v}", names[i % names.len()]));
+            }
+            if c == 0 {
+                args.extend(["--steps".into(), "50".into(), "--every".into(), "10".into()]);
+                for (i, v) in settings {
+                    let (flag, value) = match i {
+                        0 => ("--initial", format!("{field}={v}")),
+                        1 => ("--initial", format!("{field}:1={v}")),
+                        2 => ("--drive", format!("{field}:1={v},{v}")),
+                        3 => ("--force", format!("{field}:1={v}")),
+                        4 => ("--temperature", v),
+                        _ => ("--dt", v),
+                    };
+                    args.push(format!("{flag}={value}"));
+                }
+            }
+            args
+        })
 }
 
 /// A subcommand with a few of its options set to arbitrary values.
@@ -235,6 +310,29 @@ proptest! {
     }
 
     #[test]
+    fn any_nonlinear_run_obeys_the_rule(args in nonlinear_line()) {
+        obeys_the_rule(&args, None);
+    }
+
+    #[test]
+    fn any_figure_page_obeys_the_rule(
+        width in extreme(),
+        dpi in extreme(),
+        format in prop_oneof![Just("svg"), Just("png"), Just("pdf")],
+    ) {
+        let dir = scratch("page");
+        let args: Vec<String> = [
+            "figures", "--only", "spectrum", "--format", format, "--figures",
+            dir.to_str().unwrap(),
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .chain([format!("--width={width}"), format!("--dpi={dpi}")])
+        .collect();
+        obeys_the_rule(&args, None);
+    }
+
+    #[test]
     fn any_mutated_model_file_obeys_the_rule(
         edits in prop::collection::vec((0usize..4000, any::<u8>()), 1..6),
         cut in 0usize..4000,
@@ -275,6 +373,8 @@ fn the_reported_command_lines_answer_in_time() {
     let example = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/examples/midlines.csv");
     let figs = dir.join("figs");
     let figs = figs.to_str().unwrap();
+    let tethered = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/models/tethered.toml");
+    let zebrafish = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/models/zebrafish.toml");
     let lines: Vec<String> = vec![
         "stats pair --omega 5 --momentum 3 --beta 100".into(),
         format!("figures --out {figs} --param omega_s=50 --samples 2000"),
@@ -284,6 +384,16 @@ fn the_reported_command_lines_answer_in_time() {
         "interactions --order 7".into(),
         "operators --points 2000 --format json".into(),
         "modes --points 10000000".into(),
+        // Hostile III: huge coefficients before the SVD, tiny steps, costs up front.
+        format!("operators -p 4 --model {tethered} --param c4_u=1e308"),
+        format!("modes -p 4 --model {tethered} --param c3_u=1.7976931348623157e308"),
+        format!("simulate -p 5 --model {tethered} --param c4_u=1e308 --initial u:1=1 --steps 1"),
+        format!("simulate -p 4 --model {tethered} --initial u=1e155 --steps 1"),
+        format!("simulate -p 2000 --model {tethered} --initial u:1=1 --steps 1"),
+        "figures -p 2000 --figures /tmp/ts-never".into(),
+        "stats equipartition --steps 20000000".into(),
+        "modes --points 1000000".into(),
+        format!("modes --points 3000 --model {zebrafish}"),
         "modes --points 10000000 --modes 3".into(),
         "count --basis monomials --max-order 16".into(),
         "behave rolling --periods 1e6".into(),
@@ -323,7 +433,7 @@ fn the_reported_command_lines_answer_in_time() {
 }
 
 /// Exit codes follow one rule: 2 for bad usage or values, 1 for files that cannot be read or
-/// written (or are not what they claim).
+/// written (or are not what they claim), 3 for a computation that failed on valid input.
 #[test]
 fn exit_codes_follow_one_rule() {
     let dir = scratch("codes");
