@@ -70,7 +70,7 @@ pub enum BodyError {
         known: String,
     },
     /// A leading square's coefficient that is not ω² > 0 on the linear path.
-    #[error("parameter {name}: the linear path takes {name} = ω² > 0, not {value}")]
+    #[error("parameter {name}: the linear path takes {name} = ω² > 0, not {}", crate::report::number(*value))]
     NotPositive {
         /// The coefficient.
         name: String,
@@ -78,7 +78,7 @@ pub enum BodyError {
         value: f64,
     },
     /// Two coefficients that set one scale to different values.
-    #[error("parameters {first} and {second} set {key} to {was} and {now}: {why}")]
+    #[error("parameters {first} and {second} set {key} to {} and {}: {why}", crate::report::number(*was), crate::report::number(*now))]
     SharedScale {
         /// The first coefficient.
         first: String,

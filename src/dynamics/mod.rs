@@ -114,7 +114,7 @@ pub enum DynamicsError {
     #[error(transparent)]
     Nonlinear(#[from] NonlinearError),
     /// The state, its energy or the time left the finite numbers (nothing of it is written).
-    #[error("the state overflowed f64 at t = {t} (energy {energy:.3e}): use smaller amplitudes, coefficients, forces, temperature or time step")]
+    #[error("the state overflowed f64 at t = {} (energy {energy:.3e}): use smaller amplitudes, coefficients, forces, temperature or time step", crate::report::number(*t))]
     Overflow {
         /// The time of the sample.
         t: f64,
@@ -269,18 +269,36 @@ pub fn propagate(omega: f64, gamma: f64, q: f64, p: f64, t: f64) -> (f64, f64) {
     (x[0], x[1])
 }
 
+/// The smallest time step: increments h·v of states of order 1 stay normal numbers.
+pub const MIN_DT: f64 = 1e-100;
+
 pub(crate) fn check_config(c: &Config) -> Result<(), DynamicsError> {
     let bad = |s: String| Err(DynamicsError::Invalid(s));
     if !(c.dt.is_finite() && c.dt > 0.0) {
         return bad(format!(
             "the time step must be a positive number, not {}",
-            c.dt
+            crate::report::number(c.dt)
+        ));
+    }
+    // The implicit step divides by h (v₁ = 2Δ/h − v₀): below this, Δ ≈ h·v underflows.
+    if c.dt < MIN_DT {
+        return bad(format!(
+            "the time step {} is below {MIN_DT:e}: the step's increments would underflow f64",
+            crate::report::number(c.dt)
+        ));
+    }
+    // The last time must be a number: steps × h finite.
+    if !(c.dt * c.steps as f64).is_finite() {
+        return bad(format!(
+            "{} steps of {} end beyond the largest f64",
+            c.steps,
+            crate::report::number(c.dt)
         ));
     }
     if !(c.temperature.is_finite() && c.temperature >= 0.0) {
         return bad(format!(
             "the temperature must be a non-negative number, not {}",
-            c.temperature
+            crate::report::number(c.temperature)
         ));
     }
     if c.every == 0 {

@@ -43,7 +43,7 @@ pub enum NonlinearError {
         all: String,
     },
     /// A coefficient that is not a finite number.
-    #[error("coefficient {name} = {value} is not a finite number")]
+    #[error("coefficient {name} = {} is not a finite number", crate::report::number(*value))]
     NotFinite {
         /// The coefficient.
         name: String,
@@ -87,13 +87,13 @@ pub enum NonlinearError {
         what: &'static str,
     },
     /// Newton's method did not converge.
-    #[error("the implicit step at t = {t} did not converge: take a smaller time step")]
+    #[error("the implicit step at t = {} did not converge: take a smaller time step", crate::report::number(*t))]
     NoConvergence {
         /// Time at the start of the step.
         t: f64,
     },
     /// The state left the finite numbers.
-    #[error("the state is no longer finite at t = {t}: the motion diverges (a smaller time step, or a potential bounded below)")]
+    #[error("the state is no longer finite at t = {}: the motion diverges (a smaller time step, or a potential bounded below)", crate::report::number(*t))]
     Diverged {
         /// Time at the end of the step.
         t: f64,
