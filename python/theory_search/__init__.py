@@ -43,6 +43,7 @@ from ._errors import (
     TheorySearchError,
     UsageError,
     count as _count,
+    number as _number,
     translated as _translated,
 )
 from ._results import FieldModes, Modes, Result, Simulation
@@ -330,10 +331,7 @@ def _body_args(order: int, beyond_leading: Optional[int], model: Any, params: An
         raise UsageError(f"params must be a mapping of names to numbers, not {type(params).__name__}")
     values = {}
     for name, value in (params or {}).items():
-        try:
-            values[str(name)] = float(value)
-        except (TypeError, ValueError):
-            raise UsageError(f"parameter {str(name)[:80]!r}: expected a number") from None
+        values[str(name)] = _number(f"parameter {str(name)[:80]!r}", value)
     return (order, beyond_leading, _toml(model), values)
 
 
@@ -391,7 +389,7 @@ def _assignments(values: Any) -> List[str]:
         out = []
         for key, v in values.items():
             parts = v if isinstance(v, (list, tuple)) else [v]
-            out.append(f"{key}=" + ",".join(repr(float(x)) for x in parts))
+            out.append(f"{key}=" + ",".join(repr(_number(str(key)[:80], x)) for x in parts))
         return out
     return [str(v) for v in values]
 
@@ -453,7 +451,10 @@ def simulate(
     start = (_assignments(initial), _assignments(force), _assignments(drive))
     body = _body_args(order, beyond_leading, model, params)
     return Simulation(
-        _native_call["simulate"](points, steps, dt, every, float(temperature), seed, *body, start)
+        _native_call["simulate"](
+            points, steps, _number("dt", dt), every, _number("temperature", temperature), seed,
+            *body, start,
+        )
     )
 
 

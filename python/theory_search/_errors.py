@@ -75,3 +75,15 @@ def count(name: str, value: Any, least: int = 0, most: int = 2**63 - 1) -> int:
     if not least <= value <= most:
         raise UsageError(f"{name} must be between {least} and {most}, not {value}")
     return value
+
+
+def number(name: str, value: Any) -> float:
+    """A real number argument, or a ``UsageError`` that quotes at most 80 characters of it."""
+    if isinstance(value, bool):
+        raise UsageError(f"{name} must be a number, not {value!r}")
+    try:
+        return float(value)
+    except (TypeError, ValueError, OverflowError):
+        shown = str(value)
+        shown = shown if len(shown) <= 80 else shown[:77] + "…"
+        raise UsageError(f"{name} must be a number, not {shown!r}") from None

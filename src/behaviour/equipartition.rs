@@ -24,9 +24,9 @@ pub struct EquipartitionCheck {
     pub overlap: Vec<f64>,
 }
 
-/// The largest steps × N² that [`equipartition_from_dynamics`] takes (about five seconds:
+/// The largest steps × N² that [`equipartition_from_dynamics`] takes (about three seconds:
 /// measured 1.0 s at 2.9·10⁸, 1.2 s at 8·10⁸).
-pub const EQUIPARTITION_BUDGET: f64 = 3e9;
+pub const EQUIPARTITION_BUDGET: f64 = 1e9;
 
 /// Run the Langevin dynamics of the theory at temperature `kt` and compare the PCA of the
 /// postures of field `index` (the lateral field by default) with its modes (paper App. B:
@@ -44,7 +44,7 @@ pub fn equipartition_from_dynamics(
     let work = steps as f64 * (points as f64).powi(2);
     if work > EQUIPARTITION_BUDGET {
         return Err(BehaviourError::new(format!(
-            "{steps} steps on {points} points is {work:.1e} units of work, over the {EQUIPARTITION_BUDGET:.0e} budget (about five seconds): use fewer points or steps"
+            "{steps} steps on {points} points is {work:.1e} units of work, over the {EQUIPARTITION_BUDGET:.0e} budget (about three seconds): use fewer points or steps"
         )));
     }
     let index = match index {
