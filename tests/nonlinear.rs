@@ -470,7 +470,7 @@ fn linear_commands_refuse_the_tethered_model_cleanly() {
     assert_eq!(err.exit_code(), 2, "{err}");
     let text = err.to_string();
     assert!(
-        text.contains("needs a linear body") && !text.contains('\n'),
+        text.contains("needs the exact modal theory") && !text.contains('\n'),
         "{text}"
     );
 }

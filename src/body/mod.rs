@@ -108,9 +108,9 @@ pub enum BodyError {
     /// Coefficients given for the operators of a linear body (they have none).
     #[error("the operators of a linear body have no coefficients: --param is for a nonlinear one (its linearisation)")]
     LinearOperators,
-    /// A command that needs the exact modal theory, on a nonlinear body.
-    #[error("{what} needs a linear body (every surviving term a square); this one is nonlinear: use simulate, modes or operators")]
-    NotLinear {
+    /// A command that needs the exact modal theory, on a body without it.
+    #[error("{what} needs the exact modal theory (every surviving term a square, each field's damping on its stiffness operator); this body has not: use simulate, modes or operators")]
+    NotModal {
         /// The command.
         what: &'static str,
     },
@@ -189,6 +189,7 @@ pub struct Body {
     model: Model,
     order: u32,
     linear: bool,
+    modal: bool,
     names: Vec<String>,
     params: Params,
     /// Coefficients given by name (canonical), in the order given.
@@ -214,6 +215,7 @@ impl Body {
             NonlinearError::Order(o) => BodyError::Order(o),
             other => BodyError::Nonlinear(other),
         })?;
+        let modal = linear && is_modal(&model, order)?;
         let names = coefficient_names(&model, order)?;
         let mut params = base;
         let mut given = Vec::new();
@@ -234,11 +236,12 @@ impl Body {
             model,
             order,
             linear,
+            modal,
             names,
             params,
             given,
         };
-        if body.linear {
+        if body.modal {
             body.params = body.linear_scales()?;
         }
         Ok(body)
@@ -254,9 +257,16 @@ impl Body {
         self.order
     }
 
-    /// Whether every surviving term is a square (the exact modal theory applies).
+    /// Whether every surviving term is a square (the equations are linear).
     pub fn is_linear(&self) -> bool {
         self.linear
+    }
+
+    /// Whether the exact modal theory applies: linear, and each field's damping on its one
+    /// stiffness operator (ζᵢ = ζ√λᵢ). A linear body without it goes the general path: the
+    /// discretised body's integrator, and the quadratic eigenproblem for its modes.
+    pub fn is_modal(&self) -> bool {
+        self.modal
     }
 
     /// The scales (on the linear path with the coefficients given folded in).
@@ -308,7 +318,7 @@ impl Body {
         limit: Option<usize>,
         shapes: bool,
     ) -> Result<BodyModes, BodyError> {
-        if !self.linear {
+        if !self.modal {
             let mut fields = self.linearisable(points)?.linearise(shapes)?;
             if let Some(k) = limit {
                 for f in &mut fields {
@@ -376,8 +386,8 @@ impl Body {
     /// The theory (every field's modes with shapes) on `points` points, for the behaviours and
     /// statistics, which need the exact modal path.
     pub fn theory(&self, points: usize, what: &'static str) -> Result<Theory, BodyError> {
-        if !self.linear {
-            return Err(BodyError::NotLinear { what });
+        if !self.modal {
+            return Err(BodyError::NotModal { what });
         }
         Ok(Theory::new(
             self.model.clone(),
@@ -395,7 +405,7 @@ impl Body {
         start: &Start,
         mut sink: impl FnMut(&[String], &Sample) -> Result<(), Halt>,
     ) -> Result<(), BodyError> {
-        if self.linear {
+        if self.modal {
             if let Some((text, ..)) = start.uniform.first() {
                 return Err(BodyError::Uniform(text.clone()));
             }
@@ -483,6 +493,24 @@ impl Body {
         }
         Ok(params)
     }
+}
+
+/// Whether every field of a linear body has at most one stiffness operator and its damping on
+/// the same one: the condition of the modal theory ([`crate::modal::field_modes`]).
+fn is_modal(model: &Model, order: u32) -> Result<bool, BodyError> {
+    let plan = crate::discretise::plan(model, order)?;
+    Ok(model.fields.iter().all(|field| {
+        let of = |d: Density| {
+            plan.iter()
+                .filter(move |p| p.field == field.id && p.density == d)
+        };
+        let stiff: Vec<_> = of(Density::Lagrangian).collect();
+        match stiff.as_slice() {
+            [] => true,
+            [s] => of(Density::Rayleigh).all(|d| d.k == s.k),
+            _ => false,
+        }
+    }))
 }
 
 /// Whether `name` has the shape of a scale (`omega_<scale>`, `zeta_<scale>`).

@@ -55,6 +55,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
                 order: body.order(),
                 points,
                 linearised: true,
+                nonlinear: !body.is_linear(),
                 fields,
             };
             emit(out, &report, args.format)

@@ -132,7 +132,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
         forcing: Vec::new(),
     };
     stream(args, out, |sink| body.simulate(&config, &start, sink))?;
-    if body.is_linear() && start.is_empty() && args.temperature == 0.0 {
+    if body.is_modal() && start.is_empty() && args.temperature == 0.0 {
         eprintln!(
             "warning: no --initial, --force, --drive or --temperature: the body started at rest and stayed there"
         );

@@ -20,7 +20,22 @@ pub struct LinearisedField {
     /// Unit-norm shapes, one per eigenvalue (when asked for), on the points as `equilibrium`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub shapes: Option<Vec<Vec<f64>>>,
+    /// With damping: the roots λ = −σ ± iω of det(λ²M + λC + K) = 0, one per conjugate pair
+    /// (an over-damped mode gives two real roots), slowest first.
+    pub damped: Vec<DampedMode>,
 }
+
+/// One root of the quadratic eigenproblem (λ²M + λC + K)x = 0, λ = −σ ± iω.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct DampedMode {
+    /// σ = −Re λ, the decay rate of the amplitude (per unit time).
+    pub decay_rate: f64,
+    /// ω = |Im λ|, the damped angular frequency (0 for an over-damped root).
+    pub frequency: f64,
+}
+
+/// The most unknowns whose quadratic eigenproblem is solved (a 2n × 2n Schur form).
+const MAX_DAMPED_UNKNOWNS: usize = 400;
 
 impl FieldSystem {
     pub(super) fn gradient_at(&self, u: &[f64]) -> Vec<f64> {
@@ -106,6 +121,7 @@ impl FieldSystem {
         // problem L⁻¹KL⁻ᵀ y = λ y, x = L⁻ᵀ y (so xᵀMx = 1).
         let stiffness = self.hessian_at(&equilibrium)?;
         let mass = self.finite(self.mass(&vec![0.0; self.unknowns]), "the mass ∇²T(0)")?;
+        let damped = self.damped_modes(&stiffness, &mass)?;
         let cholesky = if self.kinetic.is_empty() {
             None
         } else {
@@ -159,6 +175,7 @@ impl FieldSystem {
             field: self.id.clone(),
             equilibrium: self.embed(&equilibrium),
             residual,
+            damped,
             frequencies: eigenvalues
                 .iter()
                 .map(|&l| (l >= 0.0).then(|| l.sqrt()))
@@ -166,6 +183,73 @@ impl FieldSystem {
             eigenvalues,
             shapes: shapes.then(|| order.iter().map(|&k| self.embed(&shape(k))).collect()),
         })
+    }
+}
+
+impl FieldSystem {
+    /// The roots of det(λ²M + λC + K) = 0 with C = ∇²R(0), from the companion matrix
+    /// [[0, I], [−M⁻¹K, −M⁻¹C]] (its real Schur form): none without damping, where they are
+    /// ±i√λ of the modes above.
+    fn damped_modes(
+        &self,
+        stiffness: &nalgebra::DMatrix<f64>,
+        mass: &nalgebra::DMatrix<f64>,
+    ) -> Result<Vec<DampedMode>, NonlinearError> {
+        let n = self.unknowns;
+        if self.dissipation.is_empty() || n == 0 || n > MAX_DAMPED_UNKNOWNS {
+            return Ok(Vec::new());
+        }
+        let mut damping = nalgebra::DMatrix::zeros(n, n);
+        for p in &self.dissipation {
+            p.hessian(&vec![0.0; n], 1.0, &mut |i, j, x| damping[(i, j)] += x);
+        }
+        let damping = self.finite(damping, "the damping ∇²R(0)")?;
+        let (mk, mc) = if self.kinetic.is_empty() {
+            (stiffness.clone(), damping)
+        } else {
+            let chol = mass
+                .clone()
+                .cholesky()
+                .ok_or_else(|| NonlinearError::NotPositiveMass {
+                    field: self.id.clone(),
+                })?;
+            (chol.solve(stiffness), chol.solve(&damping))
+        };
+        let mut a = nalgebra::DMatrix::zeros(2 * n, 2 * n);
+        for i in 0..n {
+            a[(i, n + i)] = 1.0;
+            for j in 0..n {
+                a[(n + i, j)] = -mk[(i, j)];
+                a[(n + i, n + j)] = -mc[(i, j)];
+            }
+        }
+        let a = self.finite(a, "the companion matrix of λ²M + λC + K")?;
+        let schur = nalgebra::linalg::Schur::try_new(a, f64::EPSILON, 100 * n).ok_or(
+            NonlinearError::Overflow {
+                field: self.id.clone(),
+                what: "the quadratic eigenproblem's Schur iteration (it did not converge)",
+            },
+        )?;
+        let scale = stiffness.amax().max(1.0);
+        // A root within rounding of an axis is on it; of a conjugate pair the upper one is kept,
+        // and every real root (a double root at 0 may come as a pair ±ε·i).
+        // (a double root splits by about √ε·‖A‖, 1.5·10⁻⁸√‖A‖).
+        let tol = 1e-7 * scale.sqrt();
+        let mut roots: Vec<DampedMode> = schur
+            .complex_eigenvalues()
+            .iter()
+            .filter(|l| l.im > -tol)
+            .map(|l| DampedMode {
+                decay_rate: if l.re.abs() <= tol { 0.0 } else { -l.re },
+                frequency: if l.im <= tol { 0.0 } else { l.im },
+            })
+            .collect();
+        roots.sort_by(|a, b| {
+            a.decay_rate
+                .hypot(a.frequency)
+                .total_cmp(&b.decay_rate.hypot(b.frequency))
+        });
+        Ok(roots)
     }
 }
 
@@ -185,8 +269,11 @@ pub struct LinearisedReport {
     pub order: u32,
     /// Points along the body.
     pub points: usize,
-    /// Always true: these are the modes of a linearisation.
+    /// Always true: these are the modes of a linearisation (or of a linear body whose damping
+    /// is not modal).
     pub linearised: bool,
+    /// Whether the equations are nonlinear (false: linear, with damping that is not modal).
+    pub nonlinear: bool,
     /// The fields.
     pub fields: Vec<LinearisedField>,
 }
@@ -194,10 +281,17 @@ pub struct LinearisedReport {
 impl crate::report::Report for LinearisedReport {
     fn text(&self) -> String {
         use std::fmt::Write as _;
-        let mut s = format!(
-            "Linearised modes of the {} model at order {} on {} points: the equations are nonlinear, so these are the modes of ∇²V about each field's equilibrium (unit mass; frequency √λ).\n",
-            self.model, self.order, self.points
-        );
+        let mut s = if self.nonlinear {
+            format!(
+                "Linearised modes of the {} model at order {} on {} points: the equations are nonlinear, so these are the modes of ∇²V about each field's equilibrium (unit mass; frequency √λ).\n",
+                self.model, self.order, self.points
+            )
+        } else {
+            format!(
+                "Modes of the {} model at order {} on {} points: the equations are linear, but a field's damping is not on its stiffness operator (not modal), so these are the modes of K = ∇²V (frequency √λ) and, with damping, the roots λ = −σ ± iω of λ²M + λC + K.\n",
+                self.model, self.order, self.points
+            )
+        };
         for f in &self.fields {
             let (lo, hi) = f
                 .equilibrium
@@ -215,6 +309,13 @@ impl crate::report::Report for LinearisedReport {
             for (i, (l, w)) in f.eigenvalues.iter().zip(&f.frequencies).enumerate() {
                 let w = w.map_or("unstable".to_string(), |w| format!("{w:.6}"));
                 let _ = writeln!(s, "  {i:>4}  {l:<14.6}  {w}");
+            }
+            if !f.damped.is_empty() {
+                let _ = writeln!(s, "  damped (roots of λ²M + λC + K, slowest first):");
+                let _ = writeln!(s, "  root  decay rate σ   frequency ω");
+                for (i, d) in f.damped.iter().enumerate() {
+                    let _ = writeln!(s, "  {i:>4}  {:<13.6}  {:.6}", d.decay_rate, d.frequency);
+                }
             }
             if let Some(shapes) = &f.shapes {
                 for (i, v) in shapes.iter().enumerate() {

@@ -24,7 +24,7 @@ pub mod nonlinear;
 mod nonlinear_run;
 mod sample;
 pub use implicit::Integrator;
-pub use linearise::{LinearisedField, LinearisedReport};
+pub use linearise::{DampedMode, LinearisedField, LinearisedReport};
 pub use linearised_operators::{LinearisedOperator, LinearisedOperatorsReport};
 pub use nonlinear_run::{default_coefficients, is_quadratic, MAX_NONLINEAR_WORK};
 pub use sample::{checked, sample_header, sample_row, Sample};
