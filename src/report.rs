@@ -11,9 +11,9 @@ use clap::ValueEnum;
 pub enum Output {
     /// Aligned text for reading.
     Text,
-    /// JSON (serde).
+    /// JSON: one document.
     Json,
-    /// CSV (the `csv` crate's writer: quoting included).
+    /// CSV: a header, then one row per record (fields quoted where needed).
     Csv,
 }
 

@@ -292,6 +292,10 @@ fn modes<'py>(
                         .map(|w| w.unwrap_or(f64::NAN))
                         .collect();
                     d.set_item("frequencies", PyArray1::from_vec(py, frequencies))?;
+                    let (decay, damped): (Vec<f64>, Vec<f64>) =
+                        f.damped.iter().map(|r| (r.decay_rate, r.frequency)).unzip();
+                    d.set_item("decay_rates", PyArray1::from_vec(py, decay))?;
+                    d.set_item("damped_frequencies", PyArray1::from_vec(py, damped))?;
                     if let Some(s) = &f.shapes {
                         // Modes as columns, as numpy.linalg.eigh.
                         let n = s.first().map_or(0, Vec::len);

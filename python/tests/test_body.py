@@ -44,6 +44,12 @@ def test_modes_are_the_command_lines(model, beyond_leading, params):
         np.testing.assert_array_equal(got.eigenvalues, np.asarray(f["eigenvalues"], float))
         want = np.array([np.nan if w is None else w for w in f["frequencies"]], float)
         np.testing.assert_array_equal(got.frequencies, want)
+        if "damped" in f:  # a linearisation: the roots of λ²M + λC + K too
+            np.testing.assert_array_equal(got.decay_rates, [r["decay_rate"] for r in f["damped"]])
+            np.testing.assert_array_equal(
+                got.damped_frequencies, [r["frequency"] for r in f["damped"]]
+            )
+            assert len(got.to_pandas()) == len(got.eigenvalues)
 
 
 @pytest.mark.parametrize("model,beyond_leading,params", BODIES)

@@ -367,8 +367,10 @@ def modes(
         ``damping_ratios``, ``variance_shares``, ``nullity``, ``omega``, ``zeta`` and
         ``shapes`` (points × modes: one mode per column, as ``numpy.linalg.eigh``);
         ``to_pandas()`` on each. Frequencies are in radians per unit of time (1/ω). A
-        nonlinear body gives the modes of its linearisation about equilibrium (frequencies
-        NaN where an eigenvalue is negative: an unstable direction).
+        nonlinear body, or one whose damping is not modal, gives the modes of its
+        linearisation (``linearised``, ``equilibrium``; frequencies NaN where an eigenvalue
+        is negative: an unstable direction) and the roots λ = −σ ± iω of λ²M + λC + K as
+        ``decay_rates`` σ and ``damped_frequencies`` ω.
     """
     _count("points", points, 1, _LIMITS["points"])
     _count("order", order, 1, _LIMITS["order"])

@@ -87,6 +87,10 @@ class FieldModes:
     zeta: Optional[float]
     nullity: Optional[int]
     inverse_trace: Optional[float]
+    linearised: bool
+    equilibrium: npt.NDArray[np.float64]
+    decay_rates: npt.NDArray[np.float64]
+    damped_frequencies: npt.NDArray[np.float64]
     def to_dict(self) -> Dict[str, Any]: ...
     def to_pandas(self) -> Any: ...
 

@@ -100,6 +100,12 @@ class FieldModes:
         self.zeta: Optional[float] = record.get("zeta")
         self.nullity: Optional[int] = record.get("nullity")
         self.inverse_trace: Optional[float] = record.get("inverse_trace")
+        # A linearisation (a nonlinear body, or damping that is not modal): the equilibrium and
+        # the roots λ = −σ ± iω of λ²M + λC + K (decay rates σ, damped frequencies ω).
+        self.linearised: bool = bool(record.get("linearised", False))
+        self.equilibrium = np.asarray(record.get("equilibrium", []), dtype=float)
+        self.decay_rates = np.asarray(record.get("decay_rates", []), dtype=float)
+        self.damped_frequencies = np.asarray(record.get("damped_frequencies", []), dtype=float)
 
     @property
     def shapes(self) -> Optional[np.ndarray]:
@@ -112,7 +118,7 @@ class FieldModes:
 
     def to_dict(self) -> Dict[str, Any]:
         """Plain data."""
-        return {
+        out = {
             "field": self.field,
             "eigenvalues": self.eigenvalues.tolist(),
             "frequencies": self.frequencies.tolist(),
@@ -120,19 +126,25 @@ class FieldModes:
             "variance_shares": self.variance_shares.tolist(),
             "shapes": None if self.shapes is None else self.shapes.tolist(),
         }
+        if self.linearised:
+            out["linearised"] = True
+            out["equilibrium"] = self.equilibrium.tolist()
+            out["decay_rates"] = self.decay_rates.tolist()
+            out["damped_frequencies"] = self.damped_frequencies.tolist()
+        return out
 
     def to_pandas(self) -> Any:
         """One row per mode (needs pandas)."""
         import pandas as pd
 
-        return pd.DataFrame(
-            {
-                "eigenvalue": self.eigenvalues,
-                "frequency": self.frequencies,
-                "damping_ratio": self.damping_ratios,
-                "variance_share": self.variance_shares,
-            }
-        )
+        columns = {
+            "eigenvalue": self.eigenvalues,
+            "frequency": self.frequencies,
+            "damping_ratio": self.damping_ratios,
+            "variance_share": self.variance_shares,
+        }
+        # A linearisation has no modal damping ratios or shares: only the columns it has.
+        return pd.DataFrame({k: v for k, v in columns.items() if len(v) == len(self.eigenvalues)})
 
     def __repr__(self) -> str:
         return f"FieldModes({self.field!r}, {len(self.eigenvalues)} modes)"

@@ -29,7 +29,7 @@ enum EquationFormat {
     Text,
     /// LaTeX `align*` lines.
     Latex,
-    /// JSON (serde).
+    /// JSON: one document.
     Json,
     /// CSV: one row per right-hand-side term.
     Csv,

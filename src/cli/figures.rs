@@ -17,14 +17,24 @@ pub struct Args {
     #[arg(long, value_name = "NAME")]
     only: Option<String>,
     /// File format of the figures.
-    #[arg(long, value_enum, default_value_t = Format::Svg)]
+    #[arg(long, value_enum, default_value_t = Format::Svg, visible_alias = "figure-format")]
     format: Format,
     /// Printed width in millimetres, 60 to 600 (180: a journal's full width). The layout
     /// follows the width, so text is 7.4 pt at any width.
-    #[arg(long, value_name = "MM", default_value_t = 180.0)]
+    #[arg(
+        long,
+        value_name = "MM",
+        default_value_t = 180.0,
+        visible_alias = "figure-width"
+    )]
     width: f64,
     /// Resolution of PNG figures, dots per inch (30 to 1200).
-    #[arg(long, value_name = "DPI", default_value_t = 300.0)]
+    #[arg(
+        long,
+        value_name = "DPI",
+        default_value_t = 300.0,
+        visible_alias = "figure-dpi"
+    )]
     dpi: f64,
     /// Draws of the sampled figures (pair density, 3-point bend).
     #[command(flatten)]
@@ -85,37 +95,5 @@ pub(super) fn usage(e: FigureError) -> CliError {
     match e {
         e @ FigureError::Io { .. } => CliError::Output(e.to_string()),
         FigureError::Body(m) | FigureError::Invalid(m) => CliError::Usage(m),
-    }
-}
-
-/// `fit`'s figure options: the format and printed width of `--figures DIR`.
-#[derive(Debug, clap::Args)]
-pub struct FitPageArgs {
-    /// File format of the `--figures` files.
-    #[arg(long, value_enum, default_value_t = Format::Svg, requires = "figures")]
-    figure_format: Format,
-    /// Printed width of the `--figures` files in millimetres (60 to 600).
-    #[arg(long, value_name = "MM", default_value_t = 180.0, requires = "figures")]
-    figure_width: f64,
-    /// Resolution of PNG `--figures`, dots per inch (30 to 1200).
-    #[arg(
-        long,
-        value_name = "DPI",
-        default_value_t = 300.0,
-        requires = "figures"
-    )]
-    figure_dpi: f64,
-}
-
-impl FitPageArgs {
-    /// The page, checked.
-    pub fn page(&self) -> Result<Page, CliError> {
-        let page = Page {
-            format: self.figure_format,
-            width_mm: self.figure_width,
-            dpi: self.figure_dpi,
-        };
-        page.check().map_err(usage)?;
-        Ok(page)
     }
 }

@@ -92,7 +92,7 @@ pub struct Args {
     #[arg(long, value_name = "DIR")]
     figures: Option<PathBuf>,
     #[command(flatten)]
-    page: super::figures::FitPageArgs,
+    page: super::options::FitPageArgs,
     /// Also write every frame's modal coordinates to this CSV file (t, q_<mode>, …).
     #[arg(long, value_name = "FILE")]
     series: Option<PathBuf>,

@@ -2,7 +2,7 @@
 
 use std::io::Write;
 
-use super::table::DensityChoice;
+use super::options::DensityChoice;
 use super::{emit, CliError, ModelArgs};
 use crate::interaction::InteractionsReport;
 use crate::report::Output;

@@ -7,15 +7,13 @@
 use std::io::Write;
 use std::path::PathBuf;
 
-use clap::{Args, Parser, Subcommand};
+use clap::{Parser, Subcommand};
 
-use crate::body::{Body, BodyError};
-use crate::enumerate::MAX_ORDER;
+use crate::body::BodyError;
 use crate::failure::Failure;
 use crate::modal::Params;
 use crate::model::{Model, RoleError};
 use crate::report::{EmitError, Output, Report};
-use crate::theory::Theory;
 
 mod asymmetry;
 mod behave;
@@ -28,11 +26,14 @@ mod interactions;
 mod mathieu;
 mod modes;
 mod operators;
+mod options;
 mod parts;
 mod rules;
 mod simulate;
 mod stats;
 mod table;
+
+use options::{BodyArgs, ModelArgs, PairArgs, ParamArgs, SampleArgs};
 
 /// Derive the physics of a soft slender body from symmetry alone.
 ///
@@ -62,7 +63,8 @@ enum Command {
     Operators(operators::Args),
     /// Modes of every field: eigenvalues, frequencies, damping ratios, variance shares.
     Modes(modes::Args),
-    /// Integrate the dissipative Hamilton's equations mode by mode (exact propagators); CSV out.
+    /// Integrate the equations of motion (mode by mode with exact propagators when the damping
+    /// is modal, the discretised body's implicit step otherwise), streamed as CSV or JSON.
     Simulate(simulate::Args),
     /// The interaction table: which terms could couple each pair of fields, and whether any
     /// survives at long wavelengths.
@@ -80,7 +82,7 @@ enum Command {
     Behave(behave::Args),
     /// Statistical mechanics of the modes (paper App. J).
     Stats(stats::Args),
-    /// Write the SVG figures (mode shapes, spectrum, self-righting, rearing and hunching,
+    /// Write the figures as SVG, PNG or PDF (mode shapes, spectrum, self-righting, rearing and hunching,
     /// asymmetry, equipartition, peristalsis, rolling, free energy, 3-point bend, Mathieu
     /// chart) of a body into a directory.
     Figures(figures::Args),
@@ -181,163 +183,6 @@ fn points_parser(
 ) -> impl clap::builder::TypedValueParser<Value = usize> {
     use clap::builder::TypedValueParser;
     clap::value_parser!(u64).range(range).map(|n| n as usize)
-}
-
-/// Which model, at which order.
-#[derive(Debug, Args)]
-struct ModelArgs {
-    /// Order of the expansion: candidates have δ ≤ N and ε ≤ N, and τ+σ ≤ N (Lagrangian) or
-    /// τ ≤ N and σ ≤ N (Rayleigh). From 1 to 32.
-    #[arg(long, short, default_value_t = crate::model::DEFAULT_ORDER, value_name = "N",
-          value_parser = clap::value_parser!(u32).range(1..=MAX_ORDER as i64))]
-    order: u32,
-    /// A model file (TOML) instead of the embedded larva model.
-    #[arg(long, value_name = "FILE")]
-    model: Option<PathBuf>,
-    /// Keep K orders beyond the leading one in both densities (1: the next-to-leading order):
-    /// the first 1 + K layers of the admitted terms, each the lowest order of what the layers
-    /// before it left. Default: the model's own `beyond_leading` (0 for the larva).
-    #[arg(long, value_name = "K",
-          value_parser = clap::value_parser!(u32).range(0..=crate::model::MAX_BEYOND_LEADING as i64))]
-    beyond_leading: Option<u32>,
-}
-
-impl ModelArgs {
-    fn load(&self) -> Result<Model, CliError> {
-        let mut model = load_model(&self.model)?;
-        if let Some(k) = self.beyond_leading {
-            model.lagrangian.beyond_leading = k;
-            model.rayleigh.beyond_leading = k;
-        }
-        Ok(model)
-    }
-}
-
-/// Scales of the frequencies and damping.
-#[derive(Debug, Args)]
-struct ParamArgs {
-    /// Set a scale, e.g. `--param omega_b=2.5 --param zeta_s=0.3` (defaults: ω = 1, ζ = 0.1).
-    #[arg(long = "param", value_name = "NAME=VALUE")]
-    params: Vec<String>,
-    /// Read scales from a TOML file of `omega_s = 1.0` lines (before any --param).
-    #[arg(long = "params", value_name = "FILE")]
-    params_file: Option<PathBuf>,
-}
-
-impl ParamArgs {
-    /// The body these coefficients and scales set, of the model `model` names.
-    fn body(&self, model: &ModelArgs) -> Result<Body, CliError> {
-        check_list("--param", self.params.len())?;
-        let base = base_params(self)?;
-        let assignments = self
-            .params
-            .iter()
-            .map(|p| crate::body::assignment(p))
-            .collect::<Result<Vec<_>, _>>()?;
-        Ok(Body::new(
-            model.load()?,
-            model.order,
-            None,
-            base,
-            &assignments,
-        )?)
-    }
-
-    /// Whether any coefficient or scale is given.
-    fn any(&self) -> bool {
-        !self.params.is_empty() || self.params_file.is_some()
-    }
-
-    /// Whether a damping scale was given for `scale` (by --param or a file).
-    fn sets_zeta(&self, params: &Params, scale: &str) -> bool {
-        self.params_file.is_some() || params.get(&format!("zeta_{scale}")).is_some()
-    }
-}
-
-/// A body to run behaviours on: model, order, points and scales, turned into one [`Theory`].
-#[derive(Debug, Args)]
-struct BodyArgs {
-    #[command(flatten)]
-    model: ModelArgs,
-    /// Points along the body, from the least the model's operators take (3 for the larva; the
-    /// error names it) to 2000.
-    #[arg(long, short, default_value_t = 12, value_name = "N",
-          value_parser = points_parser(1..=crate::dynamics::MAX_SIM_POINTS as u64))]
-    points: usize,
-    #[command(flatten)]
-    params: ParamArgs,
-}
-
-impl BodyArgs {
-    /// The theory of this body (every field's modes, once) for `what`.
-    fn theory(&self, what: &'static str) -> Result<Theory, CliError> {
-        if self.points > crate::dynamics::MAX_SIM_POINTS {
-            return Err(CliError::Usage(format!(
-                "at most {} points",
-                crate::dynamics::MAX_SIM_POINTS
-            )));
-        }
-        Ok(self.params.body(&self.model)?.theory(self.points, what)?)
-    }
-}
-
-/// Draws of a sampled result: how many, and the seed (same seed, same draws).
-#[derive(Debug, Args)]
-struct SampleArgs {
-    /// Samples to draw.
-    #[arg(long, default_value_t = 100_000)]
-    samples: usize,
-    /// Seed of the sampler.
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
-}
-
-/// The frequency ω of a degenerate pair: given, or the first axial pair of a named body.
-#[derive(Debug, Args)]
-struct PairArgs {
-    /// The pair's frequency ω. Default: with --model, --points, --param or --params, the
-    /// frequency of that body's first axial pair; otherwise 1 (the unit of frequency).
-    #[arg(long, allow_hyphen_values = true)]
-    omega: Option<f64>,
-    #[command(flatten)]
-    model: ModelArgs,
-    /// Points along the body whose axial pair sets ω (default 12 with --model): at least what
-    /// the model's operators need (3 for the larva), up to 2000.
-    #[arg(long, short, value_name = "N",
-          value_parser = points_parser(1..=crate::dynamics::MAX_SIM_POINTS as u64))]
-    points: Option<usize>,
-    #[command(flatten)]
-    params: ParamArgs,
-}
-
-impl PairArgs {
-    /// ω for `behaviour` (which names the role it needs in errors).
-    fn omega(&self, behaviour: &'static str) -> Result<f64, CliError> {
-        let scales_given = self.params.any();
-        if let Some(w) = self.omega {
-            // Never ignored silently: scales would have no effect beside ω itself.
-            if scales_given {
-                return Err(CliError::Usage(
-                    "--omega gives ω itself: --param and --params would have no effect (give one or the other)".into(),
-                ));
-            }
-            return Ok(w);
-        }
-        if self.model.model.is_none() && self.points.is_none() && !scales_given {
-            return Ok(1.0);
-        }
-        let points = self.points.unwrap_or(12);
-        let theory = self.params.body(&self.model)?.theory(points, behaviour)?;
-        let f = crate::behaviour::role_fields(&theory.model, behaviour)?[0];
-        let fm = &theory.modes[f];
-        let (i, _) = *fm.degenerate_pairs.first().ok_or_else(|| {
-            CliError::Usage(format!(
-                "{behaviour}: the axial field {} of model {:?} has no degenerate pair (give --omega)",
-                fm.field.id, theory.model.name
-            ))
-        })?;
-        Ok(fm.modes[i].frequency)
-    }
 }
 
 pub use crate::body::MAX_LIST;

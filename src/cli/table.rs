@@ -2,10 +2,10 @@
 
 use std::io::Write;
 
+use super::options::DensityChoice;
 use super::{written, CliError, ModelArgs};
 use crate::enumerate::Basis;
 use crate::enumerate::MAX_CANDIDATES;
-use crate::model::Density;
 use crate::reduce::{
     analyse_basis, analyse_streamed, check_work, check_work_within, OrderError, MAX_STREAMED,
 };
@@ -25,28 +25,6 @@ pub struct Args {
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Text)]
     format: Format,
-}
-
-/// Which densities to print.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum DensityChoice {
-    /// The Lagrangian density only.
-    Lagrangian,
-    /// The Rayleigh density only.
-    Rayleigh,
-    /// Both, Lagrangian first.
-    Both,
-}
-
-impl DensityChoice {
-    /// The densities chosen.
-    pub fn densities(self) -> &'static [Density] {
-        match self {
-            DensityChoice::Lagrangian => &[Density::Lagrangian],
-            DensityChoice::Rayleigh => &[Density::Rayleigh],
-            DensityChoice::Both => &Density::ALL,
-        }
-    }
 }
 
 /// Print the tables.
