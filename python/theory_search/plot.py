@@ -52,7 +52,7 @@ def modes(result: Any, field: str = "y", count: int = 4, ax: Any = None):
 
 
 @shared
-def spectrum(fit: Any, modes: Sequence[int] = (0, 1, 2, 3), ax: Any = None):
+def spectrum(fit: Any, modes: Optional[Sequence[int]] = None, ax: Any = None):
     """The Welch spectra of a fit's mode coordinates, log scale, each with the frequency the
     theory gives it.
 
@@ -60,23 +60,29 @@ def spectrum(fit: Any, modes: Sequence[int] = (0, 1, 2, 3), ax: Any = None):
     ----------
     fit : FitResult
         From :func:`theory_search.fit`.
-    modes : sequence of int
-        Which fitted modes (rows of ``fit.psd``).
+    modes : sequence of int, optional
+        Which modes, by the numbers the report prints (zero modes counted: the first bending
+        mode of a free body is mode 2); the first four fitted ones when None. Row ``j`` of
+        ``fit.psd`` is mode ``fit.to_dict()["modes"][j]["index"]``.
     @ax
     @figure
     """
     fig, (axis,) = _axes(ax)
-    records = {m["index"]: m for m in (fit.to_dict().get("modes") or [])}
-    for k in modes:
-        if k >= len(fit.psd):
+    rows = fit.to_dict().get("modes") or []
+    numbers = [m["index"] for m in rows]
+    for k in numbers[:4] if modes is None else modes:
+        if k not in numbers or numbers.index(k) >= len(fit.psd):
             continue
-        (line,) = axis.semilogy(fit.frequencies, fit.psd[k], label=f"mode {k}")
-        theory = records.get(k, {}).get("theory_angular_frequency")
+        j = numbers.index(k)
+        (line,) = axis.semilogy(fit.frequencies, fit.psd[j], label=f"mode {k}")
+        theory = rows[j].get("theory_angular_frequency")
         if theory:
             axis.axvline(theory / (2 * np.pi), color=line.get_color(), ls=":", lw=1)
-    axis.set_xlabel("frequency (per time unit)")
+    unit = (fit.to_dict().get("units") or {}).get("time")
+    axis.set_xlabel(f"frequency (cycles per {unit})" if unit else "frequency (cycles per time unit)")
     axis.set_ylabel("power spectral density")
-    axis.legend(frameon=False, loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8)
+    if axis.get_lines():
+        axis.legend(frameon=False, loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8)
     return fig
 
 
