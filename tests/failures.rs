@@ -45,6 +45,9 @@ fn the_exit_code_follows_the_kind_of_failure() {
         2,
         "no field of the larva model uses it",
     );
+    // Usage: a command group without its subcommand.
+    fails(&["behave"], 2, "commands: peristalsis, rolling");
+    fails(&["stats"], 2, "a subcommand is needed");
     // Input: a model file that does not exist.
     fails(
         &["modes", "-p", "12", "--model", "/no/such.toml"],

@@ -606,9 +606,12 @@ fn fit_paths<'py>(
 ) -> PyResult<FitOut<'py>> {
     let model = model_of(model)?;
     let settings = settings_of(options)?;
-    let inputs = paths
+    // Files, directories and patterns, as the command line takes them.
+    let paths: Vec<std::path::PathBuf> = paths.into_iter().map(Into::into).collect();
+    let inputs = theory_search::fit::recordings(&paths)
+        .map_err(fit_error)?
         .into_iter()
-        .map(|p| Input::File(p.into()))
+        .map(Input::File)
         .collect::<Vec<_>>();
     let report = py
         .detach(|| fit_inputs(inputs, &model, &Params::default(), &settings, None))

@@ -116,3 +116,20 @@ def test_errors_are_typed_by_kind():
         ts.simulate(points=12, initial={"y": 1.0})  # a uniform state is for a nonlinear body
     # numpy integers are whole numbers.
     assert len(ts.modes(points=np.int64(12), k=np.int32(3))["y"].eigenvalues) == 3
+
+
+def test_what_a_notebook_user_passes(tmp_path):
+    # A command as one string, as in a shell.
+    assert ts.run("modes", points=8)["points"] == 8
+    assert ts.run("behave rearing", points=8)
+    # A directory of recordings, as the command line takes it.
+    worm = Path(__file__).resolve().parents[3] / "shared" / "data" / "celegans_wormpose_15fps_52pts.csv"
+    (tmp_path / "a.csv").symlink_to(worm)
+    (tmp_path / "notes.md").write_text("not a recording")
+    by_dir = ts.fit(str(tmp_path), window=64)
+    by_file = ts.fit(str(worm), window=64)
+    assert by_dir.omega == by_file.omega
+    # Messages in Python's words: no "--help", ranges as words.
+    with pytest.raises(ts.UsageError) as e:
+        ts.run("modes", points=0)
+    assert "--help" not in str(e.value) and "..=" not in str(e.value)

@@ -61,8 +61,9 @@ def run(
 
     Parameters
     ----------
-    command : sequence of str
-        The command and its positional words, e.g. ``["behave", "rolling"]``.
+    command : str or sequence of str
+        The command and its positional words, e.g. ``"behave rolling"`` or
+        ``["behave", "rolling"]``.
     @model
     @params
     options
@@ -77,6 +78,8 @@ def run(
     """
     from . import Model
 
+    if isinstance(command, str):  # "modes" or "behave rolling": its words
+        command = command.split()
     argv = _argv(command, params=params, options=options) + ["--format", "json"]
     if model is None:
         return _result(_run(argv))

@@ -4,6 +4,7 @@ catches for its kind, with the command line's one-line message."""
 from __future__ import annotations
 
 import functools
+import re
 import operator
 from typing import Any, Callable, Tuple, Type, TypeVar
 
@@ -48,6 +49,14 @@ _KINDS: Tuple[Tuple[Type[BaseException], Type[BaseException]], ...] = (
 F = TypeVar("F", bound=Callable[..., Any])
 
 
+def _pythonic(message: str) -> str:
+    """The command line's message in a Python user's words: no ``--help`` to see, ranges as
+    words, options as keyword arguments."""
+    message = message.replace(" (see --help)", "")
+    message = re.sub(r"(-?\d+) is not in (-?\d+)\.\.=(-?\d+)", r"\1 is not between \2 and \3", message)
+    return re.sub(r"'--([a-z][a-z-]*)(?: <[A-Z_]+>)?'", lambda m: m.group(1).replace("-", "_") + "=", message)
+
+
 def translated(fn: F) -> F:
     """``fn`` with the native exceptions raised as the Python ones above."""
 
@@ -58,7 +67,7 @@ def translated(fn: F) -> F:
         except _native.TheorySearchError as e:
             for native, python in _KINDS:
                 if isinstance(e, native):
-                    raise python(str(e)) from None
+                    raise python(_pythonic(str(e))) from None
             raise
 
     return call  # type: ignore[return-value]

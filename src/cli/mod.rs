@@ -312,9 +312,14 @@ where
             use clap::error::ErrorKind;
             let rendered = e.render().to_string();
             return match e.kind() {
-                ErrorKind::DisplayHelp
-                | ErrorKind::DisplayVersion
-                | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => write_out(out, &rendered),
+                ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => write_out(out, &rendered),
+                // `behave` or `stats` alone: bad usage (exit 2), naming the choices.
+                ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+                    Err(CliError::Usage(format!(
+                        "a subcommand is needed; {} (see --help)",
+                        subcommand_choices(&args).unwrap_or_default()
+                    )))
+                }
                 _ => {
                     // Clap's message runs up to the first blank line; keep it, on one line.
                     // Clap's suggestions ("tip: a similar subcommand exists") follow the blank
