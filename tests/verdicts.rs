@@ -7,7 +7,7 @@
 
 use rand::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
-use theory_search::fit::{fit, FitReport, FitSettings, InputKind};
+use theory_search::fit::{fit, FitReport, FitSettings, InputKind, Verdict};
 use theory_search::modal::Params;
 use theory_search::model::Model;
 
@@ -197,7 +197,7 @@ fn check_recovered(body: Body, seed: u64, window: usize) {
                 &r.tests.dispersion,
                 &r.tests.damping,
             ] {
-                assert_eq!(t.verdict, "consistent", "{what}");
+                assert_eq!(t.verdict, Verdict::Consistent, "{what}");
             }
         }
     }
@@ -239,7 +239,12 @@ fn a_driven_travelling_wave_is_not_a_passive_beam() {
         text.push('\n');
     }
     let r = fitted(&text, false, 12, None);
-    assert_eq!(r.tests.dispersion.verdict, "rejected", "{:?}", r.tests);
+    assert_eq!(
+        r.tests.dispersion.verdict,
+        Verdict::Rejected,
+        "{:?}",
+        r.tests
+    );
     assert!(
         r.warnings
             .iter()

@@ -92,7 +92,7 @@ pub use read::{Frame, LineError, Track, MAX_LINE_BYTES, MAX_WHOLE_FILE};
 pub use report::{AnimalFit, Continuum, FitReport, ModeFit, Recording, Subspace};
 pub use settings::*;
 pub use verdict::{
-    ModeSpectralFit, TheoryTest, TheoryTests, WindowChoice, RESOLVED_BINS, WIDTH_BINS,
+    ModeSpectralFit, TheoryTest, TheoryTests, Verdict, WindowChoice, RESOLVED_BINS, WIDTH_BINS,
 };
 pub use window::spectral_peak_and_centroid;
 

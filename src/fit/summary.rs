@@ -3,7 +3,7 @@
 
 use super::project::Projector;
 use super::stats::Spectra;
-use super::verdict;
+use super::verdict::{self, ModeSpectralFit, TheoryTests};
 use super::window::{
     choose_window, fit_modes_spectra, lowest_frequency, spectral_peak_and_centroid,
 };
@@ -130,21 +130,7 @@ pub(super) fn summarise(
     spectra: Vec<Spectra>,
     scope: Scope<'_>,
 ) -> Result<FitReport, FitError> {
-    let invalid = |s: String| FitError::Invalid(s);
-    // No eigen-solve or SVD on non-finite moments (nalgebra's SVD panics on NaN).
-    if cov
-        .iter()
-        .flatten()
-        .chain(spectra.iter().flat_map(|s| s.psd.iter().flatten()))
-        .any(|v| !v.is_finite())
-    {
-        return Err(invalid(
-            "the modal coordinates' moments overflow: rescale the data".into(),
-        ));
-    }
-    if spectra.is_empty() {
-        return Err(invalid("no spectra to fit".into()));
-    }
+    check_moments(&cov, &spectra)?;
     let fs = 1.0 / interval;
     let warm = match scope {
         Scope::Constants(Some(r)) => Some(r),
@@ -181,7 +167,7 @@ pub(super) fn summarise(
         psd,
     } = spec;
     let lambdas = &proj.eigenvalues;
-    let (m, first_mode) = (lambdas.len(), proj.first_mode);
+    let m = lambdas.len();
 
     // PCA in the body metric: eigen of cov(Q), descending.
     let (pca_share, components) = descending_eigen(&cov);
@@ -194,16 +180,98 @@ pub(super) fn summarise(
         .collect();
     let mode_overlap = pair_overlaps(lambdas, &components);
     let subspace = subspaces(&cov, &pca_share, &components);
-    let mut modes: Vec<ModeFit> = (0..m)
+    let mut modes = mode_table(proj, settings, &cov, &frequencies, &psd);
+    let (noise_floor, tests) = vote(proj, &cov, &mut modes_fit);
+
+    let used = settings.fit_modes.min(m);
+    let mut warnings = Vec::new();
+    let (omega, beta, continuum) = scales(
+        proj,
+        settings,
+        &cov,
+        (&modes_fit, &modes),
+        (used, used_window),
+        &mut warnings,
+    )?;
+    warn_of(&modes_fit, &cov, &tests, &mut warnings);
+    for x in &mut modes {
+        x.theory_angular_frequency = omega * x.eigenvalue.sqrt();
+    }
+    Ok(FitReport {
+        continuum,
+        modes_fit,
+        tests,
+        noise_floor,
+        window,
+        frames: 0,
+        recording: Recording::default(),
+        warnings,
+        animals: Vec::new(),
+        units: Units::default(),
+        spacing: 0.0,
+        subspace,
+        intervals: None,
+        onward: Vec::new(),
+        points: proj.input_points,
+        pca_variance_share: pca_share,
+        theory_variance_share: theory_share,
+        overlap,
+        omega,
+        beta,
+        kind: settings.kind,
+        field: proj.field.clone(),
+        scale: proj.scale.clone(),
+        model_points: proj.points,
+        sample_interval: interval,
+        welch: (used_window, segments),
+        mode_overlap,
+        angle_pca_variance_share: angle_share,
+        modes,
+        fitted_modes: used,
+        frequencies,
+        psd,
+        components,
+        shapes: proj.shapes.clone(),
+    })
+}
+
+/// No eigen-solve or SVD on non-finite moments (nalgebra's SVD panics on NaN), and spectra
+/// to fit.
+fn check_moments(cov: &[Vec<f64>], spectra: &[Spectra]) -> Result<(), FitError> {
+    if cov
+        .iter()
+        .flatten()
+        .chain(spectra.iter().flat_map(|s| s.psd.iter().flatten()))
+        .any(|v| !v.is_finite())
+    {
+        return Err(FitError::Invalid(
+            "the modal coordinates' moments overflow: rescale the data".into(),
+        ));
+    }
+    if spectra.is_empty() {
+        return Err(FitError::Invalid("no spectra to fit".into()));
+    }
+    Ok(())
+}
+
+/// Each mode's eigenvalue, variance and spectral peak and centroid.
+fn mode_table(
+    proj: &Projector,
+    settings: &FitSettings,
+    cov: &[Vec<f64>],
+    frequencies: &[f64],
+    psd: &[Vec<f64>],
+) -> Vec<ModeFit> {
+    (0..proj.eigenvalues.len())
         .map(|j| {
-            let (peak, centroid) = spectral_peak_and_centroid(&frequencies, &psd[j]);
+            let (peak, centroid) = spectral_peak_and_centroid(frequencies, &psd[j]);
             let f = match settings.estimator {
                 Estimator::Peak => peak,
                 Estimator::Centroid => centroid,
             };
             ModeFit {
-                index: first_mode + j,
-                eigenvalue: lambdas[j],
+                index: proj.first_mode + j,
+                eigenvalue: proj.eigenvalues[j],
                 variance: cov[j][j],
                 peak_frequency: peak,
                 centroid_frequency: centroid,
@@ -211,28 +279,50 @@ pub(super) fn summarise(
                 theory_angular_frequency: 0.0,
             }
         })
-        .collect();
+        .collect()
+}
 
-    // The tests, over the modes that vote, against the continuum eigenvalues.
-    let noise_floor = verdict::noise_floor(&modes_fit);
+/// Which modes vote (above the noise floor, resolved, not leaking), and the three tests over
+/// them against the continuum eigenvalues.
+fn vote(
+    proj: &Projector,
+    cov: &[Vec<f64>],
+    modes_fit: &mut [ModeSpectralFit],
+) -> (Option<f64>, TheoryTests) {
+    let lambdas = &proj.eigenvalues;
+    let m = lambdas.len();
+    let noise_floor = verdict::noise_floor(modes_fit);
     let k = proj.stencil as i32;
     let continuum_lambda: Vec<Option<f64>> = (0..m)
         .map(|j| continuum_root(proj, j + 1).map(|b| b.powi(2 * k)))
         .collect();
-    verdict::disqualify(&mut modes_fit, noise_floor, &continuum_lambda);
-    verdict::drop_leaks(&mut modes_fit, &cov);
+    verdict::disqualify(modes_fit, noise_floor, &continuum_lambda);
+    verdict::drop_leaks(modes_fit, cov);
     let regressor: Vec<f64> = (0..m)
         .map(|j| continuum_lambda[j].unwrap_or(lambdas[j]))
         .collect();
-    let tests = verdict::tests(&modes_fit, &regressor, &proj.continuum_gains());
+    let tests = verdict::tests(modes_fit, &regressor, &proj.continuum_gains());
+    (noise_floor, tests)
+}
 
-    let used = settings.fit_modes.min(m);
+/// ω, β and the continuum constant from the voting modes (from the spectral peaks when none
+/// votes, said in `warnings`), checked to be measurable and representable.
+fn scales(
+    proj: &Projector,
+    settings: &FitSettings,
+    cov: &[Vec<f64>],
+    (modes_fit, modes): (&[ModeSpectralFit], &[ModeFit]),
+    (used, window): (usize, usize),
+    warnings: &mut Vec<String>,
+) -> Result<(f64, f64, Option<Continuum>), FitError> {
+    let invalid = |s: String| FitError::Invalid(s);
+    let lambdas = &proj.eigenvalues;
+    let (m, first_mode) = (lambdas.len(), proj.first_mode);
     let voting: Vec<(usize, f64, f64)> = modes_fit[..used]
         .iter()
         .filter(|f| f.votes)
         .filter_map(|f| Some((f.mode, f.omega, f.omega_error?)))
         .collect();
-    let mut warnings = Vec::new();
     let unresolved: Vec<String> = modes_fit[..used]
         .iter()
         .filter(|f| !f.resolved)
@@ -240,7 +330,7 @@ pub(super) fn summarise(
         .collect();
     if !unresolved.is_empty() {
         warnings.push(format!(
-            "at a {used_window}-frame window the spectral fits cannot resolve mode(s) {} (see the per-mode notes): left out of ω, β and κ",
+            "at a {window}-frame window the spectral fits cannot resolve mode(s) {} (see the per-mode notes): left out of ω, β and κ",
             unresolved.join(", ")
         ));
     }
@@ -294,7 +384,17 @@ pub(super) fn summarise(
             number(beta)
         )));
     }
-    let pairs = verdict::correlated(&modes_fit, &cov);
+    Ok((omega, beta, continuum))
+}
+
+/// Warnings on what the voting modes show: pairs that move together, a rejected dispersion.
+fn warn_of(
+    modes_fit: &[ModeSpectralFit],
+    cov: &[Vec<f64>],
+    tests: &TheoryTests,
+    warnings: &mut Vec<String>,
+) {
+    let pairs = verdict::correlated(modes_fit, cov);
     if !pairs.is_empty() {
         let shown: Vec<String> = pairs
             .iter()
@@ -308,50 +408,11 @@ pub(super) fn summarise(
             if pairs.len() > 6 { ", …" } else { "" }
         ));
     }
-    if tests.dispersion.verdict == "rejected" {
+    if tests.dispersion.verdict == verdict::Verdict::Rejected {
         warnings.push(
             "the dispersion Ωᵢ ∝ √λᵢ is rejected: the modes do not oscillate as a passive body's would (a driven rhythm?), so ω and κ are not constants of the body".into(),
         );
     }
-    for x in &mut modes {
-        x.theory_angular_frequency = omega * x.eigenvalue.sqrt();
-    }
-    Ok(FitReport {
-        continuum,
-        modes_fit,
-        tests,
-        noise_floor,
-        window,
-        frames: 0,
-        recording: Recording::default(),
-        warnings,
-        animals: Vec::new(),
-        units: Units::default(),
-        spacing: 0.0,
-        subspace,
-        intervals: None,
-        onward: Vec::new(),
-        points: proj.input_points,
-        pca_variance_share: pca_share,
-        theory_variance_share: theory_share,
-        overlap,
-        omega,
-        beta,
-        kind: settings.kind,
-        field: proj.field.clone(),
-        scale: proj.scale.clone(),
-        model_points: proj.points,
-        sample_interval: interval,
-        welch: (used_window, segments),
-        mode_overlap,
-        angle_pca_variance_share: angle_share,
-        modes,
-        fitted_modes: used,
-        frequencies,
-        psd,
-        components,
-        shapes: proj.shapes.clone(),
-    })
 }
 
 /// Plain angle-space covariance (S V) cov(Q) (S V)ᵀ over the observations, `design[i]` = S vᵢ.

@@ -74,6 +74,28 @@ pub struct ModeSpectralFit {
     pub note: Option<String>,
 }
 
+/// What a test says of the theory.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Verdict {
+    /// The fitted exponent's interval holds the theory's.
+    Consistent,
+    /// It does not.
+    Rejected,
+    /// Too few voting modes, or an interval too wide to tell.
+    Undetermined,
+}
+
+impl std::fmt::Display for Verdict {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Verdict::Consistent => "consistent",
+            Verdict::Rejected => "rejected",
+            Verdict::Undetermined => "undetermined",
+        })
+    }
+}
+
 /// The fitted exponent of one prediction and its verdict.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct TheoryTest {
@@ -83,8 +105,8 @@ pub struct TheoryTest {
     pub interval: Option<[f64; 2]>,
     /// The theory's exponent.
     pub expected: f64,
-    /// `consistent`, `rejected` or `undetermined`.
-    pub verdict: &'static str,
+    /// What the test says.
+    pub verdict: Verdict,
     /// The modes that voted.
     pub modes: Vec<usize>,
     /// Why undetermined, or how the interval was widened.
@@ -310,7 +332,7 @@ fn exponent(points: &[(usize, f64, f64, f64)], expected: f64) -> TheoryTest {
         exponent: None,
         interval: None,
         expected,
-        verdict: "undetermined",
+        verdict: Verdict::Undetermined,
         modes: modes.clone(),
         note: Some(note),
     };
@@ -359,18 +381,18 @@ fn exponent(points: &[(usize, f64, f64, f64)], expected: f64) -> TheoryTest {
     let half = quantile * se;
     let (verdict, why) = if n < 3 {
         (
-            "undetermined",
+            Verdict::Undetermined,
             Some(format!("{n} voting modes; at least 3 are needed")),
         )
     } else if half > expected.abs() {
         (
-            "undetermined",
+            Verdict::Undetermined,
             Some("the interval is wider than the expected exponent".to_string()),
         )
     } else if interval[0] <= expected && expected <= interval[1] {
-        ("consistent", note)
+        (Verdict::Consistent, note)
     } else {
-        ("rejected", note)
+        (Verdict::Rejected, note)
     };
     TheoryTest {
         exponent: Some(slope),
