@@ -12,7 +12,9 @@ import pytest
 import theory_search as ts
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
-BINARY = ROOT / "target" / "release" / "theory-search"
+# Where cargo put it: CARGO_TARGET_DIR when set (relative to the checkout), else target/.
+TARGET = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", "target"))
+BINARY = (TARGET if TARGET.is_absolute() else ROOT / TARGET) / "release" / "theory-search"
 
 
 def cli_json(*args):
