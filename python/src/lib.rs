@@ -517,9 +517,93 @@ type FitOut<'py> = (
     Bound<'py, PyArray2<f64>>,
     Bound<'py, PyArray2<f64>>,
     Bound<'py, PyArray2<f64>>,
+    Vec<String>,
 );
 
-fn fit_out<'py>(py: Python<'py>, r: FitReport) -> PyResult<FitOut<'py>> {
+/// `fit`'s figure options (`figures`, `figure_format`, `figure_width`, `figure_dpi`), taken out
+/// of `options`: the folder to write the fit's figures into and the page, checked before the
+/// fit.
+fn figure_page(
+    options: Option<&Bound<'_, PyDict>>,
+) -> PyResult<Option<(std::path::PathBuf, theory_search::figures::Page)>> {
+    use theory_search::figures::{Format, Page};
+    let Some(options) = options else {
+        return Ok(None);
+    };
+    let take = |key: &str| -> PyResult<Option<Bound<'_, PyAny>>> {
+        let v = options.get_item(key)?;
+        if v.is_some() {
+            options.del_item(key)?;
+        }
+        Ok(v)
+    };
+    let (dir, format, width, dpi) = (
+        take("figures")?,
+        take("figure_format")?,
+        take("figure_width")?,
+        take("figure_dpi")?,
+    );
+    let Some(dir) = dir.filter(|d| !d.is_none()) else {
+        if format.is_some() || width.is_some() || dpi.is_some() {
+            return Err(usage(
+                "figure_format, figure_width and figure_dpi need figures=DIR",
+            ));
+        }
+        return Ok(None);
+    };
+    let bad = |what: &str| usage(format!("fit option {what}: expected a number"));
+    let mut page = Page {
+        format: Format::Svg,
+        width_mm: 180.0,
+        dpi: 300.0,
+    };
+    if let Some(f) = format {
+        page.format = match f
+            .extract::<String>()
+            .map_err(|_| usage("figure_format must be \"svg\", \"png\" or \"pdf\""))?
+            .as_str()
+        {
+            "svg" => Format::Svg,
+            "png" => Format::Png,
+            "pdf" => Format::Pdf,
+            other => {
+                return Err(usage(format!(
+                    "figure_format must be \"svg\", \"png\" or \"pdf\", not {:?}",
+                    theory_search::markup::clip(other)
+                )))
+            }
+        };
+    }
+    if let Some(w) = width {
+        page.width_mm = w.extract().map_err(|_| bad("figure_width"))?;
+    }
+    if let Some(d) = dpi {
+        page.dpi = d.extract().map_err(|_| bad("figure_dpi"))?;
+    }
+    page.check().map_err(usage)?;
+    let dir: std::path::PathBuf = dir
+        .extract()
+        .map_err(|_| usage("figures must be a folder's path"))?;
+    Ok(Some((dir, page)))
+}
+
+/// Write the fit's figures where asked; their paths.
+fn write_figures(
+    r: &FitReport,
+    page: Option<(std::path::PathBuf, theory_search::figures::Page)>,
+) -> PyResult<Vec<String>> {
+    use theory_search::figures::FigureError;
+    let Some((dir, page)) = page else {
+        return Ok(Vec::new());
+    };
+    match theory_search::figures::write_fit(&dir, r, &page) {
+        Ok(paths) => Ok(paths.iter().map(|p| p.display().to_string()).collect()),
+        Err(e @ FigureError::Io { .. }) => Err(OutputError::new_err(one_line(&e.to_string()))),
+        Err(e) => Err(usage(e)),
+    }
+}
+
+fn fit_out<'py>(py: Python<'py>, r: FitReport, figures: Vec<String>) -> PyResult<FitOut<'py>> {
     let json = serde_json::to_string(&r).map_err(usage)?;
     let two = |v: &Vec<Vec<f64>>| PyArray2::from_vec2(py, v).map_err(usage);
     Ok((
@@ -528,6 +612,7 @@ fn fit_out<'py>(py: Python<'py>, r: FitReport) -> PyResult<FitOut<'py>> {
         two(&r.psd)?,
         two(&r.components)?,
         two(&r.shapes)?,
+        figures,
     ))
 }
 
@@ -543,6 +628,7 @@ fn fit_arrays<'py>(
     options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<FitOut<'py>> {
     let model = model_of(model)?;
+    let page = figure_page(options)?;
     let settings = settings_of(options)?;
     if animals.len() != times.len() {
         return Err(usage("one time array per animal"));
@@ -592,7 +678,8 @@ fn fit_arrays<'py>(
             )
         })
         .map_err(fit_error)?;
-    fit_out(py, report)
+    let written = write_figures(&report, page)?;
+    fit_out(py, report, written)
 }
 
 /// Fit recordings read from files (any format `fit` reads), each one animal or several.
@@ -605,6 +692,7 @@ fn fit_paths<'py>(
     options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<FitOut<'py>> {
     let model = model_of(model)?;
+    let page = figure_page(options)?;
     let settings = settings_of(options)?;
     // Files, directories and patterns, as the command line takes them.
     let paths: Vec<std::path::PathBuf> = paths.into_iter().map(Into::into).collect();
@@ -616,7 +704,8 @@ fn fit_paths<'py>(
     let report = py
         .detach(|| fit_inputs(inputs, &model, &Params::default(), &settings, None))
         .map_err(fit_error)?;
-    fit_out(py, report)
+    let written = write_figures(&report, page)?;
+    fit_out(py, report, written)
 }
 
 /// Run a command line of the `theory-search` CLI in this process (GIL released); its standard

@@ -133,3 +133,19 @@ def test_what_a_notebook_user_passes(tmp_path):
     with pytest.raises(ts.UsageError) as e:
         ts.run("modes", points=0)
     assert "--help" not in str(e.value) and "..=" not in str(e.value)
+
+
+def test_a_dataframe_and_figures_from_a_notebook(tmp_path):
+    import pandas as pd
+
+    worm = Path(__file__).resolve().parents[3] / "shared" / "data" / "celegans_wormpose_15fps_52pts.csv"
+    by_file = ts.fit(str(worm), window=64)
+    # The CSV's own layout as pandas reads it: t, then x1, y1, … (NaN rows are lost frames).
+    by_frame = ts.fit(pd.read_csv(worm), window=64)
+    np.testing.assert_allclose(by_frame.omega, by_file.omega, rtol=1e-9)
+    assert by_file.figures == []
+    drawn = ts.fit(str(worm), window=64, figures=tmp_path / "figs", figure_format="png",
+                   figure_width=85)
+    assert drawn.figures and all(Path(p).is_file() and p.endswith(".png") for p in drawn.figures)
+    with pytest.raises(ts.UsageError):
+        ts.fit(str(worm), window=64, figure_format="png")  # without figures= it would do nothing

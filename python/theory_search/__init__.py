@@ -464,8 +464,12 @@ class FitResult:
     """A fit: the report's numbers as attributes (lists become numpy arrays), the spectra,
     principal components and mode shapes as arrays, and :meth:`to_dict`."""
 
-    def __init__(self, report: Dict[str, Any], frequencies, psd, components, shapes) -> None:
+    def __init__(
+        self, report: Dict[str, Any], frequencies, psd, components, shapes, figures=None
+    ) -> None:
         self._report = report
+        # The paths of the figures written (``fit(..., figures=DIR)``), else empty.
+        self.figures: List[str] = list(figures or [])
         self.frequencies = frequencies
         self.psd = psd
         self.components = components
@@ -507,6 +511,21 @@ class FitResult:
         return f"FitResult(frames={self._report['frames']}, omega={self._report['omega']:.6g}, beta={self._report['beta']:.6g})"
 
 
+def _from_frame(frame: Any, t: Any) -> tuple:
+    """A DataFrame in a recording's own layout (``t``, then ``x1, y1, …, xK, yK``, as
+    ``pandas.read_csv`` gives it) as midlines (frames × K × 2) and times."""
+    data = np.asarray(frame.to_numpy(dtype=float))
+    first = str(frame.columns[0]).strip().lower() if len(frame.columns) else ""
+    if first in ("t", "time"):
+        t = data[:, 0] if t is None else t
+        data = data[:, 1:]
+    if data.ndim != 2 or data.shape[1] < 4 or data.shape[1] % 2:
+        raise UsageError(
+            "a DataFrame of midlines has a t column, then x1, y1, …, xK, yK (two per point)"
+        )
+    return data.reshape(len(data), -1, 2), t
+
+
 def _is_paths(x: Any) -> bool:
     if isinstance(x, (str, os.PathLike)):
         return True
@@ -527,9 +546,11 @@ def fit(
 
     Parameters
     ----------
-    midlines : array, list of arrays, path or list of paths
+    midlines : array, list of arrays, DataFrame, path or list of paths
         A numpy array (frames × points × 2, NaN where the tracker lost a point), one per
-        animal, or files the ``fit`` command reads (CSV, DeepLabCut, WCON).
+        animal; a DataFrame in a recording's layout (``t``, ``x1``, ``y1``, …, as
+        ``pandas.read_csv`` reads one); or files, directories or patterns the ``fit`` command
+        reads (CSV, DeepLabCut, WCON).
     t : array or list of arrays, optional
         The frames' times (one array per animal); without it frames are ``1/fps`` apart.
     fps : float, optional
@@ -538,7 +559,9 @@ def fit(
     options
         The command's: ``points``, ``window``, ``fit_modes``, ``omega``, ``fill_gaps``,
         ``head`` ("first"/"last"), ``bootstrap``, ``seed``, ``time_unit``, ``length_unit``,
-        ``kind``, ``field``, ``order``, ``min_likelihood``, ``track_column``.
+        ``kind``, ``field``, ``order``, ``min_likelihood``, ``track_column``; ``figures``
+        (a folder: the fit's figures are written there) with ``figure_format``,
+        ``figure_width`` and ``figure_dpi``.
 
     Returns
     -------
@@ -547,10 +570,14 @@ def fit(
         ``modes_fit``, ``tests`` (each prediction's exponent, interval and verdict),
         ``warnings``, ``animals``, ``intervals`` (always present), ``pca_variance_share``,
         ``theory_variance_share``, ``mode_overlap``; the arrays ``frequencies``, ``psd``
-        (modes × frequencies), ``components`` and ``shapes`` (points × modes); ``to_dict()``,
-        ``to_pandas()``.
+        (modes × frequencies), ``components`` and ``shapes`` (points × modes); ``figures``
+        (the paths written, or empty); ``to_dict()``, ``to_pandas()``.
     """
     toml = _toml(model)
+    if hasattr(midlines, "columns") and hasattr(midlines, "to_numpy"):
+        midlines, t = _from_frame(midlines, t)
+    if "figures" in options and options["figures"] is not None:
+        options["figures"] = os.fspath(options["figures"])
     if _is_paths(midlines):
         paths = [midlines] if isinstance(midlines, (str, os.PathLike)) else list(midlines)
         if fps is not None:
@@ -570,5 +597,5 @@ def fit(
             if any(x.ndim != 1 for x in times):
                 raise UsageError("t must be one array of times per animal (one time per frame)")
         out = _native_call["fit_arrays"](animals, times, toml, options)
-    report, frequencies, psd, components, shapes = out
-    return FitResult(json.loads(report), frequencies, psd, components, shapes)
+    report, frequencies, psd, components, shapes, written = out
+    return FitResult(json.loads(report), frequencies, psd, components, shapes, written)

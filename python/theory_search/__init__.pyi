@@ -199,7 +199,9 @@ class FitResult:
         psd: npt.NDArray[np.float64],
         components: npt.NDArray[np.float64],
         shapes: npt.NDArray[np.float64],
+        figures: Optional[Sequence[str]] = None,
     ) -> None: ...
+    figures: List[str]
     frames: int
     omega: float
     beta: float

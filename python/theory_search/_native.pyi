@@ -33,7 +33,12 @@ class OutputError(TheorySearchError): ...
 class NumericalError(TheorySearchError): ...
 
 _FitOut = Tuple[
-    str, NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]
+    str,
+    NDArray[np.float64],
+    NDArray[np.float64],
+    NDArray[np.float64],
+    NDArray[np.float64],
+    List[str],
 ]
 
 def run_cli(args: Sequence[str]) -> bytes: ...
