@@ -39,8 +39,8 @@ pub struct Args {
     /// Frequency estimator: peak (rhythmic behaviour) or centroid (aperiodic).
     #[arg(long, value_enum, default_value_t = FitEstimator::Peak)]
     estimator: FitEstimator,
-    /// Non-zero modes used to fit ω and β.
-    #[arg(long, default_value_t = 4)]
+    /// Non-zero modes used to fit ω and β (`--modes K` too, as `modes` names its count).
+    #[arg(long, default_value_t = 4, visible_alias = "modes", value_name = "K")]
     fit_modes: usize,
     /// Fix ω instead of fitting it.
     #[arg(allow_hyphen_values = true, long)]
