@@ -86,108 +86,20 @@ fn the_exit_code_follows_the_kind_of_failure() {
 
 #[test]
 fn huge_coefficients_and_states_end_at_once_with_finite_output() {
-    for (args, code, needle) in [
+    let t = format!("-p 4 --model {TETHERED}");
+    for (line, needle) in [
+        (format!("modes {t} --param c3_u=1.7976931348623157e308"), "overflows f64"),
+        (format!("simulate {t} --param c4_u=1e308 --initial u:1=1 --steps 1"), "overflows f64"),
+        (format!("simulate {t} --initial u=1e155 --steps 1"), "overflowed f64 at t = 0"),
+        (format!("simulate {t} --param c3_u=1e308 --initial u=1 --steps 1"), "overflowed f64 at t = 0"),
+        (format!("simulate {t} --drive u:1=1e308,1e300 --steps 3"), "overflowed f64"),
         (
-            vec![
-                "modes",
-                "-p",
-                "4",
-                "--model",
-                TETHERED,
-                "--param",
-                "c3_u=1.7976931348623157e308",
-            ],
-            3,
-            "overflows f64",
-        ),
-        (
-            vec![
-                "simulate",
-                "-p",
-                "5",
-                "--model",
-                TETHERED,
-                "--param",
-                "c4_u=1e308",
-                "--initial",
-                "u:1=1",
-                "--steps",
-                "1",
-            ],
-            3,
-            "overflows f64",
-        ),
-        (
-            vec![
-                "simulate",
-                "-p",
-                "4",
-                "--model",
-                TETHERED,
-                "--initial",
-                "u=1e155",
-                "--steps",
-                "1",
-            ],
-            3,
-            "overflowed f64 at t = 0",
-        ),
-        (
-            vec![
-                "simulate",
-                "-p",
-                "4",
-                "--model",
-                TETHERED,
-                "--param",
-                "c3_u=1e308",
-                "--initial",
-                "u=1",
-                "--steps",
-                "1",
-            ],
-            3,
-            "overflowed f64 at t = 0",
-        ),
-        (
-            vec![
-                "simulate",
-                "-p",
-                "4",
-                "--model",
-                TETHERED,
-                "--drive",
-                "u:1=1e308,1e300",
-                "--steps",
-                "3",
-            ],
-            3,
-            "overflowed f64",
-        ),
-        (
-            vec![
-                "simulate",
-                "--points",
-                "5",
-                "--model",
-                WORM,
-                "--beyond-leading",
-                "3",
-                "--param",
-                "c1_x=-1e6",
-                "--param=c'3_θ=100",
-                "--temperature",
-                "1e300",
-                "--steps",
-                "100",
-                "--every",
-                "100",
-            ],
-            3,
+            format!("simulate --points 5 --model {WORM} --beyond-leading 3 --param c1_x=-1e6 --param=c'3_θ=100 --temperature 1e300 --steps 100 --every 100"),
             "overflowed f64",
         ),
     ] {
-        fails(&args, code, needle);
+        let args: Vec<&str> = line.split(' ').collect();
+        fails(&args, 3, needle);
     }
 }
 
