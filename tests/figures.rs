@@ -165,3 +165,27 @@ fn every_figure_renders_to_pixels() {
         assert!(colours.len() > 3, "{name}: {} colours", colours.len());
     }
 }
+
+/// The fit's figures speak the recording's time unit (`--time-unit`), as its report does; a
+/// unit that could break the markup is refused (from either face: the library checks it).
+#[test]
+fn fit_figures_carry_the_time_unit() {
+    let dir = std::env::temp_dir().join(format!("ts-fit-units-{}", std::process::id()));
+    let example = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/examples/midlines.csv");
+    let run = |unit: &str| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_theory-search"))
+            .args(["fit", example, "--time-unit", unit, "--figures"])
+            .arg(&dir)
+            .output()
+            .unwrap()
+    };
+    assert!(run("s").status.success());
+    for name in ["fit_verdict.svg", "fit_summary.svg"] {
+        let svg = std::fs::read_to_string(dir.join(name)).unwrap();
+        assert!(svg.contains("per s)"), "{name} does not speak seconds");
+        assert!(!svg.contains("per time unit"), "{name}");
+    }
+    let bad = run("<s>");
+    assert_eq!(bad.status.code(), Some(2));
+    std::fs::remove_dir_all(&dir).ok();
+}

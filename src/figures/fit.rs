@@ -56,7 +56,16 @@ fn fit_shapes(r: &crate::fit::FitReport, width: u32) -> Result<String, FigureErr
 /// The verdict: each mode's fitted Ωᵢ (95 % error bars) against √λᵢ with the theory's line
 /// ω√λ, and its variance against λᵢ on log–log axes with the noise floor and the slope −1
 /// through the voting modes; voting modes and the others apart.
+/// "`what` per `unit`", in the recording's time unit when it was given (`--time-unit`).
+fn per(r: &crate::fit::FitReport, what: &str) -> String {
+    format!(
+        "{what} per {}",
+        r.units.time.as_deref().unwrap_or("time unit")
+    )
+}
+
 fn fit_verdict(r: &crate::fit::FitReport, width: u32) -> Result<String, FigureError> {
+    let rad_per = format!("Ωᵢ ({})", per(r, "rad"));
     let fits = &r.modes_fit;
     let fitted: Vec<&crate::fit::ModeSpectralFit> = fits.iter().filter(|m| m.omega > 0.0).collect();
     let split = |votes: bool, f: &dyn Fn(&crate::fit::ModeSpectralFit) -> (f64, f64)| {
@@ -95,7 +104,7 @@ fn fit_verdict(r: &crate::fit::FitReport, width: u32) -> Result<String, FigureEr
     let mut dispersion = panel(
         &titles[0],
         "√λᵢ (model's operator)",
-        "Ωᵢ (rad per time unit)",
+        &rad_per,
         vec![
             series(
                 "voting modes",
@@ -175,6 +184,10 @@ pub fn fit_figures(
     let width = page.canvas_width();
     let shown = r.modes.len().min(4);
     let shapes = fit_shapes(r, width)?;
+    let (angular, cycles_per) = (
+        format!("angular frequency ({})", per(r, "rad")),
+        format!("frequency ({})", per(r, "cycles")),
+    );
     let idx = |k: usize| r.modes[k].index as f64;
     let share = |v: &[f64]| -> Vec<(f64, f64)> {
         v.iter()
@@ -199,7 +212,7 @@ pub fn fit_figures(
     let mut freq = panel(
         "modal frequencies",
         "mode index i",
-        "angular frequency (rad per time unit)",
+        &angular,
         vec![
             series(
                 "measured",
@@ -263,7 +276,7 @@ pub fn fit_figures(
             shares,
             panel(
                 "Welch spectra of the modal coordinates",
-                "frequency (cycles per time unit)",
+                &cycles_per,
                 "log₁₀ PSD",
                 spectra,
             ),

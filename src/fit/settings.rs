@@ -186,6 +186,13 @@ pub(super) fn check_settings(settings: &FitSettings) -> Result<(), FitError> {
             )));
         }
     }
+    // Units are written into reports, CSV and figures: both faces' values are checked here.
+    for unit in [&settings.time_unit, &settings.length_unit]
+        .into_iter()
+        .flatten()
+    {
+        checked_unit(unit).map_err(|e| invalid(e.to_string()))?;
+    }
     if !(0.0..=1.0).contains(&settings.min_likelihood) {
         return Err(invalid(format!(
             "--min-likelihood must be between 0 and 1, not {}",
