@@ -51,6 +51,8 @@ def _calls(tmp):
         "fit.t": lambda v: ts.fit(np.random.default_rng(1).normal(size=(64, 6, 2)),
                                   t=np.zeros((64, 2)) if v is None else np.arange(64) * (v if isinstance(v, float) else 1.0)),
         "native.operators": lambda v: ts._native.operators(v, 4, None, None, None),
+        "fit.time_unit": lambda v: ts.fit(np.random.default_rng(1).normal(size=(64, 6, 2)),
+                                          time_unit=v if v is not None else "<b>"),
     }
 
 
