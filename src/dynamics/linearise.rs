@@ -121,19 +121,20 @@ impl FieldSystem {
         // problem L⁻¹KL⁻ᵀ y = λ y, x = L⁻ᵀ y (so xᵀMx = 1).
         let stiffness = self.hessian_at(&equilibrium)?;
         let mass = self.finite(self.mass(&vec![0.0; self.unknowns]), "the mass ∇²T(0)")?;
-        let damped = self.damped_modes(&stiffness, &mass)?;
-        let cholesky = if self.kinetic.is_empty() {
+        // M = LLᵀ, factored once for the modes and the damped roots.
+        let factor = if self.kinetic.is_empty() {
             None
         } else {
-            let l = mass
-                .clone()
-                .cholesky()
-                .ok_or_else(|| NonlinearError::NotPositiveMass {
-                    field: self.id.clone(),
-                })?
-                .l();
-            Some(l)
+            Some(
+                mass.clone()
+                    .cholesky()
+                    .ok_or_else(|| NonlinearError::NotPositiveMass {
+                        field: self.id.clone(),
+                    })?,
+            )
         };
+        let damped = self.damped_modes(&stiffness, factor.as_ref())?;
+        let cholesky = factor.map(|c| c.l());
         let (reduced, back) = match &cholesky {
             None => (stiffness, None),
             Some(l) => {
@@ -187,33 +188,31 @@ impl FieldSystem {
 }
 
 impl FieldSystem {
+    /// ∇²R(v), dense.
+    pub(super) fn damping_at(&self, v: &[f64]) -> nalgebra::DMatrix<f64> {
+        let mut c = nalgebra::DMatrix::zeros(self.unknowns, self.unknowns);
+        for p in &self.dissipation {
+            p.hessian(v, 1.0, &mut |i, j, x| c[(i, j)] += x);
+        }
+        c
+    }
+
     /// The roots of det(λ²M + λC + K) = 0 with C = ∇²R(0), from the companion matrix
     /// [[0, I], [−M⁻¹K, −M⁻¹C]] (its real Schur form): none without damping, where they are
     /// ±i√λ of the modes above.
     fn damped_modes(
         &self,
         stiffness: &nalgebra::DMatrix<f64>,
-        mass: &nalgebra::DMatrix<f64>,
+        mass: Option<&nalgebra::linalg::Cholesky<f64, nalgebra::Dyn>>,
     ) -> Result<Vec<DampedMode>, NonlinearError> {
         let n = self.unknowns;
         if self.dissipation.is_empty() || n == 0 || n > MAX_DAMPED_UNKNOWNS {
             return Ok(Vec::new());
         }
-        let mut damping = nalgebra::DMatrix::zeros(n, n);
-        for p in &self.dissipation {
-            p.hessian(&vec![0.0; n], 1.0, &mut |i, j, x| damping[(i, j)] += x);
-        }
-        let damping = self.finite(damping, "the damping ∇²R(0)")?;
-        let (mk, mc) = if self.kinetic.is_empty() {
-            (stiffness.clone(), damping)
-        } else {
-            let chol = mass
-                .clone()
-                .cholesky()
-                .ok_or_else(|| NonlinearError::NotPositiveMass {
-                    field: self.id.clone(),
-                })?;
-            (chol.solve(stiffness), chol.solve(&damping))
+        let damping = self.finite(self.damping_at(&vec![0.0; n]), "the damping ∇²R(0)")?;
+        let (mk, mc) = match mass {
+            None => (stiffness.clone(), damping),
+            Some(chol) => (chol.solve(stiffness), chol.solve(&damping)),
         };
         let mut a = nalgebra::DMatrix::zeros(2 * n, 2 * n);
         for i in 0..n {

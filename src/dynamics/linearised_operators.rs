@@ -28,44 +28,22 @@ pub struct LinearisedOperator {
 }
 
 impl FieldSystem {
-    /// ∇²R(v), dense.
-    fn damping_at(&self, v: &[f64]) -> Vec<Vec<f64>> {
-        let mut c = vec![vec![0.0; self.unknowns]; self.unknowns];
-        for p in &self.dissipation {
-            p.hessian(v, 1.0, &mut |i, j, x| c[i][j] += x);
-        }
-        c
-    }
-
     /// The linearised operators about the equilibrium.
     pub fn linearised_operator(&self) -> Result<LinearisedOperator, NonlinearError> {
         let (equilibrium, residual) = self.equilibrium()?;
-        let k = self.hessian_at(&equilibrium)?;
+        let rows = |m: nalgebra::DMatrix<f64>| -> Vec<Vec<f64>> {
+            m.row_iter().map(|r| r.iter().copied().collect()).collect()
+        };
+        let zero = vec![0.0; self.unknowns];
         Ok(LinearisedOperator {
             field: self.id.clone(),
             boundary: self.boundary.name(),
             equilibrium: self.embed(&equilibrium),
             residual,
             size: self.unknowns,
-            stiffness: (0..self.unknowns)
-                .map(|i| k.row(i).iter().copied().collect())
-                .collect(),
-            damping: {
-                let c = self.damping_at(&vec![0.0; self.unknowns]);
-                if c.iter().flatten().any(|x| !x.is_finite()) {
-                    return Err(NonlinearError::Overflow {
-                        field: self.id.clone(),
-                        what: "the damping ∇²R(0)",
-                    });
-                }
-                c
-            },
-            mass: {
-                let m = self.finite(self.mass(&vec![0.0; self.unknowns]), "the mass ∇²T(0)")?;
-                (0..self.unknowns)
-                    .map(|i| m.row(i).iter().copied().collect())
-                    .collect()
-            },
+            stiffness: rows(self.hessian_at(&equilibrium)?),
+            damping: rows(self.finite(self.damping_at(&zero), "the damping ∇²R(0)")?),
+            mass: rows(self.finite(self.mass(&zero), "the mass ∇²T(0)")?),
         })
     }
 }
