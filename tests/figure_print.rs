@@ -58,7 +58,7 @@ fn make_svgs(width_mm: f64) -> Svgs {
                     format!("{} {name} at {width_mm} mm", path.display()),
                     String::from_utf8(s.page.encode(&svg).unwrap()).unwrap(),
                 )),
-                Err(FigureError::Body(_)) => {}
+                Err(FigureError::Behaviour(b)) if b.is_missing_structure() => {}
                 Err(e) => panic!("{name}: {e}"),
             }
         }

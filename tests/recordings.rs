@@ -38,7 +38,12 @@ fn lost_frames_are_counted_and_split_the_runs() {
         let rec = &v["recording"];
         assert_eq!(rec["frames_read"], read, "{file}");
         assert_eq!(rec["frames_lost"], lost, "{file}");
-        assert_eq!(v["frames"], read - lost, "{file}");
+        // Frames used: the usable ones and the lost ones bridged (gaps of ≤ 2 by default).
+        let filled = rec["frames_filled"].as_u64().unwrap();
+        assert_eq!(v["frames"], read - lost + filled, "{file}");
+        assert_eq!(rec["fill_gaps"], 2, "{file}");
+        let none = fit(file, &["--window", "64", "--fill-gaps", "0"]);
+        assert_eq!(none["frames"], read - lost, "{file}");
         assert!(rec["runs"].as_u64().unwrap() > 1, "{file}");
         assert!(v["omega"].as_f64().unwrap().is_finite());
     }
@@ -53,12 +58,13 @@ fn the_fits_see_what_the_data_show() {
         assert!(overlap[k].as_f64().unwrap() > 0.95, "mode {k}: {overlap:?}");
     }
     // WT2 forward crawling: a driven travelling wave, its first two components a
-    // near-degenerate pair of about 54 % and 38 % of the variance.
+    // near-degenerate pair of about 53 % and 42 % of the variance (in the coordinates of the
+    // continuum modes; the N-point modes' read 54 % and 38 %).
     let v = fit("celegans_wt2_crawling_30fps_49pts.csv", &["--window", "64"]);
     let shares = v["pca_variance_share"].as_array().unwrap();
     let (a, b) = (shares[0].as_f64().unwrap(), shares[1].as_f64().unwrap());
     assert!(
-        (a - 0.54).abs() < 0.03 && (b - 0.38).abs() < 0.03,
+        (a - 0.53).abs() < 0.03 && (b - 0.42).abs() < 0.03,
         "{a} {b}"
     );
     // Bridging the short stage-move gaps gives longer runs and more frames, never fewer.
@@ -357,11 +363,11 @@ fn a_window_that_cannot_resolve_the_modes_says_so() {
     let (lo, hi) = (iv[0].as_f64().unwrap(), iv[1].as_f64().unwrap());
     let k = boot["continuum"]["constant"].as_f64().unwrap();
     assert!(lo.is_finite() && lo < k && k < hi, "{lo} {k} {hi}");
-    // WT2's short runs resolve no mode at 64 frames: the bootstrap of the peaks' ω degenerates,
+    // WT2's short runs resolve no mode at 32 frames: the bootstrap of the peaks' ω degenerates,
     // and the report says so.
     let v = crate::fit(
         "celegans_wt2_crawling_30fps_49pts.csv",
-        &["--window", "64", "--bootstrap", "200", "--seed", "1"],
+        &["--window", "32", "--bootstrap", "200", "--seed", "1"],
     );
     let said = v["warnings"].to_string();
     assert!(said.contains("degenerate, not precise"), "{said}");

@@ -5,157 +5,14 @@
 //! interval whatever the model points and the window, call all three predictions consistent,
 //! and reject the dispersion of a driven travelling wave.
 
+mod common;
+
+use common::beam::{fitted, record, Body};
 use rand::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
 use theory_search::fit::{fit, FitReport, FitSettings, InputKind, Verdict};
 use theory_search::modal::Params;
 use theory_search::model::Model;
-
-/// A simulated body: its ends, κ (ωₙ = κ rₙ², body length 1), the first mode's damping ratio
-/// (ζₙ ∝ rₙ², Kelvin damping), the first mode's rms amplitude, tracked points, position noise
-/// (body lengths), frames.
-#[derive(Clone, Copy)]
-struct Body {
-    clamped: bool,
-    kappa: f64,
-    zeta1: f64,
-    amplitude: f64,
-    points: usize,
-    noise: f64,
-    frames: usize,
-    modes: usize,
-}
-
-/// The n-th root (n = 1, 2, …) of cos r cosh r = 1 (free–free) or −1 (clamped–free).
-fn root(clamped: bool, n: usize) -> f64 {
-    let target = if clamped { -1.0 } else { 1.0 };
-    let centre = if clamped {
-        n as f64 - 0.5
-    } else {
-        n as f64 + 0.5
-    } * std::f64::consts::PI;
-    let g = |r: f64| r.cos() - target / r.cosh();
-    let (mut a, mut b) = (centre - 0.5, centre + 0.5);
-    for _ in 0..100 {
-        let m = 0.5 * (a + b);
-        if g(a) * g(m) <= 0.0 {
-            b = m
-        } else {
-            a = m
-        }
-    }
-    0.5 * (a + b)
-}
-
-/// The n-th mode shape at s ∈ [0, 1] (unit mean square).
-fn shape(clamped: bool, r: f64, s: f64) -> f64 {
-    let x = r * s;
-    if clamped {
-        let sigma = (r.cosh() + r.cos()) / (r.sinh() + r.sin());
-        x.cosh() - x.cos() - sigma * (x.sinh() - x.sin())
-    } else {
-        let sigma = (r.cosh() - r.cos()) / (r.sinh() - r.sin());
-        x.cosh() + x.cos() - sigma * (x.sinh() + x.sin())
-    }
-}
-
-/// Exact samples (interval 1) of a damped oscillator of stationary variance `var`.
-fn oscillator(omega: f64, zeta: f64, var: f64, n: usize, rng: &mut impl rand::Rng) -> Vec<f64> {
-    let g = zeta * omega;
-    let d = (omega * omega - g * g).sqrt();
-    let (c, s, e) = (d.cos(), d.sin(), (-g).exp());
-    let phi = [
-        [e * (c + g * s / d), e * s / d],
-        [-e * omega * omega * s / d, e * (c - g * s / d)],
-    ];
-    let sig = [var, omega * omega * var];
-    let q = |i: usize, j: usize| {
-        let m = if i == j { sig[i] } else { 0.0 };
-        m - (0..2).map(|k| phi[i][k] * sig[k] * phi[j][k]).sum::<f64>()
-    };
-    let l00 = q(0, 0).sqrt();
-    let l10 = q(1, 0) / l00;
-    let l11 = (q(1, 1) - l10 * l10).max(0.0).sqrt();
-    let mut z = || -> f64 { StandardNormal.sample(rng) };
-    let (mut x, mut v) = (var.sqrt() * z(), sig[1].sqrt() * z());
-    (0..n)
-        .map(|_| {
-            let (a, b) = (z(), z());
-            let nx = phi[0][0] * x + phi[0][1] * v + l00 * a;
-            let nv = phi[1][0] * x + phi[1][1] * v + l10 * a + l11 * b;
-            (x, v) = (nx, nv);
-            x
-        })
-        .collect()
-}
-
-/// The recording as the CSV `fit` reads: `t, x₁, y₁, …`, body length 100 length units.
-fn record(body: &Body, seed: u64) -> String {
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
-    let r1 = root(body.clamped, 1);
-    let s: Vec<f64> = (0..body.points)
-        .map(|j| j as f64 / (body.points - 1) as f64)
-        .collect();
-    let mut y = vec![vec![0.0; body.points]; body.frames];
-    for n in 1..=body.modes {
-        let r = root(body.clamped, n);
-        let omega = body.kappa * r * r;
-        let zeta = body.zeta1 * (r / r1).powi(2);
-        if zeta >= 0.95 {
-            // Past critical damping this simulation has no oscillator; such modes are left out.
-            break;
-        }
-        // Equipartition: variance ∝ 1/λ ∝ r⁻⁴.
-        let var = body.amplitude.powi(2) * (r1 / r).powi(4);
-        let phi: Vec<f64> = s.iter().map(|&s| shape(body.clamped, r, s)).collect();
-        let a = oscillator(omega, zeta, var, body.frames, &mut rng);
-        for (row, a) in y.iter_mut().zip(&a) {
-            for (v, p) in row.iter_mut().zip(&phi) {
-                *v += a * p;
-            }
-        }
-    }
-    let mut out = String::from("t");
-    for j in 1..=body.points {
-        out += &format!(",x{j},y{j}");
-    }
-    out.push('\n');
-    let mut noise = || -> f64 {
-        let e: f64 = StandardNormal.sample(&mut rng);
-        body.noise * e
-    };
-    for (t, row) in y.iter().enumerate() {
-        out += &t.to_string();
-        for (s, y) in s.iter().zip(row) {
-            out += &format!(",{},{}", 100.0 * (s + noise()), 100.0 * (y + noise()));
-        }
-        out.push('\n');
-    }
-    out
-}
-
-fn model(clamped: bool) -> Model {
-    if clamped {
-        Model::from_toml(include_str!("../tables/models/zebrafish.toml")).expect("shipped model")
-    } else {
-        Model::larva()
-    }
-}
-
-fn fitted(text: &str, clamped: bool, points: usize, window: Option<usize>) -> FitReport {
-    let mut s = FitSettings::new(InputKind::Midline);
-    s.points = points;
-    s.window = window;
-    // Point 1 (s = 0 here, the clamped end) is read as the head: the zebrafish model clamps
-    // its head.
-    fit(
-        std::io::Cursor::new(text.as_bytes()),
-        &model(clamped),
-        &Params::default(),
-        &s,
-    )
-    .expect("fits")
-}
 
 const BODY: Body = Body {
     clamped: false,
@@ -179,7 +36,9 @@ const CLAMPED: Body = Body {
     ..BODY
 };
 
-fn check_recovered(body: Body, seed: u64, window: usize) {
+/// κ recovered within its interval; every test `consistent` when `determined`, else never
+/// `rejected`.
+fn check_recovered(body: Body, seed: u64, window: usize, determined: bool) {
     let text = record(&body, seed);
     for points in [12, 24, 48] {
         for window in [None, Some(window)] {
@@ -197,7 +56,11 @@ fn check_recovered(body: Body, seed: u64, window: usize) {
                 &r.tests.dispersion,
                 &r.tests.damping,
             ] {
-                assert_eq!(t.verdict, Verdict::Consistent, "{what}");
+                if determined {
+                    assert_eq!(t.verdict, Verdict::Consistent, "{what}");
+                } else {
+                    assert_ne!(t.verdict, Verdict::Rejected, "{what}");
+                }
             }
         }
     }
@@ -205,12 +68,14 @@ fn check_recovered(body: Body, seed: u64, window: usize) {
 
 #[test]
 fn a_free_beam_of_known_kappa_is_recovered_at_every_grid_and_window() {
-    check_recovered(BODY, 1, 1024);
+    check_recovered(BODY, 1, 1024, true);
 }
 
 #[test]
 fn a_clamped_beam_of_known_kappa_is_recovered_at_every_grid_and_window() {
-    check_recovered(CLAMPED, 2, 2048);
+    // Its third mode (Ω = 2.47, ζ = 0.53) has a line reaching past Nyquist: it does not vote,
+    // and two modes leave the tests undetermined.
+    check_recovered(CLAMPED, 2, 2048, false);
 }
 
 #[test]
@@ -239,12 +104,9 @@ fn a_driven_travelling_wave_is_not_a_passive_beam() {
         text.push('\n');
     }
     let r = fitted(&text, false, 12, None);
-    assert_eq!(
-        r.tests.dispersion.verdict,
-        Verdict::Rejected,
-        "{:?}",
-        r.tests
-    );
+    for t in [&r.tests.dispersion, &r.tests.equipartition] {
+        assert_eq!(t.verdict, Verdict::Rejected, "{:?}", r.tests);
+    }
     assert!(
         r.warnings
             .iter()

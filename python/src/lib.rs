@@ -501,11 +501,10 @@ fn settings_of(options: Option<&Bound<'_, PyDict>>) -> PyResult<FitSettings> {
 fn fit_error(e: FitError) -> PyErr {
     let text = one_line(&e.to_string());
     match e.innermost() {
-        FitError::Invalid(_) => UsageError::new_err(text),
         FitError::Open(io) if io.kind() == std::io::ErrorKind::NotFound => {
             MissingError::new_err(text)
         }
-        _ => InputError::new_err(text),
+        _ => raised(e.failure(), text),
     }
 }
 
@@ -592,14 +591,12 @@ fn write_figures(
     r: &FitReport,
     page: Option<(std::path::PathBuf, theory_search::figures::Page)>,
 ) -> PyResult<Vec<String>> {
-    use theory_search::figures::FigureError;
     let Some((dir, page)) = page else {
         return Ok(Vec::new());
     };
     match theory_search::figures::write_fit(&dir, r, &page) {
         Ok(paths) => Ok(paths.iter().map(|p| p.display().to_string()).collect()),
-        Err(e @ FigureError::Io { .. }) => Err(OutputError::new_err(one_line(&e.to_string()))),
-        Err(e) => Err(usage(e)),
+        Err(e) => Err(raised(e.failure(), one_line(&e.to_string()))),
     }
 }
 

@@ -100,8 +100,7 @@ pub fn equipartition_from_dynamics(
                 .collect()
         })
         .collect();
-    let (variances, components) =
-        principal_components(&cov).map_err(|e| BehaviourError::new(e.to_string()))?;
+    let (variances, components) = principal_components(&cov)?;
     // Principal components by descending variance; the zero modes (and held points) carry none.
     let nonzero = f.spectrum.size - f.spectrum.nullity;
     let total: f64 = variances[..nonzero].iter().map(|v| v.max(0.0)).sum();

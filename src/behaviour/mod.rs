@@ -55,6 +55,12 @@ pub enum BehaviourError {
     /// free torsion field).
     #[error("{0}")]
     Body(String),
+    /// A spectrum the behaviour needs could not be computed.
+    #[error(transparent)]
+    Modal(#[from] crate::modal::ModalError),
+    /// The principal components could not be computed.
+    #[error(transparent)]
+    Pca(#[from] numerics::PcaError),
     /// The modes or the dynamics failed.
     #[error(transparent)]
     Dynamics(#[from] crate::dynamics::DynamicsError),
@@ -65,8 +71,16 @@ impl BehaviourError {
     pub fn failure(&self) -> crate::failure::Failure {
         match self {
             BehaviourError::Dynamics(e) => e.failure(),
+            BehaviourError::Modal(e) if e.is_numerical() => crate::failure::Failure::Numerical,
+            BehaviourError::Pca(_) => crate::failure::Failure::Numerical,
             _ => crate::failure::Failure::Usage,
         }
+    }
+
+    /// Whether the body lacks what the behaviour needs (a role or a structure), rather than
+    /// a setting being out of range or a run failing.
+    pub fn is_missing_structure(&self) -> bool {
+        matches!(self, BehaviourError::Role(_) | BehaviourError::Body(_))
     }
 
     fn new(why: impl Into<String>) -> BehaviourError {

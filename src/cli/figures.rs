@@ -94,6 +94,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
 pub(super) fn usage(e: FigureError) -> CliError {
     match e {
         e @ FigureError::Io { .. } => CliError::Output(e.to_string()),
-        FigureError::Body(m) | FigureError::Invalid(m) => CliError::Usage(m),
+        FigureError::Behaviour(b) => CliError::Behaviour(b),
+        FigureError::Invalid(m) => CliError::Usage(m),
     }
 }

@@ -5,8 +5,8 @@ use std::path::{Path, PathBuf};
 
 use super::{emit, CliError, ModelArgs};
 use crate::fit::{
-    checked_unit, fit_inputs, Estimator, FitError, FitReport, FitSettings, Input, InputFormat,
-    InputKind, Projector, SinkError, MAX_REPLICATES,
+    checked_unit, fit_inputs, Estimator, FitReport, FitSettings, Input, InputFormat, InputKind,
+    Projector, SinkError, MAX_REPLICATES,
 };
 use crate::modal::Params;
 use crate::model::Model;
@@ -49,9 +49,10 @@ pub struct Args {
     /// were measured (fits the lowest whole modes by least squares).
     #[arg(long, value_name = "R")]
     ring: Option<usize>,
-    /// Bridge gaps of at most K lost frames linearly; longer gaps split the recording into runs
-    /// (the covariance pools every usable frame, the spectra use windows inside one run).
-    #[arg(long, value_name = "K", default_value_t = 0)]
+    /// Bridge gaps of at most K lost frames linearly (0: none); longer gaps split the recording
+    /// into runs (the covariance pools every usable frame, the spectra use windows inside one
+    /// run).
+    #[arg(long, value_name = "K", default_value_t = crate::fit::DEFAULT_FILL_GAPS)]
     fill_gaps: usize,
     /// Frames per second of a DeepLabCut file (its rows hold frame indices; without it the
     /// time unit is one frame).
@@ -190,12 +191,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     };
     settings.time_unit = unit(&args.time_unit)?;
     settings.length_unit = unit(&args.length_unit)?;
-    let inputs: Vec<Input<'_>> = crate::fit::recordings(&args.input)
-        .map_err(|e| match e {
-            crate::fit::FitError::Open(io) => CliError::read(&io, io.to_string()),
-            crate::fit::FitError::Invalid(m) => CliError::Usage(m),
-            other => CliError::Input(other.to_string()),
-        })?
+    let inputs: Vec<Input<'_>> = crate::fit::recordings(&args.input)?
         .into_iter()
         .map(|p| {
             if p.as_os_str() == "-" {
@@ -217,12 +213,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
         fit_inputs(inputs, &model, &params, &settings, None)
     };
     finish_series(sink)?;
-    let report = result.map_err(|e| match e.innermost() {
-        FitError::Invalid(_) => CliError::Usage(e.to_string()),
-        FitError::Output(_) => CliError::Output(e.to_string()),
-        FitError::Open(io) => CliError::read(io, e.to_string()),
-        _ => CliError::Input(e.to_string()),
-    })?;
+    let report = result?;
     if let Some(dir) = &args.figures {
         crate::figures::write_fit(dir, &report, &page).map_err(super::figures::usage)?;
     }

@@ -122,6 +122,9 @@ pub enum CliError {
     /// A behaviour model (exit by the kind of failure).
     #[error(transparent)]
     Behaviour(crate::behaviour::BehaviourError),
+    /// A fit (exit by the kind of failure).
+    #[error(transparent)]
+    Fit(#[from] crate::fit::FitError),
 }
 
 impl CliError {
@@ -133,6 +136,7 @@ impl CliError {
             CliError::Output(_) => Failure::Output,
             CliError::Body(e) => e.failure(),
             CliError::Behaviour(e) => e.failure(),
+            CliError::Fit(e) => e.failure(),
         }
     }
 

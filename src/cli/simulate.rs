@@ -112,7 +112,8 @@ impl Sink<'_> {
 fn csv_halt(e: csv::Error) -> Halt {
     match e.into_kind() {
         csv::ErrorKind::Io(io) => Halt::Io(io),
-        other => Halt::Fail(format!("{other:?}")),
+        // The csv writer's other errors are serialisation failures of our own rows.
+        other => Halt::Io(std::io::Error::other(format!("{other:?}"))),
     }
 }
 

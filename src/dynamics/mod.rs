@@ -340,19 +340,11 @@ pub enum Halt {
     Stop,
     /// The sink's output failed (a closed pipe among them).
     Io(std::io::Error),
-    /// Anything else, with its message.
-    Fail(String),
 }
 
 impl From<std::io::Error> for Halt {
     fn from(e: std::io::Error) -> Halt {
         Halt::Io(e)
-    }
-}
-
-impl From<String> for Halt {
-    fn from(m: String) -> Halt {
-        Halt::Fail(m)
     }
 }
 
@@ -481,7 +473,6 @@ pub fn run(
             match sink(&s) {
                 Err(Halt::Stop) => Ok(false),
                 Err(Halt::Io(e)) => Err(DynamicsError::Output(e.kind(), e.to_string())),
-                Err(Halt::Fail(m)) => Err(DynamicsError::Invalid(m)),
                 Ok(()) => Ok(true),
             }
         };

@@ -186,7 +186,6 @@ impl NonlinearBody {
                 Ok(()) => Ok(true),
                 Err(Halt::Stop) => Ok(false),
                 Err(Halt::Io(e)) => Err(DynamicsError::Output(e.kind(), e.to_string())),
-                Err(Halt::Fail(m)) => Err(DynamicsError::Invalid(m)),
             };
         if !report(&checked(sample(0.0, &state))?, &mut sink)? {
             return Ok(());

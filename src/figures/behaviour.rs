@@ -9,12 +9,7 @@ use crate::behaviour::{self, PairKind, RightingSettings};
 use crate::theory::Theory;
 
 pub(super) fn bh(e: behaviour::BehaviourError) -> FigureError {
-    match e {
-        e @ (behaviour::BehaviourError::Role(_) | behaviour::BehaviourError::Body(_)) => {
-            FigureError::Body(e.to_string())
-        }
-        other => err(other),
-    }
+    FigureError::Behaviour(e)
 }
 
 /// Fig. 3: the two stages of self-righting.
@@ -120,7 +115,7 @@ pub(super) fn rearing_hunching(theory: &Theory, width: u32) -> Result<String, Fi
     let mut panels = Vec::new();
     let field = |behaviour: &str| -> Result<(usize, String), FigureError> {
         let i = behaviour::role_fields(&theory.model, behaviour)
-            .map_err(|e| FigureError::Body(e.to_string()))?[0];
+            .map_err(behaviour::BehaviourError::from)?[0];
         let f = &theory.model.fields[i];
         let role = f.role.map(|r| r.name()).unwrap_or_default();
         Ok((i, format!("{role} {}", f.symbol)))

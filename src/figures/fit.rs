@@ -54,7 +54,7 @@ fn fit_shapes(r: &crate::fit::FitReport, width: u32) -> Result<String, FigureErr
 }
 
 /// The verdict: each mode's fitted Ωᵢ (95 % error bars) against √λᵢ with the theory's line
-/// ω√λ, and its variance against λᵢ on log–log axes with the noise floor and the slope −1
+/// ω√λ, and its variance against λᵢ on log–log axes with the white floor and the slope −1
 /// through the voting modes; voting modes and the others apart.
 /// "`what` per `unit`", in the recording's time unit when it was given (`--time-unit`).
 fn per(r: &crate::fit::FitReport, what: &str) -> String {
@@ -150,7 +150,7 @@ fn fit_verdict(r: &crate::fit::FitReport, width: u32) -> Result<String, FigureEr
     }
     if let (Some(f), true) = (r.noise_floor.filter(|f| *f > 0.0), lo < hi) {
         lines.push(series(
-            "noise floor ν",
+            "white floor ν",
             vec![(lo, f.log10()), (hi, f.log10())],
             Mark::Dashed,
         ));

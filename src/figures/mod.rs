@@ -31,10 +31,10 @@ pub enum FigureError {
     /// A setting out of range, an unknown figure, or a model that cannot make it.
     #[error("{0}")]
     Invalid(String),
-    /// The body cannot make this figure: it lacks a field role or the structure the figure's
-    /// behaviour needs.
-    #[error("{0}")]
-    Body(String),
+    /// The figure's behaviour cannot run on this body (a missing role or structure, or a
+    /// failed run).
+    #[error(transparent)]
+    Behaviour(#[from] crate::behaviour::BehaviourError),
     /// A file or directory could not be written.
     #[error("cannot {action} {}: {source}", .path.display())]
     Io {
@@ -45,6 +45,17 @@ pub enum FigureError {
         /// The error.
         source: std::io::Error,
     },
+}
+
+impl FigureError {
+    /// The kind of failure.
+    pub fn failure(&self) -> crate::failure::Failure {
+        match self {
+            FigureError::Invalid(_) => crate::failure::Failure::Usage,
+            FigureError::Behaviour(b) => b.failure(),
+            FigureError::Io { .. } => crate::failure::Failure::Output,
+        }
+    }
 }
 
 pub(super) fn err(e: impl std::fmt::Display) -> FigureError {
@@ -170,8 +181,8 @@ pub fn write_figures(
             Ok(svg) => out
                 .written
                 .push(write_figure(dir, name, &svg, &settings.page)?),
-            Err(FigureError::Body(why)) if names.len() > 1 => {
-                out.skipped.push((name.to_string(), why))
+            Err(FigureError::Behaviour(why)) if names.len() > 1 && why.is_missing_structure() => {
+                out.skipped.push((name.to_string(), why.to_string()))
             }
             Err(e) => return Err(e),
         }

@@ -181,7 +181,7 @@ fn feed(
 ) -> Result<(), FitError> {
     let bad = |why: FrameError| FitError::Line {
         line,
-        why: why.to_string(),
+        why: why.into(),
     };
     let (q, spacing) = match projected {
         Some(done) => done.map_err(bad)?,

@@ -161,7 +161,7 @@ impl<'scope, 'env, R: BufRead + Send + 'env> Chunked<'scope, 'env, R> {
             self.done = true;
             return Err(FitError::Line {
                 line: self.base + line,
-                why: why.to_string(),
+                why: why.into(),
             });
         }
         self.base += self.current.lines;
@@ -201,7 +201,7 @@ impl<'env, R: BufRead + Send + 'env> Source for Chunked<'_, 'env, R> {
         let line = self.base + row.line;
         let missing_before = self.clock.step(row.t).map_err(|e| FitError::Line {
             line,
-            why: e.to_string(),
+            why: e.into(),
         })?;
         let projected = row
             .projected

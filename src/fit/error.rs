@@ -15,7 +15,7 @@ pub enum FitError {
         /// 1-based line number.
         line: usize,
         /// What is wrong.
-        why: String,
+        why: LineWhy,
     },
     /// The per-frame sink of [`super::fit_each`] failed.
     #[error("{0}")]
@@ -29,6 +29,15 @@ pub enum FitError {
     /// A setting or the data as a whole is unusable.
     #[error("{0}")]
     Invalid(String),
+    /// The observed field's modes or operator could not be computed.
+    #[error(transparent)]
+    Modes(#[from] crate::modal::ModesError),
+    /// The observed field's stencil could not be built.
+    #[error(transparent)]
+    Discretise(#[from] crate::discretise::DiscretiseError),
+    /// The model has no field in the role the recording measures.
+    #[error(transparent)]
+    Role(#[from] crate::model::RoleError),
     /// An error in one of several inputs or animals.
     #[error("{name}: {why}")]
     In {
@@ -40,11 +49,64 @@ pub enum FitError {
 }
 
 impl FitError {
+    /// The kind of failure.
+    pub fn failure(&self) -> crate::failure::Failure {
+        use crate::failure::Failure;
+        match self {
+            FitError::Open(_)
+            | FitError::Io(_)
+            | FitError::Line { .. }
+            | FitError::NoFrames { .. } => Failure::Input,
+            FitError::Output(_) => Failure::Output,
+            FitError::Invalid(_) | FitError::Discretise(_) | FitError::Role(_) => Failure::Usage,
+            FitError::Modes(e) => e.failure(),
+            FitError::In { why, .. } => why.failure(),
+        }
+    }
+
     /// The error itself, without the input it happened in.
     pub fn innermost(&self) -> &FitError {
         match self {
             FitError::In { why, .. } => why.innermost(),
             other => other,
         }
+    }
+}
+
+/// What is wrong with a line of a recording: a typed cause where one exists.
+#[derive(Debug, thiserror::Error)]
+pub enum LineWhy {
+    /// A problem stated in words (a layout the reader refuses).
+    #[error("{0}")]
+    Text(String),
+    /// The line's bytes or numbers.
+    #[error(transparent)]
+    Line(#[from] super::read::LineError),
+    /// The line's time against the frames before it.
+    #[error(transparent)]
+    Clock(#[from] super::read::ClockError),
+    /// A DeepLabCut row.
+    #[error(transparent)]
+    Dlc(#[from] super::read::DlcError),
+    /// A frame's values (a midline that cannot be projected).
+    #[error(transparent)]
+    Frame(#[from] super::FrameError),
+    /// A track id.
+    #[error(transparent)]
+    Name(#[from] super::settings::NameError),
+    /// A WCON file that is not JSON.
+    #[error("not valid WCON JSON: {0}")]
+    Json(#[from] serde_json::Error),
+}
+
+impl From<String> for LineWhy {
+    fn from(why: String) -> LineWhy {
+        LineWhy::Text(why)
+    }
+}
+
+impl From<&str> for LineWhy {
+    fn from(why: &str) -> LineWhy {
+        LineWhy::Text(why.to_string())
     }
 }

@@ -17,7 +17,7 @@ use super::stats::{Ladder, Stats};
 use super::{
     animal::{units, Animal},
     bootstrap,
-    summary::{summarise, Scope},
+    summary::{summarise, Origin, Scope},
     AnimalFit, FitError, FitReport, FitSettings, InputFormat, Projector, Recording, Units,
 };
 use crate::modal::Params;
@@ -392,50 +392,32 @@ impl Pool {
             });
         };
         let interval = self.interval.unwrap_or(1.0);
-        let mut report = fit_stats(proj, ctx, stats, interval, Scope::Full)?;
-        report.recording = self.counts.clone();
-        report.units = self.units.clone().unwrap_or_default();
+        let mut named = self.units.clone().unwrap_or_default();
         if let Some(u) = &ctx.settings.time_unit {
-            report.units.time = Some(u.clone());
+            named.time = Some(u.clone());
         }
         if let Some(u) = &ctx.settings.length_unit {
-            report.units.length = Some(u.clone());
+            named.length = Some(u.clone());
         }
-        let time = report
-            .units
-            .time
-            .clone()
-            .unwrap_or_else(|| "time unit".into());
-        if let Some(c) = &mut report.continuum {
-            c.body_length = report.spacing * (report.model_points - 1) as f64;
-            c.in_data_units = if c.name == "kappa" {
-                c.constant * c.body_length * c.body_length
-            } else {
-                c.constant * c.body_length
-            };
-            c.unit = if c.name == "kappa" {
-                format!("body length²/{time}")
-            } else {
-                format!("body lengths/{time}")
-            };
-        }
-        if report.welch.1 < 4 {
-            report.warnings.push(format!(
-                "the spectra average {} Welch segment(s) of {} frames: the peak frequencies, and ω with them, are rough (use a shorter --window or longer runs)",
-                report.welch.1, report.welch.0
-            ));
-        }
-        if let Some(r) = ctx.settings.ring.filter(|&r| r > proj.input_points) {
-            report.warnings.push(format!(
-                "only {} of {r} ring segments were measured: under equipartition every mode carries the same strain variance, so the unresolved modes alias into the fitted ones; ω and β are reliable for a dominant rhythm, not for thermal data",
-                proj.input_points
-            ));
-        }
+        let counts = Recording {
+            fill_gaps: ctx.settings.fill_gaps,
+            ..self.counts.clone()
+        };
+        let described = Some((counts, named));
+        let mut report = fit_stats(proj, ctx, stats, interval, (Scope::Full, described))?;
         if ctx.settings.bootstrap > 0 {
             let units = units(&self.kept);
             let pooled = report.clone();
-            let fit =
-                |s: &Stats| fit_stats(proj, ctx, s, interval, Scope::Constants(Some(&pooled))).ok();
+            let fit = |s: &Stats| {
+                fit_stats(
+                    proj,
+                    ctx,
+                    s,
+                    interval,
+                    (Scope::Constants(Some(&pooled)), None),
+                )
+                .ok()
+            };
             // A draw of one animal's blocks spans five correlation times of the slowest voting
             // mode, and the window.
             // (A line narrower than half a bin has no known width; its correlation time is at
@@ -503,19 +485,20 @@ fn own_fit(
     (name, counts, stats): (&str, &Recording, &Stats),
     interval: f64,
 ) -> AnimalFit {
-    match fit_stats(proj, ctx, stats, interval, Scope::Constants(None)) {
+    match fit_stats(proj, ctx, stats, interval, (Scope::Constants(None), None)) {
         Ok(r) => AnimalFit::of(name, counts, &r),
         Err(e) => AnimalFit::failed(name, stats, counts, &e.to_string()),
     }
 }
 
-/// The fit of some accumulated frames sampled every `interval`.
+/// The fit of some accumulated frames sampled every `interval`; `described` is the
+/// recording's counts and units when the report is the one shown (not a resample's).
 fn fit_stats(
     proj: &Projector,
     ctx: &Context<'_>,
     stats: &Stats,
     interval: f64,
-    scope: Scope<'_>,
+    (scope, described): (Scope<'_>, Option<(Recording, Units)>),
 ) -> Result<FitReport, FitError> {
     if stats.count < 8.0 {
         return Err(FitError::Invalid(format!(
@@ -530,15 +513,19 @@ fn fit_stats(
             stats.short.len()
         )));
     }
-    let mut report = summarise(
+    let (recording, units) = described.unwrap_or_default();
+    let origin = Origin {
+        frames: stats.count as usize,
+        spacing: stats.spacing / stats.count,
+        recording,
+        units,
+    };
+    summarise(
         proj,
         ctx.settings,
         stats.covariance(),
         interval,
         spectra,
-        scope,
-    )?;
-    report.frames = stats.count as usize;
-    report.spacing = stats.spacing / stats.count;
-    Ok(report)
+        (scope, origin),
+    )
 }

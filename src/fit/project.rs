@@ -1,7 +1,9 @@
 //! From a frame to modal coordinates: resampling, turning angles or strains, and the
-//! projector onto the field's modes (the observation map of the module header).
+//! projector onto the field's modes (the observation map of the module header); for a field
+//! with continuum modes, the projector on those (`continuum`).
 
-use super::{FitError, FitSettings, InputKind, MAX_POINTS};
+use super::continuum::{Grid, CONTINUUM_AMPLITUDE};
+use super::{FitError, FitSettings, InputKind, LineWhy, MAX_POINTS};
 use crate::modal::{field_modes, Params};
 use crate::model::Model;
 
@@ -117,7 +119,7 @@ pub fn turning_angles(points: &[(f64, f64)]) -> Result<Vec<f64>, FrameError> {
 }
 
 /// The observation o of one frame: turning angles (midline) or strains (lengths).
-fn observe(
+pub(super) fn observe(
     kind: InputKind,
     values: &[f64],
     n: usize,
@@ -197,16 +199,14 @@ impl Projector {
             params,
             None,
             true,
-        )
-        .map_err(|e| invalid(e.to_string()))?;
+        )?;
         let fm = &all[0];
         let shapes = fm
             .spectrum
             .shapes
             .as_ref()
             .ok_or_else(|| invalid("no mode shapes".into()))?;
-        let rows = crate::discretise::stencil_rows(fm.k, fm.field.boundary, n)
-            .map_err(|e| invalid(e.to_string()))?;
+        let rows = crate::discretise::stencil_rows(fm.k, fm.field.boundary, n)?;
         let expected = match settings.kind {
             InputKind::Midline => n - 2,
             InputKind::Lengths => n - 1,
@@ -280,6 +280,17 @@ impl Projector {
                 .zip(&lambdas)
                 .map(|(d, l)| d.iter().map(|x| x / l).collect())
                 .collect()
+        };
+        let grid = Grid {
+            kind: settings.kind,
+            input_points: k_in,
+            points: n,
+            stencil: fm.k,
+            boundary: fm.field.boundary,
+        };
+        let (projector, design) = match (partial, grid.continuum(&projector)) {
+            (false, Some(continuum)) => continuum,
+            _ => (projector, design),
         };
         Ok(Projector {
             kind: settings.kind,
@@ -385,25 +396,17 @@ impl Projector {
     /// reads its continuum amplitude times this gain; equipartition is tested on Var Qⱼ/gainⱼ².
     pub fn continuum_gains(&self) -> Vec<Option<f64>> {
         let m = self.eigenvalues.len();
-        if self.kind != InputKind::Midline || self.input_points < 3 {
-            return vec![None; m];
-        }
-        let eps = 1e-4;
-        let k = self.input_points;
+        let grid = Grid {
+            kind: self.kind,
+            input_points: self.input_points,
+            points: self.points,
+            stencil: self.stencil,
+            boundary: self.boundary,
+        };
         (0..m)
             .map(|j| {
-                let shape = crate::modal::continuum_shape(self.stencil, self.boundary, j + 1)?;
-                let last = (shape.len() - 1) as f64;
-                let values: Vec<f64> = (0..k)
-                    .flat_map(|p| {
-                        let s = p as f64 / (k - 1) as f64;
-                        let x = s * last;
-                        let (i, f) = (x.floor() as usize, x - x.floor());
-                        let y = shape[i] + f * (shape[(i + 1).min(shape.len() - 1)] - shape[i]);
-                        [s, eps * y]
-                    })
-                    .collect();
-                let g = self.modal(&values).ok()?.get(j)?.abs() / eps;
+                let values = grid.continuum_midline(j)?;
+                let g = self.modal(&values).ok()?.get(j)?.abs() / CONTINUUM_AMPLITUDE;
                 (g > 0.0 && g.is_finite()).then_some(g)
             })
             .collect()
@@ -432,13 +435,13 @@ impl Projector {
 /// Values per frame → (measured points or segments K, model points N), checked.
 fn dimensions(settings: &FitSettings, width: usize) -> Result<(usize, usize), FitError> {
     let invalid = |s: String| FitError::Invalid(s);
-    let line = |why: String| FitError::Line { line: 0, why };
+    let line = |why: LineWhy| FitError::Line { line: 0, why };
     let (k_in, n) = match settings.kind {
         InputKind::Midline => {
             if width % 2 != 0 {
-                return Err(line(format!(
+                return Err(line(LineWhy::Text(format!(
                     "a midline frame is t then x y pairs: {width} values after t is odd"
-                )));
+                ))));
             }
             if settings.points < 3 {
                 return Err(invalid(format!(
@@ -469,9 +472,9 @@ fn dimensions(settings: &FitSettings, width: usize) -> Result<(usize, usize), Fi
         3
     };
     if k_in < min_k {
-        return Err(line(format!(
+        return Err(line(LineWhy::Text(format!(
             "{k_in} points per frame; at least {min_k} are needed"
-        )));
+        ))));
     }
     Ok((k_in, n))
 }
@@ -490,7 +493,7 @@ fn observed_field(model: &Model, settings: &FitSettings) -> Result<usize, FitErr
                 InputKind::Midline => "fit (midlines)",
                 InputKind::Lengths => "fit (lengths)",
             };
-            crate::behaviour::role_fields(model, behaviour).map_err(|e| invalid(e.to_string()))?[0]
+            crate::behaviour::role_fields(model, behaviour)?[0]
         }
     })
 }

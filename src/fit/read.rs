@@ -6,7 +6,7 @@
 use std::io::BufRead;
 
 use super::number::plain_row;
-use super::{FitError, FitSettings, FrameError, InputFormat};
+use super::{FitError, FitSettings, FrameError, InputFormat, LineWhy};
 use crate::markup::clip;
 use crate::report::number;
 
@@ -141,14 +141,16 @@ impl Source for TrackSource {
             return Ok(None);
         };
         self.index += 1;
-        let bad = |why: String| FitError::Line {
+        let bad = |why: LineWhy| FitError::Line {
             line: self.index,
             why,
         };
         if !frame.t.is_finite() {
-            return Err(bad(format!("frame {}: time is not finite", self.index)));
+            return Err(bad(
+                format!("frame {}: time is not finite", self.index).into()
+            ));
         }
-        let missing_before = self.clock.step(frame.t).map_err(|e| bad(e.to_string()))?;
+        let missing_before = self.clock.step(frame.t).map_err(|e| bad(e.into()))?;
         let frame = self.current.insert(frame);
         let values = frame
             .values
@@ -260,14 +262,15 @@ impl<R: BufRead> FrameReader<R> {
                 return Ok(None);
             }
             let line = self.line;
-            let bad = |why: String| FitError::Line { line, why };
+            let bad = |why: LineWhy| FitError::Line { line, why };
             let row = match self.plain_width() {
                 // The common row, once the layout is known.
-                Some(width) => plain_line(&self.buf, width, &mut self.values)
-                    .map_err(|e| bad(e.to_string()))?,
+                Some(width) => {
+                    plain_line(&self.buf, width, &mut self.values).map_err(|e| bad(e.into()))?
+                }
                 None => {
                     let buf = std::mem::take(&mut self.buf);
-                    let row = match line_text(&buf).map_err(|e| bad(e.to_string()))?.trim() {
+                    let row = match line_text(&buf).map_err(|e| bad(e.into()))?.trim() {
                         "" => None,
                         text if text.starts_with('#') => None,
                         text => self.first_rows(text)?,
@@ -282,7 +285,7 @@ impl<R: BufRead> FrameReader<R> {
             let missing_before = if self.track {
                 0
             } else {
-                self.clock.step(t).map_err(|e| bad(e.to_string()))?
+                self.clock.step(t).map_err(|e| bad(e.into()))?
             };
             return Ok(Some(Parsed {
                 t,
@@ -296,7 +299,7 @@ impl<R: BufRead> FrameReader<R> {
     /// header row.
     fn first_rows(&mut self, text: &str) -> Result<Option<(f64, bool)>, FitError> {
         let line = self.line;
-        let bad = |why: String| FitError::Line { line, why };
+        let bad = |why: LineWhy| FitError::Line { line, why };
         let mut cells: Vec<&str> = cells(text).collect();
         // DeepLabCut's three header rows; otherwise only the first line may be a header.
         if !self.seen_data && cells[0] == "individuals" {
@@ -316,13 +319,13 @@ impl<R: BufRead> FrameReader<R> {
             if cells.len() < 2 {
                 return Err(bad("a track id and then time are needed".into()));
             }
-            Some(super::checked_name(cells.remove(0)).map_err(|e| bad(e.to_string()))?)
+            Some(super::checked_name(cells.remove(0)).map_err(|e| bad(e.into()))?)
         } else {
             None
         };
         let converted;
         let cells: Vec<&str> = if self.dlc {
-            converted = self.dlc_row(&cells).map_err(|e| bad(e.to_string()))?;
+            converted = self.dlc_row(&cells).map_err(|e| bad(e.into()))?;
             converted.iter().map(String::as_str).collect()
         } else {
             cells
@@ -330,7 +333,7 @@ impl<R: BufRead> FrameReader<R> {
         let width = *self.width.get_or_insert(cells.len());
         data_row(cells.into_iter(), width, &mut self.values)
             .map(Some)
-            .map_err(|e| bad(e.to_string()))
+            .map_err(|e| bad(e.into()))
     }
 
     /// The layout found in the first rows, once a data row has been read: the row width, and

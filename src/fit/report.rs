@@ -17,6 +17,8 @@ pub struct Recording {
     pub frames_lost: usize,
     /// Lost frames bridged linearly (`--fill-gaps`).
     pub frames_filled: usize,
+    /// The longest gap bridged (`--fill-gaps`; longer ones split the runs).
+    pub fill_gaps: usize,
     /// Gaps that split the recording.
     pub gaps: usize,
     /// Runs of consecutive frames between gaps.
@@ -69,7 +71,7 @@ pub struct FitReport {
     pub modes_fit: Vec<ModeSpectralFit>,
     /// The theory's three predictions tested over the voting modes.
     pub tests: TheoryTests,
-    /// The tracking-noise floor ν (variance per frame of the modal coordinates), measured from
+    /// The white floor ν (variance per frame of the modal coordinates), measured from
     /// the highest modes.
     pub noise_floor: Option<f64>,
     /// The Welch window used, and why.
@@ -337,8 +339,8 @@ impl Report for FitReport {
         }
         let rec = &r.recording;
         t += &format!(
-            "  recording: {} animal(s), {} frames read, {} lost ({} bridged), {} gaps, {} runs, longest {} frames\n",
-            rec.recordings, rec.frames_read, rec.frames_lost, rec.frames_filled, rec.gaps, rec.runs, rec.longest_run
+            "  recording: {} animal(s), {} frames read, {} lost ({} bridged: gaps of ≤ {} frames, --fill-gaps), {} gaps, {} runs, longest {} frames\n",
+            rec.recordings, rec.frames_read, rec.frames_lost, rec.frames_filled, rec.fill_gaps, rec.gaps, rec.runs, rec.longest_run
         );
         t += &format!(
             "  Welch: window {} frames, {} segments\n  mode        λ   PCA share  equipartition  overlap with mode   peak f  centroid f   measured ω  theory ω√λ\n",

@@ -48,6 +48,10 @@ pub enum InputFormat {
     Wcon,
 }
 
+/// Lost frames bridged linearly by default (`--fill-gaps`): single lost frames and pairs, the
+/// dropped frames of a tracker, cost a run split otherwise.
+pub const DEFAULT_FILL_GAPS: usize = 2;
+
 /// Units of the recording's time and length columns, as the file or the user names them.
 #[derive(Debug, Clone, Default, PartialEq, Eq, serde::Serialize)]
 pub struct Units {
@@ -125,6 +129,8 @@ pub struct FitSettings {
     /// (the paper's seven abdominal segments); `None` when the K segments close the ring.
     pub ring: Option<usize>,
     /// Gaps of at most this many lost frames are bridged linearly; longer ones split the runs.
+    /// By default [`DEFAULT_FILL_GAPS`]: 1 % of frames lost at random splits a recording into
+    /// runs of about 100 frames, too short for the windows its modes need.
     pub fill_gaps: usize,
     /// The data list the head first (most trackers); the model's head is its last point.
     pub head_first: bool,
@@ -160,7 +166,7 @@ impl FitSettings {
             fit_modes: 4,
             omega: None,
             ring: None,
-            fill_gaps: 0,
+            fill_gaps: DEFAULT_FILL_GAPS,
             head_first: true,
             fps: None,
             min_likelihood: 0.6,

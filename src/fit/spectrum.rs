@@ -231,6 +231,11 @@ fn whittle(psd: &[f64], model: &[f64], bins: std::ops::Range<usize>) -> f64 {
     bins.map(|k| psd[k] / model[k] + model[k].ln()).sum()
 }
 
+/// How much better (in −ln L) an optimum above Nyquist must fit than the best one below it to
+/// be kept: the χ²₁ 95 % point over 2. Whittle's sum over an average of M periodograms is
+/// −ln L divided by M/(b·o) (the taper's and the overlap's correlation, module header).
+const ALIAS_MARGIN: f64 = 1.92;
+
 /// Fit one mode's Welch density `psd` (bins 0 … W/2), averaged over `segments` segments at
 /// sampling rate `fs`, over the frequency band `band` (cycles per time unit; widened to 8 bins
 /// at least), starting from each of `starts` (Ω, ζ) with variance `variance` (the mode's total
@@ -308,6 +313,44 @@ pub(super) fn fit_mode(
         let (t, v) = descend(start, &nll, &clamp, &model, psd, bins.clone());
         if best.as_ref().is_none_or(|(_, b)| v < *b) {
             best = Some((t, v));
+        }
+    }
+    // A start can slide past Nyquist onto an alias of the line: near Nyquist the sampled
+    // spectra of a mode and of its reflection about Nyquist differ only in the line's
+    // asymmetry. The best optimum held below Nyquist (from the reflection and from each
+    // start) is found too, and kept unless the alias fits better by more than a likelihood
+    // ratio test at 95 % can tell (Δ ln L > 1.92): below Nyquist is the reading a sampling
+    // rate chosen for the animal assumes.
+    let nyquist = std::f64::consts::PI * fs;
+    if let Some((t, v_alias)) = best.filter(|(t, _)| t[0].exp() > nyquist) {
+        let below = (0.999 * nyquist).ln();
+        let held = |x: [f64; 4]| {
+            let mut x = clamp(x);
+            x[0] = x[0].min(below);
+            x
+        };
+        let folded = t[0].exp() % (2.0 * nyquist);
+        let folded = if folded > nyquist {
+            2.0 * nyquist - folded
+        } else {
+            folded
+        };
+        let tries = std::iter::once((folded, t[1].exp()))
+            .chain(starts.iter().copied())
+            .filter(|&(omega, zeta)| omega > 0.0 && zeta > 0.0);
+        let mut under: Option<([f64; 4], f64)> = None;
+        for (omega, zeta) in tries {
+            let start = held([omega.ln(), zeta.ln(), t[2], t[3]]);
+            let (x, _) = descend(start, &nll, &held, &model, psd, bins.clone());
+            // Set free again: an optimum under Nyquist stays; one pressed against it leaves.
+            let (x, v) = descend(x, &nll, &clamp, &model, psd, bins.clone());
+            if x[0].exp() < nyquist && under.as_ref().is_none_or(|(_, b)| v < *b) {
+                under = Some((x, v));
+            }
+        }
+        let margin = ALIAS_MARGIN * taper.widening / segments.max(1.0);
+        if let Some((x, v)) = under.filter(|(_, v)| *v <= v_alias + margin) {
+            best = Some((x, v));
         }
     }
     let (t, v) = best?;

@@ -24,6 +24,58 @@ pub(super) enum Scope<'a> {
     Constants(Option<&'a FitReport>),
 }
 
+/// What the report says of where its moments came from.
+pub(super) struct Origin {
+    /// Usable frames.
+    pub frames: usize,
+    /// Mean spacing of the tracked points, in the data's length unit.
+    pub spacing: f64,
+    /// The recording's counts (empty for a resample).
+    pub recording: Recording,
+    /// The data's units (none for a resample).
+    pub units: Units,
+}
+
+impl Origin {
+    /// The continuum constant in the data's units: κ in body length² per time unit, c in
+    /// body lengths per time unit.
+    fn in_units(&self, mut c: Continuum, model_points: usize) -> Continuum {
+        let time = self.units.time.as_deref().unwrap_or("time unit");
+        c.body_length = self.spacing * (model_points - 1) as f64;
+        let (power, unit) = if c.name == "kappa" {
+            (2, format!("body length²/{time}"))
+        } else {
+            (1, format!("body lengths/{time}"))
+        };
+        c.in_data_units = c.constant * c.body_length.powi(power);
+        c.unit = unit;
+        c
+    }
+
+    /// Warnings that follow from the recording rather than from the modes.
+    fn warnings(
+        &self,
+        welch: (usize, usize),
+        proj: &Projector,
+        ring: Option<usize>,
+    ) -> Vec<String> {
+        let mut out = Vec::new();
+        if welch.1 < 4 {
+            out.push(format!(
+                "the spectra average {} Welch segment(s) of {} frames: the peak frequencies, and ω with them, are rough (use a shorter --window or longer runs)",
+                welch.1, welch.0
+            ));
+        }
+        if let Some(r) = ring.filter(|&r| r > proj.input_points) {
+            out.push(format!(
+                "only {} of {r} ring segments were measured: under equipartition every mode carries the same strain variance, so the unresolved modes alias into the fitted ones; ω and β are reliable for a dominant rhythm, not for thermal data",
+                proj.input_points
+            ));
+        }
+        out
+    }
+}
+
 /// The continuum root βᵢL (body length 1) of the `i`-th non-zero mode (i = 1, 2, …) of the
 /// projector's field: the beam's or string's roots for its ends, 2π⌈i/2⌉ around a ring.
 fn continuum_root(proj: &Projector, i: usize) -> Option<f64> {
@@ -128,7 +180,7 @@ pub(super) fn summarise(
     cov: Vec<Vec<f64>>,
     interval: f64,
     spectra: Vec<Spectra>,
-    scope: Scope<'_>,
+    (scope, origin): (Scope<'_>, Origin),
 ) -> Result<FitReport, FitError> {
     check_moments(&cov, &spectra)?;
     let fs = 1.0 / interval;
@@ -194,21 +246,23 @@ pub(super) fn summarise(
         &mut warnings,
     )?;
     warn_of(&modes_fit, &cov, &tests, &mut warnings);
+    warnings.extend(origin.warnings((used_window, segments), proj, settings.ring));
     for x in &mut modes {
         x.theory_angular_frequency = omega * x.eigenvalue.sqrt();
     }
+    let continuum = continuum.map(|c| origin.in_units(c, proj.points));
     Ok(FitReport {
         continuum,
         modes_fit,
         tests,
         noise_floor,
         window,
-        frames: 0,
-        recording: Recording::default(),
+        frames: origin.frames,
+        recording: origin.recording,
         warnings,
         animals: Vec::new(),
-        units: Units::default(),
-        spacing: 0.0,
+        units: origin.units,
+        spacing: origin.spacing,
         subspace,
         intervals: None,
         onward: Vec::new(),
@@ -282,7 +336,7 @@ fn mode_table(
         .collect()
 }
 
-/// Which modes vote (above the noise floor, resolved, not leaking), and the three tests over
+/// Which modes vote (above the white floor, resolved, not leaking), and the three tests over
 /// them against the continuum eigenvalues.
 fn vote(
     proj: &Projector,
@@ -336,7 +390,7 @@ fn scales(
     }
     let (omega, beta, continuum) = if voting.is_empty() {
         warnings.push(format!(
-            "no mode among {}–{} is resolved and above the noise floor: ω, β and κ come from the spectral {}s, which move with --window (use a longer --window or recording)",
+            "no mode among {}–{} is resolved and above the white floor: ω, β and κ come from the spectral {}s, which move with --window (use a longer --window or recording)",
             first_mode,
             first_mode + used - 1,
             match settings.estimator {

@@ -94,7 +94,7 @@ fn arrayed(v: &Value) -> Vec<&Value> {
 pub(super) fn parse(text: &str, name: &str, head_first: bool) -> Result<Wcon, FitError> {
     let root: Value = serde_json::from_str(text).map_err(|e| FitError::Line {
         line: e.line(),
-        why: format!("not valid WCON JSON: {e}"),
+        why: e.into(),
     })?;
     let top = root
         .as_object()

@@ -48,9 +48,10 @@ pub(super) fn choose_window(
             w.ceil()
         ),
         (None, Some(w)) => format!(
-            "the lowest mode (f ≈ {}) needs ≥ {} frames for {AUTO_BINS} bins; the runs allow this with ≥ 4 segments, so low modes may be unresolved",
+            "the lowest mode (f ≈ {}) needs ≥ {} frames for {AUTO_BINS} bins, but the runs allow at most {} frames with ≥ 4 segments: that window, so low modes may be unresolved",
             fixed(f.unwrap_or(0.0), 4),
-            w.ceil()
+            w.ceil(),
+            spectra[reference].window
         ),
         _ => "the lowest mode's frequency could not be measured; the longest window with ≥ 4 segments".into(),
     };

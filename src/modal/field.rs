@@ -110,7 +110,34 @@ pub enum ModesError {
         /// Field id.
         field: String,
         /// What is wrong.
-        why: String,
+        why: OperatorIssue,
+    },
+}
+
+/// Why a field's operators do not make the modal theory.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum OperatorIssue {
+    /// No potential term survives.
+    #[error("no potential term survives at order {order}, so there is no stiffness operator (see the notes of `theory-search --order {order}`; raise --order)")]
+    NoPotential {
+        /// The order asked for.
+        order: u32,
+    },
+    /// More than one potential term survives.
+    #[error("{count} potential terms survive at order {order}; modes need exactly one potential operator")]
+    ManyPotentials {
+        /// How many.
+        count: usize,
+        /// The order asked for.
+        order: u32,
+    },
+    /// The damping operator is not the stiffness operator.
+    #[error("the damping operator (Δ^{damping}) differs from the stiffness one (Δ^{stiffness}): damping is not modal")]
+    NotModal {
+        /// Power of Δ in the damping.
+        damping: u32,
+        /// Power of Δ in the stiffness.
+        stiffness: u32,
     },
 }
 
@@ -119,10 +146,9 @@ impl ModesError {
     /// else is a body or a size the solver does not take.
     pub fn failure(&self) -> crate::failure::Failure {
         match self {
-            ModesError::Modal {
-                source: ModalError::Solver(_),
-                ..
-            } => crate::failure::Failure::Numerical,
+            ModesError::Modal { source, .. } if source.is_numerical() => {
+                crate::failure::Failure::Numerical
+            }
             _ => crate::failure::Failure::Usage,
         }
     }
@@ -210,23 +236,26 @@ pub fn field_modes(
                 .collect::<Vec<_>>()
         };
         let (potential, damping) = (op(Density::Lagrangian), op(Density::Rayleigh));
-        let operator_error = |why: String| ModesError::Operator {
+        let operator_error = |why: OperatorIssue| ModesError::Operator {
             field: field.id.clone(),
             why,
         };
         let [stiff] = potential.as_slice() else {
             return Err(operator_error(if potential.is_empty() {
-                format!("no potential term survives at order {order}, so there is no stiffness operator (see the notes of `theory-search --order {order}`; raise --order)")
+                OperatorIssue::NoPotential { order }
             } else {
-                format!("{} potential terms survive at order {order}; modes need exactly one potential operator", potential.len())
+                OperatorIssue::ManyPotentials {
+                    count: potential.len(),
+                    order,
+                }
             }));
         };
         // Modal damping ζᵢ = ζ√λᵢ needs the Rayleigh operator to be the potential one.
         if let Some(d) = damping.iter().find(|d| d.k != stiff.k) {
-            return Err(operator_error(format!(
-                "the damping operator (Δ^{}) differs from the stiffness one (Δ^{}): damping is not modal",
-                d.k, stiff.k
-            )));
+            return Err(operator_error(OperatorIssue::NotModal {
+                damping: d.k,
+                stiffness: stiff.k,
+            }));
         }
         let spectrum =
             spectrum(stiff.k, stiff.boundary, points, limit, shapes).map_err(|source| {

@@ -42,7 +42,7 @@ pub use crate::params::{ParamError, Params, DEFAULT_OMEGA, DEFAULT_ZETA};
 pub use closed::{
     beam_beta, continuum_beta, continuum_shape, d4_characteristic, d4_inverse_trace, seed_eq17,
 };
-pub use field::{field_modes, BeamComparison, FieldModes, Mode, ModesError, Regime};
+pub use field::{field_modes, BeamComparison, FieldModes, Mode, ModesError, OperatorIssue, Regime};
 pub use report::ModesReport;
 pub use subspace::subspace;
 pub use trace::trace_polynomial;
@@ -80,9 +80,35 @@ pub enum ModalError {
         /// Which limit.
         why: String,
     },
-    /// The eigensolver failed.
-    #[error("eigensolver failed: {0}")]
-    Solver(String),
+    /// The stencil could not be built (boxed: the error is large and rare).
+    #[error(transparent)]
+    Discretise(Box<crate::discretise::DiscretiseError>),
+    /// The generated operator refused the size.
+    #[error(transparent)]
+    Generated(#[from] crate::generated::OperatorError),
+    /// A periodic operator wraps around, so it has no band.
+    #[error("a periodic operator is not banded")]
+    NotBanded,
+    /// The regularised operator is singular.
+    #[error("eigensolver failed: the regularised operator is singular")]
+    Singular,
+    /// An eigensolver's iteration did not converge.
+    #[error("eigensolver failed: {0} did not converge")]
+    NoConvergence(&'static str),
+}
+
+impl From<crate::discretise::DiscretiseError> for ModalError {
+    fn from(e: crate::discretise::DiscretiseError) -> ModalError {
+        ModalError::Discretise(Box::new(e))
+    }
+}
+
+impl ModalError {
+    /// Whether the solver failed on valid input (a numerical failure) rather than being asked
+    /// for something it does not take.
+    pub fn is_numerical(&self) -> bool {
+        matches!(self, ModalError::Singular | ModalError::NoConvergence(_))
+    }
 }
 
 /// How a spectrum was obtained.
@@ -188,9 +214,7 @@ pub fn null_basis(k: u32, boundary: Boundary, points: usize) -> Vec<Vec<f64>> {
 /// not banded.
 pub fn banded_operator(k: u32, boundary: Boundary, points: usize) -> Result<BandedSym, ModalError> {
     if boundary == Boundary::Periodic {
-        return Err(ModalError::Solver(
-            "a periodic operator is not banded".into(),
-        ));
+        return Err(ModalError::NotBanded);
     }
     let generated = OPERATORS
         .iter()

@@ -64,19 +64,17 @@ pub(super) fn dense(
         .iter()
         .find(|o| o.k == k && o.boundary == boundary);
     let rows: Vec<Vec<f64>> = match generated {
-        Some(o) => (o.dense)(points).map_err(|e| ModalError::Solver(e.to_string()))?,
-        None => crate::discretise::operator_matrix(k, boundary, points)
-            .map_err(|e| ModalError::Solver(e.to_string()))?
+        Some(o) => (o.dense)(points)?,
+        None => crate::discretise::operator_matrix(k, boundary, points)?
             .into_iter()
             .map(|r| r.into_iter().map(|v| v as f64).collect())
             .collect(),
     };
-    let stencil =
-        stencil_rows(k, boundary, points).map_err(|e| ModalError::Solver(e.to_string()))?;
+    let stencil = stencil_rows(k, boundary, points)?;
     let m = Mat::<f64>::from_fn(n, n, |i, j| rows[i][j]);
     let evd = m
         .self_adjoint_eigen(faer::Side::Lower)
-        .map_err(|e| ModalError::Solver(format!("{e:?}")))?;
+        .map_err(|_| ModalError::NoConvergence("faer's self-adjoint eigensolver"))?;
     let null = boundary.nullity(k);
     let u = evd.U();
     // Non-zero modes: eigenvalues refined as stencil energies of the eigenvectors, which gives
@@ -173,9 +171,7 @@ pub(super) fn regularised_factor(
     if r.is_regular() {
         Ok(r)
     } else {
-        Err(ModalError::Solver(
-            "the regularised operator is singular".into(),
-        ))
+        Err(ModalError::Singular)
     }
 }
 
@@ -200,7 +196,7 @@ pub(super) fn rayleigh_ritz(
     });
     let evd = h
         .self_adjoint_eigen(faer::Side::Lower)
-        .map_err(|e| ModalError::Solver(format!("{e:?}")))?;
+        .map_err(|_| ModalError::NoConvergence("faer's self-adjoint eigensolver"))?;
     let g = evd.U();
     Ok((0..block)
         .map(|c| {
@@ -226,12 +222,10 @@ pub(super) fn subspace_on_unknowns(
         return Err(ModalError::TooFewPoints { points, min });
     }
     if boundary == Boundary::Periodic {
-        return Err(ModalError::Solver(
-            "a periodic operator is not banded".into(),
-        ));
+        return Err(ModalError::NotBanded);
     }
     let n = boundary.unknowns(k, points);
-    let rows = stencil_rows(k, boundary, points).map_err(|e| ModalError::Solver(e.to_string()))?;
+    let rows = stencil_rows(k, boundary, points)?;
     let z = null_basis(k, boundary, points);
     let r = regularised_factor(&rows, &z, n, k)?;
     let project = |v: &mut Vec<f64>| {
@@ -292,9 +286,7 @@ pub(super) fn subspace_on_unknowns(
         ritz[..wanted].copy_from_slice(&values);
     }
     if !converged {
-        return Err(ModalError::Solver(
-            "the subspace iteration did not converge".into(),
-        ));
+        return Err(ModalError::NoConvergence("the subspace iteration"));
     }
     let mut eigenvalues = vec![0.0; z.len().min(count)];
     eigenvalues.extend_from_slice(&ritz[..wanted]);

@@ -47,3 +47,4 @@ pub fn matrix(v: &serde_json::Value) -> Vec<Vec<f64>> {
         })
         .collect()
 }
+pub mod beam;

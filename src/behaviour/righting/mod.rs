@@ -389,8 +389,7 @@ fn twist(
             return Err(Halt::Stop);
         }
         Ok(())
-    })
-    .map_err(|e| BehaviourError::new(e.to_string()))?;
+    })?;
     let Some((ta, at_attach, rates)) = attached else {
         return Err(BehaviourError::new(format!(
             "the head did not come within {tol} rad of upright in {} periods",

@@ -48,8 +48,7 @@ pub(super) fn pinned_modes(
         tail: End::Free,
         head: End::Clamped,
     };
-    let s = crate::modal::spectrum(k, held, n, None, true)
-        .map_err(|e| BehaviourError::new(e.to_string()))?;
+    let s = crate::modal::spectrum(k, held, n, None, true)?;
     let shapes = s
         .shapes
         .ok_or_else(|| BehaviourError::new("no mode shapes"))?;
