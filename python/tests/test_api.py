@@ -115,10 +115,14 @@ def test_fit_recovers_omega_and_beta_from_arrays():
     assert r.pca_variance_share.shape == (10,)
     assert len(r.animals) == 3
     assert r.to_dict()["frames"] == 3 * 6000
-    # A lost point loses its frame.
+    # A lost point loses its frame: bridged by default (gaps of at most 2 frames), a split
+    # without bridging.
     gappy = animals[0].copy()
     gappy[100, 3, 1] = np.nan
     r = ts.fit(gappy, head="last", window=512)
+    assert r.recording["frames_lost"] == 1 and r.recording["frames_filled"] == 1
+    assert r.recording["runs"] == 1
+    r = ts.fit(gappy, head="last", window=512, fill_gaps=0)
     assert r.recording["frames_lost"] == 1 and r.recording["runs"] == 2
 
 
