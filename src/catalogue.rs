@@ -153,13 +153,24 @@ pub struct RulesReport {
     pub requirements: Option<Requirements>,
 }
 
-impl crate::report::Report for RulesReport {
-    fn text(&self) -> String {
+impl RulesReport {
+    /// The registry (and the requirements) as Markdown, the form `emit` keeps in `tables/`.
+    pub fn markdown(&self) -> String {
         let mut text = self.header.clone() + &rules_markdown();
         if let Some(r) = &self.requirements {
             text += &r.markdown();
         }
         text
+    }
+}
+
+impl crate::report::Report for RulesReport {
+    fn text(&self) -> String {
+        let mut text = rules_markdown();
+        if let Some(r) = &self.requirements {
+            text += &r.markdown();
+        }
+        crate::markup::plain_from_markdown(text.trim_start())
     }
 
     fn json(&self) -> serde_json::Value {

@@ -102,3 +102,54 @@ pub fn bound_line(s: &str) -> String {
         line
     }
 }
+
+/// Markdown as plain aligned text: headings lose their `#`s, tables become columns padded to
+/// their widest cell (the separator row dropped), inline code loses its backticks.
+pub fn plain_from_markdown(md: &str) -> String {
+    fn flush(table: &mut Vec<Vec<String>>, out: &mut String) {
+        let columns = table.iter().map(Vec::len).max().unwrap_or(0);
+        let widths: Vec<usize> = (0..columns)
+            .map(|c| {
+                table
+                    .iter()
+                    .filter_map(|r| r.get(c))
+                    .map(|x| x.chars().count())
+                    .max()
+                    .unwrap_or(0)
+            })
+            .collect();
+        for row in table.drain(..) {
+            let cells: Vec<String> = row
+                .iter()
+                .zip(&widths)
+                .map(|(x, w)| format!("{x:<w$}"))
+                .collect();
+            *out += cells.join("  ").trim_end();
+            out.push('\n');
+        }
+    }
+    let mut out = String::new();
+    let mut table: Vec<Vec<String>> = Vec::new();
+    for line in md.lines() {
+        let line = line.replace('`', "");
+        if let Some(inner) = line.strip_prefix('|') {
+            let cells: Vec<String> = inner
+                .trim_end_matches('|')
+                .split('|')
+                .map(|c| c.trim().to_string())
+                .collect();
+            if !cells
+                .iter()
+                .all(|c| !c.is_empty() && c.chars().all(|x| x == '-' || x == ':'))
+            {
+                table.push(cells);
+            }
+            continue;
+        }
+        flush(&mut table, &mut out);
+        out += line.trim_start_matches('#').trim_start();
+        out.push('\n');
+    }
+    flush(&mut table, &mut out);
+    out
+}

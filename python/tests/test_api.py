@@ -30,7 +30,7 @@ def test_modes_are_the_eigenvalues_of_the_returned_operators():
 
 def test_modes_take_the_lowest_k_and_the_scales():
     full = ts.modes(200, params={"omega_b": 2.0})
-    few = ts.modes(200, params={"omega_b": 2.0}, k=5)
+    few = ts.modes(200, params={"omega_b": 2.0}, modes=5)
     assert list(full) == ["x", "theta", "y", "z"]
     for field in full:
         np.testing.assert_allclose(
@@ -42,7 +42,7 @@ def test_modes_take_the_lowest_k_and_the_scales():
     # Shapes not asked for are computed on first read: the k lowest, as asked with shapes=True.
     assert few["y"]._shapes is None
     np.testing.assert_array_equal(
-        few["y"].shapes, ts.modes(200, params={"omega_b": 2.0}, k=5, shapes=True)["y"].shapes
+        few["y"].shapes, ts.modes(200, params={"omega_b": 2.0}, modes=5, shapes=True)["y"].shapes
     )
     # One native call computed every field's shapes.
     assert few["y"].shapes.shape == (200, 5) and set(few._with_shapes) == set(few)

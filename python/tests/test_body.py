@@ -115,7 +115,7 @@ def test_errors_are_typed_by_kind():
     with pytest.raises(ts.UsageError):
         ts.simulate(points=12, initial={"y": 1.0})  # a uniform state is for a nonlinear body
     # numpy integers are whole numbers.
-    assert len(ts.modes(points=np.int64(12), k=np.int32(3))["y"].eigenvalues) == 3
+    assert len(ts.modes(points=np.int64(12), modes=np.int32(3))["y"].eigenvalues) == 3
 
 
 def test_what_a_notebook_user_passes(tmp_path):
@@ -149,3 +149,10 @@ def test_a_dataframe_and_figures_from_a_notebook(tmp_path):
     assert drawn.figures and all(Path(p).is_file() and p.endswith(".png") for p in drawn.figures)
     with pytest.raises(ts.UsageError):
         ts.fit(str(worm), window=64, figure_format="png")  # without figures= it would do nothing
+
+
+def test_modes_takes_the_command_lines_name_and_the_old_one_warns():
+    new = ts.modes(points=12, modes=3)["y"].eigenvalues
+    with pytest.warns(DeprecationWarning, match="--modes"):
+        old = ts.modes(points=12, k=3)["y"].eigenvalues
+    assert len(new) == 3 and list(new) == list(old)

@@ -22,7 +22,7 @@ def _calls(tmp):
     return {
         "modes.points": lambda v: ts.modes(points=v),
         "modes.params": lambda v: ts.modes(12, params={"omega_b": v}),
-        "modes.k": lambda v: ts.modes(12, k=v),
+        "modes.modes": lambda v: ts.modes(12, modes=v),
         "simulate.dt": lambda v: ts.simulate(points=6, steps=5, dt=v),
         "simulate.temperature": lambda v: ts.simulate(points=6, steps=5, temperature=v),
         "simulate.initial": lambda v: ts.simulate(points=6, steps=5, initial={"y:2": v}),

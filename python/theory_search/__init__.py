@@ -8,7 +8,7 @@ catches: ``UsageError`` is a ``ValueError`` (bad arguments, settings or models),
 an ``ArithmeticError``; each with the one-line message the command line prints.
 
 >>> import theory_search as ts
->>> m = ts.modes(points=12, k=3)
+>>> m = ts.modes(points=12, modes=3)
 >>> m["y"].eigenvalues.shape
 (3,)
 """
@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import json
 import os
+import warnings
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
 
 import numpy as np
@@ -341,9 +342,10 @@ def modes(
     model: Optional[Union[Model, str]] = None,
     params: Optional[Mapping[str, float]] = None,
     shapes: bool = False,
-    k: Optional[int] = None,
+    modes: Optional[int] = None,
     order: int = 4,
     beyond_leading: Optional[int] = None,
+    k: Optional[int] = None,
 ) -> Modes:
     """Each field's modes: eigenvalues and shapes of its discretised operator.
 
@@ -355,10 +357,12 @@ def modes(
     shapes : bool
         Compute the mode shapes now (otherwise the first read of a field's ``shapes``
         computes them, once, for every field).
-    k : int, optional
-        Only the ``k`` lowest modes of each field.
+    modes : int, optional
+        Only this many lowest modes of each field (the command line's ``--modes``).
     @order
     @beyond_leading
+    k : int, optional
+        The old name of ``modes`` (deprecated: it warns).
 
     Returns
     -------
@@ -375,11 +379,18 @@ def modes(
     _count("points", points, 1, _LIMITS["points"])
     _count("order", order, 1, _LIMITS["order"])
     if k is not None:
-        _count("k", k, 1)
+        # The old name, kept working: the command line says --modes.
+        warnings.warn("modes(k=…) is now modes(modes=…), as the command line's --modes",
+                      DeprecationWarning, stacklevel=2)
+        if modes is None:
+            modes = k
+    if modes is not None:
+        _count("modes", modes, 1)
+    count = modes
     args = (points, *_body_args(order, beyond_leading, model, params))
     return Modes(
-        _native_call["modes"](*args, shapes, k),
-        load_shapes=lambda: _native_call["modes"](*args, True, k),
+        _native_call["modes"](*args, shapes, count),
+        load_shapes=lambda: _native_call["modes"](*args, True, count),
     )
 
 

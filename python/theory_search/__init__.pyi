@@ -154,9 +154,10 @@ def modes(
     model: ModelLike = None,
     params: Optional[Mapping[str, float]] = None,
     shapes: bool = False,
-    k: Optional[int] = None,
+    modes: Optional[int] = None,
     order: int = 4,
     beyond_leading: Optional[int] = None,
+    k: Optional[int] = None,
 ) -> Modes:
     """Each field's modes keyed by field id (shapes as points × modes columns)."""
 

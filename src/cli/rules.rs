@@ -19,9 +19,22 @@ pub struct Args {
     #[arg(long, short, value_name = "N",
           value_parser = clap::value_parser!(u32).range(1..=MAX_ORDER as i64))]
     order: Option<u32>,
-    /// Output format (text: Markdown; csv: the registry).
-    #[arg(long, value_enum, default_value_t = Output::Text)]
-    format: Output,
+    /// Output format (csv: the registry).
+    #[arg(long, value_enum, default_value_t = RulesFormat::Text)]
+    format: RulesFormat,
+}
+
+/// The forms `rules` takes: the common ones and Markdown (the page `emit` keeps).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum RulesFormat {
+    /// Aligned text for reading.
+    Text,
+    /// Markdown tables.
+    Markdown,
+    /// JSON: one document.
+    Json,
+    /// CSV: the registry, one rule per row.
+    Csv,
 }
 
 /// Print the registry (and the model's requirements).
@@ -37,5 +50,15 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
         header: crate::codegen::header("<!--", " -->"),
         requirements,
     };
-    emit(out, &report, args.format)
+    let format = match args.format {
+        RulesFormat::Markdown => {
+            return out
+                .write_all(report.markdown().as_bytes())
+                .map_err(|e| CliError::Output(format!("cannot write output: {e}")));
+        }
+        RulesFormat::Text => Output::Text,
+        RulesFormat::Json => Output::Json,
+        RulesFormat::Csv => Output::Csv,
+    };
+    emit(out, &report, format)
 }

@@ -36,6 +36,7 @@
 //! zero), else `consistent` when the interval holds the
 //! expectation and `rejected` when it does not.
 
+use super::note::{ModeNote, TestNote};
 use crate::report::fixed;
 
 /// Half-widths ζΩ of a line that must stay under Nyquist for the mode to be resolved.
@@ -89,7 +90,7 @@ pub struct ModeSpectralFit {
     pub bins: f64,
     /// Why not resolved, or why it does not vote.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub note: Option<String>,
+    pub note: Option<ModeNote>,
 }
 
 /// What a test says of the theory.
@@ -127,9 +128,9 @@ pub struct TheoryTest {
     pub verdict: Verdict,
     /// The modes that voted.
     pub modes: Vec<usize>,
-    /// Why undetermined, or how the interval was widened.
+    /// Why undetermined or rejected by the scatter, or how the scatter was.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub note: Option<String>,
+    pub note: Option<TestNote>,
 }
 
 /// The three predictions.
@@ -169,26 +170,21 @@ impl ModeSpectralFit {
         let known = |e: f64| e.is_finite().then_some(e);
         let f = s.omega / (2.0 * std::f64::consts::PI);
         let why = if !s.converged {
-            Some("the spectral fit did not converge".to_string())
+            Some(ModeNote::NotConverged)
         } else if s.zeta >= 1.0 {
-            Some(format!("over-damped (ζ = {})", fixed(s.zeta, 3)))
+            Some(ModeNote::OverDamped { zeta: s.zeta })
         } else if f < RESOLVED_BINS * df {
-            Some(format!(
-                "its frequency is {} bins above zero, fewer than {RESOLVED_BINS}: the window cannot resolve it",
-                fixed(f / df, 2)
-            ))
+            Some(ModeNote::TooFewBins { bins: f / df })
         } else if f > 0.45 * fs {
-            Some("its frequency is above 0.9 × Nyquist".to_string())
+            Some(ModeNote::AboveNyquist)
         } else if f + NYQUIST_HALF_WIDTHS * s.zeta * f > 0.5 * fs {
             // Its line folds back on itself: the fitted Ω and ζ of such lines run low by
             // several of their standard errors in simulations (tests/coverage.rs).
-            Some(format!(
-                "its line reaches past Nyquist (Ω(1 + {NYQUIST_HALF_WIDTHS}ζ) above it): Ω and ζ are biased by its own aliasing"
-            ))
+            Some(ModeNote::LinePastNyquist)
         } else if s.noise > 3.0 * s.variance {
-            Some("its spectrum is mostly flat (white level ν above 3σ²)".to_string())
+            Some(ModeNote::MostlyFlat)
         } else if s.omega_error > 0.25 * s.omega {
-            Some("Ω is known to worse than 25 %".to_string())
+            Some(ModeNote::OmegaUncertain)
         } else {
             None
         };
@@ -257,17 +253,15 @@ pub(super) fn disqualify(
         };
         if let Some(f) = floor.filter(|&f| m.variance < f) {
             m.votes = false;
-            m.note = Some(format!(
-                "its variance {} is under the white floor {}",
-                fixed(m.variance, 4),
-                fixed(f, 4)
-            ));
+            m.note = Some(ModeNote::UnderFloor {
+                variance: m.variance,
+                floor: f,
+            });
         } else if off.abs() > 0.1 {
             m.votes = false;
-            m.note = Some(format!(
-                "λ/λ₁ of the model's points differs from the continuum's by {} %: the grid does not resolve it",
-                fixed(100.0 * off, 1)
-            ));
+            m.note = Some(ModeNote::GridOff {
+                percent: 100.0 * off,
+            });
         }
     }
 }
@@ -287,9 +281,7 @@ pub(super) fn drop_leaks(fits: &mut [ModeSpectralFit], cov: &[Vec<f64>]) {
         if let (Some(i), true) = (source, fits[j].votes) {
             let from = fits[i].mode;
             fits[j].votes = false;
-            fits[j].note = Some(format!(
-                "its coordinate follows mode {from}'s at a small fraction of its variance: mode {from} showing through"
-            ));
+            fits[j].note = Some(ModeNote::Leak { from });
         }
     }
 }
@@ -338,24 +330,16 @@ pub(super) fn tests(
         exponent(&points, expected)
     };
     // Modes that vote on the dispersion only: said where the other tests lack them.
-    let dispersion_only: Vec<String> = fits
+    let dispersion_only: Vec<usize> = fits
         .iter()
         .filter(|m| m.votes && m.bins < WIDTH_BINS)
-        .map(|m| m.mode.to_string())
+        .map(|m| m.mode)
         .collect();
     let said = |mut t: TheoryTest| {
         if t.verdict == Verdict::Undetermined && !dispersion_only.is_empty() {
-            let (who, verb) = match dispersion_only.len() {
-                1 => ("mode", "votes"),
-                _ => ("modes", "vote"),
-            };
-            let why = format!(
-                "{who} {} {verb} on the dispersion only (under {WIDTH_BINS} bins above zero their σ² and ζ errors run short; a longer --window resolves them)",
-                dispersion_only.join(", ")
-            );
-            t.note = Some(match t.note {
-                Some(n) => format!("{n}; {why}"),
-                None => why,
+            t.note = Some(TestNote::DispersionOnly {
+                modes: dispersion_only.clone(),
+                after: t.note.take().map(Box::new),
             });
         }
         t
@@ -375,7 +359,7 @@ pub(super) fn tests(
 fn exponent(points: &[(usize, f64, f64, f64)], expected: f64) -> TheoryTest {
     let modes: Vec<usize> = points.iter().map(|p| p.0).collect();
     let n = points.len();
-    let undetermined = |note: String| TheoryTest {
+    let undetermined = |note: TestNote| TheoryTest {
         exponent: None,
         interval: None,
         expected,
@@ -384,7 +368,7 @@ fn exponent(points: &[(usize, f64, f64, f64)], expected: f64) -> TheoryTest {
         note: Some(note),
     };
     if n < 2 {
-        return undetermined(format!("{n} voting mode(s); at least 3 are needed"));
+        return undetermined(TestNote::TooFew { n });
     }
     let w: Vec<f64> = points.iter().map(|p| 1.0 / (p.3 * p.3)).collect();
     let sw: f64 = w.iter().sum();
@@ -396,7 +380,7 @@ fn exponent(points: &[(usize, f64, f64, f64)], expected: f64) -> TheoryTest {
         .map(|(p, w)| w * (p.1 - xm).powi(2))
         .sum();
     if !(sxx > 0.0 && sxx.is_finite()) {
-        return undetermined("the voting modes share one eigenvalue".into());
+        return undetermined(TestNote::SharedEigenvalue);
     }
     let slope = points
         .iter()
@@ -425,41 +409,29 @@ fn exponent(points: &[(usize, f64, f64, f64)], expected: f64) -> TheoryTest {
                 expected,
                 verdict: Verdict::Rejected,
                 modes,
-                note: Some(format!(
-                    "the modes scatter about the power law beyond their errors (χ² = {}, ν = {}, p = {}): the law does not fit",
-                    fixed(chi2, 1),
-                    n - 2,
-                    p_value(p)
-                )),
+                note: Some(TestNote::LawDoesNotFit {
+                    chi2,
+                    dof: n - 2,
+                    p,
+                }),
             };
         }
         // Scatter within chance: the modes' own errors stand (widening them by the scatter
         // as well would count it twice); said when it is notable.
         if chi2 > 1.21 * dof {
-            note = Some(format!(
-                "scatter {}× the errors, within chance (χ² = {}, ν = {}, p = {})",
-                fixed((chi2 / dof).sqrt(), 2),
-                fixed(chi2, 1),
-                n - 2,
-                p_value(p)
-            ));
+            note = Some(TestNote::WithinChance {
+                chi2,
+                dof: n - 2,
+                p,
+            });
         }
     }
     let interval = [slope - quantile * se, slope + quantile * se];
     let half = quantile * se;
     let (verdict, why) = if n < 3 {
-        (
-            Verdict::Undetermined,
-            Some(format!("{n} voting modes; at least 3 are needed")),
-        )
+        (Verdict::Undetermined, Some(TestNote::TooFew { n }))
     } else if half.is_nan() || half > expected.abs() {
-        (
-            Verdict::Undetermined,
-            Some(
-                "the interval's half-width exceeds the expected exponent's size: it could not tell that exponent from zero"
-                    .to_string(),
-            ),
-        )
+        (Verdict::Undetermined, Some(TestNote::TooWide))
     } else if interval[0] <= expected && expected <= interval[1] {
         (Verdict::Consistent, note)
     } else {
@@ -472,15 +444,6 @@ fn exponent(points: &[(usize, f64, f64, f64)], expected: f64) -> TheoryTest {
         verdict,
         modes,
         note: why,
-    }
-}
-
-/// A p-value as a reader wants it: three decimals, or two significant digits when small.
-fn p_value(p: f64) -> String {
-    if p >= 0.001 {
-        fixed(p, 3)
-    } else {
-        format!("{p:.1e}")
     }
 }
 

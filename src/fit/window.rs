@@ -180,9 +180,9 @@ pub(super) fn fit_modes_spectra(
                 votes: false,
                 bins: 0.0,
                 note: Some(if j < count {
-                    "too few frequency bins or no variance to fit".into()
+                    super::ModeNote::Unfittable
                 } else {
-                    "not fitted (only the constants were asked for)".into()
+                    super::ModeNote::NotFitted
                 }),
             },
         }

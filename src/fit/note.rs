@@ -1,0 +1,196 @@
+//! Why a mode is not resolved or does not vote, and what a test's verdict rests on: values,
+//! written in words only when printed (JSON carries the same words).
+
+use std::fmt;
+
+use super::verdict::{NYQUIST_HALF_WIDTHS, RESOLVED_BINS, WIDTH_BINS};
+use crate::report::fixed;
+
+/// Why a mode is not resolved, or does not vote.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ModeNote {
+    /// The spectral fit did not converge.
+    NotConverged,
+    /// ζ ≥ 1.
+    OverDamped {
+        /// The fitted ζ.
+        zeta: f64,
+    },
+    /// Under [`RESOLVED_BINS`] bins above zero.
+    TooFewBins {
+        /// Its frequency in bins.
+        bins: f64,
+    },
+    /// Above 0.9 × Nyquist.
+    AboveNyquist,
+    /// Its line reaches past Nyquist.
+    LinePastNyquist,
+    /// White level above 3σ².
+    MostlyFlat,
+    /// Ω known to worse than 25 %.
+    OmegaUncertain,
+    /// Its variance under the white floor.
+    UnderFloor {
+        /// σ².
+        variance: f64,
+        /// The floor.
+        floor: f64,
+    },
+    /// The grid does not resolve it.
+    GridOff {
+        /// λ/λ₁ against the continuum's, in per cent.
+        percent: f64,
+    },
+    /// A lower mode showing through.
+    Leak {
+        /// That mode.
+        from: usize,
+    },
+    /// Too few frequency bins or no variance to fit.
+    Unfittable,
+    /// Only the constants were asked for.
+    NotFitted,
+}
+
+impl fmt::Display for ModeNote {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ModeNote::NotConverged => f.write_str("the spectral fit did not converge"),
+            ModeNote::OverDamped { zeta } => write!(f, "over-damped (ζ = {})", fixed(*zeta, 3)),
+            ModeNote::TooFewBins { bins } => write!(
+                f,
+                "its frequency is {} bins above zero, fewer than {RESOLVED_BINS}: the window cannot resolve it",
+                fixed(*bins, 2)
+            ),
+            ModeNote::AboveNyquist => f.write_str("its frequency is above 0.9 × Nyquist"),
+            ModeNote::LinePastNyquist => write!(
+                f,
+                "its line reaches past Nyquist (Ω(1 + {NYQUIST_HALF_WIDTHS}ζ) above it): Ω and ζ are biased by its own aliasing"
+            ),
+            ModeNote::MostlyFlat => {
+                f.write_str("its spectrum is mostly flat (white level ν above 3σ²)")
+            }
+            ModeNote::OmegaUncertain => f.write_str("Ω is known to worse than 25 %"),
+            ModeNote::UnderFloor { variance, floor } => write!(
+                f,
+                "its variance {} is under the white floor {}",
+                fixed(*variance, 4),
+                fixed(*floor, 4)
+            ),
+            ModeNote::GridOff { percent } => write!(
+                f,
+                "λ/λ₁ of the model's points differs from the continuum's by {} %: the grid does not resolve it",
+                fixed(*percent, 1)
+            ),
+            ModeNote::Leak { from } => write!(
+                f,
+                "its coordinate follows mode {from}'s at a small fraction of its variance: mode {from} showing through"
+            ),
+            ModeNote::Unfittable => f.write_str("too few frequency bins or no variance to fit"),
+            ModeNote::NotFitted => f.write_str("not fitted (only the constants were asked for)"),
+        }
+    }
+}
+
+impl serde::Serialize for ModeNote {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
+
+/// What a test's verdict rests on, when it needs saying.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TestNote {
+    /// Fewer than three voting modes.
+    TooFew {
+        /// How many voted.
+        n: usize,
+    },
+    /// The voting modes share one eigenvalue.
+    SharedEigenvalue,
+    /// The modes scatter about the law beyond their errors.
+    LawDoesNotFit {
+        /// χ².
+        chi2: f64,
+        /// Degrees of freedom.
+        dof: usize,
+        /// Its p-value.
+        p: f64,
+    },
+    /// Notable scatter, within chance.
+    WithinChance {
+        /// χ².
+        chi2: f64,
+        /// Degrees of freedom.
+        dof: usize,
+        /// Its p-value.
+        p: f64,
+    },
+    /// The interval cannot tell the expected exponent from zero.
+    TooWide,
+    /// Modes that vote on the dispersion only, after what else there is to say.
+    DispersionOnly {
+        /// Those modes.
+        modes: Vec<usize>,
+        /// The note before.
+        after: Option<Box<TestNote>>,
+    },
+}
+
+/// A p-value as a reader wants it: three decimals, or two significant digits when small.
+fn p_value(p: f64) -> String {
+    if p >= 0.001 {
+        fixed(p, 3)
+    } else {
+        format!("{p:.1e}")
+    }
+}
+
+impl fmt::Display for TestNote {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            TestNote::TooFew { n } if *n < 2 => {
+                write!(f, "{n} voting mode(s); at least 3 are needed")
+            }
+            TestNote::TooFew { n } => write!(f, "{n} voting modes; at least 3 are needed"),
+            TestNote::SharedEigenvalue => f.write_str("the voting modes share one eigenvalue"),
+            TestNote::LawDoesNotFit { chi2, dof, p } => write!(
+                f,
+                "the modes scatter about the power law beyond their errors (χ² = {}, ν = {dof}, p = {}): the law does not fit",
+                fixed(*chi2, 1),
+                p_value(*p)
+            ),
+            TestNote::WithinChance { chi2, dof, p } => write!(
+                f,
+                "scatter {}× the errors, within chance (χ² = {}, ν = {dof}, p = {})",
+                fixed((chi2 / *dof as f64).sqrt(), 2),
+                fixed(*chi2, 1),
+                p_value(*p)
+            ),
+            TestNote::TooWide => f.write_str(
+                "the interval's half-width exceeds the expected exponent's size: it could not tell that exponent from zero",
+            ),
+            TestNote::DispersionOnly { modes, after } => {
+                if let Some(a) = after {
+                    write!(f, "{a}; ")?;
+                }
+                let (who, verb) = match modes.len() {
+                    1 => ("mode", "votes"),
+                    _ => ("modes", "vote"),
+                };
+                let list: Vec<String> = modes.iter().map(|m| m.to_string()).collect();
+                write!(
+                    f,
+                    "{who} {} {verb} on the dispersion only (under {WIDTH_BINS} bins above zero their σ² and ζ errors run short; a longer --window resolves them)",
+                    list.join(", ")
+                )
+            }
+        }
+    }
+}
+
+impl serde::Serialize for TestNote {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
