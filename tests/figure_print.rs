@@ -147,6 +147,20 @@ fn text_prints_at_seven_points_or_more_at_every_width() {
 }
 
 #[test]
+fn at_a_single_column_no_figure_is_taller_than_twice_its_width() {
+    for (what, svg) in all_svgs(85.0).iter() {
+        let root = elements(svg)[0].1;
+        let view: Vec<f64> = attr(root, "viewBox")
+            .unwrap()
+            .split(' ')
+            .map(|v| v.parse().unwrap())
+            .collect();
+        let (w, h) = (view[2], view[3]);
+        assert!(h <= 2.0 * w, "{what}: {h} tall on {w} wide");
+    }
+}
+
+#[test]
 fn every_character_has_a_glyph_in_the_embedded_font() {
     let font = ttf_parser::Face::parse(dejavu::sans::regular(), 0).unwrap();
     let mut seen = std::collections::BTreeSet::new();

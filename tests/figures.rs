@@ -41,7 +41,7 @@ fn figures_carry_their_axis_units() {
         let svg = figure(name, &larva(s.points), &s).unwrap();
         assert!(svg.contains(label), "{name} lacks {label:?}");
     };
-    has("self_righting.svg", "time t (1/ω_t)");
+    has("self_righting.svg", "time t (1/ωₜ)");
     has("self_righting.svg", "damping ratio ζ₁");
     has("mode_shapes.svg", "segment j (0 = tail)");
     has("mathieu.svg", "drive frequency ω/λ");

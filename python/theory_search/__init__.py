@@ -580,9 +580,12 @@ def fit(
         The report's numbers as attributes: ``omega``, ``beta``, ``frames``, ``modes``,
         ``modes_fit``, ``tests`` (each prediction's exponent, interval and verdict),
         ``warnings``, ``animals``, ``intervals`` (always present), ``pca_variance_share``,
-        ``theory_variance_share``, ``mode_overlap``; the arrays ``frequencies``, ``psd``
-        (modes × frequencies), ``components`` and ``shapes`` (points × modes); ``figures``
-        (the paths written, or empty); ``to_dict()``, ``to_pandas()``.
+        ``theory_variance_share``, ``mode_overlap``; the arrays ``frequencies`` (cycles per
+        time unit of ``t``), ``psd`` (modes × frequencies, Q² per cycle per time unit; row 0
+        is the first non-zero mode, ``modes[0].index``: mode 2 of a free body), ``components``
+        and ``shapes`` (points × modes); ``figures`` (the paths written, or empty);
+        ``to_dict()``, ``to_pandas()``. ``omega`` and each ``modes_fit`` Ω are in radians per
+        time unit; ``beta`` in time unit².
     """
     toml = _toml(model)
     if hasattr(midlines, "columns") and hasattr(midlines, "to_numpy"):

@@ -21,7 +21,7 @@ pub(super) fn self_righting(theory: &Theory, width: u32) -> Result<String, Figur
         r.frames.iter().map(|f| (f.t, g(f))).collect()
     };
     let attach = vec![(r.attachment_time, "mouth hooks attach".to_string())];
-    let t = "time t (1/ω_t)";
+    let t = "time t (1/ωₜ)";
     let mut panels = vec![
         panel(
             "generalised torque on the first torsional mode",
@@ -66,7 +66,7 @@ pub(super) fn self_righting(theory: &Theory, width: u32) -> Result<String, Figur
     panels.push(panel(
         &align_title,
         "segment j (0 = tail)",
-        "alignment time (1/ω_t)",
+        "alignment time (1/ωₜ)",
         vec![series("", align, Mark::Dots)],
     ));
     let zs: Vec<f64> = curve(0.3, 3.0, 18, |z| z).iter().map(|p| p.0).collect();
@@ -82,7 +82,7 @@ pub(super) fn self_righting(theory: &Theory, width: u32) -> Result<String, Figur
     let mut sweep = panel(
         "righting time against the first mode's damping",
         "damping ratio ζ₁",
-        "time (1/ω_t)",
+        "time (1/ωₜ)",
         vec![
             series("body aligned", righted_at, Mark::Line),
             series("hooks attach", attach_at, Mark::Dashed),
@@ -211,9 +211,9 @@ pub(super) fn asymmetry(width: u32) -> Result<String, FigureError> {
         sim.1.push((a, x.simulated_backward));
     }
     let mut p = panel(
-        "roots of ω_s² + cA²ω_s − ω² = 0, c = −√2/2, ω = 1",
+        "roots of ωₛ² + cA²ωₛ − ω² = 0, c = −√2/2, ω = 1",
         "wave amplitude A",
-        "travelling-wave frequency ω_s (units of ω)",
+        "travelling-wave frequency ωₛ (units of ω)",
         vec![
             series(
                 "forward root",
@@ -354,8 +354,8 @@ pub(super) fn pair(
     };
     let mut orbit_panel = panel(
         "minimum-energy orbit A* = √(|M|/ω)",
-        "Q_a",
-        "Q_b",
+        "Q₁ of the pair",
+        "Q₂ of the pair",
         vec![series("", orbit, Mark::Line)],
     );
     orbit_panel.zero = true;

@@ -77,10 +77,11 @@ fn fit_verdict(r: &crate::fit::FitReport, width: u32) -> Result<String, FigureEr
     };
     let d = &r.tests.dispersion;
     let e = &r.tests.equipartition;
+    // The fitted exponent, or its symbol when there is none to show.
     let said = |t: &crate::fit::TheoryTest| {
         t.exponent
-            .map(|a| format!("{a:.3}"))
-            .unwrap_or_else(|| "—".into())
+            .map(|a| format!("{a:.3}").replace('-', "\u{2212}"))
+            .unwrap_or_else(|| "a".into())
     };
     let titles = [
         format!("dispersion Ω ∝ λ^{} (expected ½): {}", said(d), d.verdict),
@@ -164,9 +165,10 @@ fn fit_verdict(r: &crate::fit::FitReport, width: u32) -> Result<String, FigureEr
     render(
         width,
         &format!(
-            "Does the theory hold? {} frames, {} voting modes",
+            "Does the theory hold? {} frames; modes voting on the dispersion {}, on equipartition {}",
             r.frames,
-            d.modes.len()
+            d.modes.len(),
+            e.modes.len()
         ),
         440,
         (1, 2),
@@ -264,6 +266,11 @@ pub fn fit_figures(
             series(format!("mode {}", r.modes[k].index), pts, Mark::Line)
         })
         .collect();
+    // A density in frequency: Q² (Q is dimensionless) per cycle per time unit.
+    let psd_unit = format!(
+        "log₁₀ PSD (Q²·{})",
+        r.units.time.as_deref().unwrap_or("time unit")
+    );
     let summary = render(
         width,
         &format!(
@@ -277,7 +284,7 @@ pub fn fit_figures(
             panel(
                 "Welch spectra of the modal coordinates",
                 &cycles_per,
-                "log₁₀ PSD",
+                &psd_unit,
                 spectra,
             ),
             freq,

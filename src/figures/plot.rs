@@ -100,11 +100,14 @@ pub(super) fn tick(v: f64) -> String {
     if v.abs() < 1e-12 {
         return "0".into();
     }
-    if (v - v.round()).abs() < 1e-9 * v.abs().max(1.0) && v.abs() < 1e9 {
-        return format!("{}", v.round() as i64);
-    }
-    let text = format!("{v:.4}");
-    text.trim_end_matches('0').trim_end_matches('.').to_string()
+    let text = if (v - v.round()).abs() < 1e-9 * v.abs().max(1.0) && v.abs() < 1e9 {
+        format!("{}", v.round() as i64)
+    } else {
+        let text = format!("{v:.4}");
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    };
+    // The typographic minus, as a printed page has it (not the hyphen).
+    text.replace('-', "\u{2212}")
 }
 
 /// Text size in plotters' units (it writes `font-size` = size / 1.24: 14.5 px, 7.4 pt in print
@@ -117,106 +120,109 @@ pub(super) const TITLE: u32 = 22;
 /// The narrowest panel, in pixels: a figure narrower than its columns need takes fewer columns.
 const MIN_PANEL: u32 = 320;
 
-/// The size plotters gives the legend box of `labels` at [`TEXT`]: its own naive font metrics
-/// (em = size / 1.24², 0.7 em a byte, lines 1.25 size apart), a 30 px swatch column and 10 px
-/// margins. The box is drawn 5 px inside a corner of the plotting area.
-fn legend_box(labels: &[&str]) -> (f64, f64) {
-    let size = TEXT as f64;
-    let em = size / 1.24 / 1.24;
-    let width = labels
-        .iter()
-        .map(|l| (em * 0.7 * l.len() as f64).round())
-        .fold(0.0, f64::max);
-    let rows = labels.len().saturating_sub(1) as f64;
-    let height = (rows * size * 1.25).round() + em.round() + (em * 0.24).round();
-    (width + 30.0 + 20.0, height + 20.0)
+/// The narrowest a panel may be when the page is narrow: a figure at 85 mm takes two columns
+/// of these rather than stacking its panels into a column.
+const NARROW_PANEL: u32 = 230;
+
+/// One entry of a panel's key: its label, colour and mark (`None`: a marker line).
+struct Key<'p> {
+    label: &'p str,
+    color: RGBColor,
+    mark: Option<Mark>,
 }
 
-/// Whether anything of series `s` (in pixels of a plot `xr × yr` mapped onto `plot`) comes
-/// within a few pixels of the box `[x0, x1] × [y0, y1]` (pixels, y down).
-fn touches(
-    s: &Series,
-    map: &dyn Fn(f64, f64) -> (f64, f64),
-    (x0, x1, y0, y1): (f64, f64, f64, f64),
-) -> bool {
-    let pad = 4.0;
-    let inside = |(x, y): (f64, f64), r: f64| {
-        x > x0 - pad - r && x < x1 + pad + r && y > y0 - pad - r && y < y1 + pad + r
-    };
-    // A segment, walked in steps of at most 2 px.
-    let segment = |a: (f64, f64), b: (f64, f64)| {
-        let (p, q) = (map(a.0, a.1), map(b.0, b.1));
-        let steps = ((q.0 - p.0).hypot(q.1 - p.1) / 2.0).ceil().clamp(1.0, 1e5) as usize;
-        (0..=steps).any(|k| {
-            let t = k as f64 / steps as f64;
-            inside((p.0 + t * (q.0 - p.0), p.1 + t * (q.1 - p.1)), 1.0)
-        })
-    };
-    match s.mark {
-        Mark::Line | Mark::Dashed => s.points.windows(2).any(|w| segment(w[0], w[1])),
-        Mark::Dots => s.points.iter().any(|&(x, y)| inside(map(x, y), 3.0)),
-        Mark::Errors => s.points.chunks_exact(2).any(|p| segment(p[0], p[1])),
-        Mark::Bars(w) => s.points.iter().any(|&(x, h)| {
-            let (a, b) = (map(x, 0.0), map(x + w, h));
-            a.0.min(b.0) < x1 + pad
-                && a.0.max(b.0) > x0 - pad
-                && a.1.min(b.1) < y1 + pad
-                && a.1.max(b.1) > y0 - pad
-        }),
-    }
+/// The pixel width of `label` at [`TEXT`] (the rendered font's 0.55 em a character).
+fn text_width(label: &str) -> f64 {
+    0.55 * TEXT as f64 / 1.24 * label.chars().count() as f64
 }
 
-/// Where the legend goes, and the y range that leaves room for it: the first corner whose
-/// legend box touches no data or marker line; when every corner would, the y axis grows upward
-/// by the legend's height so it sits above the data (upper right). `plot` is the plotting
-/// area's size in pixels.
-pub(super) fn legend_place(
-    p: &Panel,
-    plot: (f64, f64),
-    xr: &std::ops::Range<f64>,
-    yr: &std::ops::Range<f64>,
-) -> (SeriesLabelPosition, std::ops::Range<f64>) {
-    let labels: Vec<&str> = p
-        .series
-        .iter()
-        .map(|s| s.name.as_str())
-        .chain(p.markers.iter().map(|m| m.1.as_str()))
-        .filter(|n| !n.is_empty())
-        .collect();
-    if labels.is_empty() {
-        return (SeriesLabelPosition::UpperRight, yr.clone());
+/// The key's entries laid out in rows across `width` pixels: (row, x) per entry, and rows.
+fn key_rows(keys: &[Key], width: f64) -> (Vec<(usize, f64)>, usize) {
+    let (mut row, mut x) = (0, 8.0);
+    let mut at = Vec::new();
+    for k in keys {
+        let w = 24.0 + text_width(k.label) + 14.0;
+        if x > 8.0 && x + w > width - 4.0 {
+            row += 1;
+            x = 8.0;
+        }
+        at.push((row, x));
+        x += w;
     }
-    let (bw, bh) = legend_box(&labels);
-    // Data to pixels of the plotting area (y down).
-    let map = |x: f64, y: f64| {
-        (
-            plot.0 * (x - xr.start) / (xr.end - xr.start),
-            plot.1 * (1.0 - (y - yr.start) / (yr.end - yr.start)),
-        )
-    };
-    let free = |right: bool, upper: bool| {
-        let x0 = if right { plot.0 - bw - 5.0 } else { 5.0 };
-        let y0 = if upper { 5.0 } else { plot.1 - bh - 5.0 };
-        let b = (x0, x0 + bw, y0, y0 + bh);
-        !p.series.iter().any(|s| touches(s, &map, b))
-            && !p.markers.iter().any(|&(x, _)| {
-                let px = map(x, 0.0).0;
-                px > b.0 - 4.0 && px < b.1 + 4.0
-            })
-    };
-    let corners = [
-        (SeriesLabelPosition::UpperRight, true, true),
-        (SeriesLabelPosition::UpperLeft, false, true),
-        (SeriesLabelPosition::LowerRight, true, false),
-        (SeriesLabelPosition::LowerLeft, false, false),
-    ];
-    if let Some((pos, _, _)) = corners.into_iter().find(|&(_, r, u)| free(r, u)) {
-        return (pos, yr.clone());
+    (at, if keys.is_empty() { 0 } else { row + 1 })
+}
+
+/// Height of a key row, in pixels.
+const KEY_ROW: f64 = TEXT as f64 * 1.3;
+
+/// Draw the key in a strip above the chart (it never covers data, and the axes stay on the
+/// data): a swatch drawn as the series is, then its label. Returns the area below the strip.
+fn keyed<'a>(area: &Area<'a>, keys: &[Key], least: usize) -> Result<Area<'a>, FigureError> {
+    let width = area.dim_in_pixel().0 as f64;
+    let (at, rows) = key_rows(keys, width);
+    let rows = rows.max(least);
+    if rows == 0 {
+        return Ok(area.clone());
     }
-    // Headroom: the data keep the plot below the box (and its 5 px gap and padding).
-    let fh = ((bh + 12.0) / plot.1).min(0.8);
-    let top = yr.start + (yr.end - yr.start) / (1.0 - fh);
-    (SeriesLabelPosition::UpperRight, yr.start..top)
+    let band = (rows as f64 * KEY_ROW + 8.0).ceil() as u32;
+    let (strip, rest) = area.split_vertically(band);
+    strip
+        .draw(&Rectangle::new(
+            [(2, 1), (width as i32 - 2, band as i32 - 2)],
+            WHITE.mix(0.85).filled(),
+        ))
+        .map_err(err)?;
+    let style =
+        TextStyle::from(("sans-serif", TEXT).into_font()).pos(Pos::new(HPos::Left, VPos::Center));
+    for (k, &(row, x)) in keys.iter().zip(&at) {
+        let y = (4.0 + (row as f64 + 0.5) * KEY_ROW) as i32;
+        let x = x as i32;
+        let c = k.color;
+        match k.mark {
+            Some(Mark::Line) | None => strip
+                .draw(&PathElement::new(
+                    vec![(x, y), (x + 18, y)],
+                    c.stroke_width(2),
+                ))
+                .map_err(err)?,
+            Some(Mark::Dashed) => {
+                strip
+                    .draw(&PathElement::new(
+                        vec![(x, y), (x + 7, y)],
+                        c.stroke_width(2),
+                    ))
+                    .map_err(err)?;
+                strip
+                    .draw(&PathElement::new(
+                        vec![(x + 11, y), (x + 18, y)],
+                        c.stroke_width(2),
+                    ))
+                    .map_err(err)?
+            }
+            Some(Mark::Dots) => strip
+                .draw(&Circle::new((x + 9, y), 3, c.filled()))
+                .map_err(err)?,
+            Some(Mark::Bars(_)) => strip
+                .draw(&Rectangle::new(
+                    [(x + 2, y - 5), (x + 16, y + 5)],
+                    c.mix(0.45).filled(),
+                ))
+                .map_err(err)?,
+            Some(Mark::Errors) => {
+                strip
+                    .draw(&PathElement::new(
+                        vec![(x + 9, y - 6), (x + 9, y + 6)],
+                        c.stroke_width(2),
+                    ))
+                    .map_err(err)?;
+                strip
+                    .draw(&PathElement::new(vec![(x + 6, y - 6), (x + 12, y - 6)], c))
+                    .map_err(err)?
+            }
+        }
+        strip.draw_text(k.label, &style, (x + 24, y)).map_err(err)?;
+    }
+    Ok(rest)
 }
 
 pub(super) fn color(i: usize) -> RGBColor {
@@ -304,7 +310,40 @@ impl Curves {
 
 /// Draw one panel: axes with labels, its series and a legend; its line series come back as
 /// [`Curves`] to splice into the SVG.
-pub(super) fn draw(area: &Area, p: &Panel, id: usize) -> Result<Curves, FigureError> {
+/// A panel's key: its named series, then its markers.
+fn keys<'p>(p: &'p Panel) -> Vec<Key<'p>> {
+    p.series
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| !s.name.is_empty())
+        .map(|(i, s)| Key {
+            label: &s.name,
+            color: color(i),
+            mark: Some(s.mark),
+        })
+        .chain(p.markers.iter().map(|m| Key {
+            label: &m.1,
+            // BLUE at 0.6 opacity on white, as the marker line is drawn.
+            color: RGBColor(102, 102, 255),
+            mark: None,
+        }))
+        .collect()
+}
+
+/// The caption lines and key rows panel `p` takes in an area `width` pixels wide.
+fn heading_lines(p: &Panel, width: u32) -> (usize, usize) {
+    (
+        wrap(p.title, width as f64 - 16.0, CAPTION).len(),
+        key_rows(&keys(p), width as f64).1,
+    )
+}
+
+pub(super) fn draw(
+    area: &Area,
+    p: &Panel,
+    id: usize,
+    lines: (usize, usize),
+) -> Result<Curves, FigureError> {
     let mut curves = Curves::new(id);
     let xs = p.series.iter().flat_map(|s| {
         s.points.iter().flat_map(move |q| match s.mark {
@@ -318,11 +357,10 @@ pub(super) fn draw(area: &Area, p: &Panel, id: usize) -> Result<Curves, FigureEr
         p.series.iter().flat_map(|s| s.points.iter().map(|q| q.1)),
         p.zero || bars,
     );
-    let area = &headed(area, p.title, CAPTION)?;
+    let area = &headed_over(area, p.title, CAPTION, lines.0)?;
+    let area = &keyed(area, &keys(p), lines.1)?;
     let plot = plot_size(area)?;
-    // Markers span the data's range, not headroom made for the legend.
     let data_top = yr.end;
-    let (legend_at, yr) = legend_place(p, plot, &xr, &yr);
     let mut chart = chart_builder(area)
         .build_cartesian_2d(xr.clone(), yr.clone())
         .map_err(err)?;
@@ -342,73 +380,42 @@ pub(super) fn draw(area: &Area, p: &Panel, id: usize) -> Result<Curves, FigureEr
         .map_err(err)?;
     for (i, s) in p.series.iter().enumerate() {
         let c = color(i);
-        // The legend swatch is drawn as the series is: a line, two dashes, a dot, a bar.
-        let mark = s.mark;
-        let legend = move |(x, y): (i32, i32)| {
-            let at = EmptyElement::at((x, y));
-            match mark {
-                Mark::Line => {
-                    at + PathElement::new(vec![(0, 0), (8, 0)], c.stroke_width(2))
-                        + PathElement::new(vec![(8, 0), (16, 0)], c.stroke_width(2))
-                }
-                Mark::Dashed => {
-                    at + PathElement::new(vec![(0, 0), (6, 0)], c.stroke_width(2))
-                        + PathElement::new(vec![(10, 0), (16, 0)], c.stroke_width(2))
-                }
-                Mark::Dots => {
-                    at + PathElement::new(vec![(8, 0), (8, 0)], c)
-                        + PathElement::new(vec![(5, 0), (11, 0)], c.stroke_width(5))
-                }
-                Mark::Bars(_) => {
-                    at + PathElement::new(vec![(2, 0), (14, 0)], c.mix(0.45).stroke_width(8))
-                        + PathElement::new(vec![(2, 0), (2, 0)], c)
-                }
-                Mark::Errors => {
-                    at + PathElement::new(vec![(8, -6), (8, 6)], c.stroke_width(2))
-                        + PathElement::new(vec![(5, -6), (11, -6)], c)
-                }
-            }
-        };
         let pixels = chart.plotting_area().get_pixel_range();
-        let drawn =
-            match s.mark {
-                Mark::Line | Mark::Dashed => {
-                    let dashed = matches!(s.mark, Mark::Dashed);
-                    curves.add(&s.points, &pixels, (&xr, &yr), (c, dashed));
-                    // Nothing drawn by plotters: the series only takes its legend entry.
-                    chart
-                        .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
-                        .map_err(err)?
-                }
-                Mark::Dots => chart
+        match s.mark {
+            Mark::Line | Mark::Dashed => {
+                let dashed = matches!(s.mark, Mark::Dashed);
+                curves.add(&s.points, &pixels, (&xr, &yr), (c, dashed));
+            }
+            Mark::Dots => {
+                chart
                     .draw_series(s.points.iter().map(|&q| Circle::new(q, 3, c.filled())))
-                    .map_err(err)?,
-                Mark::Bars(w) => chart
+                    .map_err(err)?;
+            }
+            Mark::Bars(w) => {
+                chart
                     .draw_series(s.points.iter().map(|&(x, h)| {
                         Rectangle::new([(x, 0.0), (x + w, h)], c.mix(0.45).filled())
                     }))
-                    .map_err(err)?,
-                Mark::Errors => chart
+                    .map_err(err)?;
+            }
+            Mark::Errors => {
+                chart
                     .draw_series(
                         s.points
                             .chunks_exact(2)
                             .map(|p| PathElement::new(vec![p[0], p[1]], c.stroke_width(2))),
                     )
-                    .map_err(err)?,
-            };
-        if !s.name.is_empty() {
-            drawn.label(s.name.as_str()).legend(legend);
+                    .map_err(err)?;
+            }
         }
     }
-    for (x, label) in &p.markers {
+    for (x, _) in &p.markers {
         chart
             .draw_series(LineSeries::new(
                 vec![(*x, yr.start), (*x, data_top)],
                 BLUE.mix(0.6),
             ))
-            .map_err(err)?
-            .label(label.as_str())
-            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLUE.mix(0.6)));
+            .map_err(err)?;
     }
     // The curves' place: after the grid and markers, before the legend.
     chart
@@ -417,23 +424,17 @@ pub(super) fn draw(area: &Area, p: &Panel, id: usize) -> Result<Curves, FigureEr
             curves.marker.filled(),
         )))
         .map_err(err)?;
-    if p.series.iter().any(|s| !s.name.is_empty()) || !p.markers.is_empty() {
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK.mix(0.4))
-            .label_font(("sans-serif", TEXT))
-            .position(legend_at)
-            .draw()
-            .map_err(err)?;
-    }
     Ok(curves)
 }
 
 /// A panel's chart: margins and label areas (room for [`TEXT`]-sized ticks and axis names).
 pub(super) fn chart_builder<'a, 'b>(area: &'a Area<'b>) -> ChartBuilder<'a, 'b, SVGBackend<'b>> {
     let mut b = ChartBuilder::on(area);
-    b.margin(8).x_label_area_size(52).y_label_area_size(86);
+    // A wider right margin keeps the last x tick label (centred on the edge) on the canvas.
+    b.margin(8)
+        .margin_right(22)
+        .x_label_area_size(52)
+        .y_label_area_size(86);
     b
 }
 
@@ -452,9 +453,20 @@ fn plot_size(area: &Area) -> Result<(f64, f64), FigureError> {
 /// Write `text` centred at the top of `area` in plotters' `size`, wrapped to its width
 /// ([`wrap`]); the area below it comes back.
 pub(super) fn headed<'a>(area: &Area<'a>, text: &str, size: u32) -> Result<Area<'a>, FigureError> {
+    headed_over(area, text, size, 0)
+}
+
+/// [`headed`] with room for at least `lines` lines (the panels of a row align their charts).
+fn headed_over<'a>(
+    area: &Area<'a>,
+    text: &str,
+    size: u32,
+    lines: usize,
+) -> Result<Area<'a>, FigureError> {
     let width = area.dim_in_pixel().0;
-    let lines = wrap(text, width as f64 - 16.0, size);
-    let band = 10 + lines.len() as u32 * (size + 4);
+    let text_lines = wrap(text, width as f64 - 16.0, size);
+    let band = 10 + text_lines.len().max(lines) as u32 * (size + 4);
+    let lines = text_lines;
     let (head, rest) = area.split_vertically(band);
     let style =
         TextStyle::from(("sans-serif", size).into_font()).pos(Pos::new(HPos::Center, VPos::Top));
@@ -476,10 +488,9 @@ pub(super) fn render(
     grid: (usize, usize),
     panels: &[Panel],
 ) -> Result<String, FigureError> {
-    let cols = grid.1.min((width / MIN_PANEL).max(1) as usize).max(1);
-    let rows = grid.0.max(panels.len().div_ceil(cols));
     // The title's lines, measured as `headed` will wrap them.
     let band = 10 + wrap(title, width as f64 - 16.0, TITLE).len() as u32 * (TITLE + 4);
+    let (rows, cols, row_height) = layout(width, band, row_height, grid, panels.len());
     let size = (width, row_height * rows as u32 + band);
     let mut svg = String::new();
     let mut curves = Vec::new();
@@ -487,13 +498,20 @@ pub(super) fn render(
         let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
         root.fill(&WHITE).map_err(err)?;
         let root = headed(&root, title, TITLE)?;
-        for (id, (area, p)) in root
-            .split_evenly((rows, cols))
-            .iter()
-            .zip(panels)
-            .enumerate()
-        {
-            curves.push(draw(area, p, id)?);
+        let areas = root.split_evenly((rows, cols));
+        // Each row's panels take its most caption lines and key rows, so their charts align.
+        let row_lines: Vec<(usize, usize)> = panels
+            .chunks(cols)
+            .zip(areas.chunks(cols))
+            .map(|(ps, areas)| {
+                ps.iter()
+                    .zip(areas)
+                    .map(|(p, a)| heading_lines(p, a.dim_in_pixel().0))
+                    .fold((0, 0), |m, l| (m.0.max(l.0), m.1.max(l.1)))
+            })
+            .collect();
+        for (id, (area, p)) in areas.iter().zip(panels).enumerate() {
+            curves.push(draw(area, p, id, row_lines[id / cols])?);
         }
         root.present().map_err(err)?;
     }
@@ -501,6 +519,36 @@ pub(super) fn render(
         c.splice(&mut svg);
     }
     Ok(svg)
+}
+
+/// Rows, columns and row height of `count` panels asked as `grid` on a canvas `width` pixels
+/// wide under a title `band` high: the columns asked where they fit ([`MIN_PANEL`] each), and
+/// more, down to [`NARROW_PANEL`], while the figure would be taller than twice its width; a
+/// row then takes at most 1.5 times the column width (and at least 340 px), and less (down to
+/// 280 px) if the figure is still taller than twice its width.
+fn layout(
+    width: u32,
+    band: u32,
+    row_height: u32,
+    grid: (usize, usize),
+    count: usize,
+) -> (usize, usize, u32) {
+    let mut cols = grid.1.min((width / MIN_PANEL).max(1) as usize).max(1);
+    let mut row_height = row_height;
+    let rows = |cols: usize| grid.0.max(count.div_ceil(cols));
+    while row_height * rows(cols) as u32 + band > 2 * width
+        && cols < count
+        && width / (cols as u32 + 1) >= NARROW_PANEL
+    {
+        cols += 1;
+        row_height = row_height.min((width / cols as u32 * 3 / 2).max(340));
+    }
+    // Still too tall: the rows give way, down to 280 px.
+    let most = (2 * width).saturating_sub(band) / rows(cols) as u32;
+    if row_height > most && cols > grid.1.min((width / MIN_PANEL).max(1) as usize) {
+        row_height = most.max(280);
+    }
+    (rows(cols), cols, row_height)
 }
 
 /// `text` in lines of at most `width` pixels at plotters' `size` (words kept whole; the
