@@ -5,11 +5,12 @@
 //!
 //! Data flows one way through the modules, in layers (docs/layout.md):
 //! [`term`] → [`rules`], [`enumerate`], [`boundary`] → [`model`] → [`reduce`] → [`table`],
-//! [`catalogue`], [`interaction`], [`parts`], [`discretise`] → [`equations`], [`codegen`],
+//! [`catalogue`], [`interaction`], [`parts`], [`discretise`], [`active`] → [`equations`], [`codegen`],
 //! [`modal`] → [`artifacts`], [`theory`], [`dynamics`] → [`behaviour`] → [`fit`] → [`figures`] →
 //! [`cli`].
 #![warn(missing_docs)]
 
+pub mod active;
 pub mod artifacts;
 pub mod banded;
 pub mod behaviour;

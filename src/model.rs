@@ -202,6 +202,9 @@ pub struct Model {
     pub lagrangian: DensitySpec,
     /// Requirements on the Rayleigh density.
     pub rayleigh: DensitySpec,
+    /// Requirements on active forces (`[active]`; absent: none are enumerated).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub active: Option<DensitySpec>,
 }
 
 /// Why a model file cannot be used.
@@ -276,7 +279,10 @@ impl Model {
         let mut m = self.clone();
         let id = m.fields[index].id.clone();
         m.fields = vec![m.fields[index].clone()];
-        for spec in [&mut m.lagrangian, &mut m.rayleigh] {
+        for spec in [&mut m.lagrangian, &mut m.rayleigh]
+            .into_iter()
+            .chain(m.active.as_mut())
+        {
             spec.requirements.retain(|k, _| *k == id);
         }
         m
@@ -325,7 +331,10 @@ impl Model {
         for (name, spec) in [
             ("lagrangian", &self.lagrangian),
             ("rayleigh", &self.rayleigh),
-        ] {
+        ]
+        .into_iter()
+        .chain(self.active.iter().map(|a| ("active", a)))
+        {
             if spec.beyond_leading > MAX_BEYOND_LEADING {
                 return Err(invalid(format!(
                     "[{name}] beyond_leading = {}: at most {MAX_BEYOND_LEADING}",
@@ -373,8 +382,11 @@ impl Model {
                 }
             }
         }
-        for density in Density::ALL {
-            let spec = self.density(density);
+        let sections = Density::ALL
+            .iter()
+            .map(|d| (d.to_string(), self.density(*d)))
+            .chain(self.active.iter().map(|a| ("active forces".to_string(), a)));
+        for (density, spec) in sections {
             let known = rules::REGISTRY.iter().map(|r| r.code).collect::<Vec<_>>();
             for code in &spec.columns {
                 if rules::rule(code).is_none() {
@@ -404,6 +416,15 @@ impl Model {
                 }
             }
             for (id, codes) in &spec.requirements {
+                // A force is not a density: no kinetic-term or velocity-function rule.
+                if let Some(code) = codes
+                    .iter()
+                    .find(|c| density == "active forces" && matches!(c.as_str(), "KIN" | "DIS"))
+                {
+                    return Err(invalid(format!(
+                        "[active] requirement {code:?} of field {id:?} is a rule about densities; forces take OST and the symmetry rules"
+                    )));
+                }
                 if self.field(id).is_none() {
                     return Err(invalid(format!(
                         "{density} requirements name unknown field {id:?}"

@@ -7,33 +7,10 @@
 
 mod common;
 
-use common::beam::{fitted, record, Body};
+use common::beam::{fitted, on_two_cores, record, Body};
 use theory_search::fit::{FitReport, Verdict};
 
 const RUNS: u64 = 20;
-
-/// `job(r)` for r = 0 … runs − 1 on two threads, in order.
-fn on_two_cores<T: Send>(runs: u64, job: impl Fn(u64) -> T + Sync) -> Vec<T> {
-    let mut out: Vec<(u64, T)> = std::thread::scope(|scope| {
-        let job = &job;
-        let workers: Vec<_> = (0..2u64)
-            .map(|w| {
-                scope.spawn(move || {
-                    (0..runs)
-                        .filter(|r| r % 2 == w)
-                        .map(|r| (r, job(r)))
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        workers
-            .into_iter()
-            .flat_map(|h| h.join().expect("a worker"))
-            .collect()
-    });
-    out.sort_by_key(|(r, _)| *r);
-    out.into_iter().map(|(_, t)| t).collect()
-}
 
 /// The free–free beam of tests/verdicts.rs.
 const FREE: Body = Body {

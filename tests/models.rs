@@ -20,7 +20,7 @@ fn the_shipped_larva_is_the_embedded_one() {
 
 #[test]
 fn every_example_runs_through_every_stage() {
-    for name in ["larva", "worm", "planar"] {
+    for name in ["larva", "worm", "planar", "crawler"] {
         let model = load(name);
         for density in Density::ALL {
             let a = analyse(&model, density, 4).unwrap();

@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::beam::{fitted, record, Body};
+use common::beam::{fitted, on_two_cores, record, Body};
 use rand::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
 use theory_search::fit::{fit, FitReport, FitSettings, InputKind, Verdict};
@@ -114,27 +114,6 @@ fn a_driven_travelling_wave_is_not_a_passive_beam() {
         "{:?}",
         r.warnings
     );
-}
-
-/// `job(r)` for r = 0 … runs − 1 on two threads, the results in no particular order.
-fn on_two_cores<T: Send>(runs: u64, job: impl Fn(u64) -> T + Sync) -> Vec<T> {
-    std::thread::scope(|scope| {
-        let job = &job;
-        let workers: Vec<_> = (0..2u64)
-            .map(|w| {
-                scope.spawn(move || {
-                    (0..runs)
-                        .filter(|r| r % 2 == w)
-                        .map(job)
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        workers
-            .into_iter()
-            .flat_map(|h| h.join().expect("a worker"))
-            .collect()
-    })
 }
 
 #[test]

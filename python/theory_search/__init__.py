@@ -581,7 +581,7 @@ def fit(
         ``modes_fit``, ``tests`` (each prediction's exponent, interval and verdict),
         ``warnings``, ``animals``, ``intervals`` (always present), ``pca_variance_share``,
         ``theory_variance_share``, ``mode_overlap``; the arrays ``frequencies`` (cycles per
-        time unit of ``t``), ``psd`` (modes × frequencies, Q² per cycle per time unit; row 0
+        time unit of the recording), ``psd`` (modes × frequencies, Q² per cycle per time unit; row 0
         is the first non-zero mode, ``modes[0].index``: mode 2 of a free body), ``components``
         and ``shapes`` (points × modes); ``figures`` (the paths written, or empty);
         ``to_dict()``, ``to_pandas()``. ``omega`` and each ``modes_fit`` Ω are in radians per

@@ -15,6 +15,7 @@ use crate::modal::Params;
 use crate::model::{Model, RoleError};
 use crate::report::{EmitError, Output, Report};
 
+mod active;
 mod asymmetry;
 mod behave;
 mod count;
@@ -91,6 +92,9 @@ enum Command {
     Fit(fit::Args),
     /// Count the candidate terms of each density at every order up to a maximum.
     Count(count::Args),
+    /// Active forces: the force terms a model's [active] section allows that no Lagrangian or
+    /// Rayleigh density gives, classified (conservative, gyroscopic, dissipative, active).
+    Active(active::Args),
     /// List the rules the engine knows; with --model, what each field requires and what each
     /// rule strikes out at --order.
     Rules(rules::Args),
@@ -374,6 +378,7 @@ where
         Some(Command::Figures(a)) => figures::run(a, out),
         Some(Command::Fit(a)) => fit::run(a, out),
         Some(Command::Count(a)) => count::run(a, out),
+        Some(Command::Active(a)) => active::run(a, out),
         Some(Command::Rules(a)) => rules::run(a, out),
         Some(Command::Emit(a)) => emit::run(a, out),
     }

@@ -39,6 +39,9 @@ impl ModelArgs {
         if let Some(k) = self.beyond_leading {
             model.lagrangian.beyond_leading = k;
             model.rayleigh.beyond_leading = k;
+            if let Some(a) = model.active.as_mut() {
+                a.beyond_leading = k;
+            }
         }
         Ok(model)
     }

@@ -9,7 +9,7 @@
 //! each other's coordinates), and that leakage biased variances and damping ratios; what is
 //! left is the aliasing of modes beyond the N − 2 fitted.
 
-use super::project::observe;
+use super::observe::observe;
 use super::InputKind;
 
 /// The amplitude (body lengths) of the continuum shapes put through the observation map: small

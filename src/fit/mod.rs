@@ -72,6 +72,7 @@ mod continuum;
 mod error;
 mod note;
 mod number;
+mod observe;
 mod paths;
 mod pool;
 mod project;

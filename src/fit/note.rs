@@ -3,8 +3,19 @@
 
 use std::fmt;
 
-use super::verdict::{NYQUIST_HALF_WIDTHS, RESOLVED_BINS, WIDTH_BINS};
 use crate::report::fixed;
+
+// The thresholds the notes name (the verdict module applies them and re-exports them).
+
+/// Half-widths ζΩ of a line that must stay under Nyquist for the mode to be resolved.
+pub const NYQUIST_HALF_WIDTHS: f64 = 3.0;
+
+/// Bins above zero a mode's frequency must reach to count as resolved.
+pub const RESOLVED_BINS: f64 = 1.0;
+
+/// Bins above zero a mode's frequency must reach for its variance and damping to vote: nearer
+/// zero they share the window's low-frequency leakage, and their errors run short.
+pub const WIDTH_BINS: f64 = 4.0;
 
 /// Why a mode is not resolved, or does not vote.
 #[derive(Debug, Clone, PartialEq)]

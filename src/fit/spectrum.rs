@@ -315,42 +315,19 @@ pub(super) fn fit_mode(
             best = Some((t, v));
         }
     }
-    // A start can slide past Nyquist onto an alias of the line: near Nyquist the sampled
-    // spectra of a mode and of its reflection about Nyquist differ only in the line's
-    // asymmetry. The best optimum held below Nyquist (from the reflection and from each
-    // start) is found too, and kept unless the alias fits better by more than a likelihood
-    // ratio test at 95 % can tell (Δ ln L > 1.92): below Nyquist is the reading a sampling
-    // rate chosen for the animal assumes.
-    let nyquist = std::f64::consts::PI * fs;
-    if let Some((t, v_alias)) = best.filter(|(t, _)| t[0].exp() > nyquist) {
-        let below = (0.999 * nyquist).ln();
-        let held = |x: [f64; 4]| {
-            let mut x = clamp(x);
-            x[0] = x[0].min(below);
-            x
-        };
-        let folded = t[0].exp() % (2.0 * nyquist);
-        let folded = if folded > nyquist {
-            2.0 * nyquist - folded
-        } else {
-            folded
-        };
-        let tries = std::iter::once((folded, t[1].exp()))
-            .chain(starts.iter().copied())
-            .filter(|&(omega, zeta)| omega > 0.0 && zeta > 0.0);
-        let mut under: Option<([f64; 4], f64)> = None;
-        for (omega, zeta) in tries {
-            let start = held([omega.ln(), zeta.ln(), t[2], t[3]]);
-            let (x, _) = descend(start, &nll, &held, &model, psd, bins.clone());
-            // Set free again: an optimum under Nyquist stays; one pressed against it leaves.
-            let (x, v) = descend(x, &nll, &clamp, &model, psd, bins.clone());
-            if x[0].exp() < nyquist && under.as_ref().is_none_or(|(_, b)| v < *b) {
-                under = Some((x, v));
-            }
-        }
+    if let Some(alias) = best.filter(|(t, _)| t[0].exp() > std::f64::consts::PI * fs) {
         let margin = ALIAS_MARGIN * taper.widening / segments.max(1.0);
-        if let Some((x, v)) = under.filter(|(_, v)| *v <= v_alias + margin) {
-            best = Some((x, v));
+        let fit = Fit {
+            nll: &nll,
+            clamp: &clamp,
+            model: &model,
+            psd,
+            bins: bins.clone(),
+        };
+        if let Some(under) =
+            below_nyquist(&fit, alias, starts, fs).filter(|(_, v)| *v <= alias.1 + margin)
+        {
+            best = Some(under);
         }
     }
     let (t, v) = best?;
@@ -359,31 +336,7 @@ pub(super) fn fit_mode(
     }
     let p = Params::from_log(&t);
     let (a, _) = information(&t, &model, psd, bins.clone());
-    // A parameter at its bound is held there, out of the information: ν at zero (no tracking
-    // noise), ζ at its floor (a line narrower than the window resolves: its width unknown,
-    // ζ_error none). Ω or σ² at a bound means no fit.
-    // A white level under 10⁻⁶ of σ² is no noise the data can see: held too, so that its
-    // all but empty row of the information does not decide the others' errors.
-    let free: Vec<usize> = (0..4)
-        .filter(|&i| t[i] > lo[i] + 1e-6 && t[i] < hi[i] - 1e-6)
-        .filter(|&i| i != 3 || t[3] > t[2] + (1e-6f64).ln())
-        .collect();
-    let held_ok = free.contains(&0) && free.contains(&2);
-    let errors = |free: &[usize]| -> Option<[f64; 4]> {
-        let sub = nalgebra::DMatrix::from_fn(free.len(), free.len(), |i, j| a[free[i]][free[j]]);
-        let inv = sub.try_inverse()?;
-        let s = taper.widening / segments.max(1.0);
-        let mut se = [f64::INFINITY, f64::INFINITY, f64::INFINITY, 0.0];
-        for (r, &i) in free.iter().enumerate() {
-            se[i] = (inv[(r, r)] * s).sqrt();
-        }
-        (se[0].is_finite() && se[2].is_finite()).then_some(se)
-    };
-    // A noise level the data do not determine (ν ≪ σ²) is held where it is.
-    let without_noise: Vec<usize> = free.iter().copied().filter(|&i| i != 3).collect();
-    let se = held_ok
-        .then(|| errors(&free).or_else(|| errors(&without_noise)))
-        .flatten();
+    let se = standard_errors(&a, &t, (&lo, &hi), taper.widening / segments.max(1.0));
     let converged = se.is_some();
     let se = se.unwrap_or([f64::INFINITY; 4]);
     Some(ModeSpectrum {
@@ -396,6 +349,89 @@ pub(super) fn fit_mode(
         noise: p.noise,
         converged,
     })
+}
+
+/// The standard errors of ln θ from the information `a` at `t` within bounds `(lo, hi)`,
+/// scaled by `scale` (b·o/M), or `None` when Ω or σ² is at a bound or the information is
+/// singular. A parameter at its bound is held there, out of the information: ν at zero (no
+/// tracking noise), ζ at its floor (a line narrower than the window resolves: its width
+/// unknown, ζ_error none). A white level under 10⁻⁶ of σ² is no noise the data can see: held
+/// too, so that its all but empty row of the information does not decide the others' errors.
+fn standard_errors(
+    a: &[[f64; 4]; 4],
+    t: &[f64; 4],
+    (lo, hi): (&[f64; 4], &[f64; 4]),
+    scale: f64,
+) -> Option<[f64; 4]> {
+    let free: Vec<usize> = (0..4)
+        .filter(|&i| t[i] > lo[i] + 1e-6 && t[i] < hi[i] - 1e-6)
+        .filter(|&i| i != 3 || t[3] > t[2] + (1e-6f64).ln())
+        .collect();
+    if !(free.contains(&0) && free.contains(&2)) {
+        return None;
+    }
+    let errors = |free: &[usize]| -> Option<[f64; 4]> {
+        let sub = nalgebra::DMatrix::from_fn(free.len(), free.len(), |i, j| a[free[i]][free[j]]);
+        let inv = sub.try_inverse()?;
+        let mut se = [f64::INFINITY, f64::INFINITY, f64::INFINITY, 0.0];
+        for (r, &i) in free.iter().enumerate() {
+            se[i] = (inv[(r, r)] * scale).sqrt();
+        }
+        (se[0].is_finite() && se[2].is_finite()).then_some(se)
+    };
+    // A noise level the data do not determine (ν ≪ σ²) is held where it is.
+    let without_noise: Vec<usize> = free.iter().copied().filter(|&i| i != 3).collect();
+    errors(&free).or_else(|| errors(&without_noise))
+}
+
+/// What a descent needs: the objective, the bounds, the model and the data over the bins.
+struct Fit<'a> {
+    nll: &'a dyn Fn(&[f64; 4]) -> f64,
+    clamp: &'a dyn Fn([f64; 4]) -> [f64; 4],
+    model: &'a Linear<'a>,
+    psd: &'a [f64],
+    bins: std::ops::Range<usize>,
+}
+
+/// The best optimum under Nyquist when the fit `alias` (ln θ, −ln L) lies above it. A start
+/// can slide past Nyquist onto an alias of the line: near Nyquist the sampled spectra of a
+/// mode and of its reflection about Nyquist differ only in the line's asymmetry. The search
+/// starts from the reflection and from each of `starts`, held under Nyquist, then set free
+/// again (an optimum under Nyquist stays; one pressed against it leaves); the caller keeps it
+/// unless the alias fits better by more than a likelihood-ratio test at 95 % can tell: below
+/// Nyquist is the reading a sampling rate chosen for the animal assumes.
+fn below_nyquist(
+    fit: &Fit<'_>,
+    (t, _): ([f64; 4], f64),
+    starts: &[(f64, f64)],
+    fs: f64,
+) -> Option<([f64; 4], f64)> {
+    let nyquist = std::f64::consts::PI * fs;
+    let below = (0.999 * nyquist).ln();
+    let held = |x: [f64; 4]| {
+        let mut x = (fit.clamp)(x);
+        x[0] = x[0].min(below);
+        x
+    };
+    let folded = t[0].exp() % (2.0 * nyquist);
+    let folded = if folded > nyquist {
+        2.0 * nyquist - folded
+    } else {
+        folded
+    };
+    let tries = std::iter::once((folded, t[1].exp()))
+        .chain(starts.iter().copied())
+        .filter(|&(omega, zeta)| omega > 0.0 && zeta > 0.0);
+    let mut under: Option<([f64; 4], f64)> = None;
+    for (omega, zeta) in tries {
+        let start = held([omega.ln(), zeta.ln(), t[2], t[3]]);
+        let (x, _) = descend(start, fit.nll, &held, fit.model, fit.psd, fit.bins.clone());
+        let (x, v) = descend(x, fit.nll, fit.clamp, fit.model, fit.psd, fit.bins.clone());
+        if x[0].exp() < nyquist && under.as_ref().is_none_or(|(_, b)| v < *b) {
+            under = Some((x, v));
+        }
+    }
+    under
 }
 
 /// The model spectrum as it is linear in σ² and ν: E = σ²·S(Ω, ζ) + ν·Z, S the unit-variance

@@ -37,10 +37,8 @@
 //! expectation and `rejected` when it does not.
 
 use super::note::{ModeNote, TestNote};
+pub use super::note::{NYQUIST_HALF_WIDTHS, RESOLVED_BINS, WIDTH_BINS};
 use crate::report::fixed;
-
-/// Half-widths ζΩ of a line that must stay under Nyquist for the mode to be resolved.
-pub const NYQUIST_HALF_WIDTHS: f64 = 3.0;
 
 /// The normal distribution's 97.5 % point.
 const NORMAL_975: f64 = 1.959_963_984_540_054;
@@ -50,13 +48,6 @@ pub const GOODNESS_OF_FIT: f64 = 0.01;
 
 /// The squared correlation between two voting modes above which a fit warns.
 pub const MAX_SHARED: f64 = 0.25;
-
-/// Bins above zero a mode's frequency must reach to count as resolved.
-pub const RESOLVED_BINS: f64 = 1.0;
-
-/// Bins above zero a mode's frequency must reach for its variance and damping to vote: nearer
-/// zero they share the window's low-frequency leakage, and their errors run short.
-pub const WIDTH_BINS: f64 = 4.0;
 
 /// One mode's spectral fit, as reported.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]

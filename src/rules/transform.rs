@@ -129,6 +129,18 @@ impl Transformation {
         first_order.apply(term, field) == Poly::of_term(term)
     }
 
+    /// Does `term`, read as a force on placeholder field `field`, transform as that field does:
+    /// is its image `scale`·`term` (to first order in a shift's parameter)? The rule for a
+    /// term of an equation of motion, where a density's rule is invariance.
+    pub fn is_covariant_field(&self, term: &Term, field: u8) -> bool {
+        let first_order = Transformation {
+            infinitesimal: true,
+            ..*self
+        };
+        first_order.apply(term, field)
+            == Poly::of_term(term).scaled(Rational64::from_integer(self.scale))
+    }
+
     /// `Ok` if `term` is invariant when only placeholder field `field` is transformed.
     pub fn check_invariant_field(&self, term: &Term, field: u8) -> Result<(), NotInvariant> {
         let original = Poly::of_term(term);

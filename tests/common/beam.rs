@@ -161,3 +161,26 @@ pub fn fitted(text: &str, clamped: bool, points: usize, window: Option<usize>) -
     )
     .expect("fits")
 }
+
+/// `job(r)` for r = 0 … runs − 1 on two threads, in order.
+pub fn on_two_cores<T: Send>(runs: u64, job: impl Fn(u64) -> T + Sync) -> Vec<T> {
+    let mut out: Vec<(u64, T)> = std::thread::scope(|scope| {
+        let job = &job;
+        let workers: Vec<_> = (0..2u64)
+            .map(|w| {
+                scope.spawn(move || {
+                    (0..runs)
+                        .filter(|r| r % 2 == w)
+                        .map(|r| (r, job(r)))
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        workers
+            .into_iter()
+            .flat_map(|h| h.join().expect("a worker"))
+            .collect()
+    });
+    out.sort_by_key(|(r, _)| *r);
+    out.into_iter().map(|(_, t)| t).collect()
+}

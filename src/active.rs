@@ -1,0 +1,284 @@
+//! Active forces: the terms f of ∂t²φ = … + f that symmetry allows and that no Lagrangian or
+//! Rayleigh density gives.
+//!
+//! **Candidates** are the single-field monomials f in the jet ∂tᵃ∂sᵇφ within the `[active]`
+//! section's bound at the order asked (the orders δ, ε, τ, σ of a density term). **A force
+//! transforms as its field**: under φ → c·φ(±s, ±t) + p·sᵐtⁿ the equation stays true exactly
+//! when the image of f equals c·f (to first order in p for an infinitesimal shift), so each
+//! symmetry rule is decided by applying its transformation to f and comparing with c·f: under
+//! φ → −φ an allowed force is odd, under s → −s it is even (the field's own parity), under a
+//! translation or a rotation it is unchanged. Ostrogradsky's rule keeps second time derivatives
+//! out (they are inertia); KIN and DIS are rules about densities, which the model refuses here.
+//!
+//! **Classes.** A polynomial force is variational (f = δL/δφ for some density L; the Helmholtz
+//! condition, its Fréchet derivative self-adjoint) exactly when the Volterra homotopy density
+//! H(f) = ∫₀¹ φ·f[λφ] dλ = φ·f/(ε + 1) gives it back: E(H(f)) = f. Such a force is
+//! *conservative* when even under time reversal and *gyroscopic* when odd (a Lagrangian
+//! ∂t φ·∂s φ, which KIN strikes out, does no work and splits forward from backward waves). A
+//! force of the velocity jet alone is of *Rayleigh* form when v·f/(ε + 1) (v = ∂tφ) gives it
+//! back through δ/δv over s (its power has the coefficient's sign). Every other force is
+//! *active*: its power has no sign and it is not a variational derivative.
+
+use num_rational::Rational64;
+
+use crate::enumerate::{monomials, Bounds, MAX_ORDER};
+use crate::jet::{euler_lagrange, mono_of, poly_of, space_euler, JetPoly};
+use crate::model::{DensitySpec, Model};
+use crate::rules::{Check, Rule};
+use crate::term::{Deriv, Orders, Term};
+
+/// The most candidate forces one field's enumeration may build.
+pub const MAX_FORCE_CANDIDATES: usize = 200_000;
+
+/// Why active forces cannot be enumerated.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ActiveError {
+    /// The order is out of range.
+    #[error("order {0} is out of range: use an order from 1 to {MAX_ORDER}")]
+    Order(u32),
+    /// Too many candidates at this order.
+    #[error("order {order} has more than {MAX_FORCE_CANDIDATES} candidate forces per field: use a lower order")]
+    TooMany {
+        /// The order asked for.
+        order: u32,
+    },
+}
+
+/// What a force is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ForceClass {
+    /// δL/δφ of some density, even under time reversal.
+    Conservative,
+    /// δL/δφ of some density, odd under time reversal: no work, waves split.
+    Gyroscopic,
+    /// −δR/δv of a density of the velocity jet.
+    Dissipative,
+    /// Neither: power of no sign, not a variational derivative.
+    Active,
+}
+
+/// One covariant force term of one field.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Force {
+    /// The term, in the field's symbol.
+    pub term: String,
+    /// Its orders.
+    #[serde(skip)]
+    pub orders: Orders,
+    /// Its class.
+    pub kind: ForceClass,
+    /// +1 even, −1 odd under t → −t.
+    pub time_parity: i8,
+    /// +1 even, −1 odd under s → −s.
+    pub space_parity: i8,
+    /// Why it is in its class, in one line.
+    pub why: String,
+}
+
+/// One field's forces.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct FieldForces {
+    /// Field id.
+    pub field: String,
+    /// Candidates enumerated.
+    pub candidates: usize,
+    /// Those every required rule allows.
+    pub covariant: usize,
+    /// How many of those are conservative, gyroscopic, dissipative and active.
+    pub counts: [usize; 4],
+    /// The lowest-order active forces (the model's `beyond_leading` layers).
+    pub active: Vec<Force>,
+    /// The lowest-order gyroscopic forces: variational, yet odd under time reversal.
+    pub gyroscopic: Vec<Force>,
+}
+
+/// The active forces of a model at an order (`None` when it has no `[active]` section).
+pub fn active_forces(model: &Model, order: u32) -> Result<Option<Vec<FieldForces>>, ActiveError> {
+    let Some(spec) = &model.active else {
+        return Ok(None);
+    };
+    if order == 0 || order > MAX_ORDER {
+        return Err(ActiveError::Order(order));
+    }
+    let bounds = Bounds::for_order(spec.bound, order);
+    // Counted before any is built (the generating function of `enumerate`).
+    if crate::enumerate::count_products(&bounds, 1) > MAX_FORCE_CANDIDATES as u128 {
+        return Err(ActiveError::TooMany { order });
+    }
+    let candidates = monomials(&bounds);
+    Ok(Some(
+        model
+            .fields
+            .iter()
+            .map(|f| field_forces(spec, &f.id, &f.symbol, &candidates))
+            .collect(),
+    ))
+}
+
+fn field_forces(spec: &DensitySpec, id: &str, symbol: &str, candidates: &[Term]) -> FieldForces {
+    let codes = spec.requirements.get(id).cloned().unwrap_or_default();
+    // The model refuses KIN and DIS here (rules about densities).
+    let rules: Vec<&'static Rule> = codes.iter().filter_map(|c| crate::rules::rule(c)).collect();
+    let covariant: Vec<&Term> = candidates
+        .iter()
+        .filter(|t| rules.iter().all(|r| allows(r, t)))
+        .collect();
+    let name = |_: u8| symbol.to_string();
+    let mut counts = [0; 4];
+    let mut by_class: Vec<(Term, Force)> = Vec::new();
+    for t in &covariant {
+        let f = classify(t, &name);
+        counts[f.kind as usize] += 1;
+        by_class.push(((*t).clone(), f));
+    }
+    let lowest = |kind: ForceClass| -> Vec<Force> {
+        let terms: Vec<Term> = by_class
+            .iter()
+            .filter(|(_, f)| f.kind == kind)
+            .map(|(t, _)| t.clone())
+            .collect();
+        let kept = crate::reduce::layers(&terms, spec.beyond_leading);
+        by_class
+            .iter()
+            .filter(|(t, _)| kept.contains(t))
+            .map(|(_, f)| f.clone())
+            .collect()
+    };
+    FieldForces {
+        field: id.to_string(),
+        candidates: candidates.len(),
+        covariant: covariant.len(),
+        counts,
+        active: lowest(ForceClass::Active),
+        gyroscopic: lowest(ForceClass::Gyroscopic),
+    }
+}
+
+/// Does rule `r` allow force `t` (placeholder field 0)? A structural rule judges its shape; a
+/// symmetry maps f to c·f (see the module header).
+pub fn allows(r: &Rule, t: &Term) -> bool {
+    match &r.check {
+        Check::Structural(pred) => pred(t).is_ok(),
+        Check::Symmetry(tr) => tr.is_covariant_field(t, 0),
+    }
+}
+
+/// The class of force `t`, with its parities and why.
+pub fn classify(t: &Term, name: &dyn Fn(u8) -> String) -> Force {
+    let parity = |odd: bool| if odd { -1 } else { 1 };
+    let (ts, ss): (u32, u32) = t.factors().iter().fold((0, 0), |(a, b), f| {
+        (a + f.deriv.t * f.power, b + f.deriv.s * f.power)
+    });
+    let (time_parity, space_parity) = (parity(ts % 2 == 1), parity(ss % 2 == 1));
+    let f = poly_of(t);
+    let degree = t.orders().epsilon as i64;
+    let (kind, why) = if euler_lagrange(&homotopy(t, Deriv::new(0, 0), degree)) == f {
+        if time_parity > 0 {
+            (
+                ForceClass::Conservative,
+                "δL/δφ of L = φ·f/(ε+1), even under t → −t".to_string(),
+            )
+        } else {
+            (
+                ForceClass::Gyroscopic,
+                "δL/δφ of L = φ·f/(ε+1), odd under t → −t: it does no work".to_string(),
+            )
+        }
+    } else if t.factors().iter().all(|x| x.deriv.t == 1)
+        && space_euler(&homotopy(t, Deriv::new(1, 0), degree)).get(&1) == Some(&f)
+    {
+        (
+            ForceClass::Dissipative,
+            "δR/δv of R = v·f/(ε+1), v = ∂tφ: its power has the coefficient's sign".to_string(),
+        )
+    } else {
+        let why = if t.factors().iter().all(|x| x.deriv.t == 1) {
+            "a velocity force that is no δR/δv: not self-adjoint, power of no sign"
+        } else if time_parity < 0 {
+            "odd under t → −t and not self-adjoint: power of no sign"
+        } else {
+            "not self-adjoint (no δL/δφ), and not a function of the velocity alone"
+        };
+        (ForceClass::Active, why.to_string())
+    };
+    Force {
+        term: t.render(name),
+        orders: t.orders(),
+        kind,
+        time_parity,
+        space_parity,
+        why,
+    }
+}
+
+/// The homotopy density u·f/(ε + 1), `u` the factor ∂^`u` φ.
+fn homotopy(t: &Term, u: Deriv, degree: i64) -> JetPoly {
+    let mut m = mono_of(t);
+    match m.iter_mut().find(|(d, _)| *d == u) {
+        Some((_, n)) => *n += 1,
+        None => {
+            m.push((u, 1));
+            m.sort();
+        }
+    }
+    JetPoly::from([(m, Rational64::new(1, degree + 1))])
+}
+
+/// The active forces of a model at an order, as printed.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ActiveReport {
+    /// The model's name.
+    pub model: String,
+    /// The order.
+    pub order: u32,
+    /// Per field.
+    pub fields: Vec<FieldForces>,
+}
+
+impl crate::report::Report for ActiveReport {
+    fn text(&self) -> String {
+        use std::fmt::Write as _;
+        let mut t = format!(
+            "Active forces of the {} model at order {} (terms f of ∂t²φ = … + f that symmetry allows and no Lagrangian or Rayleigh density gives)\n",
+            crate::markup::clip(&self.model),
+            self.order
+        );
+        let sign = |p: i8| if p > 0 { "even" } else { "odd" };
+        for f in &self.fields {
+            let [c, g, d, a] = f.counts;
+            let _ = writeln!(
+                t,
+                "\n{}: {} candidates, {} covariant: {c} conservative, {g} gyroscopic, {d} dissipative, {a} active",
+                f.field, f.candidates, f.covariant
+            );
+            for (what, list) in [("active", &f.active), ("gyroscopic", &f.gyroscopic)] {
+                if list.is_empty() {
+                    let _ = writeln!(t, "  lowest-order {what}: none");
+                    continue;
+                }
+                let _ = writeln!(t, "  lowest-order {what}:");
+                for x in list {
+                    let o = x.orders;
+                    let _ = writeln!(
+                        t,
+                        "    {:<24} δ={} ε={} τ={} σ={}  t→−t {}, s→−s {}: {}",
+                        x.term,
+                        o.delta,
+                        o.epsilon,
+                        o.tau,
+                        o.sigma,
+                        sign(x.time_parity),
+                        sign(x.space_parity),
+                        x.why
+                    );
+                }
+            }
+        }
+        t
+    }
+
+    fn json(&self) -> serde_json::Value {
+        serde_json::to_value(self).unwrap_or(serde_json::Value::Null)
+    }
+}

@@ -1,0 +1,192 @@
+//! Active forces (`theory-search active`): the classification against an oracle that searches
+//! for a density instead of using the homotopy formula, the requirement verdicts against the
+//! transformations applied by hand, and the command on the shipped crawler.
+
+mod common;
+
+use std::collections::BTreeMap;
+
+use num_rational::Rational64;
+use theory_search::active::{allows, classify, ForceClass};
+use theory_search::enumerate::{monomials, BoundShape, Bounds};
+use theory_search::jet::{euler_lagrange, mono_of, poly_of, space_euler, JetMono, JetPoly};
+use theory_search::rules::rule;
+use theory_search::term::Term;
+
+/// Does some combination of `basis` map to `target` under `op`? Exact Gaussian elimination on
+/// the coefficients of the jet monomials.
+fn reaches(basis: &[JetPoly], op: &dyn Fn(&JetPoly) -> JetPoly, target: &JetPoly) -> bool {
+    let images: Vec<JetPoly> = basis.iter().map(op).collect();
+    let mut rows: Vec<JetMono> = images.iter().flat_map(|p| p.keys().cloned()).collect();
+    rows.extend(target.keys().cloned());
+    rows.sort();
+    rows.dedup();
+    let zero = Rational64::from_integer(0);
+    // Augmented matrix: one row per monomial, one column per basis image, then the target.
+    let mut m: Vec<Vec<Rational64>> = rows
+        .iter()
+        .map(|r| {
+            images
+                .iter()
+                .chain(std::iter::once(target))
+                .map(|p| p.get(r).copied().unwrap_or(zero))
+                .collect()
+        })
+        .collect();
+    let cols = images.len();
+    let mut pivot_row = 0;
+    for c in 0..cols {
+        let Some(p) = (pivot_row..m.len()).find(|&r| m[r][c] != zero) else {
+            continue;
+        };
+        m.swap(pivot_row, p);
+        for r in 0..m.len() {
+            if r != pivot_row && m[r][c] != zero {
+                let f = m[r][c] / m[pivot_row][c];
+                let pivot = m[pivot_row].clone();
+                for (x, v) in m[r].iter_mut().zip(&pivot).skip(c) {
+                    *x -= f * v;
+                }
+            }
+        }
+        pivot_row += 1;
+    }
+    // Consistent exactly when no row is 0 = non-zero.
+    m.iter()
+        .all(|row| row[..cols].iter().any(|v| *v != zero) || row[cols] == zero)
+}
+
+/// The single-field monomials of degree `degree` with `tau` time and `sigma` space derivatives
+/// in all, as polynomials (a velocity jet only when `velocity`).
+fn densities(degree: u32, tau: u32, sigma: u32, velocity: bool) -> Vec<JetPoly> {
+    let n = degree.max(tau + sigma).max(1);
+    monomials(&Bounds::for_order(BoundShape::TauAndSigma, n))
+        .into_iter()
+        .filter(|t| {
+            let o = t.orders();
+            o.epsilon == degree && o.tau == tau && o.sigma == sigma
+        })
+        .filter(|t| !velocity || t.factors().iter().all(|f| f.deriv.t == 1))
+        .map(|t| poly_of(&t))
+        .collect()
+}
+
+/// The oracle: variational when some density of one degree more with the same derivative
+/// counts has f as its Euler–Lagrange expression; of Rayleigh form when some density of the
+/// velocity jet has f as δ/δv over s; active otherwise.
+fn oracle(t: &Term) -> ForceClass {
+    let o = t.orders();
+    let f = poly_of(t);
+    if reaches(
+        &densities(o.epsilon + 1, o.tau, o.sigma, false),
+        &euler_lagrange,
+        &f,
+    ) {
+        let odd = t.factors().iter().map(|x| x.deriv.t * x.power).sum::<u32>() % 2 == 1;
+        return if odd {
+            ForceClass::Gyroscopic
+        } else {
+            ForceClass::Conservative
+        };
+    }
+    let velocity = t.factors().iter().all(|x| x.deriv.t == 1);
+    let e1 = |p: &JetPoly| space_euler(p).remove(&1).unwrap_or_default();
+    if velocity && reaches(&densities(o.epsilon + 1, o.tau + 1, o.sigma, true), &e1, &f) {
+        return ForceClass::Dissipative;
+    }
+    ForceClass::Active
+}
+
+#[test]
+fn the_classes_agree_with_a_search_for_densities_at_orders_4_and_6() {
+    let mut seen: BTreeMap<String, usize> = BTreeMap::new();
+    for order in [4, 6] {
+        let shape = if order == 4 {
+            BoundShape::TauAndSigma
+        } else {
+            BoundShape::TauPlusSigma
+        };
+        for t in monomials(&Bounds::for_order(shape, order)) {
+            // Inertia and above are not forces (OST); degrees beyond 3 only grow the search.
+            if t.max_time_order() > 1 || t.orders().epsilon > 3 {
+                continue;
+            }
+            let engine = classify(&t, &|_| "φ".into()).kind;
+            assert_eq!(engine, oracle(&t), "order {order}: {:?}", mono_of(&t));
+            *seen.entry(format!("{engine:?}")).or_default() += 1;
+        }
+    }
+    println!("{seen:?}");
+    for class in ["Conservative", "Gyroscopic", "Dissipative", "Active"] {
+        assert!(
+            seen.get(class).copied().unwrap_or(0) > 3,
+            "{class}: {seen:?}"
+        );
+    }
+}
+
+/// A force from its text, on placeholder field 0.
+fn force(text: &str) -> Term {
+    text.parse().expect("a term")
+}
+
+#[test]
+fn a_force_transforms_as_its_field() {
+    // (rule, allowed, struck): φ → −φ wants odd forces; s → −s even ones; a translation and a
+    // rotation leave a force unchanged; a boost too (so no bare velocity); no inertia.
+    let cases: [(&str, &[&str], &[&str]); 6] = [
+        ("REF", &["φ", "∂s φ", "(∂s φ)^3"], &["φ^2", "∂s φ·∂ss φ"]),
+        (
+            "PAR",
+            &["φ", "∂ss φ", "(∂s φ)^2"],
+            &["∂s φ", "∂sss φ", "∂ts φ"],
+        ),
+        ("TRAN", &["∂s φ", "∂t φ"], &["φ", "φ·∂s φ"]),
+        ("ROT", &["∂ss φ", "∂t φ"], &["∂s φ", "φ"]),
+        ("GAL", &["∂ts φ", "∂ss φ"], &["∂t φ", "φ"]),
+        ("OST", &["∂t φ", "∂ts φ"], &["∂tt φ"]),
+    ];
+    for (code, allowed, struck) in cases {
+        let r = rule(code).expect("a rule");
+        for t in allowed {
+            assert!(allows(r, &force(t)), "{code} should allow {t}");
+        }
+        for t in struck {
+            assert!(!allows(r, &force(t)), "{code} should strike {t}");
+        }
+    }
+}
+
+#[test]
+fn the_crawler_has_active_forces_and_the_larva_none() {
+    let out = common::binary(&[
+        "active",
+        "--model",
+        "tables/models/crawler.toml",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(out.0, 0, "{}", out.2);
+    let v: serde_json::Value = serde_json::from_str(&out.1).unwrap();
+    let fields = v["fields"].as_array().unwrap();
+    // The lowest active force on the axial field is the gradient ∂s x: odd under s → −s, so
+    // only a body with a head has it.
+    assert_eq!(fields[0]["active"][0]["term"], "∂s x");
+    assert_eq!(fields[0]["active"][0]["space_parity"], -1);
+    // The bending field's gyroscopic force ∂ts y: the KIN-struck Lagrangian ∂t y ∂s y.
+    assert_eq!(fields[1]["gyroscopic"][0]["term"], "∂ts y");
+    assert_eq!(fields[1]["gyroscopic"][0]["kind"], "gyroscopic");
+    let (code, _, err) = common::binary(&["active"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("no [active] section"), "{err}");
+    // An order whose candidates would not fit the budget is refused at once, from counts.
+    let (code, _, err) = common::binary(&[
+        "active",
+        "--model",
+        "tables/models/crawler.toml",
+        "--order",
+        "32",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("candidate forces"), "{err}");
+}
