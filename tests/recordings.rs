@@ -223,6 +223,30 @@ fn deeplabcut_files_are_read_with_their_likelihoods() {
     // The same physics as the plain file: ω_b = 1 in the simulation.
     let omega = v["omega"].as_f64().unwrap();
     assert!((omega - 1.0).abs() < 0.02, "{omega}");
+    // --fps took: no word of it going unused. On a file with a time column it is said.
+    let said = v["warnings"].to_string();
+    assert!(!said.contains("--fps was not used"), "{said}");
+    let example = format!(
+        "{}/tables/examples/midlines.csv",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let mut out = Vec::new();
+    theory_search::cli::run(
+        [
+            "theory-search",
+            "fit",
+            &example,
+            "--fps",
+            "15",
+            "--format",
+            "json",
+        ],
+        &mut out,
+    )
+    .unwrap();
+    let v: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let said = v["warnings"].to_string();
+    assert!(said.contains("--fps was not used"), "{said}");
     std::fs::remove_dir_all(&dir).ok();
 }
 

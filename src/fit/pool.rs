@@ -54,6 +54,9 @@ struct Read {
     units: Units,
     /// A projector of the worker's (the pool's fits need one).
     projector: Option<Projector>,
+    /// The input's name when `--fps` was given but its clock is a time column (only a
+    /// DeepLabCut file's frame indices take it).
+    fps_unused: Option<String>,
 }
 
 /// Fit several inputs, each one animal or several (track ids, WCON ids): one pooled fit and,
@@ -198,6 +201,10 @@ fn read_input(
         InputFormat::Auto => sniff(&mut reader)?,
         forced => forced,
     };
+    // A DeepLabCut export opens with its `scorer` row; any other input keeps its own clock.
+    let fps_unused = (settings.fps.is_some()
+        && (format == InputFormat::Wcon || !starts_with_scorer(&mut reader)?))
+    .then(|| name.clone());
     if format == InputFormat::Wcon {
         let text = whole(reader)?;
         let w = super::wcon::parse(&text, &name, settings.head_first)?;
@@ -205,11 +212,17 @@ fn read_input(
             time: Some(w.time_unit),
             length: Some(w.length_unit),
         };
-        return read_tracks_of(w.tracks, ctx, projs, each, units);
+        return Ok(Read {
+            fps_unused,
+            ..read_tracks_of(w.tracks, ctx, projs, each, units)?
+        });
     }
     if settings.track_column {
         let tracks = read_tracks(std::io::Read::take(reader, MAX_WHOLE_FILE), &name, settings)?;
-        return read_tracks_of(tracks, ctx, projs, each, Units::default());
+        return Ok(Read {
+            fps_unused,
+            ..read_tracks_of(tracks, ctx, projs, each, Units::default())?
+        });
     }
     let source = FrameReader::new(reader, settings);
     let animal = if chunked {
@@ -226,7 +239,18 @@ fn read_input(
         animals: vec![animal],
         units: Units::default(),
         projector: projs.first(),
+        fps_unused,
     })
+}
+
+/// Whether the stream's first non-blank text is DeepLabCut's `scorer` row (peeked, not read).
+fn starts_with_scorer(reader: &mut Box<dyn BufRead + Send + '_>) -> Result<bool, FitError> {
+    let buf = reader.fill_buf().map_err(FitError::Io)?;
+    let start = buf
+        .iter()
+        .position(|b| !b.is_ascii_whitespace())
+        .unwrap_or(buf.len());
+    Ok(buf[start..].starts_with(b"scorer"))
 }
 
 fn read_tracks_of(
@@ -254,6 +278,7 @@ fn read_tracks_of(
         animals,
         units,
         projector: projs.first(),
+        fps_unused: None,
     })
 }
 
@@ -265,6 +290,8 @@ struct Pool {
     interval: Option<f64>,
     units: Option<Units>,
     projector: Option<Projector>,
+    /// Inputs whose own clock made `--fps` unused.
+    fps_unused: Vec<String>,
     /// Each animal's own fit.
     fits: Vec<AnimalFit>,
     /// Each animal's statistics and runs (bootstrap only).
@@ -292,6 +319,7 @@ impl Pool {
         if self.projector.is_none() {
             self.projector = read.projector;
         }
+        self.fps_unused.extend(read.fps_unused);
         for animal in read.animals {
             self.take_animal(ctx, animal)?;
         }
@@ -405,6 +433,13 @@ impl Pool {
         };
         let described = Some((counts, named));
         let mut report = fit_stats(proj, ctx, stats, interval, (Scope::Full, described))?;
+        if !self.fps_unused.is_empty() {
+            report.warnings.push(format!(
+                "--fps was not used: it converts a DeepLabCut file's frame indices to time, and {} {} (a time column or WCON's units)",
+                crate::markup::clip(&self.fps_unused.join(", ")),
+                if self.fps_unused.len() == 1 { "keeps its own clock" } else { "keep their own clocks" }
+            ));
+        }
         if ctx.settings.bootstrap > 0 {
             let units = units(&self.kept);
             let pooled = report.clone();
