@@ -7,31 +7,21 @@
 
 mod common;
 
-use common::beam::{fitted, on_two_cores, record, Body};
+use common::beam::{fitted, on_two_cores, record, Body, CLAMPED_BEAM, FREE_BEAM};
 use theory_search::fit::{FitReport, Verdict};
 
 const RUNS: u64 = 20;
 
-/// The free–free beam of tests/verdicts.rs.
+/// The free–free beam of tests/verdicts.rs, with two over-damped modes more.
 const FREE: Body = Body {
-    clamped: false,
-    kappa: 0.01,
-    zeta1: 0.05,
-    amplitude: 0.01,
-    points: 25,
-    noise: 2e-5,
-    frames: 20_000,
     modes: 8,
+    ..FREE_BEAM
 };
 
-/// A clamped–free beam (the zebrafish model clamps its head), as the referee's audit.
+/// The clamped–free beam, with its over-damped modes, as the referee's audit.
 const CLAMPED: Body = Body {
-    clamped: true,
-    kappa: 0.04,
-    zeta1: 0.03,
-    noise: 5e-6,
-    points: 41,
-    ..FREE
+    modes: 8,
+    ..CLAMPED_BEAM
 };
 
 /// The study: every fit of `body` at the defaults, seeds `seed0 + r`.

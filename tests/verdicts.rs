@@ -7,34 +7,16 @@
 
 mod common;
 
-use common::beam::{fitted, on_two_cores, record, Body};
+use common::beam::{fitted, on_two_cores, record, Body, CLAMPED_BEAM, FREE_BEAM};
 use rand::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
 use theory_search::fit::{fit, FitReport, FitSettings, InputKind, Verdict};
 use theory_search::modal::Params;
 use theory_search::model::Model;
 
-const BODY: Body = Body {
-    clamped: false,
-    kappa: 0.01,
-    zeta1: 0.05,
-    amplitude: 0.01,
-    points: 25,
-    noise: 2e-5,
-    frames: 20_000,
-    modes: 6,
-};
+const BODY: Body = FREE_BEAM;
 
-/// A clamped–free body: its modes spread faster (rₙ² grows from 3.5), so κ is larger to keep
-/// three of them under Nyquist, and its position noise smaller.
-const CLAMPED: Body = Body {
-    clamped: true,
-    kappa: 0.04,
-    zeta1: 0.03,
-    noise: 5e-6,
-    points: 41,
-    ..BODY
-};
+const CLAMPED: Body = CLAMPED_BEAM;
 
 /// κ recovered within its interval; every test `consistent` when `determined`, else never
 /// `rejected`.
