@@ -117,9 +117,14 @@ pub fn active_forces(model: &Model, order: u32) -> Result<Option<Vec<FieldForces
 }
 
 fn field_forces(spec: &DensitySpec, id: &str, symbol: &str, candidates: &[Term]) -> FieldForces {
-    let codes = spec.requirements.get(id).cloned().unwrap_or_default();
     // The model refuses KIN and DIS here (rules about densities).
-    let rules: Vec<&'static Rule> = codes.iter().filter_map(|c| crate::rules::rule(c)).collect();
+    let rules: Vec<&'static Rule> = spec
+        .requirements
+        .get(id)
+        .into_iter()
+        .flatten()
+        .filter_map(|c| crate::rules::rule(c))
+        .collect();
     let covariant: Vec<&Term> = candidates
         .iter()
         .filter(|t| rules.iter().all(|r| allows(r, t)))

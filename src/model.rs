@@ -382,11 +382,16 @@ impl Model {
                 }
             }
         }
+        // (name, spec, whether its terms are forces rather than density terms)
         let sections = Density::ALL
             .iter()
-            .map(|d| (d.to_string(), self.density(*d)))
-            .chain(self.active.iter().map(|a| ("active forces".to_string(), a)));
-        for (density, spec) in sections {
+            .map(|d| (d.to_string(), self.density(*d), false))
+            .chain(
+                self.active
+                    .iter()
+                    .map(|a| ("active forces".to_string(), a, true)),
+            );
+        for (density, spec, forces) in sections {
             let known = rules::REGISTRY.iter().map(|r| r.code).collect::<Vec<_>>();
             for code in &spec.columns {
                 if rules::rule(code).is_none() {
@@ -419,7 +424,7 @@ impl Model {
                 // A force is not a density: no kinetic-term or velocity-function rule.
                 if let Some(code) = codes
                     .iter()
-                    .find(|c| density == "active forces" && matches!(c.as_str(), "KIN" | "DIS"))
+                    .find(|c| forces && matches!(c.as_str(), "KIN" | "DIS"))
                 {
                     return Err(invalid(format!(
                         "[active] requirement {code:?} of field {id:?} is a rule about densities; forces take OST and the symmetry rules"

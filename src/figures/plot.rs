@@ -533,7 +533,8 @@ fn layout(
     grid: (usize, usize),
     count: usize,
 ) -> (usize, usize, u32) {
-    let mut cols = grid.1.min((width / MIN_PANEL).max(1) as usize).max(1);
+    let asked = grid.1.min((width / MIN_PANEL).max(1) as usize).max(1);
+    let mut cols = asked;
     let mut row_height = row_height;
     let rows = |cols: usize| grid.0.max(count.div_ceil(cols));
     while row_height * rows(cols) as u32 + band > 2 * width
@@ -545,7 +546,7 @@ fn layout(
     }
     // Still too tall: the rows give way, down to 280 px.
     let most = (2 * width).saturating_sub(band) / rows(cols) as u32;
-    if row_height > most && cols > grid.1.min((width / MIN_PANEL).max(1) as usize) {
+    if row_height > most && cols > asked {
         row_height = most.max(280);
     }
     (rows(cols), cols, row_height)

@@ -61,7 +61,7 @@ impl Grid {
             .collect::<Option<_>>()?;
         let obs = columns.first()?.len();
         let c = nalgebra::DMatrix::from_fn(obs, columns.len(), |i, j| columns[j][i]);
-        let svd = c.clone().svd(true, true);
+        let svd = c.svd(true, true);
         let (big, small) = svd
             .singular_values
             .iter()

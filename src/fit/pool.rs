@@ -12,7 +12,9 @@ use std::sync::{mpsc, Mutex};
 
 use super::accumulate::{accumulate, Context, Each, Projectors};
 use super::chunks::Chunked;
-use super::read::{read_tracks, sniff, whole, FrameReader, Track, TrackSource, MAX_WHOLE_FILE};
+use super::read::{
+    is_deeplabcut, read_tracks, sniff, whole, FrameReader, Track, TrackSource, MAX_WHOLE_FILE,
+};
 use super::stats::{Ladder, Stats};
 use super::{
     animal::{units, Animal},
@@ -201,9 +203,10 @@ fn read_input(
         InputFormat::Auto => sniff(&mut reader)?,
         forced => forced,
     };
-    // A DeepLabCut export opens with its `scorer` row; any other input keeps its own clock.
+    // Only a DeepLabCut export takes --fps (its rows hold frame indices); any other input
+    // keeps its own clock.
     let fps_unused = (settings.fps.is_some()
-        && (format == InputFormat::Wcon || !starts_with_scorer(&mut reader)?))
+        && (format == InputFormat::Wcon || !is_deeplabcut(&mut reader)?))
     .then(|| name.clone());
     if format == InputFormat::Wcon {
         let text = whole(reader)?;
@@ -241,16 +244,6 @@ fn read_input(
         projector: projs.first(),
         fps_unused,
     })
-}
-
-/// Whether the stream's first non-blank text is DeepLabCut's `scorer` row (peeked, not read).
-fn starts_with_scorer(reader: &mut Box<dyn BufRead + Send + '_>) -> Result<bool, FitError> {
-    let buf = reader.fill_buf().map_err(FitError::Io)?;
-    let start = buf
-        .iter()
-        .position(|b| !b.is_ascii_whitespace())
-        .unwrap_or(buf.len());
-    Ok(buf[start..].starts_with(b"scorer"))
 }
 
 fn read_tracks_of(

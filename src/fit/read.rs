@@ -305,7 +305,7 @@ impl<R: BufRead> FrameReader<R> {
         if !self.seen_data && cells[0] == "individuals" {
             return Err(bad("a multi-animal DeepLabCut export: export one file per individual (each is one animal)".into()));
         }
-        if !self.seen_data && matches!(cells[0], "scorer" | "bodyparts" | "coords") {
+        if !self.seen_data && DLC_HEADERS.contains(&cells[0]) {
             self.dlc = true;
             return Ok(None);
         }
@@ -534,6 +534,20 @@ pub(super) fn sniff(reader: &mut Box<dyn BufRead + Send + '_>) -> Result<InputFo
             InputFormat::Csv
         });
     }
+}
+
+/// The first cells of DeepLabCut's three header rows; an export opens with the first.
+const DLC_HEADERS: [&str; 3] = ["scorer", "bodyparts", "coords"];
+
+/// Whether the stream's first non-blank text is DeepLabCut's first header row (peeked, not
+/// read): a DeepLabCut export, whose rows hold frame indices.
+pub(super) fn is_deeplabcut(reader: &mut Box<dyn BufRead + Send + '_>) -> Result<bool, FitError> {
+    let buf = reader.fill_buf().map_err(FitError::Io)?;
+    let start = buf
+        .iter()
+        .position(|b| !b.is_ascii_whitespace())
+        .unwrap_or(buf.len());
+    Ok(buf[start..].starts_with(DLC_HEADERS[0].as_bytes()))
 }
 
 /// A whole stream as text, at most [`MAX_WHOLE_FILE`] bytes.
