@@ -87,11 +87,21 @@ impl Params {
         self.values.get(name).copied()
     }
 
+    /// The name of the frequency scale of suffix `scale` (`omega_b`): the one place it is spelled.
+    pub fn omega_name(scale: &str) -> String {
+        format!("omega_{scale}")
+    }
+
+    /// The name of the damping scale of suffix `scale` (`zeta_b`).
+    pub fn zeta_name(scale: &str) -> String {
+        format!("zeta_{scale}")
+    }
+
     /// ω for a scale suffix.
     pub fn omega(&self, scale: &str) -> f64 {
         *self
             .values
-            .get(&format!("omega_{scale}"))
+            .get(&Self::omega_name(scale))
             .unwrap_or(&DEFAULT_OMEGA)
     }
 
@@ -99,7 +109,7 @@ impl Params {
     pub fn zeta(&self, scale: &str) -> f64 {
         *self
             .values
-            .get(&format!("zeta_{scale}"))
+            .get(&Self::zeta_name(scale))
             .unwrap_or(&DEFAULT_ZETA)
     }
 

@@ -459,8 +459,8 @@ impl Body {
                 Density::Lagrangian if value <= 0.0 => {
                     return Err(BodyError::NotPositive { name, value })
                 }
-                Density::Lagrangian => (format!("omega_{scale}"), value.sqrt()),
-                Density::Rayleigh => (format!("zeta_{scale}"), value / params.omega(scale)),
+                Density::Lagrangian => (Params::omega_name(scale), value.sqrt()),
+                Density::Rayleigh => (Params::zeta_name(scale), value / params.omega(scale)),
             };
             if let Some((other, other_field, was)) = set.get(&key) {
                 if (was - scaled).abs() > 1e-12 * was.abs().max(1.0) {

@@ -84,7 +84,10 @@ impl ParamArgs {
 
     /// Whether a damping scale was given for `scale` (by --param or a file).
     pub(super) fn sets_zeta(&self, params: &Params, scale: &str) -> bool {
-        self.params_file.is_some() || params.get(&format!("zeta_{scale}")).is_some()
+        self.params_file.is_some()
+            || params
+                .get(&crate::params::Params::zeta_name(scale))
+                .is_some()
     }
 }
 

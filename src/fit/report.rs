@@ -425,7 +425,11 @@ impl FitReport {
     pub fn onward_arguments(&self) -> Vec<String> {
         let mut args = vec![
             "--param".into(),
-            format!("omega_{}={}", self.scale, number(self.omega)),
+            format!(
+                "{}={}",
+                crate::params::Params::omega_name(&self.scale),
+                number(self.omega)
+            ),
         ];
         // A temperature that is not a finite number is left out, never printed as `inf`.
         let temperature = 1.0 / self.beta;
