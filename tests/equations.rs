@@ -163,8 +163,10 @@ fn json_contract() {
         v["equations"][0]["rhs"][0],
         serde_json::json!({"t": 0, "s": 2, "sign": 1, "coefficient": "c_x", "prefactor": "1",
             "claim": {"sign": "positive",
-                      "reason": "the energy must be bounded below, ω² > 0 as q → 0 and as q → ∞"}})
+                      "reason": "the energy must be bounded below, ω² > 0 as q → 0 and as q → ∞"},
+            "kind": "conservative"})
     );
+    assert_eq!(v["equations"][0]["rhs"][1]["kind"], "dissipative");
     assert_eq!(v["equations"][0]["rhs"][1]["coefficient"], "c'_x");
     assert_eq!(v["equations"][1]["field"], "theta");
     assert_eq!(v["equations"][2]["rhs"][0]["sign"], -1);
@@ -218,4 +220,38 @@ fn sign_claims_are_derived_with_their_reasons() {
             }
         }
     }
+}
+
+/// Every right-hand-side term of every shipped model, linear or not, at orders 4 and 6, says
+/// what kind of force it is, and the kind agrees with time reversal, checked independently of
+/// where the engine took it from: these models' L and R are even under t → −t, so E(L) has an
+/// even number of time derivatives in every monomial and δR/δv an odd one.
+#[test]
+fn every_rhs_term_says_its_kind() {
+    use theory_search::enumerate::Basis;
+    use theory_search::equations::{derive_nonlinear_each, ForceKind};
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tables/models");
+    let mut seen = std::collections::BTreeSet::new();
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        let model = Model::from_toml(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        for order in [4, 6] {
+            let Ok(d) = derive_nonlinear_each(&model, order, Basis::Powers) else {
+                continue;
+            };
+            for e in d.equations {
+                for t in &e.rhs {
+                    let times: u32 = t.monomial.iter().map(|(d, n)| d.t * n).sum();
+                    let want = if times % 2 == 1 {
+                        ForceKind::Dissipative
+                    } else {
+                        ForceKind::Conservative
+                    };
+                    assert_eq!(t.kind, want, "{}: {} {:?}", path.display(), e.text(), t);
+                    seen.insert(format!("{:?}", t.kind));
+                }
+            }
+        }
+    }
+    assert_eq!(seen.len(), 2, "{seen:?}");
 }

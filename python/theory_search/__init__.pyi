@@ -211,6 +211,7 @@ class FitResult:
     tests: Dict[str, Dict[str, Any]]
     noise_floor: Optional[float]
     window: Dict[str, Any]
+    tracking_noise: Optional[Dict[str, Any]]
     spacing: float
     pca_variance_share: npt.NDArray[np.float64]
     theory_variance_share: npt.NDArray[np.float64]

@@ -31,6 +31,21 @@ mod render;
 pub use nonlinear::{derive_nonlinear, derive_nonlinear_each, NonlinearEquation, PolyTerm};
 pub use render::{derivative_text, json, EquationReport, NonlinearReport, Shown};
 
+/// What kind of force a right-hand-side term is: the variation of the Lagrangian
+/// (`conservative`: the kinetic and potential terms, a gyroscopic term of L included: it does no
+/// work, though odd under time reversal), −δR/δv of the Rayleigh density (`dissipative`), or
+/// neither (`active`: from a model's `[active]` section, `crate::active`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ForceKind {
+    /// From the Lagrangian.
+    Conservative,
+    /// From the Rayleigh density.
+    Dissipative,
+    /// From neither.
+    Active,
+}
+
 /// One term `sign · prefactor · coefficient · ∂tᵗ∂sˢφ` of a right-hand side.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct RhsTerm {
@@ -44,6 +59,8 @@ pub struct RhsTerm {
     pub coefficient: String,
     /// What fixes the parameter's sign, if anything.
     pub claim: SignClaim,
+    /// Which density the term comes from.
+    pub kind: ForceKind,
 }
 
 /// Whether a parameter's sign is fixed, and by what.
@@ -239,6 +256,7 @@ fn field_equation(
                 prefactor: t.value.abs(),
                 coefficient: t.coefficient,
                 claim: SignClaim::Free(""),
+                kind: t.kind,
             },
             square,
         ));

@@ -21,6 +21,8 @@ pub struct PolyTerm {
     pub value: Rational64,
     /// The free parameter (`c_x`), or `1`.
     pub coefficient: String,
+    /// Which density it comes from (a parameter belongs to one density).
+    pub kind: super::ForceKind,
 }
 
 /// `∂t²φ = Σ rhs` for one field, any polynomial density: the exact Euler–Lagrange equation.
@@ -87,8 +89,15 @@ pub(super) fn general_rhs(
     let field = &l.fields[i].field;
     // Σ over parameters of the E(L) − δR/δv polynomials.
     let mut total: BTreeMap<Option<String>, JetPoly> = BTreeMap::new();
+    // The kinetic term (no parameter) is the Lagrangian's.
+    let mut kinds: BTreeMap<Option<String>, super::ForceKind> = BTreeMap::new();
     for (analysis, sign) in [(l, 1), (r, -1)] {
+        let kind = match analysis.density {
+            Density::Lagrangian => super::ForceKind::Conservative,
+            Density::Rayleigh => super::ForceKind::Dissipative,
+        };
         for dt in &analysis.fields[i].density {
+            kinds.entry(dt.parameter.clone()).or_insert(kind);
             let c = dt.prefactor * Rational64::from_integer(dt.sign * sign);
             let p: JetPoly = [(mono_of(&dt.term), c)].into_iter().collect();
             let e = match analysis.density {
@@ -143,11 +152,16 @@ pub(super) fn general_rhs(
     let mut rhs: Vec<PolyTerm> = total
         .into_iter()
         .flat_map(|(param, p)| {
+            let kind = kinds
+                .get(&param)
+                .copied()
+                .unwrap_or(super::ForceKind::Conservative);
             let coefficient = param.unwrap_or_else(|| "1".into());
             p.into_iter().map(move |(monomial, v)| PolyTerm {
                 monomial,
                 value: -v / lead,
                 coefficient: coefficient.clone(),
+                kind,
             })
         })
         .collect();

@@ -111,7 +111,8 @@ impl Equation {
     }
 }
 
-/// The JSON contract: `{"order": N, "equations": [{"field", "rhs": [{"t","s","sign","coefficient"}]}]}`.
+/// The JSON contract: `{"order": N, "equations": [{"field", "rhs": [{"t","s","sign","coefficient",
+/// …, "kind"}]}]}`, `kind` one of `conservative`, `dissipative`, `active`.
 pub fn json(order: u32, equations: &[Equation], notes: &[String]) -> Value {
     json!({
         "order": order,
@@ -125,6 +126,7 @@ pub fn json(order: u32, equations: &[Equation], notes: &[String]) -> Value {
                 "coefficient": t.coefficient,
                 "prefactor": t.prefactor.to_string(),
                 "claim": t.claim,
+                "kind": t.kind,
             })).collect::<Vec<_>>(),
             "text": e.text(),
         })).collect::<Vec<_>>(),
@@ -386,6 +388,7 @@ impl NonlinearEquation {
                 "value": t.value.to_string(),
                 "coefficient": t.coefficient,
                 "factors": t.monomial.iter().map(|(d, n)| json!({"t": d.t, "s": d.s, "power": n})).collect::<Vec<_>>(),
+                "kind": t.kind,
             })).collect::<Vec<_>>(),
             "text": self.text(),
         })

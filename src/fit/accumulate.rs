@@ -2,6 +2,7 @@
 //! last, projected, handed to the per-frame sink and added to its run; lost frames split the
 //! runs unless `--fill-gaps` bridges them.
 
+use super::jitter::Jitter;
 use super::project::Scratch;
 use super::read::Source;
 use super::stats::Ladder;
@@ -82,6 +83,7 @@ pub(super) fn accumulate(
         counts: Recording::default(),
         interval: None,
         own: None,
+        jitter: None,
     };
     let mut run: Option<Run> = None;
     // The last usable frame's time, and its values when gaps may be bridged.
@@ -108,6 +110,14 @@ pub(super) fn accumulate(
             reference = Some(values.iter().sum::<f64>() / values.len() as f64);
         }
         proj.reference_length = reference;
+        if settings.kind == InputKind::Midline {
+            if animal.jitter.is_none() {
+                animal.jitter = Jitter::new(values.len() / 2);
+            }
+            if let Some(j) = animal.jitter.as_mut() {
+                j.frame(values, pending == 0 && previous.is_some());
+            }
+        }
         if pending > 0 {
             counts.frames_lost += pending;
             match previous {

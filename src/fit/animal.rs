@@ -13,6 +13,8 @@ pub(super) struct Animal {
     pub(super) interval: Option<f64>,
     /// Its own fit, when the worker that read it made it (several inputs).
     pub(super) own: Option<super::AnimalFit>,
+    /// Its tracked points' turning angles, for the tracking noise (midlines only).
+    pub(super) jitter: Option<super::jitter::Jitter>,
 }
 
 /// The units a bootstrap draws: the animals, or the one animal's blocks of frames in time order

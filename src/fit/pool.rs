@@ -4,6 +4,7 @@
 //! numbers do not depend on the number of threads. Memory holds the inputs in flight (one per
 //! worker) and, for the bootstrap only, every piece's statistics.
 
+use super::jitter::Jitter;
 use std::collections::BTreeMap;
 use std::io::BufRead;
 use std::path::PathBuf;
@@ -279,6 +280,8 @@ fn read_tracks_of(
 #[derive(Default)]
 struct Pool {
     stats: Option<Stats>,
+    /// The tracked points' angles of the animals with the first animal's K.
+    jitter: Option<Jitter>,
     counts: Recording,
     interval: Option<f64>,
     units: Option<Units>,
@@ -388,6 +391,12 @@ impl Pool {
         self.stats
             .get_or_insert_with(|| Stats::new(animal.stats.mean.len(), &ctx.ladder))
             .absorb(&animal.stats, 1.0);
+        if let Some(j) = &animal.jitter {
+            match &mut self.jitter {
+                Some(pooled) => pooled.absorb(j),
+                None => self.jitter = Some(j.clone()),
+            }
+        }
         if ctx.settings.bootstrap > 0 {
             // Two animals are resampled whole: nobody's blocks are needed any more.
             let mut animal = animal;
@@ -426,6 +435,7 @@ impl Pool {
         };
         let described = Some((counts, named));
         let mut report = fit_stats(proj, ctx, stats, interval, (Scope::Full, described))?;
+        report.tracking_noise = self.jitter.as_ref().and_then(Jitter::estimate);
         if !self.fps_unused.is_empty() {
             report.warnings.push(format!(
                 "--fps was not used: it converts a DeepLabCut file's frame indices to time, and {} {} (a time column or WCON's units)",

@@ -76,6 +76,8 @@ pub struct FitReport {
     pub noise_floor: Option<f64>,
     /// The Welch window used, and why.
     pub window: WindowChoice,
+    /// The tracking noise σ measured at the tracked points (midlines; see `fit::jitter`).
+    pub tracking_noise: Option<super::TrackingNoise>,
     /// Input kind.
     pub kind: InputKind,
     /// Observed field.
@@ -361,7 +363,12 @@ impl Report for FitReport {
             );
         }
         t += "  overlap: |cos(PCₖ, vₖ)|, or the projection onto the pair's plane when λₖ is degenerate\n";
-        t += &verdict::text(&r.modes_fit, r.noise_floor, &r.tests, &r.window);
+        t += &verdict::text(
+            &r.modes_fit,
+            (r.noise_floor, r.tracking_noise.as_ref()),
+            &r.tests,
+            &r.window,
+        );
         t += &subspace_text(r);
         for w in &r.warnings {
             t += &format!("  warning: {w}\n");

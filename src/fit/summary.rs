@@ -256,6 +256,7 @@ pub(super) fn summarise(
         modes_fit,
         tests,
         noise_floor,
+        tracking_noise: None,
         window,
         frames: origin.frames,
         recording: origin.recording,

@@ -16,8 +16,9 @@
 //! shows best: the median white level ν of the highest third of the modes. It is the tracking
 //! noise only when that is larger than what unresolved modes put there: thermal modes beyond
 //! the fitted ones, aliased in space and time, are white too (20 thermal modes with position
-//! noise 1.2e-6 read 5.7e-4), so it is reported as a white floor, not as tracking noise. A mode
-//! whose own variance σ² is below it does not vote.
+//! noise 1.2e-6 read 5.7e-4), so it is reported as a white floor; the tracking noise itself is
+//! measured at the tracked points (`super::jitter`). A mode whose own variance σ² is below the
+//! floor does not vote.
 //!
 //! **Tests.** Over the voting modes (resolved, above the floor), the exponents of
 //! σᵢ² ∝ λᵢ^a (equipartition, a = −1), Ωᵢ ∝ λᵢ^b (dispersion, b = ½) and ζᵢ ∝ λᵢ^c (Kelvin
@@ -441,7 +442,7 @@ fn exponent(points: &[(usize, f64, f64, f64)], expected: f64) -> TheoryTest {
 /// The lines `fit` prints for the per-mode fits, the floor and the tests.
 pub(super) fn text(
     fits: &[ModeSpectralFit],
-    floor: Option<f64>,
+    (floor, tracking): (Option<f64>, Option<&super::TrackingNoise>),
     tests: &TheoryTests,
     window: &WindowChoice,
 ) -> String {
@@ -486,10 +487,14 @@ pub(super) fn text(
     }
     t += &match floor {
         Some(f) => format!(
-            "  white floor: ν = {} per frame (median white level of the highest modes: tracking noise, or unresolved and aliased modes where they are larger; a mode whose σ² is under it does not vote)\n",
+            "  white floor: ν = {} per frame (median white level of the highest modes: unresolved and aliased modes, and tracking noise; a mode whose σ² is under it does not vote)\n",
             fixed(f, 6)
         ),
         None => "  white floor: not measured\n".into(),
+    };
+    t += &match tracking {
+        Some(n) => format!("  {n}\n"),
+        None => "  tracking noise: not measured (midlines of at least 4 points and 50 frames are needed)\n".into(),
     };
     t += "  tests of the theory over the voting modes (λ the continuum eigenvalue (βᵢL)^2k where there is one):\n";
     for (name, law, test) in [
