@@ -189,3 +189,20 @@ fn fit_figures_carry_the_time_unit() {
     assert_eq!(bad.status.code(), Some(2));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Panels that share every series show their key once: the bending fields y and z draw modes
+/// 2–5 alike, so "mode 5" is written once (one key across their row), not once a panel; the
+/// axial and torsional panels (modes 1–4) share theirs too. At 85 mm and at 180 mm.
+#[test]
+fn panels_sharing_series_share_one_key() {
+    for width_mm in [85.0, 180.0] {
+        let mut s = settings();
+        s.page.width_mm = width_mm;
+        let svg = figure("mode_shapes.svg", &larva(12), &s).unwrap();
+        for label in ["mode 5", "mode 1"] {
+            assert_eq!(svg.matches(label).count(), 1, "{label} at {width_mm} mm");
+        }
+        // Modes 2–4 are in both keys.
+        assert_eq!(svg.matches("mode 2").count(), 2, "at {width_mm} mm");
+    }
+}

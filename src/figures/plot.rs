@@ -125,6 +125,7 @@ const MIN_PANEL: u32 = 320;
 const NARROW_PANEL: u32 = 230;
 
 /// One entry of a panel's key: its label, colour and mark (`None`: a marker line).
+#[derive(PartialEq)]
 struct Key<'p> {
     label: &'p str,
     color: RGBColor,
@@ -141,7 +142,7 @@ fn key_rows(keys: &[Key], width: f64) -> (Vec<(usize, f64)>, usize) {
     let (mut row, mut x) = (0, 8.0);
     let mut at = Vec::new();
     for k in keys {
-        let w = 24.0 + text_width(k.label) + 14.0;
+        let w = 24.0 + text_width(k.label) + 24.0;
         if x > 8.0 && x + w > width - 4.0 {
             row += 1;
             x = 8.0;
@@ -308,8 +309,6 @@ impl Curves {
     }
 }
 
-/// Draw one panel: axes with labels, its series and a legend; its line series come back as
-/// [`Curves`] to splice into the SVG.
 /// A panel's key: its named series, then its markers.
 fn keys<'p>(p: &'p Panel) -> Vec<Key<'p>> {
     p.series
@@ -338,11 +337,21 @@ fn heading_lines(p: &Panel, width: u32) -> (usize, usize) {
     )
 }
 
-pub(super) fn draw(
+/// The key every panel of `panels` has alike, when there are several and they share every
+/// entry: drawn once (under the figure's title, or across a row) instead of once a panel.
+fn shared_key<'p>(panels: &'p [Panel]) -> Option<Vec<Key<'p>>> {
+    let first = keys(panels.first()?);
+    (panels.len() > 1 && !first.is_empty() && panels[1..].iter().all(|p| keys(p) == first))
+        .then_some(first)
+}
+
+/// Draw one panel into `area`: its caption (room for `lines.0` lines), its key (`lines.1`
+/// rows; none when `own_key` is false: the figure shows a shared one), axes, series.
+fn draw(
     area: &Area,
     p: &Panel,
     id: usize,
-    lines: (usize, usize),
+    (lines, own_key): ((usize, usize), bool),
 ) -> Result<Curves, FigureError> {
     let mut curves = Curves::new(id);
     let xs = p.series.iter().flat_map(|s| {
@@ -358,7 +367,11 @@ pub(super) fn draw(
         p.zero || bars,
     );
     let area = &headed_over(area, p.title, CAPTION, lines.0)?;
-    let area = &keyed(area, &keys(p), lines.1)?;
+    let area = &if own_key {
+        keyed(area, &keys(p), lines.1)?
+    } else {
+        area.clone()
+    };
     let plot = plot_size(area)?;
     let data_top = yr.end;
     let mut chart = chart_builder(area)
@@ -488,8 +501,12 @@ pub(super) fn render(
     grid: (usize, usize),
     panels: &[Panel],
 ) -> Result<String, FigureError> {
-    // The title's lines, measured as `headed` will wrap them.
-    let band = 10 + wrap(title, width as f64 - 16.0, TITLE).len() as u32 * (TITLE + 4);
+    // The title's lines, measured as `headed` will wrap them, and the shared key's rows.
+    let shared = shared_key(panels);
+    let key_band = shared.as_ref().map_or(0, |k| {
+        (key_rows(k, width as f64).1 as f64 * KEY_ROW + 8.0).ceil() as u32
+    });
+    let band = 10 + wrap(title, width as f64 - 16.0, TITLE).len() as u32 * (TITLE + 4) + key_band;
     let (rows, cols, row_height) = layout(width, band, row_height, grid, panels.len());
     let size = (width, row_height * rows as u32 + band);
     let mut svg = String::new();
@@ -498,20 +515,33 @@ pub(super) fn render(
         let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
         root.fill(&WHITE).map_err(err)?;
         let root = headed(&root, title, TITLE)?;
-        let areas = root.split_evenly((rows, cols));
-        // Each row's panels take its most caption lines and key rows, so their charts align.
-        let row_lines: Vec<(usize, usize)> = panels
-            .chunks(cols)
-            .zip(areas.chunks(cols))
-            .map(|(ps, areas)| {
-                ps.iter()
-                    .zip(areas)
-                    .map(|(p, a)| heading_lines(p, a.dim_in_pixel().0))
-                    .fold((0, 0), |m, l| (m.0.max(l.0), m.1.max(l.1)))
-            })
-            .collect();
-        for (id, (area, p)) in areas.iter().zip(panels).enumerate() {
-            curves.push(draw(area, p, id, row_lines[id / cols])?);
+        let root = match &shared {
+            Some(k) => keyed(&root, k, 0)?,
+            None => root,
+        };
+        // A row whose panels share every key entry shows it once, across the row.
+        let mut id = 0;
+        for (ps, row) in panels.chunks(cols).zip(root.split_evenly((rows, 1))) {
+            let row_key = shared.is_none().then(|| shared_key(ps)).flatten();
+            let row = match &row_key {
+                Some(k) => keyed(&row, k, 0)?,
+                None => row,
+            };
+            let own = shared.is_none() && row_key.is_none();
+            let areas = row.split_evenly((1, cols));
+            // The row's panels take its most caption lines and key rows: their charts align.
+            let lines = ps
+                .iter()
+                .zip(&areas)
+                .map(|(p, a)| {
+                    let (caption, key) = heading_lines(p, a.dim_in_pixel().0);
+                    (caption, if own { key } else { 0 })
+                })
+                .fold((0, 0), |m, l| (m.0.max(l.0), m.1.max(l.1)));
+            for (area, p) in areas.iter().zip(ps) {
+                curves.push(draw(area, p, id, (lines, own))?);
+                id += 1;
+            }
         }
         root.present().map_err(err)?;
     }
