@@ -42,6 +42,12 @@ pub enum ActiveError {
         /// The order asked for.
         order: u32,
     },
+    /// The model has no `[active]` section.
+    #[error("the {} model has no [active] section: add one (bound, columns, requirements per field, as [rayleigh]) to enumerate active forces", crate::markup::clip(.model))]
+    NoSection {
+        /// The model's name.
+        model: String,
+    },
 }
 
 /// What a force is.
@@ -239,6 +245,21 @@ pub struct ActiveReport {
     pub order: u32,
     /// Per field.
     pub fields: Vec<FieldForces>,
+}
+
+impl ActiveReport {
+    /// The report of `model` at `order`: what `theory-search active` prints and Python's
+    /// `active()` returns (an error for a model without an `[active]` section).
+    pub fn of(model: &Model, order: u32) -> Result<ActiveReport, ActiveError> {
+        let fields = active_forces(model, order)?.ok_or_else(|| ActiveError::NoSection {
+            model: model.name.clone(),
+        })?;
+        Ok(ActiveReport {
+            model: model.name.clone(),
+            order,
+            fields,
+        })
+    }
 }
 
 impl crate::report::Report for ActiveReport {

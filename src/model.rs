@@ -229,6 +229,16 @@ const LARVA: &str = include_str!("../tables/models/larva.toml");
 pub const DEFAULT_ORDER: u32 = 4;
 
 impl Model {
+    /// Keep `k` orders beyond the leading one in every density and force section (the
+    /// `--beyond-leading` of the command line, `beyond_leading=` in Python).
+    pub fn set_beyond_leading(&mut self, k: u32) {
+        self.lagrangian.beyond_leading = k;
+        self.rayleigh.beyond_leading = k;
+        if let Some(a) = self.active.as_mut() {
+            a.beyond_leading = k;
+        }
+    }
+
     /// The embedded Drosophila larva model.
     pub fn larva() -> Model {
         Model::from_toml(LARVA).expect("the embedded larva model is valid (tested)")

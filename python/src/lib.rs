@@ -128,6 +128,19 @@ fn table_json(
     .map_err(|e: String| usage(e))
 }
 
+/// The active forces of `theory-search active`, as its JSON.
+#[pyfunction]
+#[pyo3(signature = (order, beyond_leading, model))]
+fn active_json(order: u32, beyond_leading: Option<u32>, model: Option<&str>) -> PyResult<String> {
+    use theory_search::report::Report;
+    let mut model = model_of(model)?;
+    if let Some(k) = beyond_leading {
+        model.set_beyond_leading(k);
+    }
+    let report = theory_search::active::ActiveReport::of(&model, order).map_err(usage)?;
+    Ok(report.json().to_string())
+}
+
 /// The equations of motion as the CLI's JSON document (linear, or exact nonlinear).
 #[pyfunction]
 #[pyo3(signature = (order, model, basis))]
@@ -746,6 +759,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(check_model, m)?)?;
     m.add_function(wrap_pyfunction!(table_json, m)?)?;
     m.add_function(wrap_pyfunction!(equations_json, m)?)?;
+    m.add_function(wrap_pyfunction!(active_json, m)?)?;
     m.add_function(wrap_pyfunction!(operators, m)?)?;
     m.add_function(wrap_pyfunction!(modes, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;

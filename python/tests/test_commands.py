@@ -27,7 +27,7 @@ def cli_json(*args):
 
 
 def test_every_command_is_a_function():
-    for name in ("table", "equations", "operators", "modes", "simulate", "behave", "stats",
+    for name in ("table", "equations", "active", "operators", "modes", "simulate", "behave", "stats",
                  "asymmetry", "mathieu", "interactions", "parts", "count", "rules", "fit",
                  "figures"):
         assert callable(getattr(ts, name)), name
@@ -51,6 +51,8 @@ def test_every_command_is_a_function():
         (lambda: ts.parts(density="both"), ["parts", "--order", "4", "--density", "both"]),
         (lambda: ts.count(max_order=5), ["count", "--max-order", "5"]),
         (lambda: ts.rules(), ["rules", "--order", "4"]),
+        (lambda: ts.active(model=str(ROOT / "tables/models/crawler.toml"), beyond_leading=1),
+         ["active", "--model", str(ROOT / "tables/models/crawler.toml"), "--beyond-leading", "1"]),
         (lambda: ts.run(["modes"], points=7, shapes=True), ["modes", "-p", "7", "--shapes"]),
     ],
 )
@@ -134,3 +136,14 @@ def test_a_simulation_is_the_commands_csv_as_a_dataframe():
     # Operators are results too: items as printed, plain data by to_dict().
     op = ts.operators(5)[0]
     assert op.field == op["field"] and op.to_dict()["matrix"] == op["matrix"].tolist()
+
+
+def test_active_forces_of_a_body_with_a_head():
+    r = ts.active(model=str(ROOT / "tables/models/crawler.toml"))
+    y = {f["field"]: f for f in r["fields"]}["y"]
+    assert [f["term"] for f in y["active"]] == ["∂sss y"]
+    assert y["active"][0]["space_parity"] == -1 and y["active"][0]["kind"] == "active"
+    with pytest.raises(ts.UsageError, match=r"no \[active\] section"):
+        ts.active()
+    with pytest.raises(ValueError):
+        ts.active(order=0)

@@ -74,6 +74,9 @@ def test_every_returned_attribute_named_exists(fitted):
     calls = {
         ts.table: lambda: ts.table(order=4),
         ts.equations: lambda: ts.equations(),
+        ts.active: lambda: ts.active(
+            model=str(Path(__file__).resolve().parents[2] / "tables" / "models" / "crawler.toml")
+        ),
         ts.modes: lambda: ts.modes(12, shapes=True),
         ts.simulate: lambda: ts.simulate(steps=20),
         ts.asymmetry: lambda: ts.asymmetry(0.1),

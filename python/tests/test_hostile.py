@@ -13,6 +13,7 @@ import theory_search as ts
 BAD = [0, -1, 2**70, 2**64, float("nan"), float("inf"), -1e308, 1e308, 1e-200, "", "x\ny",
        "x" * 100000, None, [], {"a": 1}]
 TETHERED = str(Path(__file__).resolve().parents[2] / "tables" / "models" / "tethered.toml")
+CRAWLER = str(Path(__file__).resolve().parents[2] / "tables" / "models" / "crawler.toml")
 # The private native layer raises its own exception family (the package translates it).
 ALLOWED = (ts.TheorySearchError, ts._native.TheorySearchError, ValueError, TypeError, OSError,
            ArithmeticError)
@@ -28,6 +29,7 @@ def _calls(tmp):
         "simulate.initial": lambda v: ts.simulate(points=6, steps=5, initial={"y:2": v}),
         "table.order": lambda v: ts.table(order=v),
         "equations.order": lambda v: ts.equations(order=v),
+        "active.order": lambda v: ts.active(order=v, model=CRAWLER),
         "operators.points": lambda v: ts.operators(v),
         "behave.momentum": lambda v: ts.behave("rolling", momentum=v),
         "behave.kind": lambda v: ts.behave(v),

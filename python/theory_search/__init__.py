@@ -76,6 +76,7 @@ __all__ = [
     "NumericalError",
     "table",
     "equations",
+    "active",
     "operators",
     "modes",
     "simulate",
@@ -102,6 +103,7 @@ _native_call = {
         "check_model",
         "table_json",
         "equations_json",
+        "active_json",
         "operators",
         "modes",
         "simulate",
@@ -289,6 +291,39 @@ def equations(
     """
     _count("order", order, 1, _LIMITS["order"])
     return Result(json.loads(_native_call["equations_json"](order, _toml(model), basis)))
+
+
+@shared
+def active(
+    order: int = 4,
+    model: Optional[Union[Model, str]] = None,
+    beyond_leading: Optional[int] = None,
+) -> Result:
+    """The active forces a model's ``[active]`` section allows (``theory-search active``):
+    force terms f of ∂t²φ = … + f that the symmetry requirements keep and that no Lagrangian
+    or Rayleigh density gives. A model without an ``[active]`` section raises
+    :class:`UsageError`.
+
+    Parameters
+    ----------
+    @order
+    @model
+    @beyond_leading
+
+    Returns
+    -------
+    Result
+        ``model``, ``order``, ``fields``: per field its id, the candidates enumerated, the
+        covariant ones and their counts by class (conservative, gyroscopic, dissipative,
+        active), and the lowest-order active and gyroscopic forces, each with its term, class,
+        parities under t → −t and s → −s (+1 even, −1 odd) and why it is in its class.
+    """
+    _count("order", order, 1, _LIMITS["order"])
+    if beyond_leading is not None:
+        _count("beyond_leading", beyond_leading, 0, _LIMITS["beyond_leading"])
+    return Result(
+        json.loads(_native_call["active_json"](order, beyond_leading, _toml(model)))
+    )
 
 
 @shared

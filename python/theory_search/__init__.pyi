@@ -23,6 +23,7 @@ __all__ = [
     "NumericalError",
     "table",
     "equations",
+    "active",
     "operators",
     "modes",
     "simulate",
@@ -139,6 +140,11 @@ def table(
 
 def equations(order: int = 4, model: ModelLike = None, basis: str = "powers") -> Result:
     """The equations of motion, each term with its sign claim (or the exact nonlinear ones)."""
+
+def active(
+    order: int = 4, model: ModelLike = None, beyond_leading: Optional[int] = None
+) -> Result:
+    """The active forces a model's ``[active]`` section allows (``theory-search active``)."""
 
 def operators(
     points: int,

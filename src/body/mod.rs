@@ -208,8 +208,7 @@ impl Body {
         assignments: &[(String, f64)],
     ) -> Result<Body, BodyError> {
         if let Some(k) = beyond_leading {
-            model.lagrangian.beyond_leading = k;
-            model.rayleigh.beyond_leading = k;
+            model.set_beyond_leading(k);
         }
         let linear = crate::dynamics::is_quadratic(&model, order).map_err(|e| match e {
             NonlinearError::Order(o) => BodyError::Order(o),

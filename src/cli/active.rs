@@ -4,7 +4,7 @@ use std::io::Write;
 
 use super::options::ModelArgs;
 use super::{emit, CliError};
-use crate::active::{active_forces, ActiveReport};
+use crate::active::ActiveReport;
 use crate::report::Output;
 
 /// Arguments of `active`.
@@ -19,19 +19,7 @@ pub struct Args {
 
 /// Enumerate, decide, classify and print.
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
-    let (model, order) = (args.model.load()?, args.model.order);
-    let fields = active_forces(&model, order)
-        .map_err(CliError::usage)?
-        .ok_or_else(|| {
-            CliError::Usage(format!(
-                "the {} model has no [active] section: add one (bound, columns, requirements per field, as [rayleigh]) to enumerate active forces",
-                crate::markup::clip(&model.name)
-            ))
-        })?;
-    let report = ActiveReport {
-        model: model.name.clone(),
-        order,
-        fields,
-    };
+    let model = args.model.load()?;
+    let report = ActiveReport::of(&model, args.model.order).map_err(CliError::usage)?;
     emit(out, &report, args.format)
 }

@@ -37,11 +37,7 @@ impl ModelArgs {
     pub(super) fn load(&self) -> Result<Model, CliError> {
         let mut model = load_model(&self.model)?;
         if let Some(k) = self.beyond_leading {
-            model.lagrangian.beyond_leading = k;
-            model.rayleigh.beyond_leading = k;
-            if let Some(a) = model.active.as_mut() {
-                a.beyond_leading = k;
-            }
+            model.set_beyond_leading(k);
         }
         Ok(model)
     }
