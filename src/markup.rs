@@ -1,5 +1,6 @@
 //! Text written into markup: LaTeX symbols, and escaping for Markdown tables and LaTeX, so
-//! that text from a model file never changes the structure of what it is written into.
+//! that text from a model file never changes the structure of what it is written into; and
+//! what such text may be at all (printable, visible, bounded: [`TextError`]).
 
 const GREEK: [(char, &str); 12] = [
     ('φ', "\\phi"),
@@ -152,4 +153,96 @@ pub fn plain_from_markdown(md: &str) -> String {
     }
     flush(&mut table, &mut out);
     out
+}
+
+/// Why a piece of model text is refused.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum TextError {
+    /// A control character (it could end a line of generated code or CSV).
+    #[error("{key} contains the control character U+{code:04X}")]
+    Control {
+        /// Which text.
+        key: String,
+        /// The character's code point.
+        code: u32,
+    },
+    /// An invisible formatting character (bidirectional overrides and isolates, zero-width
+    /// characters, line separators): rustc refuses them in generated code, and a reader cannot
+    /// see them.
+    #[error("{key} contains the invisible formatting character U+{code:04X}")]
+    Invisible {
+        /// Which text.
+        key: String,
+        /// The character's code point.
+        code: u32,
+    },
+    /// Longer than its limit.
+    #[error("{key} has {len} characters; at most {max}")]
+    TooLong {
+        /// Which text.
+        key: String,
+        /// Its length in characters.
+        len: usize,
+        /// The limit.
+        max: usize,
+    },
+    /// Not an identifier.
+    #[error("{key} {} must be an ASCII letter or '_' then letters, digits or '_' (at most 32)", crate::markup::clip(.value))]
+    NotIdentifier {
+        /// Which text.
+        key: String,
+        /// The text.
+        value: String,
+    },
+}
+
+/// Characters that change how text is displayed without being seen: bidirectional controls
+/// (U+202A–U+202E, U+2066–U+2069, U+061C, U+200E, U+200F), zero-width and joiner characters,
+/// word joiners and invisible operators, the byte-order mark, the soft hyphen, and the line
+/// and paragraph separators.
+pub fn is_invisible(c: char) -> bool {
+    matches!(c,
+        '\u{00AD}' | '\u{061C}' | '\u{180E}' | '\u{200B}'..='\u{200F}' | '\u{2028}'..='\u{202E}'
+        | '\u{2060}'..='\u{206F}' | '\u{FEFF}' | '\u{FFF9}'..='\u{FFFB}')
+}
+
+/// Model text (names, symbols, meanings) reaches generated code, CSV and SVG: it must be
+/// printable (no control or invisible formatting characters) and at most `max` characters.
+pub(crate) fn text(key: &str, value: &str, max: usize) -> Result<(), TextError> {
+    if let Some(c) = value.chars().find(|c| c.is_control()) {
+        return Err(TextError::Control {
+            key: key.into(),
+            code: c as u32,
+        });
+    }
+    if let Some(c) = value.chars().find(|&c| is_invisible(c)) {
+        return Err(TextError::Invisible {
+            key: key.into(),
+            code: c as u32,
+        });
+    }
+    let len = value.chars().count();
+    if len > max {
+        return Err(TextError::TooLong {
+            key: key.into(),
+            len,
+            max,
+        });
+    }
+    Ok(())
+}
+
+/// Ids and scale names: an ASCII letter or `_`, then letters, digits or `_`, at most 32.
+pub(crate) fn identifier(key: &str, value: &str) -> Result<(), TextError> {
+    let mut chars = value.chars();
+    let first_ok = chars
+        .next()
+        .is_some_and(|c| c.is_ascii_alphabetic() || c == '_');
+    if !first_ok || !chars.all(|c| c.is_ascii_alphanumeric() || c == '_') || value.len() > 32 {
+        return Err(TextError::NotIdentifier {
+            key: key.into(),
+            value: value.into(),
+        });
+    }
+    Ok(())
 }

@@ -11,9 +11,11 @@ use std::path::{Path, PathBuf};
 
 mod behaviour;
 mod fit;
+mod key;
 mod modes;
 mod page;
 mod plot;
+mod series;
 
 use crate::behaviour::PairKind;
 use crate::theory::Theory;

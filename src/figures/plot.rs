@@ -1,77 +1,12 @@
-//! The plotting kit every figure uses: series and panels, ranges and ticks, legends placed
-//! where they hide no data, and the SVG they are drawn into.
+//! The plotting kit every figure uses: ranges and ticks, panels laid out in a grid under their
+//! title and keys, and the SVG they are drawn into (the series and panels are `series`).
 
-use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
+use super::key::{key_rows, keyed, keys, shared_key, KEY_ROW};
+pub(super) use super::series::*;
 use super::{err, FigureError};
-
-pub(super) type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
-
-/// How a series is drawn.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) enum Mark {
-    Line,
-    Dashed,
-    Dots,
-    /// Histogram bars of the given width; points are (left edge, height).
-    Bars(f64),
-    /// Error bars: points in pairs (x, low), (x, high), each pair one vertical segment.
-    Errors,
-}
-
-pub(super) struct Series {
-    pub(super) name: String,
-    pub(super) points: Vec<(f64, f64)>,
-    pub(super) mark: Mark,
-}
-
-pub(super) fn series(name: impl Into<String>, points: Vec<(f64, f64)>, mark: Mark) -> Series {
-    Series {
-        name: name.into(),
-        points,
-        mark,
-    }
-}
-
-/// Series drawn exactly over an earlier one join its legend entry ("y = z"), so no curve is
-/// hidden without a word.
-pub(super) fn merge_identical(all: Vec<Series>) -> Vec<Series> {
-    let mut out: Vec<Series> = Vec::new();
-    for s in all {
-        match out
-            .iter_mut()
-            .find(|o| o.points == s.points && o.mark == s.mark)
-        {
-            Some(o) => o.name = format!("{} = {}", o.name, s.name),
-            None => out.push(s),
-        }
-    }
-    out
-}
-
-pub(super) struct Panel<'a> {
-    pub(super) title: &'a str,
-    pub(super) x: &'a str,
-    pub(super) y: &'a str,
-    pub(super) series: Vec<Series>,
-    /// Vertical marker lines (x, label).
-    pub(super) markers: Vec<(f64, String)>,
-    /// Force the y range to include 0.
-    pub(super) zero: bool,
-}
-
-pub(super) fn panel<'a>(title: &'a str, x: &'a str, y: &'a str, series: Vec<Series>) -> Panel<'a> {
-    Panel {
-        title,
-        x,
-        y,
-        series,
-        markers: Vec::new(),
-        zero: false,
-    }
-}
 
 /// The padded range of `values` (never empty).
 pub(super) fn range(values: impl Iterator<Item = f64>, zero: bool) -> std::ops::Range<f64> {
@@ -110,135 +45,12 @@ pub(super) fn tick(v: f64) -> String {
     text.replace('-', "\u{2212}")
 }
 
-/// Text size in plotters' units (it writes `font-size` = size / 1.24: 14.5 px, 7.4 pt in print
-/// at [`super::page::PX_PER_MM`]); the smallest text of every figure.
-pub(super) const TEXT: u32 = 18;
-/// A panel's caption.
-pub(super) const CAPTION: u32 = 20;
-/// A figure's title.
-pub(super) const TITLE: u32 = 22;
 /// The narrowest panel, in pixels: a figure narrower than its columns need takes fewer columns.
 const MIN_PANEL: u32 = 320;
 
 /// The narrowest a panel may be when the page is narrow: a figure at 85 mm takes two columns
 /// of these rather than stacking its panels into a column.
 const NARROW_PANEL: u32 = 230;
-
-/// One entry of a panel's key: its label, colour and mark (`None`: a marker line).
-#[derive(PartialEq)]
-struct Key<'p> {
-    label: &'p str,
-    color: RGBColor,
-    mark: Option<Mark>,
-}
-
-/// The pixel width of `label` at [`TEXT`] (the rendered font's 0.55 em a character).
-fn text_width(label: &str) -> f64 {
-    0.55 * TEXT as f64 / 1.24 * label.chars().count() as f64
-}
-
-/// The key's entries laid out in rows across `width` pixels: (row, x) per entry, and rows.
-fn key_rows(keys: &[Key], width: f64) -> (Vec<(usize, f64)>, usize) {
-    let (mut row, mut x) = (0, 8.0);
-    let mut at = Vec::new();
-    for k in keys {
-        let w = 24.0 + text_width(k.label) + 24.0;
-        if x > 8.0 && x + w > width - 4.0 {
-            row += 1;
-            x = 8.0;
-        }
-        at.push((row, x));
-        x += w;
-    }
-    (at, if keys.is_empty() { 0 } else { row + 1 })
-}
-
-/// Height of a key row, in pixels.
-const KEY_ROW: f64 = TEXT as f64 * 1.3;
-
-/// Draw the key in a strip above the chart (it never covers data, and the axes stay on the
-/// data): a swatch drawn as the series is, then its label. Returns the area below the strip.
-fn keyed<'a>(area: &Area<'a>, keys: &[Key], least: usize) -> Result<Area<'a>, FigureError> {
-    let width = area.dim_in_pixel().0 as f64;
-    let (at, rows) = key_rows(keys, width);
-    let rows = rows.max(least);
-    if rows == 0 {
-        return Ok(area.clone());
-    }
-    let band = (rows as f64 * KEY_ROW + 8.0).ceil() as u32;
-    let (strip, rest) = area.split_vertically(band);
-    strip
-        .draw(&Rectangle::new(
-            [(2, 1), (width as i32 - 2, band as i32 - 2)],
-            WHITE.mix(0.85).filled(),
-        ))
-        .map_err(err)?;
-    let style =
-        TextStyle::from(("sans-serif", TEXT).into_font()).pos(Pos::new(HPos::Left, VPos::Center));
-    for (k, &(row, x)) in keys.iter().zip(&at) {
-        let y = (4.0 + (row as f64 + 0.5) * KEY_ROW) as i32;
-        let x = x as i32;
-        let c = k.color;
-        match k.mark {
-            Some(Mark::Line) | None => strip
-                .draw(&PathElement::new(
-                    vec![(x, y), (x + 18, y)],
-                    c.stroke_width(2),
-                ))
-                .map_err(err)?,
-            Some(Mark::Dashed) => {
-                strip
-                    .draw(&PathElement::new(
-                        vec![(x, y), (x + 7, y)],
-                        c.stroke_width(2),
-                    ))
-                    .map_err(err)?;
-                strip
-                    .draw(&PathElement::new(
-                        vec![(x + 11, y), (x + 18, y)],
-                        c.stroke_width(2),
-                    ))
-                    .map_err(err)?
-            }
-            Some(Mark::Dots) => strip
-                .draw(&Circle::new((x + 9, y), 3, c.filled()))
-                .map_err(err)?,
-            Some(Mark::Bars(_)) => strip
-                .draw(&Rectangle::new(
-                    [(x + 2, y - 5), (x + 16, y + 5)],
-                    c.mix(0.45).filled(),
-                ))
-                .map_err(err)?,
-            Some(Mark::Errors) => {
-                strip
-                    .draw(&PathElement::new(
-                        vec![(x + 9, y - 6), (x + 9, y + 6)],
-                        c.stroke_width(2),
-                    ))
-                    .map_err(err)?;
-                strip
-                    .draw(&PathElement::new(vec![(x + 6, y - 6), (x + 12, y - 6)], c))
-                    .map_err(err)?
-            }
-        }
-        strip.draw_text(k.label, &style, (x + 24, y)).map_err(err)?;
-    }
-    Ok(rest)
-}
-
-pub(super) fn color(i: usize) -> RGBColor {
-    const COLORS: [RGBColor; 8] = [
-        RGBColor(31, 119, 180),
-        RGBColor(214, 39, 40),
-        RGBColor(44, 160, 44),
-        RGBColor(255, 127, 14),
-        RGBColor(148, 103, 189),
-        RGBColor(140, 86, 75),
-        RGBColor(227, 119, 194),
-        RGBColor(127, 127, 127),
-    ];
-    COLORS[i % COLORS.len()]
-}
 
 /// Curves drawn at sub-pixel precision: plotters' SVG backend rounds every coordinate to a whole
 /// pixel (jagged shallow curves), so lines are written as SVG polylines with float coordinates
@@ -309,40 +121,12 @@ impl Curves {
     }
 }
 
-/// A panel's key: its named series, then its markers.
-fn keys<'p>(p: &'p Panel) -> Vec<Key<'p>> {
-    p.series
-        .iter()
-        .enumerate()
-        .filter(|(_, s)| !s.name.is_empty())
-        .map(|(i, s)| Key {
-            label: &s.name,
-            color: color(i),
-            mark: Some(s.mark),
-        })
-        .chain(p.markers.iter().map(|m| Key {
-            label: &m.1,
-            // BLUE at 0.6 opacity on white, as the marker line is drawn.
-            color: RGBColor(102, 102, 255),
-            mark: None,
-        }))
-        .collect()
-}
-
 /// The caption lines and key rows panel `p` takes in an area `width` pixels wide.
 fn heading_lines(p: &Panel, width: u32) -> (usize, usize) {
     (
         wrap(p.title, width as f64 - 16.0, CAPTION).len(),
         key_rows(&keys(p), width as f64).1,
     )
-}
-
-/// The key every panel of `panels` has alike, when there are several and they share every
-/// entry: drawn once (under the figure's title, or across a row) instead of once a panel.
-fn shared_key<'p>(panels: &'p [Panel]) -> Option<Vec<Key<'p>>> {
-    let first = keys(panels.first()?);
-    (panels.len() > 1 && !first.is_empty() && panels[1..].iter().all(|p| keys(p) == first))
-        .then_some(first)
 }
 
 /// Draw one panel into `area`: its caption (room for `lines.0` lines), its key (`lines.1`

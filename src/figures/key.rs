@@ -1,0 +1,142 @@
+//! A figure's keys: the entries of a panel's key, laid out in rows and drawn in a strip above
+//! the chart (never over data), and the key panels share when they share every series.
+
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+use super::series::{color, Area, Mark, Panel, TEXT};
+use super::{err, FigureError};
+
+/// One entry of a panel's key: its label, colour and mark (`None`: a marker line).
+#[derive(PartialEq)]
+pub(super) struct Key<'p> {
+    label: &'p str,
+    color: RGBColor,
+    mark: Option<Mark>,
+}
+
+/// The pixel width of `label` at [`TEXT`] (the rendered font's 0.55 em a character).
+fn text_width(label: &str) -> f64 {
+    0.55 * TEXT as f64 / 1.24 * label.chars().count() as f64
+}
+
+/// The key's entries laid out in rows across `width` pixels: (row, x) per entry, and rows.
+pub(super) fn key_rows(keys: &[Key], width: f64) -> (Vec<(usize, f64)>, usize) {
+    let (mut row, mut x) = (0, 8.0);
+    let mut at = Vec::new();
+    for k in keys {
+        let w = 24.0 + text_width(k.label) + 24.0;
+        if x > 8.0 && x + w > width - 4.0 {
+            row += 1;
+            x = 8.0;
+        }
+        at.push((row, x));
+        x += w;
+    }
+    (at, if keys.is_empty() { 0 } else { row + 1 })
+}
+
+/// Height of a key row, in pixels.
+pub(super) const KEY_ROW: f64 = TEXT as f64 * 1.3;
+
+/// Draw the key in a strip above the chart (it never covers data, and the axes stay on the
+/// data): a swatch drawn as the series is, then its label. Returns the area below the strip.
+pub(super) fn keyed<'a>(
+    area: &Area<'a>,
+    keys: &[Key],
+    least: usize,
+) -> Result<Area<'a>, FigureError> {
+    let width = area.dim_in_pixel().0 as f64;
+    let (at, rows) = key_rows(keys, width);
+    let rows = rows.max(least);
+    if rows == 0 {
+        return Ok(area.clone());
+    }
+    let band = (rows as f64 * KEY_ROW + 8.0).ceil() as u32;
+    let (strip, rest) = area.split_vertically(band);
+    strip
+        .draw(&Rectangle::new(
+            [(2, 1), (width as i32 - 2, band as i32 - 2)],
+            WHITE.mix(0.85).filled(),
+        ))
+        .map_err(err)?;
+    let style =
+        TextStyle::from(("sans-serif", TEXT).into_font()).pos(Pos::new(HPos::Left, VPos::Center));
+    for (k, &(row, x)) in keys.iter().zip(&at) {
+        let y = (4.0 + (row as f64 + 0.5) * KEY_ROW) as i32;
+        let x = x as i32;
+        let c = k.color;
+        match k.mark {
+            Some(Mark::Line) | None => strip
+                .draw(&PathElement::new(
+                    vec![(x, y), (x + 18, y)],
+                    c.stroke_width(2),
+                ))
+                .map_err(err)?,
+            Some(Mark::Dashed) => {
+                strip
+                    .draw(&PathElement::new(
+                        vec![(x, y), (x + 7, y)],
+                        c.stroke_width(2),
+                    ))
+                    .map_err(err)?;
+                strip
+                    .draw(&PathElement::new(
+                        vec![(x + 11, y), (x + 18, y)],
+                        c.stroke_width(2),
+                    ))
+                    .map_err(err)?
+            }
+            Some(Mark::Dots) => strip
+                .draw(&Circle::new((x + 9, y), 3, c.filled()))
+                .map_err(err)?,
+            Some(Mark::Bars(_)) => strip
+                .draw(&Rectangle::new(
+                    [(x + 2, y - 5), (x + 16, y + 5)],
+                    c.mix(0.45).filled(),
+                ))
+                .map_err(err)?,
+            Some(Mark::Errors) => {
+                strip
+                    .draw(&PathElement::new(
+                        vec![(x + 9, y - 6), (x + 9, y + 6)],
+                        c.stroke_width(2),
+                    ))
+                    .map_err(err)?;
+                strip
+                    .draw(&PathElement::new(vec![(x + 6, y - 6), (x + 12, y - 6)], c))
+                    .map_err(err)?
+            }
+        }
+        strip.draw_text(k.label, &style, (x + 24, y)).map_err(err)?;
+    }
+    Ok(rest)
+}
+
+/// A panel's key: its named series, then its markers.
+pub(super) fn keys<'p>(p: &'p Panel) -> Vec<Key<'p>> {
+    p.series
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| !s.name.is_empty())
+        .map(|(i, s)| Key {
+            label: &s.name,
+            color: color(i),
+            mark: Some(s.mark),
+        })
+        .chain(p.markers.iter().map(|m| Key {
+            label: &m.1,
+            // BLUE at 0.6 opacity on white, as the marker line is drawn.
+            color: RGBColor(102, 102, 255),
+            mark: None,
+        }))
+        .collect()
+}
+
+/// The key every panel of `panels` has alike, when there are several and they share every
+/// entry: drawn once (under the figure's title, or across a row) instead of once a panel.
+pub(super) fn shared_key<'p>(panels: &'p [Panel]) -> Option<Vec<Key<'p>>> {
+    let first = keys(panels.first()?);
+    (panels.len() > 1 && !first.is_empty() && panels[1..].iter().all(|p| keys(p) == first))
+        .then_some(first)
+}
