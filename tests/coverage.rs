@@ -260,3 +260,23 @@ fn tracking_noise_under_a_busy_body_is_a_bound() {
         "{measured:?}"
     );
 }
+
+/// Of more than `MAX_POINTS` tracked points every k-th is used (a budget), and σ still reads
+/// the noise put in.
+#[test]
+fn tracking_noise_of_many_points_uses_every_kth() {
+    let body = Body {
+        points: 301,
+        frames: 3000,
+        noise: 1e-4,
+        ..FREE
+    };
+    let fit = fitted(&record(&body, 11), false, 12, None);
+    let measured = fit.tracking_noise.expect("midlines give a tracking noise");
+    assert_eq!((measured.points, measured.tracked), (101, 301));
+    let ratio = measured.sigma / body.noise;
+    assert!(
+        (1.0 / 1.5..=1.5).contains(&ratio) && !measured.bound,
+        "{measured:?}"
+    );
+}

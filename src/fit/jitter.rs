@@ -25,6 +25,10 @@ use serde::Serialize;
 use super::observe::{angle, size};
 use super::stats::merge_moments;
 
+/// The most tracked points the measure uses: of more, every k-th (the work per frame grows as
+/// the square of the points, the final eigenproblem as the cube).
+pub const MAX_POINTS: usize = 101;
+
 /// Frames taken one by one before the stride starts to double.
 const EVERY: usize = 1 << 14;
 
@@ -48,6 +52,9 @@ fn plateau(sorted: &[f64], n: f64) -> (f64, usize) {
 /// What one pass collects of the tracked points' turning angles (one K; pieces add up).
 #[derive(Clone, Debug)]
 pub(super) struct Jitter {
+    /// Points per frame in the file, the step between those used, and how many are used.
+    tracked: usize,
+    step: usize,
     points: usize,
     frames: f64,
     mean: Vec<f64>,
@@ -76,17 +83,25 @@ pub struct TrackingNoise {
     pub sigma: f64,
     /// Whether σ is only an upper bound (the body moves at the finest tracked scale).
     pub bound: bool,
-    /// The tracked points it was measured at.
+    /// The points it was measured at: every tracked one, or every k-th of more than
+    /// [`MAX_POINTS`].
     pub points: usize,
+    /// The points tracked.
+    pub tracked: usize,
     /// The frames it used (all up to 16 384 per animal, then a thinning sample).
     pub frames: usize,
 }
 
 impl Jitter {
-    /// For midlines of `points` tracked points (at least 4: two angles).
-    pub(super) fn new(points: usize) -> Option<Jitter> {
+    /// For midlines of `tracked` points (at least 4: two angles); of more than
+    /// [`MAX_POINTS`], every k-th is used.
+    pub(super) fn new(tracked: usize) -> Option<Jitter> {
+        let step = tracked.saturating_sub(1).div_ceil(MAX_POINTS - 1).max(1);
+        let points = tracked.saturating_sub(1) / step + 1;
         let d = points.checked_sub(2).filter(|&d| d >= 2)?;
         Some(Jitter {
+            tracked,
+            step,
             points,
             frames: 0.0,
             mean: vec![0.0; d],
@@ -115,7 +130,7 @@ impl Jitter {
         // Pairs (n, n + 1) with n a multiple of the stride.
         let stride = (n + 1).next_power_of_two().div_ceil(EVERY).max(1);
         let phase = n % stride;
-        if phase > 1 || values.len() != 2 * self.points {
+        if phase > 1 || values.len() != 2 * self.tracked {
             return;
         }
         if stride > 1 && phase == 0 {
@@ -172,16 +187,21 @@ impl Jitter {
     /// `self.lengths`; false for a frame without them.
     fn angles_of(&mut self, values: &[f64]) -> bool {
         let (seg, lengths) = (&mut self.segments, &mut self.lengths);
+        // The body's length over every tracked point; segments between the points used.
+        let total: f64 = values
+            .chunks_exact(2)
+            .zip(values.chunks_exact(2).skip(1))
+            .map(|(a, b)| size(b[0] - a[0], b[1] - a[1]))
+            .sum();
+        let used = values.chunks_exact(2).step_by(self.step).take(self.points);
         seg.clear();
         seg.extend(
-            values
-                .chunks_exact(2)
-                .zip(values.chunks_exact(2).skip(1))
+            used.clone()
+                .zip(used.skip(1))
                 .map(|(a, b)| (b[0] - a[0], b[1] - a[1])),
         );
         lengths.clear();
         lengths.extend(seg.iter().map(|s| size(s.0, s.1)));
-        let total: f64 = lengths.iter().sum();
         if !(total.is_finite() && lengths.iter().all(|&l| l > 0.0)) {
             return false;
         }
@@ -197,7 +217,7 @@ impl Jitter {
 
     /// Add another animal's (same K).
     pub(super) fn absorb(&mut self, other: &Jitter) {
-        if other.points != self.points || other.frames == 0.0 {
+        if other.tracked != self.tracked || other.frames == 0.0 {
             return;
         }
         let n = merge_moments(
@@ -268,6 +288,7 @@ impl Jitter {
             sigma,
             bound: directions < 2,
             points: self.points,
+            tracked: self.tracked,
             frames: f as usize,
         })
     }
@@ -276,16 +297,21 @@ impl Jitter {
 impl std::fmt::Display for TrackingNoise {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let sigma = format!("{:.2e}", self.sigma);
-        let (points, frames) = (self.points, self.frames);
+        let frames = self.frames;
+        let points = if self.points == self.tracked {
+            format!("{} tracked points", self.points)
+        } else {
+            format!("{} of the {} tracked points", self.points, self.tracked)
+        };
         if self.bound {
             write!(
                 f,
-                "tracking noise: σ ≤ {sigma} body lengths per coordinate (an upper bound: the body moves at the finest scale of its {points} tracked points, so its own motion and the noise cannot be told apart there; {frames} frames)"
+                "tracking noise: σ ≤ {sigma} body lengths per coordinate (an upper bound: the body moves at the finest scale of its {points}, so its own motion and the noise cannot be told apart there; {frames} frames)"
             )
         } else {
             write!(
                 f,
-                "tracking noise: σ = {sigma} body lengths per coordinate (the white part of the {points} tracked points' turning angles where the body leaves them to noise alone; {frames} frames)"
+                "tracking noise: σ = {sigma} body lengths per coordinate (the white part of the turning angles at {points} where the body leaves them to noise alone; {frames} frames)"
             )
         }
     }

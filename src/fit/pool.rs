@@ -400,6 +400,8 @@ impl Pool {
         if ctx.settings.bootstrap > 0 {
             // Two animals are resampled whole: nobody's blocks are needed any more.
             let mut animal = animal;
+            // Its tracking-noise sums are in the pool's already.
+            animal.jitter = None;
             if !self.kept.is_empty() {
                 animal.pieces = Vec::new();
                 self.kept.iter_mut().for_each(|a| a.pieces = Vec::new());
