@@ -253,8 +253,7 @@ fn tracking_noise_under_a_busy_body_is_a_bound() {
         noise: 1e-6,
         ..FREE
     };
-    let fit = fitted(&record(&body, 7), false, 12, None);
-    let measured = fit.tracking_noise.expect("midlines give a tracking noise");
+    let measured = tracking_noise(body, 7);
     assert!(
         measured.bound && measured.sigma >= body.noise,
         "{measured:?}"
@@ -271,12 +270,17 @@ fn tracking_noise_of_many_points_uses_every_kth() {
         noise: 1e-4,
         ..FREE
     };
-    let fit = fitted(&record(&body, 11), false, 12, None);
-    let measured = fit.tracking_noise.expect("midlines give a tracking noise");
+    let measured = tracking_noise(body, 11);
     assert_eq!((measured.points, measured.tracked), (101, 301));
     let ratio = measured.sigma / body.noise;
     assert!(
         (1.0 / 1.5..=1.5).contains(&ratio) && !measured.bound,
         "{measured:?}"
     );
+}
+
+/// The tracking noise `fit` reads, at its defaults, on a recording of `body`.
+fn tracking_noise(body: Body, seed: u64) -> theory_search::fit::TrackingNoise {
+    let fit = fitted(&record(&body, seed), body.clamped, 12, None);
+    fit.tracking_noise.expect("midlines give a tracking noise")
 }
