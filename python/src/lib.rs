@@ -145,29 +145,26 @@ fn active_json(order: u32, beyond_leading: Option<u32>, model: Option<&str>) -> 
 #[pyfunction]
 #[pyo3(signature = (order, model, basis))]
 fn equations_json(order: u32, model: Option<&str>, basis: &str) -> PyResult<String> {
-    use theory_search::equations::{derive_basis, derive_nonlinear, EquationError};
+    use theory_search::equations::{derive_any, Derivation, Derived, EquationReport};
     use theory_search::report::Report;
     let model = model_of(model)?;
-    let basis = basis_of(basis)?;
-    let report = |e: Vec<_>, n| theory_search::equations::EquationReport {
-        model: model.name.clone(),
-        order,
-        equations: e,
-        notes: n,
-    };
-    match derive_basis(&model, order, basis) {
-        Ok((e, n)) => Ok(report(e, n).json().to_string()),
-        Err(EquationError::NotQuadratic { .. }) => {
-            let (e, n) = derive_nonlinear(&model, order, basis).map_err(usage)?;
-            let r = theory_search::equations::EquationReport {
-                model: model.name.clone(),
-                order,
-                equations: e,
-                notes: n,
-            };
-            Ok(r.json().to_string())
-        }
-        Err(e) => Err(usage(e)),
+    // Every field's equation, or the first reason one has none (the command line's exit 2).
+    fn json<E>(name: &str, order: u32, d: Derivation<E>) -> PyResult<String>
+    where
+        EquationReport<E>: Report,
+    {
+        let (equations, notes) = d.complete().map_err(usage)?;
+        let report = EquationReport {
+            model: name.to_string(),
+            order,
+            equations,
+            notes,
+        };
+        Ok(report.json().to_string())
+    }
+    match derive_any(&model, order, basis_of(basis)?).map_err(usage)? {
+        Derived::Linear(d) => json(&model.name, order, d),
+        Derived::Nonlinear(d) => json(&model.name, order, d),
     }
 }
 

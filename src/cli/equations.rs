@@ -4,9 +4,7 @@ use std::io::Write;
 
 use super::{emit, write_out, CliError, ModelArgs};
 use crate::enumerate::Basis;
-use crate::equations::{
-    derive_each, derive_nonlinear_each, Derivation, EquationError, EquationReport, Shown,
-};
+use crate::equations::{derive_any, Derivation, Derived, EquationError, EquationReport, Shown};
 use crate::report::{Output, Report};
 
 /// Arguments of `equations`.
@@ -55,19 +53,9 @@ fn write(
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     let model = args.model.load()?;
     let order = args.model.order;
-    let underived = match derive_each(&model, order, args.basis) {
-        // Not all quadratic: the exact nonlinear equations instead.
-        Err(EquationError::NotQuadratic { .. }) => {
-            let d = derive_nonlinear_each(&model, order, args.basis).map_err(CliError::usage)?;
-            print(out, &model, order, d, args.format)?
-        }
-        other => print(
-            out,
-            &model,
-            order,
-            other.map_err(CliError::usage)?,
-            args.format,
-        )?,
+    let underived = match derive_any(&model, order, args.basis).map_err(CliError::usage)? {
+        Derived::Linear(d) => print(out, &model, order, d, args.format)?,
+        Derived::Nonlinear(d) => print(out, &model, order, d, args.format)?,
     };
     match underived.as_slice() {
         [] => Ok(()),

@@ -323,6 +323,27 @@ impl<E> Derivation<E> {
     }
 }
 
+/// The equations of a model at an order, as `equations` gives them: the linear ones when every
+/// survivor is quadratic, else the exact nonlinear ones. The one place that choice is made: the
+/// command line and Python both ask it.
+#[derive(Debug, Clone)]
+pub enum Derived {
+    /// Every survivor quadratic: ∂t²φ = Σ ± c ∂tᵃ∂sᵇφ.
+    Linear(Derivation<Equation>),
+    /// Not all quadratic: the exact Euler–Lagrange equations.
+    Nonlinear(Derivation<NonlinearEquation>),
+}
+
+/// [`Derived`] for `model` at `order` over `basis`.
+pub fn derive_any(model: &Model, order: u32, basis: Basis) -> Result<Derived, EquationError> {
+    match derive_each(model, order, basis) {
+        Err(EquationError::NotQuadratic { .. }) => {
+            derive_nonlinear_each(model, order, basis).map(Derived::Nonlinear)
+        }
+        other => other.map(Derived::Linear),
+    }
+}
+
 /// Every field's linear equation that can be derived; an error only when the surviving terms
 /// are not all quadratic ([`EquationError::NotQuadratic`]: use [`derive_nonlinear_each`]) or
 /// the order is out of range.
