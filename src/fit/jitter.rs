@@ -22,7 +22,7 @@
 use nalgebra::{DMatrix, SymmetricEigen};
 use serde::Serialize;
 
-use super::observe::{angle, size};
+use super::observe::{segment_angles, size};
 use super::stats::merge_moments;
 
 /// The most tracked points the measure uses: of more, every k-th (the work per frame grows as
@@ -206,12 +206,7 @@ impl Jitter {
             return false;
         }
         lengths.iter_mut().for_each(|l| *l /= total);
-        self.angles.clear();
-        self.angles.extend(seg.windows(2).map(|w| {
-            let cross = w[0].0 * w[1].1 - w[0].1 * w[1].0;
-            let dot = w[0].0 * w[1].0 + w[0].1 * w[1].1;
-            angle(cross, dot)
-        }));
+        segment_angles(seg, &mut self.angles);
         true
     }
 

@@ -79,23 +79,25 @@ pub fn turning_angles(points: &[(f64, f64)]) -> Result<Vec<f64>, FrameError> {
     if seg.iter().any(|s| s.0 == 0.0 && s.1 == 0.0) {
         return Err(FrameError::Coincident);
     }
-    // Each segment scaled to unit size first: the angle is scale-free, and the cross and dot
-    // products of huge coordinates would overflow.
-    let seg: Vec<(f64, f64)> = seg
-        .iter()
-        .map(|s| {
-            let size = s.0.abs().max(s.1.abs());
-            (s.0 / size, s.1 / size)
-        })
-        .collect();
-    Ok(seg
-        .windows(2)
-        .map(|w| {
-            let cross = w[0].0 * w[1].1 - w[0].1 * w[1].0;
-            let dot = w[0].0 * w[1].0 + w[0].1 * w[1].1;
-            angle(cross, dot)
-        })
-        .collect())
+    let (mut seg, mut out) = (seg, Vec::with_capacity(points.len()));
+    segment_angles(&mut seg, &mut out);
+    Ok(out)
+}
+
+/// The turning angles between consecutive segments (none of them zero) into `out`. Each
+/// segment is scaled to unit size first, in place: the angle is scale-free, and the cross and
+/// dot products of huge coordinates would overflow.
+pub(super) fn segment_angles(seg: &mut [(f64, f64)], out: &mut Vec<f64>) {
+    for s in seg.iter_mut() {
+        let size = s.0.abs().max(s.1.abs());
+        *s = (s.0 / size, s.1 / size);
+    }
+    out.clear();
+    out.extend(seg.windows(2).map(|w| {
+        let cross = w[0].0 * w[1].1 - w[0].1 * w[1].0;
+        let dot = w[0].0 * w[1].0 + w[0].1 * w[1].1;
+        angle(cross, dot)
+    }));
 }
 
 /// The observation o of one frame: turning angles (midline) or strains (lengths).

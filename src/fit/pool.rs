@@ -333,7 +333,7 @@ impl Pool {
         self.fits.push(fit);
     }
 
-    fn take_animal(&mut self, ctx: &Context<'_>, animal: Animal) -> Result<(), FitError> {
+    fn take_animal(&mut self, ctx: &Context<'_>, mut animal: Animal) -> Result<(), FitError> {
         let c = &animal.counts;
         let total = &mut self.counts;
         total.recordings += 1;
@@ -391,17 +391,14 @@ impl Pool {
         self.stats
             .get_or_insert_with(|| Stats::new(animal.stats.mean.len(), &ctx.ladder))
             .absorb(&animal.stats, 1.0);
-        if let Some(j) = &animal.jitter {
+        if let Some(j) = animal.jitter.take() {
             match &mut self.jitter {
-                Some(pooled) => pooled.absorb(j),
-                None => self.jitter = Some(j.clone()),
+                Some(pooled) => pooled.absorb(&j),
+                None => self.jitter = Some(j),
             }
         }
         if ctx.settings.bootstrap > 0 {
             // Two animals are resampled whole: nobody's blocks are needed any more.
-            let mut animal = animal;
-            // Its tracking-noise sums are in the pool's already.
-            animal.jitter = None;
             if !self.kept.is_empty() {
                 animal.pieces = Vec::new();
                 self.kept.iter_mut().for_each(|a| a.pieces = Vec::new());

@@ -3,7 +3,7 @@
 //! with continuum modes, the projector on those (`continuum`).
 
 use super::continuum::{Grid, CONTINUUM_AMPLITUDE};
-use super::observe::{angle, observe, size};
+use super::observe::{observe, segment_angles, size};
 pub use super::observe::{turning_angles, FrameError};
 use super::{FitError, FitSettings, InputKind, LineWhy, MAX_POINTS};
 use crate::modal::{field_modes, Params};
@@ -241,16 +241,7 @@ impl Projector {
             return Err(FrameError::Coincident);
         }
         let length: f64 = seg.iter().map(|s| size(s.0, s.1)).sum();
-        for s in seg.iter_mut() {
-            let size = s.0.abs().max(s.1.abs());
-            *s = (s.0 / size, s.1 / size);
-        }
-        angles.clear();
-        angles.extend(seg.windows(2).map(|w| {
-            let cross = w[0].0 * w[1].1 - w[0].1 * w[1].0;
-            let dot = w[0].0 * w[1].0 + w[0].1 * w[1].1;
-            angle(cross, dot)
-        }));
+        segment_angles(seg, angles);
         q.extend(
             self.rows
                 .iter()
