@@ -80,6 +80,13 @@ pub struct Force {
     pub space_parity: i8,
     /// Why it is in its class, in one line.
     pub why: String,
+    /// The coefficient it enters the equations with (`a_y`; `a1_y`, `a2_y`, … when a field has
+    /// several): active forces only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub coefficient: Option<String>,
+    /// The term itself (placeholder field 0).
+    #[serde(skip)]
+    pub shape: Term,
 }
 
 /// One field's forces.
@@ -156,12 +163,20 @@ fn field_forces(spec: &DensitySpec, id: &str, symbol: &str, candidates: &[Term])
             .map(|(_, f)| f.clone())
             .collect()
     };
+    let mut active = lowest(ForceClass::Active);
+    let several = active.len() > 1;
+    for (k, f) in active.iter_mut().enumerate() {
+        f.coefficient = Some(match several {
+            true => format!("a{}_{symbol}", k + 1),
+            false => format!("a_{symbol}"),
+        });
+    }
     FieldForces {
         field: id.to_string(),
         candidates: candidates.len(),
         covariant: covariant.len(),
         counts,
-        active: lowest(ForceClass::Active),
+        active,
         gyroscopic: lowest(ForceClass::Gyroscopic),
     }
 }
@@ -220,6 +235,8 @@ pub fn classify(t: &Term, name: &dyn Fn(u8) -> String) -> Force {
         time_parity,
         space_parity,
         why,
+        coefficient: None,
+        shape: t.clone(),
     }
 }
 

@@ -225,7 +225,8 @@ fn sign_claims_are_derived_with_their_reasons() {
 /// Every right-hand-side term of every shipped model, linear or not, at orders 4 and 6, says
 /// what kind of force it is, and the kind agrees with time reversal, checked independently of
 /// where the engine took it from: these models' L and R are even under t → −t, so E(L) has an
-/// even number of time derivatives in every monomial and δR/δv an odd one.
+/// even number of time derivatives in every monomial and δR/δv an odd one; a term that the
+/// model without its `[active]` section does not have is active.
 #[test]
 fn every_rhs_term_says_its_kind() {
     use theory_search::enumerate::Basis;
@@ -239,10 +240,16 @@ fn every_rhs_term_says_its_kind() {
             let Ok(d) = derive_nonlinear_each(&model, order, Basis::Powers) else {
                 continue;
             };
-            for e in d.equations {
+            // The same model without its `[active]` section: every term it lacks is active.
+            let mut passive = model.clone();
+            passive.active = None;
+            let without = derive_nonlinear_each(&passive, order, Basis::Powers).unwrap();
+            for (e, p) in d.equations.iter().zip(&without.equations) {
                 for t in &e.rhs {
                     let times: u32 = t.monomial.iter().map(|(d, n)| d.t * n).sum();
-                    let want = if times % 2 == 1 {
+                    let want = if !p.rhs.contains(t) {
+                        ForceKind::Active
+                    } else if times % 2 == 1 {
                         ForceKind::Dissipative
                     } else {
                         ForceKind::Conservative
@@ -253,5 +260,5 @@ fn every_rhs_term_says_its_kind() {
             }
         }
     }
-    assert_eq!(seen.len(), 2, "{seen:?}");
+    assert_eq!(seen.len(), 3, "{seen:?}");
 }

@@ -398,15 +398,15 @@ fn simulate<'py>(
     type Series = (
         Vec<String>,
         Vec<f64>,
-        Vec<f64>,
+        (Vec<f64>, Vec<f64>),
         Vec<Vec<Vec<f64>>>,
         Vec<Vec<Vec<f64>>>,
     );
-    let (ids, t, energy, positions, modal) = py
+    let (ids, t, (energy, injected), positions, modal) = py
         .detach(|| -> Result<Series, BodyError> {
             let mut out: Series = Default::default();
             body.simulate(&config, &start, |ids, s| {
-                let (names, t, energy, positions, modal) = &mut out;
+                let (names, t, (energy, injected), positions, modal) = &mut out;
                 if names.is_empty() {
                     *names = ids.to_vec();
                     *positions = vec![Vec::new(); ids.len()];
@@ -414,6 +414,7 @@ fn simulate<'py>(
                 }
                 t.push(s.t);
                 energy.push(s.energy);
+                injected.extend(s.injected);
                 for f in 0..ids.len() {
                     positions[f].push(s.positions[f].clone());
                     modal[f].push(s.modal.get(f).cloned().unwrap_or_default());
@@ -426,6 +427,10 @@ fn simulate<'py>(
     let out = PyDict::new(py);
     out.set_item("t", PyArray1::from_vec(py, t))?;
     out.set_item("energy", PyArray1::from_vec(py, energy))?;
+    // As the CSV: the active forces' injected work only for a body with active forces.
+    if !injected.is_empty() {
+        out.set_item("injected", PyArray1::from_vec(py, injected))?;
+    }
     let (p, q) = (PyDict::new(py), PyDict::new(py));
     for (f, id) in ids.iter().enumerate() {
         p.set_item(id, matrix(py, &positions[f], 0)?)?;

@@ -143,7 +143,23 @@ def test_active_forces_of_a_body_with_a_head():
     y = {f["field"]: f for f in r["fields"]}["y"]
     assert [f["term"] for f in y["active"]] == ["∂sss y"]
     assert y["active"][0]["space_parity"] == -1 and y["active"][0]["kind"] == "active"
+    assert y["active"][0]["coefficient"] == "a_y"
     with pytest.raises(ts.UsageError, match=r"no \[active\] section"):
         ts.active()
     with pytest.raises(ValueError):
         ts.active(order=0)
+
+
+def test_a_driven_simulation_carries_the_injected_work_as_the_binary():
+    # An active force switched on: the implicit integrator, and the work it injects as a column.
+    crawler = str(ROOT / "tables/models/crawler.toml")
+    sim = ts.simulate(points=20, steps=200, every=50, dt=0.01, model=crawler,
+                      params={"a_y": 0.5}, initial={"y:2": (0.1, 0.0)})
+    doc = cli_json("simulate", "-p", "20", "--steps", "200", "--every", "50", "--dt", "0.01",
+                   "--model", crawler, "--param", "a_y=0.5", "--initial", "y:2=0.1,0.0")
+    df = sim.to_pandas()
+    assert list(df.columns) == doc["columns"] and doc["columns"][:3] == ["t", "energy", "injected"]
+    np.testing.assert_allclose(df.to_numpy(), np.asarray(doc["rows"]), rtol=1e-12, atol=1e-15)
+    assert sim.injected[-1] != 0.0 and "injected" in sim.to_dict()
+    # Off (the default), the run and its columns are the passive body's.
+    assert "injected" not in ts.simulate(points=20, steps=10, model=crawler)

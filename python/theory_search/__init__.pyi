@@ -185,10 +185,11 @@ def simulate(
     """Times, energies, and per field the positions and modal coordinates as numpy arrays."""
 
 class Simulation(Dict[str, Any]):
-    """A simulation: t, energy, positions and modal (field → samples × points / modes)."""
+    """A simulation: t, energy, injected (with active forces only), positions and modal."""
 
     t: npt.NDArray[np.float64]
     energy: npt.NDArray[np.float64]
+    injected: npt.NDArray[np.float64]
     positions: Dict[str, npt.NDArray[np.float64]]
     modal: Dict[str, npt.NDArray[np.float64]]
     def __getattr__(self, name: str) -> Any: ...

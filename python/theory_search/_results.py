@@ -215,10 +215,11 @@ class Modes(Mapping[str, FieldModes]):
 
 
 class Simulation(dict):
-    """A simulation: ``t`` and ``energy`` (one value per sample), ``positions`` (field → samples
-    × points) and ``modal`` (field → samples × modes; empty for a nonlinear body), as items or
-    attributes. ``to_pandas()`` is the command line's CSV as a DataFrame (columns ``t``,
-    ``energy``, ``<field>_<point>``, ``q_<field>_<mode>``)."""
+    """A simulation: ``t`` and ``energy`` (one value per sample), ``injected`` (the work the
+    active forces have done since t = 0; a body with active forces only), ``positions`` (field →
+    samples × points) and ``modal`` (field → samples × modes; empty for a nonlinear body), as
+    items or attributes. ``to_pandas()`` is the command line's CSV as a DataFrame (columns
+    ``t``, ``energy``, ``injected`` when present, ``<field>_<point>``, ``q_<field>_<mode>``)."""
 
     def __getattr__(self, name: str) -> Any:
         try:
@@ -228,9 +229,14 @@ class Simulation(dict):
 
     def to_dict(self) -> Dict[str, Any]:
         """Plain data: arrays as lists."""
-        return {
+        out: Dict[str, Any] = {
             "t": np.asarray(self["t"]).tolist(),
             "energy": np.asarray(self["energy"]).tolist(),
+        }
+        if "injected" in self:
+            out["injected"] = np.asarray(self["injected"]).tolist()
+        return {
+            **out,
             "positions": {f: np.asarray(a).tolist() for f, a in self["positions"].items()},
             "modal": {f: np.asarray(a).tolist() for f, a in self["modal"].items()},
         }
@@ -240,6 +246,8 @@ class Simulation(dict):
         import pandas as pd
 
         columns: Dict[str, Any] = {"t": self["t"], "energy": self["energy"]}
+        if "injected" in self:
+            columns["injected"] = self["injected"]
         for kind, prefix in (("positions", ""), ("modal", "q_")):
             for field, values in self[kind].items():
                 values = np.asarray(values)

@@ -214,7 +214,6 @@ impl Body {
             NonlinearError::Order(o) => BodyError::Order(o),
             other => BodyError::Nonlinear(other),
         })?;
-        let modal = linear && is_modal(&model, order)?;
         let names = coefficient_names(&model, order)?;
         let mut params = base;
         let mut given = Vec::new();
@@ -231,6 +230,14 @@ impl Body {
         if let Some(name) = params.unused(&scales).first() {
             return Err(unknown(name, &model, &names));
         }
+        // An active force switched on leaves the modal theory (its operator is not symmetric).
+        let active: Vec<String> = crate::dynamics::nonlinear::active_terms(&model, order)?
+            .into_iter()
+            .flatten()
+            .map(|(_, n)| n)
+            .collect();
+        let driven = given.iter().any(|(n, v)| *v != 0.0 && active.contains(n));
+        let modal = linear && !driven && is_modal(&model, order)?;
         let mut body = Body {
             model,
             order,

@@ -5,7 +5,9 @@ use std::path::PathBuf;
 
 use super::{CliError, ModelArgs, ParamArgs};
 use crate::body::{BodyError, Start};
-use crate::dynamics::{sample_header, sample_row, Config, DynamicsError, Halt, Sample};
+use crate::dynamics::{
+    sample_header, sample_row, sample_values, Config, DynamicsError, Halt, Sample,
+};
 
 /// Arguments of `simulate`.
 #[derive(Debug, clap::Args)]
@@ -83,10 +85,7 @@ impl Sink<'_> {
                     serde_json::to_writer(&mut *out, &h).map_err(|e| Halt::Io(e.into()))?;
                     write!(out, ", \"rows\": [").map_err(Halt::Io)?;
                 }
-                let row: Vec<f64> = [s.t, s.energy]
-                    .into_iter()
-                    .chain(s.positions.iter().chain(&s.modal).flatten().copied())
-                    .collect();
+                let row = sample_values(s);
                 out.write_all(if *any { b",\n" } else { b"\n" })
                     .map_err(Halt::Io)?;
                 *any = true;

@@ -102,6 +102,12 @@ pub(super) struct FieldStepper<'a> {
     at: Vec<f64>,
     /// ∇T_nl(v₀) of the step, for the momentum change.
     p0: Vec<f64>,
+    /// Scratch for the active forces: v̄ and f(ū, v̄).
+    mid: Vec<f64>,
+    force: Vec<f64>,
+    /// The work done so far: (dissipated, injected by the active forces); kept only for a
+    /// field with active forces (the dissipated part is otherwise not needed).
+    work: (f64, f64),
 }
 
 /// The contraction above which the kept Newton matrix is refreshed.
@@ -131,6 +137,9 @@ impl<'a> FieldStepper<'a> {
             r: vec![0.0; n],
             at: vec![0.0; n],
             p0: vec![0.0; n],
+            mid: vec![0.0; n],
+            force: vec![0.0; n],
+            work: (0.0, 0.0),
             system,
         }
     }
@@ -239,6 +248,40 @@ impl<'a> FieldStepper<'a> {
         for p in &self.dissipation {
             p.gradient(at, h, r);
         }
+        if !self.system.active.is_empty() {
+            self.active_at_mid(u, h);
+            for (ri, f) in self.r.iter_mut().zip(&self.force) {
+                *ri -= h * f;
+            }
+        }
+    }
+
+    /// f(ū, v̄) into `self.force` at the current Δ (ū = u₀ + Δ/2, v̄ = Δ/h; `self.at` holds ū).
+    fn active_at_mid(&mut self, u: &[f64], h: f64) {
+        for (((a, m), d), x) in self
+            .at
+            .iter_mut()
+            .zip(&mut self.mid)
+            .zip(&self.delta)
+            .zip(u)
+        {
+            *a = x + 0.5 * d;
+            *m = d / h;
+        }
+        self.force.fill(0.0);
+        for a in &self.system.active {
+            a.add(&self.at, &self.mid, 1.0, &mut self.force);
+        }
+    }
+
+    /// The step's dissipated and injected work, h v̄·∇R(v̄) and h v̄·f(ū, v̄), added to
+    /// `self.work` (at the converged Δ, before u moves).
+    fn account(&mut self, u: &[f64], h: f64) {
+        self.active_at_mid(u, h);
+        let friction = self.system.dissipation_gradient(&self.mid);
+        let dot = |a: &[f64]| h * a.iter().zip(&self.mid).map(|(x, y)| x * y).sum::<f64>();
+        self.work.0 += dot(&friction);
+        self.work.1 += dot(&self.force);
     }
 
     /// The noise kick η of one step into `out` (added).
@@ -291,6 +334,9 @@ impl<'a> FieldStepper<'a> {
         t: f64,
         push: &[f64],
     ) -> Result<(), NonlinearError> {
+        if !self.system.active.is_empty() {
+            self.account(u, h);
+        }
         for i in 0..u.len() {
             let v1 = 2.0 * self.delta[i] / h - v[i];
             let kick = push.get(i).copied().unwrap_or(0.0);
@@ -443,6 +489,14 @@ impl Integrator<'_> {
             f.step(u, v, h, t, p)?;
         }
         Ok(())
+    }
+
+    /// The work done since the start, summed over the fields: (dissipated, injected by the
+    /// active forces); both zero for a body without active forces (only then is it kept).
+    pub fn work(&self) -> (f64, f64) {
+        self.fields
+            .iter()
+            .fold((0.0, 0.0), |(d, i), f| (d + f.work.0, i + f.work.1))
     }
 
     /// Add one step's noise kicks into `push`.

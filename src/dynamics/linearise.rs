@@ -21,8 +21,11 @@ pub struct LinearisedField {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub shapes: Option<Vec<Vec<f64>>>,
     /// With damping: the roots λ = −σ ± iω of det(λ²M + λC + K) = 0, one per conjugate pair
-    /// (an over-damped mode gives two real roots), slowest first.
+    /// (an over-damped mode gives two real roots), slowest first; with active forces, of
+    /// det(λ²M + λ(C − ∂f/∂v) + K − ∂f/∂u) = 0, where σ < 0 is growth.
     pub damped: Vec<DampedMode>,
+    /// Whether active forces act on the field (then `damped` holds them).
+    pub active: bool,
 }
 
 /// One root of the quadratic eigenproblem (λ²M + λC + K)x = 0, λ = −σ ± iω.
@@ -133,7 +136,7 @@ impl FieldSystem {
                     })?,
             )
         };
-        let damped = self.damped_modes(&stiffness, factor.as_ref())?;
+        let damped = self.damped_modes(&stiffness, &equilibrium, factor.as_ref())?;
         let cholesky = factor.map(|c| c.l());
         let (reduced, back) = match &cholesky {
             None => (stiffness, None),
@@ -177,6 +180,7 @@ impl FieldSystem {
             equilibrium: self.embed(&equilibrium),
             residual,
             damped,
+            active: !self.active.is_empty(),
             frequencies: eigenvalues
                 .iter()
                 .map(|&l| (l >= 0.0).then(|| l.sqrt()))
@@ -198,18 +202,34 @@ impl FieldSystem {
     }
 
     /// The roots of det(λ²M + λC + K) = 0 with C = ∇²R(0), from the companion matrix
-    /// [[0, I], [−M⁻¹K, −M⁻¹C]] (its real Schur form): none without damping, where they are
-    /// ±i√λ of the modes above.
+    /// [[0, I], [−M⁻¹K, −M⁻¹C]] (its real Schur form): none without damping or active forces,
+    /// where they are ±i√λ of the modes above. Active forces enter as −∂f/∂u in K and −∂f/∂v
+    /// in C: neither is symmetric, so a travelling pair splits into two roots of different
+    /// frequency, and a root may grow (a negative decay rate).
     fn damped_modes(
         &self,
         stiffness: &nalgebra::DMatrix<f64>,
+        equilibrium: &[f64],
         mass: Option<&nalgebra::linalg::Cholesky<f64, nalgebra::Dyn>>,
     ) -> Result<Vec<DampedMode>, NonlinearError> {
         let n = self.unknowns;
-        if self.dissipation.is_empty() || n == 0 || n > MAX_DAMPED_UNKNOWNS {
+        let quiet = self.dissipation.is_empty() && self.active.is_empty();
+        if quiet || n == 0 || n > MAX_DAMPED_UNKNOWNS {
             return Ok(Vec::new());
         }
-        let damping = self.finite(self.damping_at(&vec![0.0; n]), "the damping ∇²R(0)")?;
+        let mut damping = self.damping_at(&vec![0.0; n]);
+        let mut stiffness = stiffness.clone();
+        let (mut du, mut dv) = (
+            nalgebra::DMatrix::zeros(n, n),
+            nalgebra::DMatrix::zeros(n, n),
+        );
+        for a in &self.active {
+            a.jacobians((equilibrium, &vec![0.0; n]), &mut du, &mut dv);
+        }
+        stiffness -= du;
+        damping -= dv;
+        let stiffness = &self.finite(stiffness, "the stiffness with the active forces")?;
+        let damping = self.finite(damping, "the damping ∇²R(0)")?;
         let (mk, mc) = match mass {
             None => (stiffness.clone(), damping),
             Some(chol) => (chol.solve(stiffness), chol.solve(&damping)),
@@ -280,7 +300,12 @@ pub struct LinearisedReport {
 impl crate::report::Report for LinearisedReport {
     fn text(&self) -> String {
         use std::fmt::Write as _;
-        let mut s = if self.nonlinear {
+        let mut s = if self.fields.iter().any(|f| f.active) {
+            format!(
+                "Modes of the {} model at order {} on {} points with active forces on: their operator is not symmetric, so these are the modes of K = ∇²V (frequency √λ) and then the complex roots λ = −σ ± iω the active forces give (σ < 0 grows; a travelling pair splits).\n",
+                self.model, self.order, self.points
+            )
+        } else if self.nonlinear {
             format!(
                 "Linearised modes of the {} model at order {} on {} points: the equations are nonlinear, so these are the modes of ∇²V about each field's equilibrium (unit mass; frequency √λ).\n",
                 self.model, self.order, self.points
@@ -310,7 +335,10 @@ impl crate::report::Report for LinearisedReport {
                 let _ = writeln!(s, "  {i:>4}  {l:<14.6}  {w}");
             }
             if !f.damped.is_empty() {
-                let _ = writeln!(s, "  damped (roots of λ²M + λC + K, slowest first):");
+                let _ = match f.active {
+                    true => writeln!(s, "  with the active forces (roots of λ²M + λ(C − ∂f/∂v) + K − ∂f/∂u, slowest first; σ < 0 grows):"),
+                    false => writeln!(s, "  damped (roots of λ²M + λC + K, slowest first):"),
+                };
                 let _ = writeln!(s, "  root  decay rate σ   frequency ω");
                 for (i, d) in f.damped.iter().enumerate() {
                     let _ = writeln!(s, "  {i:>4}  {:<13.6}  {:.6}", d.decay_rate, d.frequency);

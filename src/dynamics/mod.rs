@@ -16,6 +16,7 @@
 //!
 //! The energy reported is `H = Σ ½(Pᵢ² + ωᵢ²Qᵢ²)`, the paper's Eq. 1 in modal coordinates.
 
+mod active;
 mod implicit;
 mod jacobian;
 mod linearise;
@@ -23,11 +24,12 @@ mod linearised_operators;
 pub mod nonlinear;
 mod nonlinear_run;
 mod sample;
+pub use active::ActiveForce;
 pub use implicit::Integrator;
 pub use linearise::{DampedMode, LinearisedField, LinearisedReport};
 pub use linearised_operators::{LinearisedOperator, LinearisedOperatorsReport};
 pub use nonlinear_run::{default_coefficients, is_quadratic, MAX_NONLINEAR_WORK};
-pub use sample::{checked, sample_header, sample_row, Sample};
+pub use sample::{checked, sample_header, sample_row, sample_values, Sample};
 
 use nalgebra::{Matrix2, Vector2};
 use rand::SeedableRng;
@@ -565,5 +567,6 @@ fn sample(
         positions,
         modal,
         velocity,
+        injected: None,
     }
 }

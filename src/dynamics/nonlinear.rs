@@ -53,6 +53,9 @@ pub enum NonlinearError {
     /// The engine refuses the order.
     #[error(transparent)]
     Order(#[from] crate::reduce::OrderError),
+    /// The `[active]` section's forces cannot be enumerated.
+    #[error(transparent)]
+    Active(crate::active::ActiveError),
     /// The grid refuses the body (too few points, a term it does not take).
     #[error(transparent)]
     Discretise(DiscretiseError),
@@ -203,6 +206,8 @@ pub struct FieldSystem {
     /// The kinetic energy's terms beside ½|v|² (in the velocity).
     pub(super) kinetic: Vec<Power>,
     pub(super) dissipation: Vec<Power>,
+    /// The active forces (`[active]`), per unit mass.
+    pub(super) active: Vec<super::ActiveForce>,
 }
 
 /// Gauss–Legendre nodes and weights on [0, 1], exact for polynomials of degree ≤ 2m − 1.
@@ -248,7 +253,8 @@ impl FieldSystem {
 
     /// Whether every term is a square or linear (then each step is one solve).
     pub(super) fn is_linear(&self) -> bool {
-        self.potential.iter().all(|p| p.power <= 2)
+        self.active.is_empty()
+            && self.potential.iter().all(|p| p.power <= 2)
             && self.dissipation.iter().all(|p| p.power == 2)
             && self.kinetic.iter().all(|p| p.power == 2)
     }
@@ -274,6 +280,15 @@ impl FieldSystem {
             p.gradient(v, 1.0, &mut g);
         }
         g
+    }
+
+    /// The active force f(u, v) (zeros without one).
+    pub fn active_force(&self, u: &[f64], v: &[f64]) -> Vec<f64> {
+        let mut f = vec![0.0; self.unknowns];
+        for a in &self.active {
+            a.add(u, v, 1.0, &mut f);
+        }
+        f
     }
 
     /// E = v·∇T(v) − T(v) + V(u): ½|v|² + Σ (n − 1)·(each kinetic term of power n) + V(u).
@@ -321,7 +336,33 @@ pub struct NonlinearBody {
 pub fn coefficient_names(model: &Model, order: u32) -> Result<Vec<String>, NonlinearError> {
     let l = analyse(model, Density::Lagrangian, order)?;
     let r = analyse(model, Density::Rayleigh, order)?;
-    Ok(names_of(&[&l, &r]))
+    let mut names = names_of(&[&l, &r]);
+    names.extend(
+        active_terms(model, order)?
+            .into_iter()
+            .flatten()
+            .map(|(_, n)| n),
+    );
+    Ok(names)
+}
+
+/// Each field's active forces (term, coefficient name), model order: none without an
+/// `[active]` section.
+pub fn active_terms(
+    model: &Model,
+    order: u32,
+) -> Result<Vec<Vec<(crate::term::Term, String)>>, NonlinearError> {
+    let fields = crate::active::active_forces(model, order).map_err(NonlinearError::Active)?;
+    Ok(fields
+        .unwrap_or_default()
+        .into_iter()
+        .map(|f| {
+            f.active
+                .into_iter()
+                .filter_map(|x| Some((x.shape, x.coefficient?)))
+                .collect()
+        })
+        .collect())
 }
 
 /// The coefficient names of analysed densities, in order.
@@ -344,8 +385,9 @@ impl NonlinearBody {
         values: &BTreeMap<String, f64>,
     ) -> Result<NonlinearBody, NonlinearError> {
         let plan = force_plan(model, order).map_err(NonlinearError::from)?;
+        let active = active_terms(model, order)?;
         // As `equations` lists them: every Lagrangian coefficient, then the Rayleigh ones.
-        let names: Vec<String> = [Density::Lagrangian, Density::Rayleigh]
+        let mut names: Vec<String> = [Density::Lagrangian, Density::Rayleigh]
             .iter()
             .flat_map(|d| {
                 plan.iter()
@@ -353,6 +395,7 @@ impl NonlinearBody {
             })
             .filter_map(|t| t.parameter.clone())
             .collect();
+        names.extend(active.iter().flatten().map(|(_, n)| n.clone()));
         let mut fields = Vec::new();
         for f in plan.iter().filter(|f| f.kinetic) {
             if points < f.min_points() {
@@ -372,7 +415,25 @@ impl NonlinearBody {
                 potential: Vec::new(),
                 kinetic: Vec::new(),
                 dissipation: Vec::new(),
+                active: Vec::new(),
             };
+            let index = model.fields.iter().position(|m| m.id == f.field.id);
+            for (term, name) in index.and_then(|i| active.get(i)).into_iter().flatten() {
+                let value = coefficient(Some(name), &names, values)?;
+                if value == 0.0 {
+                    continue;
+                }
+                let shape = (points, system.unknowns);
+                let force = super::ActiveForce::new(term, value, shape, f.field.boundary, f.held)
+                    .ok_or_else(|| NonlinearError::Term {
+                    field: f.field.symbol.clone(),
+                    term: term.render(&|_| f.field.symbol.clone()),
+                    density: "active",
+                    why: "a factor with two time derivatives or more is inertia, not a force"
+                        .into(),
+                })?;
+                system.active.push(force);
+            }
             for t in &f.terms {
                 let value = coefficient(t.parameter.as_deref(), &names, values)?;
                 // A term switched off costs nothing.

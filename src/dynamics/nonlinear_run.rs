@@ -27,7 +27,7 @@ pub fn is_quadratic(model: &Model, order: u32) -> Result<bool, NonlinearError> {
 
 /// The coefficient of each term a run does not set: a leading-order square takes what the
 /// linear commands give it (c = ω², c′ = ζω of its field's scale, so that `--param omega_s`
-/// means the same), every other term 0 (off until set).
+/// means the same), every other term and every active force 0 (off until set).
 pub fn default_coefficients(
     model: &Model,
     order: u32,
@@ -54,6 +54,13 @@ pub fn default_coefficients(
                 out.insert(name.clone(), value);
             }
         }
+    }
+    // An active force is off until set.
+    for (_, name) in super::nonlinear::active_terms(model, order)?
+        .into_iter()
+        .flatten()
+    {
+        out.insert(name, 0.0);
     }
     Ok(out)
 }
@@ -165,8 +172,10 @@ impl NonlinearBody {
             let (k, shape, _) = shape_of(&f.field, f.mode)?;
             forces.push((k, shape, f));
         }
-        let sample = |t: f64, state: &[(Vec<f64>, Vec<f64>)]| super::Sample {
+        let driven = self.fields.iter().any(|f| !f.active.is_empty());
+        let sample = |t: f64, state: &[(Vec<f64>, Vec<f64>)], injected: f64| super::Sample {
             t,
+            injected: driven.then_some(injected),
             energy: self.energy(state),
             // The points, as the modal run writes them (zeros where held; around a ring the
             // unknowns, the head being the tail).
@@ -187,7 +196,7 @@ impl NonlinearBody {
                 Err(Halt::Stop) => Ok(false),
                 Err(Halt::Io(e)) => Err(DynamicsError::Output(e.kind(), e.to_string())),
             };
-        if !report(&checked(sample(0.0, &state))?, &mut sink)? {
+        if !report(&checked(sample(0.0, &state, 0.0))?, &mut sink)? {
             return Ok(());
         }
         let h = config.dt;
@@ -222,7 +231,10 @@ impl NonlinearBody {
             };
             stepped?;
             if step % config.every == 0
-                && !report(&checked(sample(step as f64 * h, &state))?, &mut sink)?
+                && !report(
+                    &checked(sample(step as f64 * h, &state, integrator.work().1))?,
+                    &mut sink,
+                )?
             {
                 return Ok(());
             }

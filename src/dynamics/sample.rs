@@ -16,6 +16,9 @@ pub struct Sample {
     pub modal: Vec<Vec<f64>>,
     /// Per field: the modal velocities Q̇ᵢ.
     pub velocity: Vec<Vec<f64>>,
+    /// The work the active forces have injected since t = 0 (a body with active forces only):
+    /// with the dissipated work it closes the energy balance.
+    pub injected: Option<f64>,
 }
 
 /// `s` if its time, energy and every position are finite numbers: no sample that is not is
@@ -23,6 +26,7 @@ pub struct Sample {
 pub fn checked(s: Sample) -> Result<Sample, DynamicsError> {
     let finite = s.t.is_finite()
         && s.energy.is_finite()
+        && s.injected.is_none_or(f64::is_finite)
         && s.positions
             .iter()
             .chain(&s.modal)
@@ -38,10 +42,14 @@ pub fn checked(s: Sample) -> Result<Sample, DynamicsError> {
     }
 }
 
-/// The CSV header matching [`sample_row`]: t, energy, each field at each point (`x_0` …),
-/// then the modal coordinates (`q_x_0` …). `ids` are the model's field ids in order.
+/// The CSV header matching [`sample_row`]: t, energy, the injected work (`injected`, a body
+/// with active forces only), each field at each point (`x_0` …), then the modal coordinates
+/// (`q_x_0` …). `ids` are the model's field ids in order.
 pub fn sample_header(ids: &[&str], s: &Sample) -> Vec<String> {
     let mut cols = vec!["t".to_string(), "energy".to_string()];
+    if s.injected.is_some() {
+        cols.push("injected".into());
+    }
     for (id, field) in ids.iter().zip(&s.positions) {
         cols.extend((0..field.len()).map(|j| format!("{id}_{j}")));
     }
@@ -51,13 +59,20 @@ pub fn sample_header(ids: &[&str], s: &Sample) -> Vec<String> {
     cols
 }
 
-/// One CSV record of a sample.
+/// One record of a sample, in [`sample_header`]'s order.
+pub fn sample_values(s: &Sample) -> Vec<f64> {
+    [s.t, s.energy]
+        .into_iter()
+        .chain(s.injected)
+        .chain(s.positions.iter().chain(&s.modal).flatten().copied())
+        .collect()
+}
+
+/// One CSV record of a sample: exact (shortest round trip), in exponent form where plain would
+/// print dozens of digits.
 pub fn sample_row(s: &Sample) -> Vec<String> {
-    // Exact (shortest round trip), in exponent form where plain would print dozens of digits.
-    let number = crate::report::number;
-    let mut cells = vec![number(s.t), number(s.energy)];
-    for field in s.positions.iter().chain(&s.modal) {
-        cells.extend(field.iter().map(|&v| number(v)));
-    }
-    cells
+    sample_values(s)
+        .into_iter()
+        .map(crate::report::number)
+        .collect()
 }

@@ -21,6 +21,7 @@ use std::collections::BTreeMap;
 use num_rational::Rational64;
 use num_traits::{Signed, Zero};
 
+use crate::active::Force;
 use crate::enumerate::Basis;
 use crate::model::{Density, Field, Model};
 use crate::reduce::{analyse_basis, Analysis, DensityTerm, OrderError};
@@ -144,6 +145,9 @@ pub enum EquationError {
         /// The term.
         term: String,
     },
+    /// The `[active]` section's forces cannot be enumerated at this order.
+    #[error(transparent)]
+    Active(#[from] crate::active::ActiveError),
 }
 
 /// A linear right-hand side `Σ value·parameter·∂^D φ`, keyed by (derivative, parameter): the
@@ -204,8 +208,7 @@ pub fn variational_derivative(density: Density, dt: &DensityTerm, into: &mut Lin
 /// Field `index`'s linear equation, read off the one general derivation
 /// ([`nonlinear::general_rhs`]): every right-hand-side monomial must be one derivative.
 fn field_equation(
-    l: &Analysis,
-    r: &Analysis,
+    (l, r, active): (&Analysis, &Analysis, &[Force]),
     index: usize,
     order: u32,
     notes: &mut Vec<String>,
@@ -231,11 +234,12 @@ fn field_equation(
             }
         }
     }
-    let general =
-        nonlinear::general_rhs(l, r, index, notes).ok_or_else(|| EquationError::NoKinetic {
+    let general = nonlinear::general_rhs(l, r, active, index, notes).ok_or_else(|| {
+        EquationError::NoKinetic {
             field: field.symbol.clone(),
             order,
-        })?;
+        }
+    })?;
     let mut rhs: Vec<(RhsTerm, bool)> = Vec::with_capacity(general.len());
     for t in general {
         let deriv = match t.monomial.as_slice() {
@@ -277,7 +281,9 @@ fn field_equation(
             .copied()
             .unwrap_or((None, None));
         let extreme = Some(r.deriv.s) == lo || Some(r.deriv.s) == hi;
-        r.claim = if *square || r.deriv.t > 1 || r.deriv.s % 2 == 1 {
+        r.claim = if r.kind == ForceKind::Active {
+            SignClaim::Free("an active force: it is neither energy nor dissipation, and its sign sets the direction it drives")
+        } else if *square || r.deriv.t > 1 || r.deriv.s % 2 == 1 {
             SignClaim::of(r.deriv, r.sign, extreme)
         } else {
             SignClaim::Free("not the variation of an energy or dissipation square: nothing fixes its sign alone")
@@ -352,14 +358,15 @@ pub fn derive_each(
     order: u32,
     basis: Basis,
 ) -> Result<Derivation<Equation>, EquationError> {
-    let (l, r, notes) = analyses(model, order, basis)?;
+    let (l, r, active, notes) = analyses(model, order, basis)?;
     let mut d = Derivation {
         equations: Vec::new(),
         underived: Vec::new(),
         notes,
     };
     for i in 0..model.fields.len() {
-        match field_equation(&l, &r, i, order, &mut d.notes) {
+        let forces = active.get(i).map_or(&[][..], |f| &f[..]);
+        match field_equation((&l, &r, forces), i, order, &mut d.notes) {
             Ok(e) => d.equations.push(e),
             Err(e @ EquationError::NoKinetic { .. }) => d.underived.push(e),
             Err(e) => return Err(e),
@@ -368,12 +375,11 @@ pub fn derive_each(
     Ok(d)
 }
 
-/// Both densities' analyses and what they say is missing.
-fn analyses(
-    model: &Model,
-    order: u32,
-    basis: Basis,
-) -> Result<(Analysis, Analysis, Vec<String>), EquationError> {
+/// Both densities' analyses, each field's lowest-order active forces (none without an
+/// `[active]` section) and what the analyses say is missing.
+type Analyses = (Analysis, Analysis, Vec<Vec<Force>>, Vec<String>);
+
+fn analyses(model: &Model, order: u32, basis: Basis) -> Result<Analyses, EquationError> {
     crate::reduce::check_work(
         model,
         &[Density::Lagrangian, Density::Rayleigh],
@@ -388,5 +394,8 @@ fn analyses(
         .chain(&r.fields)
         .flat_map(|f| f.missing.clone())
         .collect();
-    Ok((l, r, notes))
+    let active = crate::active::active_forces(model, order)?
+        .map(|fields| fields.into_iter().map(|f| f.active).collect())
+        .unwrap_or_default();
+    Ok((l, r, active, notes))
 }

@@ -54,11 +54,12 @@ pub fn derive_nonlinear_each(
     order: u32,
     basis: Basis,
 ) -> Result<Derivation<NonlinearEquation>, EquationError> {
-    let (l, r, mut notes) = analyses(model, order, basis)?;
+    let (l, r, active, mut notes) = analyses(model, order, basis)?;
     let mut equations = Vec::new();
     let mut underived = Vec::new();
     for (i, field) in model.fields.iter().enumerate() {
-        match general_rhs(&l, &r, i, &mut notes) {
+        let forces = active.get(i).map_or(&[][..], |f| &f[..]);
+        match general_rhs(&l, &r, forces, i, &mut notes) {
             Some(rhs) => equations.push(NonlinearEquation {
                 field: field.clone(),
                 rhs,
@@ -76,12 +77,14 @@ pub fn derive_nonlinear_each(
     })
 }
 
-/// The one derivation of field `i`: ∂t²φ = E(L − ½(∂tφ)²) − δR/δv, the right-hand side by
-/// parameter and monomial (exact values), or `None` when no kinetic term gives ∂t²φ. Notes
-/// say which terms contribute nothing, and why, and which R terms hold more than the velocity.
+/// The one derivation of field `i`: ∂t²φ = E(L − ½(∂tφ)²) − δR/δv + Σ aₖ fₖ, the right-hand
+/// side by parameter and monomial (exact values; the active forces fₖ enter as written, forces
+/// per unit mass), or `None` when no kinetic term gives ∂t²φ. Notes say which terms contribute
+/// nothing, and why, and which R terms hold more than the velocity.
 pub(super) fn general_rhs(
     l: &Analysis,
     r: &Analysis,
+    active: &[crate::active::Force],
     i: usize,
     notes: &mut Vec<String>,
 ) -> Option<Vec<PolyTerm>> {
@@ -165,6 +168,12 @@ pub(super) fn general_rhs(
             })
         })
         .collect();
+    rhs.extend(active.iter().map(|f| PolyTerm {
+        monomial: mono_of(&f.shape),
+        value: Rational64::from_integer(1),
+        coefficient: f.coefficient.clone().unwrap_or_else(|| "1".into()),
+        kind: super::ForceKind::Active,
+    }));
     rhs.sort_by_key(|t| {
         let degree: u32 = t.monomial.iter().map(|(_, n)| n).sum();
         (degree, t.monomial.clone(), t.coefficient.clone())

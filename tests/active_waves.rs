@@ -1,0 +1,219 @@
+//! Active forces moved (`simulate`, `modes`): a bending field around a ring with the active
+//! force a∂s³y (a body with a head) against the continuum dispersion relation ω² = ck⁴ + iak³
+//! (docs/derivation.md), its direction of travel from the sign of a, the discrete energy
+//! balance E₁ − E₀ = −dissipated + injected at every step (linear and nonlinear active forces),
+//! and the linearisation's complex roots against the discrete dispersion relation.
+
+mod common;
+
+use std::collections::BTreeMap;
+
+use nalgebra::Complex;
+
+type Complex64 = Complex<f64>;
+use theory_search::dynamics::nonlinear::NonlinearBody;
+use theory_search::model::Model;
+
+/// A bending field around a ring, without PAR: the active section allows a∂s³y.
+const RING: &str = include_str!("common/ring.toml");
+
+fn values(pairs: &[(&str, f64)]) -> BTreeMap<String, f64> {
+    pairs.iter().map(|(k, v)| (k.to_string(), *v)).collect()
+}
+
+fn ring(points: usize, c: f64, damping: f64, a: f64) -> NonlinearBody {
+    let model = Model::from_toml(RING).unwrap();
+    let v = values(&[("c_y", c), ("c'_y", damping), ("a_y", a)]);
+    NonlinearBody::new(&model, 4, points, &v).unwrap()
+}
+
+/// The Fourier coefficient Σⱼ yⱼ e^{−ikj} of the field at wavenumber k (lattice units).
+fn amplitude(y: &[f64], k: f64) -> Complex64 {
+    y.iter()
+        .enumerate()
+        .map(|(j, &x)| x * Complex64::from_polar(1.0, -k * j as f64))
+        .sum()
+}
+
+/// Runs `steps` steps of `h` from (y, v) and returns the amplitude at k every `every` steps.
+fn run(
+    body: &NonlinearBody,
+    state: (Vec<f64>, Vec<f64>),
+    h: f64,
+    steps: usize,
+    k: f64,
+) -> Vec<Complex64> {
+    let mut state = vec![state];
+    let mut integrator = body.integrator(h);
+    let mut out = vec![amplitude(&state[0].0, k)];
+    for step in 0..steps {
+        integrator.step(&mut state, step as f64 * h).unwrap();
+        out.push(amplitude(&state[0].0, k));
+    }
+    out
+}
+
+/// ω from A(t) ∝ e^{−iωt}: the unwrapped phase and the log modulus, fitted by least squares
+/// over the samples (one per step of `h`).
+fn measured_omega(series: &[Complex64], h: f64) -> Complex64 {
+    let mut phase = 0.0;
+    let mut points = vec![(0.0, series[0].norm().ln(), 0.0)];
+    for (i, w) in series.windows(2).enumerate() {
+        phase += (w[1] / w[0]).arg();
+        points.push(((i + 1) as f64 * h, w[1].norm().ln(), phase));
+    }
+    let slope = |pick: &dyn Fn(&(f64, f64, f64)) -> f64| {
+        let n = points.len() as f64;
+        let (mt, my) = points
+            .iter()
+            .fold((0.0, 0.0), |(a, b), p| (a + p.0 / n, b + pick(p) / n));
+        let num: f64 = points.iter().map(|p| (p.0 - mt) * (pick(p) - my)).sum();
+        let den: f64 = points.iter().map(|p| (p.0 - mt).powi(2)).sum();
+        num / den
+    };
+    // A ∝ e^{−iωt} = e^{Im ω t} e^{−i Re ω t}.
+    Complex64::new(-slope(&|p| p.2), slope(&|p| p.1))
+}
+
+#[test]
+fn an_active_bending_force_drives_a_wave_at_the_speed_and_growth_of_the_dispersion_relation() {
+    let (points, m) = (257, 2);
+    let n = points - 1;
+    let k = 2.0 * std::f64::consts::PI * m as f64 / n as f64;
+    let c = 1.0;
+    let a = 0.2 * c * k;
+    // The continuum root of ω² = ck⁴ + iak³ that travels towards +s (Re ω > 0).
+    let omega = Complex64::new(c * k.powi(4), a * k.powi(3)).sqrt();
+    assert!(
+        omega.re > 0.0 && omega.im > 0.0,
+        "forward and growing: {omega}"
+    );
+    let body = ring(points, c, 0.0, a);
+    // Start on the forward wave: y = Re e^{i(kj)}, v = Re(−iω e^{ikj}).
+    let y: Vec<f64> = (0..n).map(|j| (k * j as f64).cos()).collect();
+    let v: Vec<f64> = (0..n)
+        .map(|j| (Complex64::new(0.0, -1.0) * omega * Complex64::from_polar(1.0, k * j as f64)).re)
+        .collect();
+    let period = 2.0 * std::f64::consts::PI / omega.re;
+    let h = period / 1000.0;
+    let series = run(&body, (y, v), h, 2000, k);
+    let got = measured_omega(&series, h);
+    // Phase speed Re ω / k (its sign the direction) and growth rate Im ω, each within 1 %.
+    let (speed, want_speed) = (got.re / k, omega.re / k);
+    assert!(
+        (speed / want_speed - 1.0).abs() < 0.01,
+        "phase speed {speed} against {want_speed} (towards +s)"
+    );
+    assert!(
+        (got.im / omega.im - 1.0).abs() < 0.01,
+        "growth rate {} against {}",
+        got.im,
+        omega.im
+    );
+}
+
+#[test]
+fn a_standing_wave_becomes_a_wave_running_the_way_the_sign_of_a_says() {
+    let (points, m) = (129, 2);
+    let n = points - 1;
+    let k = 2.0 * std::f64::consts::PI * m as f64 / n as f64;
+    for sign in [1.0, -1.0] {
+        let a = sign * 0.3 * k;
+        let omega = Complex64::new(k.powi(4), a.abs() * k.powi(3)).sqrt();
+        let body = ring(points, 1.0, 0.0, a);
+        let y: Vec<f64> = (0..n).map(|j| (k * j as f64).cos()).collect();
+        let h = 2.0 * std::f64::consts::PI / omega.re / 500.0;
+        let series = run(&body, (y, vec![0.0; n]), h, 3000, k);
+        // Over the last period the growing wave dominates: its phase runs at ∓Re ω.
+        let tail = &series[series.len() - 500..];
+        let got = measured_omega(tail, h);
+        assert!(
+            (got.re / (sign * omega.re) - 1.0).abs() < 0.02,
+            "a = {a}: phase rate {} against {} (a > 0 runs towards +s)",
+            got.re,
+            sign * omega.re
+        );
+        assert!(series.last().unwrap().norm() > 3.0 * series[0].norm());
+    }
+}
+
+#[test]
+fn the_energy_balance_with_active_power_holds_at_every_step() {
+    // The ring, linear, with Kelvin damping; and the free crawler with its nonlinear active
+    // forces on x at the next orders ((∂s x)²·∂ts x among them).
+    let crawler = {
+        let mut model = Model::from_toml(include_str!("../tables/models/crawler.toml")).unwrap();
+        model.set_beyond_leading(3);
+        let names = theory_search::dynamics::nonlinear::coefficient_names(&model, 4).unwrap();
+        let active: Vec<&String> = names.iter().filter(|n| n.starts_with('a')).collect();
+        assert!(active.len() > 2, "the crawler's active forces: {names:?}");
+        let mut v = theory_search::dynamics::default_coefficients(
+            &model,
+            4,
+            &theory_search::params::Params::default(),
+        )
+        .unwrap();
+        for (i, n) in active.iter().enumerate() {
+            v.insert((*n).clone(), 0.3 * if i % 2 == 0 { 1.0 } else { -1.0 });
+        }
+        NonlinearBody::new(&model, 4, 30, &v).unwrap()
+    };
+    for body in [ring(65, 1.0, 0.05, 0.2), crawler] {
+        let mut state: Vec<(Vec<f64>, Vec<f64>)> = body
+            .fields
+            .iter()
+            .map(|f| {
+                let u: Vec<f64> = (0..f.unknowns)
+                    .map(|j| 0.3 * (0.4 * j as f64).sin())
+                    .collect();
+                let v: Vec<f64> = (0..f.unknowns)
+                    .map(|j| 0.2 * (0.25 * j as f64).cos())
+                    .collect();
+                (u, v)
+            })
+            .collect();
+        let mut integrator = body.integrator(0.05);
+        let (mut worst, mut injected) = (0.0f64, 0.0f64);
+        for step in 0..400 {
+            let e0 = body.energy(&state);
+            let (d0, i0) = integrator.work();
+            integrator.step(&mut state, step as f64 * 0.05).unwrap();
+            let (d1, i1) = integrator.work();
+            let e1 = body.energy(&state);
+            let gap = (e1 - e0) - (-(d1 - d0) + (i1 - i0));
+            worst = worst.max(gap.abs() / e0.abs().max(1e-300));
+            injected += (i1 - i0).abs();
+        }
+        assert!(injected > 0.0, "the active forces did work");
+        assert!(
+            worst < 1e-8,
+            "energy balance off by {worst:e} of E in a step"
+        );
+    }
+}
+
+#[test]
+fn the_linearisation_gives_the_discrete_dispersion_relation_as_complex_roots() {
+    let (points, c, a) = (21, 1.0, 0.05);
+    let fields = ring(points, c, 0.0, a).linearise(false).unwrap();
+    let roots = &fields[0].damped;
+    assert!(fields[0].active);
+    let n = points - 1;
+    for m in 1..n / 2 {
+        let k = 2.0 * std::f64::consts::PI * m as f64 / n as f64;
+        let s2 = (2.0 * (k / 2.0).sin()).powi(2);
+        // ∂s⁴ → (2 sin k/2)⁴, ∂s³ → −i sin k (2 sin k/2)² on e^{ikj}.
+        let w = Complex64::new(c * s2 * s2, a * k.sin() * s2).sqrt();
+        for growth in [w.im, -w.im] {
+            assert!(
+                roots
+                    .iter()
+                    .any(|r| (r.frequency - w.re).abs() < 1e-9 * w.re
+                        && (r.decay_rate + growth).abs() < 1e-9 * w.re),
+                "m = {m}: no root ω = {}, σ = {} among {roots:?}",
+                w.re,
+                -growth
+            );
+        }
+    }
+}
