@@ -80,8 +80,9 @@ pub struct Force {
     pub space_parity: i8,
     /// Why it is in its class, in one line.
     pub why: String,
-    /// The coefficient it enters the equations with (`a_y`; `a1_y`, `a2_y`, … when a field has
-    /// several): active forces only.
+    /// The coefficient it enters the equations with: `a_y` for an active force, `g_y` for a
+    /// gyroscopic one (`a1_y`, `a2_y`, … when a field has several); none for the other classes
+    /// (the admitted densities give those).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub coefficient: Option<String>,
     /// The term itself (placeholder field 0).
@@ -163,21 +164,23 @@ fn field_forces(spec: &DensitySpec, id: &str, symbol: &str, candidates: &[Term])
             .map(|(_, f)| f.clone())
             .collect()
     };
-    let mut active = lowest(ForceClass::Active);
-    let several = active.len() > 1;
-    for (k, f) in active.iter_mut().enumerate() {
-        f.coefficient = Some(match several {
-            true => format!("a{}_{symbol}", k + 1),
-            false => format!("a_{symbol}"),
-        });
-    }
+    let named = |letter: &str, mut list: Vec<Force>| {
+        let several = list.len() > 1;
+        for (k, f) in list.iter_mut().enumerate() {
+            f.coefficient = Some(match several {
+                true => format!("{letter}{}_{symbol}", k + 1),
+                false => format!("{letter}_{symbol}"),
+            });
+        }
+        list
+    };
     FieldForces {
         field: id.to_string(),
         candidates: candidates.len(),
         covariant: covariant.len(),
         counts,
-        active,
-        gyroscopic: lowest(ForceClass::Gyroscopic),
+        active: named("a", lowest(ForceClass::Active)),
+        gyroscopic: named("g", lowest(ForceClass::Gyroscopic)),
     }
 }
 

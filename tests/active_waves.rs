@@ -23,7 +23,7 @@ fn values(pairs: &[(&str, f64)]) -> BTreeMap<String, f64> {
 
 fn ring(points: usize, c: f64, damping: f64, a: f64) -> NonlinearBody {
     let model = Model::from_toml(RING).unwrap();
-    let v = values(&[("c_y", c), ("c'_y", damping), ("a_y", a)]);
+    let v = values(&[("c_y", c), ("c'_y", damping), ("a_y", a), ("g_y", 0.0)]);
     NonlinearBody::new(&model, 4, points, &v).unwrap()
 }
 

