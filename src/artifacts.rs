@@ -38,6 +38,21 @@ pub enum ArtifactError {
     Stale(PathBuf),
 }
 
+impl ArtifactError {
+    /// The kind of failure: a model or order the generator refuses is usage; a file that
+    /// cannot be written (or a formatter that fails) is output.
+    pub fn failure(&self) -> crate::failure::Failure {
+        use crate::failure::Failure;
+        match self {
+            ArtifactError::Order(_)
+            | ArtifactError::Code(CodegenError::Plan(_) | CodegenError::Active(_)) => {
+                Failure::Usage
+            }
+            _ => Failure::Output,
+        }
+    }
+}
+
 /// Write `contents` to `path`, creating its directory.
 fn write(path: &Path, contents: &str) -> Result<(), ArtifactError> {
     if let Some(dir) = path.parent() {

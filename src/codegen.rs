@@ -17,6 +17,9 @@ pub enum CodegenError {
     /// The operators cannot be planned (order, unsupported terms).
     #[error(transparent)]
     Plan(#[from] DiscretiseError),
+    /// The `[active]` section's forces cannot be enumerated.
+    #[error(transparent)]
+    Active(#[from] crate::active::ActiveError),
     /// The template did not render.
     #[error("template: {0:?}")]
     Template(#[from] tera::Error),
@@ -239,6 +242,23 @@ struct ForceTermContext {
     kinetic: bool,
 }
 
+/// One factor of an active force in the template.
+#[derive(Debug, Serialize)]
+struct ActiveFactorContext {
+    weights: String,
+    power: u32,
+    velocity: bool,
+}
+
+/// One active (or gyroscopic) force of the `[active]` section in the template.
+#[derive(Debug, Serialize)]
+struct ActiveContext {
+    text: String,
+    text_lit: String,
+    slot: usize,
+    factors: Vec<ActiveFactorContext>,
+}
+
 /// One field of the force template.
 #[derive(Debug, Serialize)]
 struct FieldForceContext {
@@ -252,11 +272,13 @@ struct FieldForceContext {
     /// Coefficient names as Rust string literals.
     coefficients: Vec<String>,
     terms: Vec<ForceTermContext>,
+    active: Vec<ActiveContext>,
 }
 
 /// The Rust source of the forces of `model` at `order` (every surviving term, squares or not),
 /// rendered through the tera template and formatted.
 pub fn forces_source(model: &Model, order: u32) -> Result<String, CodegenError> {
+    let sections = crate::active::active_forces(model, order)?.unwrap_or_default();
     let mut fields = Vec::new();
     for f in force_plan(model, order)?.into_iter().filter(|f| f.kinetic) {
         let mut names: Vec<String> = Vec::new();
@@ -291,6 +313,43 @@ pub fn forces_source(model: &Model, order: u32) -> Result<String, CodegenError> 
                 }
             })
             .collect();
+        // The section's active and gyroscopic forces, their coefficients after the densities'.
+        let forces = sections.iter().find(|s| s.field == f.field.id);
+        let active = forces
+            .into_iter()
+            .flat_map(|s| s.active.iter().chain(&s.gyroscopic))
+            .filter_map(|x| Some((x, x.coefficient.clone()?)))
+            .map(|(x, name)| {
+                if x.shape.factors().iter().any(|g| g.deriv.t > 1) {
+                    return Err(DiscretiseError::NotAForce {
+                        field: f.field.symbol.clone(),
+                        term: x.term.clone(),
+                        density: "active",
+                        why: "a factor with two time derivatives or more is inertia (add OST to the section's requirements)".into(),
+                    });
+                }
+                names.push(name);
+                Ok(ActiveContext {
+                    text: comment(&x.term),
+                    text_lit: literal(&x.term),
+                    slot: names.len() - 1,
+                    factors: x
+                        .shape
+                        .factors()
+                        .iter()
+                        .map(|g| ActiveFactorContext {
+                            weights: crate::discretise::centred(g.deriv.s)
+                                .iter()
+                                .map(|w| format!("{w:?}"))
+                                .collect::<Vec<_>>()
+                                .join(", "),
+                            power: g.power,
+                            velocity: g.deriv.t == 1,
+                        })
+                        .collect(),
+                })
+            })
+            .collect::<Result<_, _>>()?;
         fields.push(FieldForceContext {
             field_lit: literal(&f.field.id),
             meaning: comment(&format!("{} ({})", f.field.id, f.field.meaning)),
@@ -301,6 +360,7 @@ pub fn forces_source(model: &Model, order: u32) -> Result<String, CodegenError> 
             min: f.min_points(),
             coefficients: names.iter().map(|n| literal(n)).collect(),
             terms,
+            active,
         });
     }
     let mut tera = tera::Tera::new();

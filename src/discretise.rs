@@ -549,6 +549,19 @@ pub fn force_plan(model: &Model, order: u32) -> Result<Vec<FieldForces>, Discret
     Ok(out)
 }
 
+/// The centred difference weights of ∂sᵇ at a point, offsets −r…r (the stencil of an active
+/// force's factor): ∂s²ᵐ the m-fold (1, −2, 1), ∂s²ᵐ⁺¹ that convolved with (−½, 0, ½).
+pub fn centred(b: u32) -> Vec<f64> {
+    let even: Vec<f64> = stencil(b - b % 2).iter().map(|&w| w as f64).collect();
+    if b % 2 == 0 {
+        return even;
+    }
+    let at = |j: usize| even.get(j).copied().unwrap_or(0.0);
+    (0..even.len() + 2)
+        .map(|j| 0.5 * (j.checked_sub(2).map_or(0.0, at) - at(j)))
+        .collect()
+}
+
 /// The rows of Δᵇ for a field with `held` points at its ends (or around a ring), as
 /// (unknown, weight) entries: around a ring every position, indices mod N − 1; with ends every
 /// position along the body, the held points dropped (they are zeros). b = 0 is the identity.

@@ -217,3 +217,70 @@ fn the_linearisation_gives_the_discrete_dispersion_relation_as_complex_roots() {
         }
     }
 }
+
+#[test]
+fn the_linearised_operators_carry_the_active_forces_matrices() {
+    // `operators` of a driven body: A = ∂f/∂u is a·(the centred ∂s³ stencil) around the ring,
+    // B = ∂f/∂v is g·(the centred ∂s stencil); neither symmetric.
+    let (points, a, g) = (9, 0.3, -0.2);
+    let model = Model::from_toml(RING).unwrap();
+    let v = values(&[("c_y", 1.0), ("c'_y", 0.1), ("a_y", a), ("g_y", g)]);
+    let body = NonlinearBody::new(&model, 4, points, &v).unwrap();
+    let ops = body.linearised_operators().unwrap();
+    let [da, db] = ops[0].active.as_ref().expect("active matrices");
+    let n = points - 1;
+    let third = [-0.5, 1.0, 0.0, -1.0, 0.5];
+    for i in 0..n {
+        for j in 0..n {
+            let offset = (j + n - i + 2) % n;
+            let want_a = if offset < 5 { a * third[offset] } else { 0.0 };
+            assert!(
+                (da[i][j] - want_a).abs() < 1e-15,
+                "A[{i}][{j}] = {}",
+                da[i][j]
+            );
+            let want_b = match (j + n - i) % n {
+                1 => 0.5 * g,
+                k if k == n - 1 => -0.5 * g,
+                _ => 0.0,
+            };
+            assert!(
+                (db[i][j] - want_b).abs() < 1e-15,
+                "B[{i}][{j}] = {}",
+                db[i][j]
+            );
+        }
+    }
+}
+
+#[test]
+fn a_section_without_ost_keeps_inertia_out_of_every_numerical_command() {
+    // Without OST the section admits ∂t³y: `equations` prints it (the model asked), but no
+    // command integrates, linearises or emits it; each says why in one line, exit code 2.
+    let text = RING.replace(
+        "y = [\"OST\", \"TRAN\", \"REF\", \"ROT\", \"GAL\"]",
+        "y = [\"TRAN\", \"REF\", \"ROT\", \"GAL\"]",
+    );
+    let dir = std::env::temp_dir().join(format!("ts-noost-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("noost.toml");
+    std::fs::write(&path, text).unwrap();
+    let m = path.to_str().unwrap();
+    let out = dir.join("emit");
+    for args in [
+        vec![
+            "simulate", "-p", "10", "--steps", "2", "--model", m, "--param", "a1_y=1",
+        ],
+        vec!["modes", "-p", "10", "--model", m, "--param", "a1_y=1"],
+        vec!["emit", "--model", m, "--out", out.to_str().unwrap()],
+    ] {
+        let (code, _, err) = common::binary(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(
+            err.starts_with("error: field y: ∂ttt y") && err.contains("inertia"),
+            "{err}"
+        );
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

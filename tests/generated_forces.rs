@@ -1,8 +1,8 @@
 //! The generated forces (`templates/forces.rs.tera`, emitted by `theory-search emit`): the
 //! checked-in larva's against the generated linear operators (another template), and the source
 //! emitted for nonlinear bodies, compiled here by rustc on its own, against the integrator's
-//! potential (central differences of its energy) and dissipation, its Jacobian against
-//! differences of its own force.
+//! potential (central differences of its energy), dissipation and active forces, its Jacobians
+//! against differences of the integrator's force.
 
 use std::collections::BTreeMap;
 use std::process::Command;
@@ -110,7 +110,10 @@ fn harness(source: &str, points: usize, inputs: &[(Vec<f64>, Vec<f64>, Vec<f64>)
         );
     }
     main += "}\n";
-    let dir = std::env::temp_dir().join(format!("ts-forces-{}-{points}", std::process::id()));
+    // One directory per harness: the tests run in parallel.
+    static RUNS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let run = RUNS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("ts-forces-{}-{run}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join("forces.rs");
     std::fs::write(&file, format!("{source}{main}")).unwrap();
@@ -164,6 +167,7 @@ fn check_emitted(model: &Model, points: usize) {
     let printed = harness(&source, points, &inputs);
     let mut force: BTreeMap<(usize, usize), f64> = BTreeMap::new();
     let mut du: BTreeMap<(usize, usize, usize), f64> = BTreeMap::new();
+    let mut dv: BTreeMap<(usize, usize, usize), f64> = BTreeMap::new();
     let mut mass: BTreeMap<(usize, usize, usize), f64> = BTreeMap::new();
     for line in printed.lines() {
         let w: Vec<&str> = line.split(' ').collect();
@@ -173,6 +177,7 @@ fn check_emitted(model: &Model, points: usize) {
                 force.insert((at(1), at(2)), w[3].parse().unwrap());
             }
             "U" => *du.entry((at(1), at(2), at(3))).or_default() += w[4].parse::<f64>().unwrap(),
+            "V" => *dv.entry((at(1), at(2), at(3))).or_default() += w[4].parse::<f64>().unwrap(),
             "M" => *mass.entry((at(1), at(2), at(3))).or_default() += w[4].parse::<f64>().unwrap(),
             _ => {}
         }
@@ -209,7 +214,8 @@ fn check_emitted(model: &Model, points: usize) {
             let (mut up, mut down) = (u.clone(), u.clone());
             up[i] += h;
             down[i] -= h;
-            let want = -(potential(&up) - potential(&down)) / (2.0 * h) - friction[i];
+            let want = -(potential(&up) - potential(&down)) / (2.0 * h) - friction[i]
+                + f.active_force(u, v)[i];
             let got = force[&(k, i)];
             assert!(
                 (got - want).abs() < 1e-7 * (1.0 + want.abs()),
@@ -229,11 +235,40 @@ fn check_emitted(model: &Model, points: usize) {
                     x[j] += dj;
                     potential(&x)
                 };
-                let want = -(at(h, h) - at(h, -h) - at(-h, h) + at(-h, -h)) / (4.0 * h * h);
+                // The active forces' part, by central differences of the integrator's.
+                let pushed = |d: f64| {
+                    let mut x = u.clone();
+                    x[j] += d;
+                    f.active_force(&x, v)[i]
+                };
+                let want = -(at(h, h) - at(h, -h) - at(-h, h) + at(-h, -h)) / (4.0 * h * h)
+                    + (pushed(h) - pushed(-h)) / (2.0 * h);
                 let got = du.get(&(k, i, j)).copied().unwrap_or(0.0);
                 assert!(
                     (got - want).abs() < 1e-5 * (1.0 + want.abs()),
                     "{} field {}: ∂F/∂u[{i}][{j}] = {got} against {want}",
+                    model.name,
+                    f.id
+                );
+            }
+        }
+        // ∂F/∂v = −∇²R(v) + ∂f/∂v, by central differences of the integrator's.
+        for j in 0..f.unknowns {
+            let h = 1e-5;
+            let at = |d: f64| {
+                let mut x = v.clone();
+                x[j] += d;
+                let r = f.dissipation_gradient(&x);
+                let a = f.active_force(u, &x);
+                r.iter().zip(a).map(|(r, a)| a - r).collect::<Vec<f64>>()
+            };
+            let (up, down) = (at(h), at(-h));
+            for i in 0..f.unknowns {
+                let want = (up[i] - down[i]) / (2.0 * h);
+                let got = dv.get(&(k, i, j)).copied().unwrap_or(0.0);
+                assert!(
+                    (got - want).abs() < 1e-6 * (1.0 + want.abs()),
+                    "{} field {}: ∂F/∂v[{i}][{j}] = {got} against {want}",
                     model.name,
                     f.id
                 );
@@ -267,4 +302,21 @@ fn emitted_nonlinear_forces_are_the_integrators() {
     worm.lagrangian.beyond_leading = 1;
     worm.rayleigh.beyond_leading = 1;
     check_emitted(&worm, 7);
+}
+
+/// The `[active]` section's forces, emitted: the crawler's linear a∂s x, a∂s³y and gyroscopic
+/// g∂t∂s φ, and at the next layers its nonlinear ones ((∂s x)²·∂ts x among them), against the
+/// integrator's active forces, with their Jacobians in u and v; and around a ring.
+#[test]
+fn emitted_active_forces_are_the_integrators() {
+    let dir = env!("CARGO_MANIFEST_DIR");
+    let read = |name: &str| {
+        Model::from_toml(&std::fs::read_to_string(format!("{dir}/{name}")).unwrap()).unwrap()
+    };
+    let mut crawler = read("tables/models/crawler.toml");
+    check_emitted(&crawler, 9);
+    crawler.set_beyond_leading(3);
+    check_emitted(&crawler, 11);
+    check_emitted(&read("tables/models/peristalsis.toml"), 8);
+    check_emitted(&read("tests/common/ring.toml"), 10);
 }

@@ -393,3 +393,14 @@ fn generated_code_agrees_with_the_engine() {
         Err(OperatorError::Length { .. })
     ));
 }
+
+/// The centred stencils of an active force's factors (`discretise::centred`).
+#[test]
+fn centred_stencils_are_the_textbook_ones() {
+    use theory_search::discretise::centred;
+    assert_eq!(centred(0), vec![1.0]);
+    assert_eq!(centred(1), vec![-0.5, 0.0, 0.5]);
+    assert_eq!(centred(2), vec![1.0, -2.0, 1.0]);
+    assert_eq!(centred(3), vec![-0.5, 1.0, 0.0, -1.0, 0.5]);
+    assert_eq!(centred(4), vec![1.0, -4.0, 6.0, -4.0, 1.0]);
+}

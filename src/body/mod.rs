@@ -190,6 +190,8 @@ pub struct Body {
     order: u32,
     linear: bool,
     modal: bool,
+    /// An active (or gyroscopic) force is switched on.
+    driven: bool,
     names: Vec<String>,
     params: Params,
     /// Coefficients given by name (canonical), in the order given.
@@ -243,6 +245,7 @@ impl Body {
             order,
             linear,
             modal,
+            driven,
             names,
             params,
             given,
@@ -366,7 +369,8 @@ impl Body {
     /// stiffness, damping and mass of a nonlinear body's linearisation.
     pub fn operators(&self, points: usize) -> Result<BodyOperators, BodyError> {
         within(points, MAX_OPERATOR_POINTS, "the dense operators", "")?;
-        if !self.linear {
+        // Nonlinear, or driven by an active force: the discretised body's linearisation.
+        if !self.linear || self.driven {
             let body = self.linearisable(points)?;
             return Ok(BodyOperators::Linearised(body.linearised_operators()?));
         }

@@ -32,8 +32,11 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
             PathBuf::from(".")
         }
     };
-    let written = crate::artifacts::emit(&dir, &model, args.model.order)
-        .map_err(|e| CliError::Output(e.to_string()))?;
+    let written =
+        crate::artifacts::emit(&dir, &model, args.model.order).map_err(|e| match e.failure() {
+            crate::failure::Failure::Usage => CliError::Usage(e.to_string()),
+            _ => CliError::Output(e.to_string()),
+        })?;
     let text: String = written
         .iter()
         .map(|p| format!("wrote {}\n", p.display()))

@@ -16,6 +16,7 @@
 //! E₁ − E₀ = −h v̄·∇R(v̄) + h v̄·f(ū, v̄), the second term the work the active forces inject.
 
 use crate::boundary::Boundary;
+use crate::discretise::centred;
 use crate::term::Term;
 
 /// One factor (∂tᵃ∂sᵇφ)ᵖ: its stencil row at each unknown.
@@ -35,27 +36,6 @@ pub struct ActiveForce {
     factors: Vec<Factor>,
     /// The unknowns the force acts at (every factor's stencil on the body).
     live: Vec<bool>,
-}
-
-/// The centred difference weights of ∂sᵇ, offsets −r…r.
-fn centred(b: u32) -> Vec<f64> {
-    let convolve = |a: &[f64], b: &[f64]| {
-        let mut out = vec![0.0; a.len() + b.len() - 1];
-        for (i, x) in a.iter().enumerate() {
-            for (j, y) in b.iter().enumerate() {
-                out[i + j] += x * y;
-            }
-        }
-        out
-    };
-    let mut w = vec![1.0];
-    for _ in 0..b / 2 {
-        w = convolve(&w, &[1.0, -2.0, 1.0]);
-    }
-    if b % 2 == 1 {
-        w = convolve(&w, &[-0.5, 0.0, 0.5]);
-    }
-    w
 }
 
 impl ActiveForce {
@@ -166,14 +146,6 @@ impl ActiveForce {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn centred_stencils_are_the_textbook_ones() {
-        assert_eq!(centred(1), vec![-0.5, 0.0, 0.5]);
-        assert_eq!(centred(2), vec![1.0, -2.0, 1.0]);
-        assert_eq!(centred(3), vec![-0.5, 1.0, 0.0, -1.0, 0.5]);
-        assert_eq!(centred(4), vec![1.0, -4.0, 6.0, -4.0, 1.0]);
-    }
 
     #[test]
     fn a_cubic_is_differentiated_exactly_inside_and_off_near_free_ends() {

@@ -25,6 +25,10 @@ pub struct LinearisedOperator {
     pub damping: Vec<Vec<f64>>,
     /// M = ∇²T(0), the mass (the identity with the standard kinetic term alone).
     pub mass: Vec<Vec<f64>>,
+    /// With active forces f: A = ∂f/∂u(u*, 0) and B = ∂f/∂v(u*, 0), not symmetric, entering
+    /// M ü = −K(u − u*) − C u̇ + A(u − u*) + B u̇.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub active: Option<[Vec<Vec<f64>>; 2]>,
 }
 
 impl FieldSystem {
@@ -35,7 +39,19 @@ impl FieldSystem {
             m.row_iter().map(|r| r.iter().copied().collect()).collect()
         };
         let zero = vec![0.0; self.unknowns];
+        let active = (!self.active.is_empty()).then(|| {
+            let n = self.unknowns;
+            let (mut du, mut dv) = (
+                nalgebra::DMatrix::zeros(n, n),
+                nalgebra::DMatrix::zeros(n, n),
+            );
+            for a in &self.active {
+                a.jacobians((&equilibrium, &zero), &mut du, &mut dv);
+            }
+            [rows(du), rows(dv)]
+        });
         Ok(LinearisedOperator {
+            active,
             field: self.id.clone(),
             boundary: self.boundary.name(),
             equilibrium: self.embed(&equilibrium),
@@ -97,8 +113,12 @@ fn matrix_text(m: &[Vec<f64>]) -> String {
 impl crate::report::Report for LinearisedOperatorsReport {
     fn text(&self) -> String {
         use std::fmt::Write as _;
+        let why = match self.fields.iter().any(|f| f.active.is_some()) {
+            true => "active forces are switched on, so these are K = ∇²V(u*), C = ∇²R(0) and the active forces' A = ∂f/∂u, B = ∂f/∂v",
+            false => "the equations are nonlinear, so these are K = ∇²V(u*) and C = ∇²R(0)",
+        };
         let mut s = format!(
-            "Linearised operators of the {} model at order {} on N = {} points: the equations are nonlinear, so these are K = ∇²V(u*) and C = ∇²R(0) about each field's equilibrium u*, in units of the point spacing (M ü = −K(u − u*) − C u̇, M = I unless printed).\n",
+            "Linearised operators of the {} model at order {} on N = {} points: {why} about each field's equilibrium u*, in units of the point spacing (M ü = −K(u − u*) − C u̇, M = I unless printed).\n",
             self.model, self.order, self.points
         );
         for f in &self.fields {
@@ -143,6 +163,15 @@ impl crate::report::Report for LinearisedOperatorsReport {
                     matrix_text(&f.mass)
                 );
             }
+            if let Some([a, b]) = &f.active {
+                let _ = write!(
+                    s,
+                    "{0} · active A = ∂f/∂u (M ü = … + A(u − u*) + B u̇; not symmetric) · {n}×{n}\n{1}{0} · active B = ∂f/∂v · {n}×{n}\n{2}",
+                    f.field,
+                    matrix_text(a),
+                    matrix_text(b)
+                );
+            }
         }
         s
     }
@@ -162,6 +191,11 @@ impl crate::report::Report for LinearisedOperatorsReport {
                     ("mass", &f.mass),
                 ]
                 .into_iter()
+                .chain(
+                    f.active
+                        .iter()
+                        .flat_map(|[a, b]| [("active_u", a), ("active_v", b)]),
+                )
                 .flat_map(move |(name, m)| {
                     m.iter().enumerate().flat_map(move |(i, row)| {
                         row.iter()

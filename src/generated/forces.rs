@@ -6,7 +6,9 @@
 //! factor times its coefficient. A field's force is `F(u, v) = −∇V(u) − ∇R(v)`, its Jacobians
 //! `∂F/∂u = −∇²V(u)` and `∂F/∂v = −∇²R(v)`, its mass `M(v) = ∇²T(v)`: the equation of motion
 //! is `M(v) v̇ = F(u, v)` (ü = F with the standard kinetic term alone); a square ½c(∂sᵏφ)²
-//! gives back −c·D of the linear operators. Self-contained: this file needs only `std`.
+//! gives back −c·D of the linear operators. A model's `[active]` section adds its forces f to F
+//! (per unit mass, at the points whose centred stencils lie on the body; see
+//! `theory-search equations`), with their Jacobians. Self-contained: this file needs only `std`.
 
 /// Why a force cannot be evaluated.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -65,6 +67,29 @@ pub struct ForceTerm {
     pub kinetic: bool,
 }
 
+/// One factor (∂tᵃ∂sᵇφ)ᵖ of an active force: the centred difference at the point.
+#[derive(Debug, Clone, Copy)]
+pub struct ActiveFactor {
+    /// The centred weights, offsets −r … r.
+    pub weights: &'static [f64],
+    /// The power p.
+    pub power: i32,
+    /// Of the velocity (a = 1) rather than the displacement.
+    pub velocity: bool,
+}
+
+/// A force of the model's `[active]` section, per unit mass: `c[slot]·Π factors` at every
+/// point whose centred stencils lie on the body (around a ring, every point); elsewhere none.
+#[derive(Debug, Clone, Copy)]
+pub struct ActiveTerm {
+    /// The term as printed.
+    pub text: &'static str,
+    /// Which coefficient multiplies it.
+    pub slot: usize,
+    /// Its factors.
+    pub factors: &'static [ActiveFactor],
+}
+
 /// One field's generated force.
 #[derive(Debug, Clone, Copy)]
 pub struct FieldForce {
@@ -80,6 +105,8 @@ pub struct FieldForce {
     pub min: usize,
     /// The terms.
     pub terms: &'static [ForceTerm],
+    /// The `[active]` section's forces (none without one).
+    pub active: &'static [ActiveTerm],
 }
 
 impl FieldForce {
@@ -138,7 +165,82 @@ impl FieldForce {
             let (stencil, a) = self.stencil(t, c);
             stencil.force(points, a, t.power, if t.velocity { v } else { u }, out);
         }
+        for t in self.active {
+            for (i, o) in out.iter_mut().enumerate() {
+                let values = self.active_values(points, t, i, u, v);
+                if values.is_empty() {
+                    continue;
+                }
+                *o += c[t.slot]
+                    * values
+                        .iter()
+                        .zip(t.factors)
+                        .map(|(x, f)| x.powi(f.power))
+                        .product::<f64>();
+            }
+        }
         Ok(())
+    }
+
+    /// The unknowns (index, weight) of an active factor's centred stencil at unknown i: none
+    /// where it would leave the body.
+    fn active_row(
+        &self,
+        points: usize,
+        weights: &'static [f64],
+        n: usize,
+        i: usize,
+    ) -> Vec<(usize, f64)> {
+        let r = weights.len() / 2;
+        if self.periodic {
+            return weights
+                .iter()
+                .enumerate()
+                .map(|(k, &w)| ((i + n * (r + 1) + k - r) % n, w))
+                .collect();
+        }
+        let p = i + self.held.0;
+        if p < r || p + r >= points {
+            return Vec::new();
+        }
+        weights
+            .iter()
+            .enumerate()
+            .filter(|&(k, _)| (self.held.0..self.held.0 + n).contains(&(p + k - r)))
+            .map(|(k, &w)| (p + k - r - self.held.0, w))
+            .collect()
+    }
+
+    /// Each factor's value at unknown i (empty where the force is off).
+    fn active_values(
+        &self,
+        points: usize,
+        t: &ActiveTerm,
+        i: usize,
+        u: &[f64],
+        v: &[f64],
+    ) -> Vec<f64> {
+        let n = u.len();
+        let r = t
+            .factors
+            .iter()
+            .map(|f| f.weights.len() / 2)
+            .max()
+            .unwrap_or(0);
+        let p = i + self.held.0;
+        if !self.periodic && (p < r || p + r >= points) {
+            return Vec::new();
+        }
+        t.factors
+            .iter()
+            .map(|f| {
+                let x = if f.velocity { v } else { u };
+                self.active_row(points, f.weights, n, i)
+                    .iter()
+                    .map(|&(j, w)| w * x[j])
+                    .sum()
+            })
+            .collect()
     }
 
     /// Adds each entry (i, j, x) of ∂F/∂u = −∇²V(u) to `du` and of ∂F/∂v = −∇²R(v) to `dv`.
@@ -157,6 +259,28 @@ impl FieldForce {
             match t.velocity {
                 true => stencil.jacobian(points, a, t.power, v, dv),
                 false => stencil.jacobian(points, a, t.power, u, du),
+            }
+        }
+        for t in self.active {
+            for i in 0..u.len() {
+                let values = self.active_values(points, t, i, u, v);
+                for (k, f) in t.factors.iter().enumerate().filter(|_| !values.is_empty()) {
+                    // ∂/∂(w·x) of the product: p (w·x)ᵖ⁻¹ times the other factors.
+                    let others: f64 = values
+                        .iter()
+                        .zip(t.factors)
+                        .enumerate()
+                        .filter(|&(m, _)| m != k)
+                        .map(|(_, (x, g))| x.powi(g.power))
+                        .product();
+                    let d = c[t.slot] * f64::from(f.power) * values[k].powi(f.power - 1) * others;
+                    for (j, w) in self.active_row(points, f.weights, u.len(), i) {
+                        match f.velocity {
+                            true => dv(i, j, d * w),
+                            false => du(i, j, d * w),
+                        }
+                    }
+                }
             }
         }
         Ok(())
@@ -283,6 +407,7 @@ pub const FORCES: &[FieldForce] = &[
                 kinetic: false,
             },
         ],
+        active: &[],
     },
     // theta (torsional rotation about the midline): free boundary.
     FieldForce {
@@ -313,6 +438,7 @@ pub const FORCES: &[FieldForce] = &[
                 kinetic: false,
             },
         ],
+        active: &[],
     },
     // y (mediolateral (left–right) bending): free boundary.
     FieldForce {
@@ -343,6 +469,7 @@ pub const FORCES: &[FieldForce] = &[
                 kinetic: false,
             },
         ],
+        active: &[],
     },
     // z (dorsoventral bending): free boundary.
     FieldForce {
@@ -373,5 +500,6 @@ pub const FORCES: &[FieldForce] = &[
                 kinetic: false,
             },
         ],
+        active: &[],
     },
 ];
