@@ -1,7 +1,7 @@
 //! Coverage studies of `fit` at its defaults (12 model points, the window chosen from the data),
 //! on thermal beams simulated independently of the engine (tests/common/beam.rs), 20 fixed
-//! seeds each: a true law is rejected by each of the three tests in at most 3 of 20
-//! recordings (the issue asked for 2; the free beam's equipartition reaches 3), κ's 95 % interval covers the truth in at least 18, a mode near 0.8 × Nyquist is
+//! seeds each: a true law is rejected by each of the three tests in at most 2 of 20
+//! recordings, κ's 95 % interval covers the truth in at least 18, a mode near 0.8 × Nyquist is
 //! fitted at its own frequency (not an alias above Nyquist), an over-damped mode never votes,
 //! a driven travelling wave is never called a passive beam, and the tracking noise printed is
 //! the position noise put in.
@@ -91,12 +91,11 @@ fn check_true_laws(name: &str, body: Body, fits: &[FitReport]) {
             }
         }
     }
-    // The tests' false-rejection rate is about 5–7 % (tests/verdicts.rs measures the
-    // intervals' coverage over 100 recordings): 3 of 20 happens by chance about one time in
-    // eight, 5 of 20 one time in a thousand.
+    // The tests' false-rejection rate is about 5–8 % (tests/verdicts.rs measures the
+    // intervals' coverage over 100 recordings): with these fixed seeds 2, 1 and 0 of 20.
     for (test, n) in rejected {
         assert!(
-            n <= 3,
+            n <= 2,
             "{name}: {test} rejected a true law in {n} of {RUNS}"
         );
     }

@@ -83,6 +83,7 @@ mod settings;
 mod spectrum;
 mod stats;
 mod summary;
+mod uncertainty;
 mod verdict;
 mod wcon;
 mod window;

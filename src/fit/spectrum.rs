@@ -336,7 +336,8 @@ pub(super) fn fit_mode(
     }
     let p = Params::from_log(&t);
     let (a, _) = information(&t, &model, psd, bins.clone());
-    let se = standard_errors(&a, &t, (&lo, &hi), taper.widening / segments.max(1.0));
+    let scale = taper.widening / segments.max(1.0);
+    let se = super::uncertainty::standard_errors(&a, &t, (&lo, &hi), scale);
     let converged = se.is_some();
     let se = se.unwrap_or([f64::INFINITY; 4]);
     Some(ModeSpectrum {
@@ -349,39 +350,6 @@ pub(super) fn fit_mode(
         noise: p.noise,
         converged,
     })
-}
-
-/// The standard errors of ln θ from the information `a` at `t` within bounds `(lo, hi)`,
-/// scaled by `scale` (b·o/M), or `None` when Ω or σ² is at a bound or the information is
-/// singular. A parameter at its bound is held there, out of the information: ν at zero (no
-/// tracking noise), ζ at its floor (a line narrower than the window resolves: its width
-/// unknown, ζ_error none). A white level under 10⁻⁶ of σ² is no noise the data can see: held
-/// too, so that its all but empty row of the information does not decide the others' errors.
-fn standard_errors(
-    a: &[[f64; 4]; 4],
-    t: &[f64; 4],
-    (lo, hi): (&[f64; 4], &[f64; 4]),
-    scale: f64,
-) -> Option<[f64; 4]> {
-    let free: Vec<usize> = (0..4)
-        .filter(|&i| t[i] > lo[i] + 1e-6 && t[i] < hi[i] - 1e-6)
-        .filter(|&i| i != 3 || t[3] > t[2] + (1e-6f64).ln())
-        .collect();
-    if !(free.contains(&0) && free.contains(&2)) {
-        return None;
-    }
-    let errors = |free: &[usize]| -> Option<[f64; 4]> {
-        let sub = nalgebra::DMatrix::from_fn(free.len(), free.len(), |i, j| a[free[i]][free[j]]);
-        let inv = sub.try_inverse()?;
-        let mut se = [f64::INFINITY, f64::INFINITY, f64::INFINITY, 0.0];
-        for (r, &i) in free.iter().enumerate() {
-            se[i] = (inv[(r, r)] * scale).sqrt();
-        }
-        (se[0].is_finite() && se[2].is_finite()).then_some(se)
-    };
-    // A noise level the data do not determine (ν ≪ σ²) is held where it is.
-    let without_noise: Vec<usize> = free.iter().copied().filter(|&i| i != 3).collect();
-    errors(&free).or_else(|| errors(&without_noise))
 }
 
 /// What a descent needs: the objective, the bounds, the model and the data over the bins.
@@ -479,30 +447,42 @@ impl<'a> Linear<'a> {
     }
 }
 
-/// The Fisher information A = Σ JJᵀ and the score direction Σ J(P/E − 1) at `t`, J = ∂ln E/∂θ:
-/// by forward differences in ln Ω and ln ζ, exactly in ln σ² and ln ν.
-fn information(
+/// Each bin's J = ∂ln E/∂θ and residual P/E − 1 at `t`: by forward differences in ln Ω and
+/// ln ζ, exactly in ln σ² and ln ν.
+fn scores(
     t: &[f64; 4],
     model: &Linear<'_>,
     psd: &[f64],
     bins: std::ops::Range<usize>,
-) -> ([[f64; 4]; 4], [f64; 4]) {
+) -> Vec<([f64; 4], f64)> {
     let step = 1e-6;
     let s = model.shape(t[0], t[1]);
     let s_omega = model.shape(t[0] + step, t[1]);
     let s_zeta = model.shape(t[0], t[1] + step);
     let e = model.expected(t, &s);
     let (var, nu) = (t[2].exp(), t[3].exp());
-    let mut a = [[0.0; 4]; 4];
-    let mut b = [0.0; 4];
-    for k in bins {
+    bins.map(|k| {
         let j = [
             var * (s_omega[k] - s[k]) / step / e[k],
             var * (s_zeta[k] - s[k]) / step / e[k],
             var * s[k] / e[k],
             nu * model.white[k] / e[k],
         ];
-        let r = psd[k] / e[k] - 1.0;
+        (j, psd[k] / e[k] - 1.0)
+    })
+    .collect()
+}
+
+/// The Fisher information A = Σ JJᵀ and the score direction Σ J(P/E − 1) at `t`.
+fn information(
+    t: &[f64; 4],
+    model: &Linear<'_>,
+    psd: &[f64],
+    bins: std::ops::Range<usize>,
+) -> ([[f64; 4]; 4], [f64; 4]) {
+    let mut a = [[0.0; 4]; 4];
+    let mut b = [0.0; 4];
+    for (j, r) in scores(t, model, psd, bins) {
         for i in 0..4 {
             b[i] += j[i] * r;
             for l in 0..4 {
