@@ -228,7 +228,7 @@ fn panels_sharing_series_share_one_key() {
 fn forward_and_backward_peristalsis_split_as_app_c_says() {
     use theory_search::behaviour::{forward_backward, PAPER_COUPLING};
     let model = Model::from_toml(include_str!("../tables/models/peristalsis.toml")).unwrap();
-    for points in [12, 31] {
+    for points in [4, 12, 31] {
         let theory = Theory::new(model.clone(), 4, points, Params::default()).unwrap();
         let r = forward_backward(&theory, &[0.0, 0.3, 0.9, 1.4]).unwrap();
         for s in &r.sweep {
@@ -250,6 +250,13 @@ fn forward_and_backward_peristalsis_split_as_app_c_says() {
         );
         assert_eq!(r.coefficient, "g_x");
     }
+    // A ring of two distinct points has only k = π: no wave runs either way.
+    let tiny = Theory::new(model.clone(), 4, 3, Params::default()).unwrap();
+    let e = forward_backward(&tiny, &[0.5]).unwrap_err();
+    assert!(
+        e.is_missing_structure() && e.to_string().contains("at least 4 points"),
+        "{e}"
+    );
     let theory = Theory::new(model, 4, 12, Params::default()).unwrap();
     let svg = figure("forward_backward.svg", &theory, &settings()).unwrap();
     assert!(svg.contains("App. C: √2/2") && svg.contains("simulated 1 : 2 at G = 0.70"));

@@ -58,6 +58,11 @@ pub struct ForwardBackward {
     pub half: f64,
 }
 
+/// A failure of the discretised body, typed (a step that does not converge is numerical).
+fn dynamics(e: crate::dynamics::nonlinear::NonlinearError) -> BehaviourError {
+    BehaviourError::Dynamics(e.into())
+}
+
 /// (forward, backward) / ω₁ from the dispersion relation at coupling G.
 pub fn analytic(coupling: f64) -> (f64, f64) {
     let s = (coupling * coupling + 4.0).sqrt();
@@ -86,8 +91,7 @@ impl Ring {
                 f.boundary.name()
             )));
         }
-        let forces = crate::active::active_forces(model, theory.order)
-            .map_err(|e| BehaviourError::Invalid(e.to_string()))?;
+        let forces = crate::active::active_forces(model, theory.order)?;
         let linear = |x: &&crate::active::Force| matches!(x.shape.factors(), [g] if g.power == 1 && g.deriv.t == 1 && g.deriv.s == 1);
         let coefficient = forces
             .as_ref()
@@ -102,10 +106,10 @@ impl Ring {
                 ))
             })?;
         let mut values = crate::dynamics::default_coefficients(model, theory.order, &theory.params)
-            .map_err(|e| BehaviourError::Invalid(e.to_string()))?;
+            .map_err(dynamics)?;
         // Undamped: the frequencies are App. C's.
         let r = crate::reduce::analyse(model, Density::Rayleigh, theory.order)
-            .map_err(|e| BehaviourError::Invalid(e.to_string()))?;
+            .map_err(|e| dynamics(e.into()))?;
         for p in r
             .fields
             .iter()
@@ -127,8 +131,7 @@ impl Ring {
     fn body(&self, g: f64) -> Result<NonlinearBody, BehaviourError> {
         let mut values = self.values.clone();
         values.insert(self.coefficient.clone(), g);
-        NonlinearBody::new(&self.model, self.order, self.points, &values)
-            .map_err(|e| BehaviourError::Invalid(e.to_string()))
+        NonlinearBody::new(&self.model, self.order, self.points, &values).map_err(dynamics)
     }
 
     /// Which of the body's systems is the axial field.
@@ -164,7 +167,7 @@ impl Ring {
         for step in 0..1000 {
             integrator
                 .step(&mut state, step as f64 * h)
-                .map_err(|e| BehaviourError::Invalid(e.to_string()))?;
+                .map_err(dynamics)?;
             series.push(amplitude(&state[at].0));
         }
         let [a, b] = prony(&series).ok_or_else(|| {
@@ -218,9 +221,7 @@ pub fn forward_backward(
     let ring = Ring::of(theory)?;
     let passive = ring.body(0.0)?;
     let at = ring.system(&passive)?;
-    let lin = passive.fields[at]
-        .linearise(false)
-        .map_err(|e| BehaviourError::Invalid(e.to_string()))?;
+    let lin = passive.fields[at].linearise(false).map_err(dynamics)?;
     let omega = lin
         .frequencies
         .iter()
@@ -229,6 +230,11 @@ pub fn forward_backward(
         .find(|w| *w > 1e-9)
         .ok_or_else(|| BehaviourError::Body("the axial field has no oscillating pair".into()))?;
     let n = passive.fields[at].unknowns;
+    if n < 3 {
+        return Err(BehaviourError::Body(format!(
+            "a ring of {n} distinct points carries no travelling wave (its pair is k = π, where ∂t∂s vanishes): use at least 4 points"
+        )));
+    }
     let sin_k = (2.0 * std::f64::consts::PI / n as f64).sin();
     let split = |coupling: f64| -> Result<Split, BehaviourError> {
         let (f, b) = ring.frequencies(-coupling * omega / sin_k, omega)?;

@@ -66,6 +66,9 @@ pub enum BehaviourError {
     /// The modes or the dynamics failed.
     #[error(transparent)]
     Dynamics(#[from] crate::dynamics::DynamicsError),
+    /// The model's `[active]` section cannot be enumerated at this order.
+    #[error(transparent)]
+    Active(#[from] crate::active::ActiveError),
 }
 
 impl BehaviourError {

@@ -109,7 +109,7 @@ pub enum BodyError {
     #[error("the operators of a linear body have no coefficients: --param is for a nonlinear one (its linearisation)")]
     LinearOperators,
     /// A command that needs the exact modal theory, on a body without it.
-    #[error("{what} needs the exact modal theory (every surviving term a square, each field's damping on its stiffness operator); this body has not: use simulate, modes or operators")]
+    #[error("{what} needs the exact modal theory (every surviving term a square, each field's damping on its stiffness operator, no active force switched on); this body has not: use simulate, modes or operators")]
     NotModal {
         /// The command.
         what: &'static str,
