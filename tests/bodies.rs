@@ -8,7 +8,14 @@ use theory_search::dynamics::{simulate, Config};
 use theory_search::modal::Params;
 use theory_search::model::Model;
 
-const BODIES: [&str; 5] = ["larva", "worm", "planar", "zebrafish", "channel_worm"];
+const BODIES: [&str; 6] = [
+    "larva",
+    "worm",
+    "planar",
+    "zebrafish",
+    "channel_worm",
+    "crawler",
+];
 
 fn model_path(name: &str) -> String {
     format!("{}/tables/models/{name}.toml", env!("CARGO_MANIFEST_DIR"))
@@ -38,6 +45,12 @@ fn expected_refusal(body: &str, command: &str) -> Option<&'static str> {
         }
         ("planar", "behave self-righting") => {
             Some("needs a torsion field, and model \"planar\" has none")
+        }
+        ("crawler", "behave rolling" | "behave rearing") => {
+            Some("needs a dorsoventral field, and model \"crawler\" has none")
+        }
+        ("crawler", "behave self-righting") => {
+            Some("needs a torsion field, and model \"crawler\" has none")
         }
         _ => None,
     }
