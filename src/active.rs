@@ -107,6 +107,18 @@ pub struct FieldForces {
     pub gyroscopic: Vec<Force>,
 }
 
+impl FieldForces {
+    /// The forces that enter the field's equation, each with its coefficient: the lowest
+    /// active ones, then the lowest gyroscopic ones (the other classes the admitted densities
+    /// give already). `equations`, the discretised body and `emit` all take them from here.
+    pub fn entering(&self) -> impl Iterator<Item = (&Force, &str)> {
+        self.active
+            .iter()
+            .chain(&self.gyroscopic)
+            .filter_map(|f| Some((f, f.coefficient.as_deref()?)))
+    }
+}
+
 /// The active forces of a model at an order (`None` when it has no `[active]` section).
 pub fn active_forces(model: &Model, order: u32) -> Result<Option<Vec<FieldForces>>, ActiveError> {
     let Some(spec) = &model.active else {

@@ -317,8 +317,7 @@ pub fn forces_source(model: &Model, order: u32) -> Result<String, CodegenError> 
         let forces = sections.iter().find(|s| s.field == f.field.id);
         let active = forces
             .into_iter()
-            .flat_map(|s| s.active.iter().chain(&s.gyroscopic))
-            .filter_map(|x| Some((x, x.coefficient.clone()?)))
+            .flat_map(|s| s.entering())
             .map(|(x, name)| {
                 if x.shape.factors().iter().any(|g| g.deriv.t > 1) {
                     return Err(DiscretiseError::NotAForce {
@@ -328,7 +327,7 @@ pub fn forces_source(model: &Model, order: u32) -> Result<String, CodegenError> 
                         why: "a factor with two time derivatives or more is inertia (add OST to the section's requirements)".into(),
                     });
                 }
-                names.push(name);
+                names.push(name.to_string());
                 Ok(ActiveContext {
                     text: comment(&x.term),
                     text_lit: literal(&x.term),

@@ -357,10 +357,8 @@ pub fn active_terms(
         .unwrap_or_default()
         .into_iter()
         .map(|f| {
-            f.active
-                .into_iter()
-                .chain(f.gyroscopic)
-                .filter_map(|x| Some((x.shape, x.coefficient?)))
+            f.entering()
+                .map(|(x, name)| (x.shape.clone(), name.to_string()))
                 .collect()
         })
         .collect())

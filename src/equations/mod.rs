@@ -399,7 +399,7 @@ fn analyses(model: &Model, order: u32, basis: Basis) -> Result<Analyses, Equatio
         .map(|fields| {
             fields
                 .into_iter()
-                .map(|f| [f.active, f.gyroscopic].concat())
+                .map(|f| f.entering().map(|(x, _)| x.clone()).collect())
                 .collect()
         })
         .unwrap_or_default();

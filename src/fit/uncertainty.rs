@@ -2,6 +2,9 @@
 //! widened by the taper's and the overlap's correlations, with the bounds and a white level
 //! the data cannot see handled as stated below.
 
+/// ν under this share of σ² is a white level the data cannot see.
+const UNSEEN_NOISE: f64 = 1e-6;
+
 /// The standard errors of ln θ from the information `a` at `t` within bounds `(lo, hi)`,
 /// scaled by `scale` (b·o/M), or `None` when Ω or σ² is at a bound or the information is
 /// singular. A parameter at its bound is held there, out of the information: ν at zero (no
@@ -16,7 +19,7 @@ pub(super) fn standard_errors(
 ) -> Option<[f64; 4]> {
     let free: Vec<usize> = (0..4)
         .filter(|&i| t[i] > lo[i] + 1e-6 && t[i] < hi[i] - 1e-6)
-        .filter(|&i| i != 3 || t[3] > t[2] + (1e-6f64).ln())
+        .filter(|&i| i != 3 || t[3] > t[2] + UNSEEN_NOISE.ln())
         .collect();
     if !(free.contains(&0) && free.contains(&2)) {
         return None;
@@ -26,7 +29,7 @@ pub(super) fn standard_errors(
     // trade in the others' errors, as if ν could be anything the data allow near zero.
     let mut a = *a;
     let mut free = free;
-    let unseen = !free.contains(&3) && t[3] < t[2] + (1e-6f64).ln();
+    let unseen = !free.contains(&3) && t[3] < t[2] + UNSEEN_NOISE.ln();
     if unseen {
         let nu = t[3].exp();
         a[3].iter_mut().for_each(|x| *x /= nu);
@@ -46,7 +49,7 @@ pub(super) fn standard_errors(
         }
         (se[0].is_finite() && se[2].is_finite()).then_some(se)
     };
-    // A noise level the data do not determine (ν ≪ σ²) is held where it is.
+    // Should that information still be singular, ν is held where it is.
     let without_noise: Vec<usize> = free.iter().copied().filter(|&i| i != 3).collect();
     errors(&free).or_else(|| errors(&without_noise))
 }
