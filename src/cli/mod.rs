@@ -19,6 +19,7 @@ mod active;
 mod asymmetry;
 mod behave;
 mod count;
+mod discover;
 mod emit;
 mod equations;
 mod figures;
@@ -90,6 +91,10 @@ enum Command {
     /// Fit the theory to tracked midlines or segment lengths: modal projection, PCA, spectra,
     /// ω and β (paper §2.4, Fig. 2).
     Fit(fit::Args),
+    /// Discover which terms of the engine's library a recording's field needs: weak-form
+    /// regression with instruments, selection by BIC, the nested theories scored, bootstrap
+    /// intervals, and the onward simulate line.
+    Discover(discover::Args),
     /// Count the candidate terms of each density at every order up to a maximum.
     Count(count::Args),
     /// Active forces: the force terms a model's [active] section allows that no Lagrangian or
@@ -129,6 +134,9 @@ pub enum CliError {
     /// A fit (exit by the kind of failure).
     #[error(transparent)]
     Fit(#[from] crate::fit::FitError),
+    /// Discovery (exit by the kind of failure).
+    #[error(transparent)]
+    Discover(crate::discover::DiscoverError),
 }
 
 impl CliError {
@@ -141,6 +149,7 @@ impl CliError {
             CliError::Body(e) => e.failure(),
             CliError::Behaviour(e) => e.failure(),
             CliError::Fit(e) => e.failure(),
+            CliError::Discover(e) => e.failure(),
         }
     }
 
@@ -377,6 +386,7 @@ where
         Some(Command::Stats(a)) => stats::run(a, out),
         Some(Command::Figures(a)) => figures::run(a, out),
         Some(Command::Fit(a)) => fit::run(a, out),
+        Some(Command::Discover(a)) => discover::run(a, out),
         Some(Command::Count(a)) => count::run(a, out),
         Some(Command::Active(a)) => active::run(a, out),
         Some(Command::Rules(a)) => rules::run(a, out),

@@ -19,6 +19,7 @@
 mod active;
 mod implicit;
 mod jacobian;
+mod library;
 mod linearise;
 mod linearised_operators;
 pub mod nonlinear;
@@ -26,6 +27,7 @@ mod nonlinear_run;
 mod sample;
 pub use active::ActiveForce;
 pub use implicit::Integrator;
+pub use library::{library, Candidate};
 pub use linearise::{DampedMode, LinearisedField, LinearisedReport};
 pub use linearised_operators::{LinearisedOperator, LinearisedOperatorsReport};
 pub use nonlinear_run::{default_coefficients, is_quadratic, MAX_NONLINEAR_WORK};

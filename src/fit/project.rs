@@ -58,6 +58,8 @@ pub struct Projector {
     pub stencil: u32,
     /// The observed field's boundary (for the continuum roots).
     pub boundary: crate::boundary::Boundary,
+    /// S vⱼ of the grid's modes over the observations (`None` for part of a ring).
+    pub lattice: Option<Vec<Vec<f64>>>,
 }
 
 impl Projector {
@@ -153,6 +155,8 @@ impl Projector {
                 .map(|(d, l)| d.iter().map(|x| x / l).collect())
                 .collect()
         };
+        // The grid's own observation pattern S vⱼ, kept for postures on the model's points.
+        let lattice = (!partial).then(|| design.clone());
         let grid = Grid {
             kind: settings.kind,
             input_points: k_in,
@@ -180,7 +184,31 @@ impl Projector {
             reference_length: None,
             stencil: fm.k,
             boundary: fm.field.boundary,
+            lattice,
         })
+    }
+
+    /// The posture on the model's points (zero modes removed, in units of the point spacing)
+    /// of one frame's modal coordinates: the observations o = Σ qⱼ·designⱼ, then the grid's
+    /// least-squares solution Σ (S vⱼ·o/λⱼ) vⱼ. `None` when the observations cover part of a
+    /// ring (then the grid's modes are not all determined).
+    pub fn posture(&self, q: &[f64]) -> Option<Vec<f64>> {
+        let lattice = self.lattice.as_ref()?;
+        let width = self.design.first()?.len();
+        let mut o = vec![0.0; width];
+        for (qj, d) in q.iter().zip(&self.design) {
+            for (oi, di) in o.iter_mut().zip(d) {
+                *oi += qj * di;
+            }
+        }
+        let mut posture = vec![0.0; self.shapes.first()?.len()];
+        for ((row, shape), lambda) in lattice.iter().zip(&self.shapes).zip(&self.eigenvalues) {
+            let qj = row.iter().zip(&o).map(|(a, b)| a * b).sum::<f64>() / lambda;
+            for (p, v) in posture.iter_mut().zip(shape) {
+                *p += qj * v;
+            }
+        }
+        Some(posture)
     }
 
     /// The modal coordinates of one frame's values.

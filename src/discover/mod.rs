@@ -1,0 +1,297 @@
+//! `discover`: the recording chooses the terms.
+//!
+//! **Library.** The engine's own: every coefficient of the observed field's equation at the
+//! model's order and `beyond_leading` layers (conservative from L, dissipative from R), and with
+//! `active` the `[active]` section's active and gyroscopic forces, each as the exact force the
+//! discretised body integrates ([`crate::dynamics::library`]). No generic polynomial library.
+//!
+//! **Estimator.** The weak form in time on the grid's modes, with instruments from earlier
+//! windows (two-stage least squares; see `weak`): unbiased under thermal (Langevin) noise and
+//! white tracking noise for terms linear in the data; a nonlinear term's products of noisy
+//! derivatives keep a bias of order (noise/signal)² in its own direction (not corrected).
+//!
+//! **Selection and scores** (`regress`): backward elimination by BIC over the library; beside
+//! it the nested theories (leading order passive; with the `beyond_leading` layers; with the
+//! active forces), each scored by the held-out residual over five contiguous blocks of time
+//! and by BIC. **Uncertainty:** a moving-block bootstrap over time ([`regress::BLOCKS`] blocks,
+//! or whole animals when there are several): each term's inclusion frequency (selection rerun
+//! per draw) and the 2.5–97.5 % percentiles of the selected terms' coefficients.
+//!
+//! **Units.** Coefficients in body lengths (h = 1/(N − 1)) and the data's time unit, and on the
+//! grid of N points (what `simulate --points N --param` takes).
+
+mod data;
+mod regress;
+mod report;
+mod weak;
+
+use std::io::BufRead;
+use std::path::PathBuf;
+
+pub use report::{Comparison, DiscoverReport, DiscoveredTerm};
+
+use crate::dynamics::nonlinear::NonlinearError;
+use crate::dynamics::{library, Candidate};
+use crate::equations::{derive_any, Derived};
+use crate::fit::{FitError, FitSettings, Input};
+use crate::model::Model;
+
+/// At most this many bootstrap draws.
+pub const MAX_DRAWS: usize = 10_000;
+
+/// Settings of `discover`.
+#[derive(Debug, Clone)]
+pub struct DiscoverSettings {
+    /// How the recordings are read and projected (`fit`'s settings; `order` is the theory's).
+    pub fit: FitSettings,
+    /// Include the `[active]` section's forces in the library.
+    pub active: bool,
+    /// Bootstrap draws (0: no intervals).
+    pub bootstrap: usize,
+    /// Seed of the draws.
+    pub seed: u64,
+}
+
+/// One recording to read.
+pub enum Source<'a> {
+    /// A file.
+    File(PathBuf),
+    /// A named stream.
+    Reader(String, Box<dyn BufRead + Send + 'a>),
+}
+
+/// Why `discover` cannot answer.
+#[derive(Debug, thiserror::Error)]
+pub enum DiscoverError {
+    /// Reading or projecting a recording failed.
+    #[error(transparent)]
+    Fit(FitError),
+    /// The library could not be built.
+    #[error(transparent)]
+    Library(#[from] NonlinearError),
+    /// The equations could not be derived.
+    #[error(transparent)]
+    Equations(#[from] crate::equations::EquationError),
+    /// `--active` for a model without an `[active]` section.
+    #[error("--active: the model {model} has no [active] section, so it allows no active forces")]
+    NoActive {
+        /// Model name.
+        model: String,
+    },
+    /// The observations cover part of a ring.
+    #[error("the recording covers part of a ring: the grid's modes are not all determined, so the forces cannot be evaluated (discover needs the whole body)")]
+    PartialRing,
+    /// Too many values to hold.
+    #[error("the recording holds more than {max} values (frames × points): discover keeps every posture in memory; use fewer frames or points")]
+    TooLarge {
+        /// The limit.
+        max: usize,
+    },
+    /// No mode has a resolved spectral peak.
+    #[error("no mode of {recording} has a resolved spectral peak: the weak form needs each mode's time scale (fit says why for each mode)")]
+    NoResolvedMode {
+        /// The recording.
+        recording: String,
+    },
+    /// The field has no coefficient to estimate.
+    #[error("field {field} has no coefficient to estimate at this order")]
+    EmptyLibrary {
+        /// The field.
+        field: String,
+    },
+    /// Too few windows for the instruments.
+    #[error("{rows} windows of the weak form, too few for {needed} (the library's {terms} terms and their instruments): record longer, or at a higher frame rate")]
+    TooFewRows {
+        /// Rows available.
+        rows: usize,
+        /// Rows needed.
+        needed: usize,
+        /// Library terms.
+        terms: usize,
+    },
+    /// The instruments do not determine the coefficients.
+    #[error("the earlier windows do not determine the {terms} coefficients (the instruments are degenerate): the recording may be too regular or too short")]
+    Degenerate {
+        /// Library terms.
+        terms: usize,
+    },
+    /// Too many bootstrap draws.
+    #[error("--bootstrap takes at most {MAX_DRAWS} draws, not {0}")]
+    Draws(usize),
+}
+
+impl DiscoverError {
+    /// The kind of failure.
+    pub fn failure(&self) -> crate::failure::Failure {
+        use crate::failure::Failure;
+        match self {
+            DiscoverError::Fit(e) => e.failure(),
+            DiscoverError::Library(e) => e.failure(),
+            DiscoverError::Equations(_)
+            | DiscoverError::NoActive { .. }
+            | DiscoverError::PartialRing
+            | DiscoverError::Draws(_)
+            | DiscoverError::EmptyLibrary { .. } => Failure::Usage,
+            DiscoverError::TooLarge { .. }
+            | DiscoverError::NoResolvedMode { .. }
+            | DiscoverError::TooFewRows { .. }
+            | DiscoverError::Degenerate { .. } => Failure::Input,
+        }
+    }
+}
+
+/// One library with its rows.
+struct Theory {
+    label: String,
+    candidates: Vec<Candidate>,
+    rows: weak::Rows,
+}
+
+/// The observed field's candidates of `model` (with `active` forces or without).
+fn candidates(
+    model: &Model,
+    settings: &DiscoverSettings,
+    points: usize,
+    field: &str,
+    active: bool,
+) -> Result<Vec<Candidate>, DiscoverError> {
+    let all = library(model, settings.fit.order, points, field)?;
+    let entering: Vec<String> =
+        crate::dynamics::nonlinear::active_terms(model, settings.fit.order)?
+            .into_iter()
+            .flatten()
+            .map(|(_, n)| n)
+            .collect();
+    Ok(all
+        .into_iter()
+        .filter(|c| active || !entering.contains(&c.name))
+        .collect())
+}
+
+/// Discover the terms `sources` need.
+pub fn discover(
+    sources: Vec<Source<'_>>,
+    model: &Model,
+    settings: &DiscoverSettings,
+) -> Result<DiscoverReport, DiscoverError> {
+    if settings.bootstrap > MAX_DRAWS {
+        return Err(DiscoverError::Draws(settings.bootstrap));
+    }
+    if settings.active && model.active.is_none() {
+        return Err(DiscoverError::NoActive {
+            model: crate::markup::clip(&model.name),
+        });
+    }
+    let mut recordings = Vec::new();
+    for source in sources {
+        let (input, name) = match source {
+            Source::File(p) => {
+                let name = p.display().to_string();
+                (Input::File(p), name)
+            }
+            Source::Reader(name, reader) => (
+                Input::Reader {
+                    name: name.clone(),
+                    reader,
+                },
+                name,
+            ),
+        };
+        let r = data::read(input, name, model, &settings.fit)?;
+        if weak::used(&r).next().is_none() {
+            return Err(DiscoverError::NoResolvedMode {
+                recording: crate::markup::clip(&r.name),
+            });
+        }
+        recordings.push(r);
+    }
+    let Some(first) = recordings.first() else {
+        return Err(DiscoverError::Fit(FitError::Invalid(
+            "no recordings to fit".into(),
+        )));
+    };
+    let field = first.fit.field.clone();
+    let points = first.fit.model_points;
+    // The nested theories: leading order passive; the model's layers; with active forces.
+    let mut leading = model.clone();
+    leading.set_beyond_leading(0);
+    let mut nested = vec![("leading order, passive".to_string(), leading, false)];
+    let layers = model
+        .lagrangian
+        .beyond_leading
+        .max(model.rayleigh.beyond_leading);
+    if layers > 0 {
+        nested.push((
+            format!("+ {layers} order(s) beyond leading"),
+            model.clone(),
+            false,
+        ));
+    }
+    if settings.active {
+        nested.push(("+ active forces".to_string(), model.clone(), true));
+    }
+    let mut theories = Vec::new();
+    for (label, m, active) in nested {
+        let candidates = candidates(&m, settings, points, &field, active)?;
+        let rows = weak::rows(&recordings, &candidates);
+        theories.push(Theory {
+            label,
+            candidates,
+            rows,
+        });
+    }
+    let full = theories.last().expect("the leading theory is always there");
+    if full.candidates.is_empty() {
+        return Err(DiscoverError::EmptyLibrary { field });
+    }
+    report::assemble(&recordings, model, settings, &theories, &field)
+}
+
+/// Each coefficient's term as `equations` prints it (`−c_y ∂s⁴ y`), and the equation of a set
+/// of them.
+pub(super) struct Notation {
+    derived: Derived,
+    field: String,
+}
+
+impl Notation {
+    fn new(model: &Model, order: u32, field: &str) -> Result<Notation, DiscoverError> {
+        Ok(Notation {
+            derived: derive_any(model, order, crate::enumerate::Basis::Powers)?,
+            field: field.to_string(),
+        })
+    }
+
+    /// `∂t² y = …` with only the coefficients in `keep`.
+    pub(super) fn equation(&self, keep: &[&str]) -> String {
+        match &self.derived {
+            Derived::Linear(d) => d
+                .equations
+                .iter()
+                .find(|e| e.field.id == self.field)
+                .map(|e| {
+                    let mut e = e.clone();
+                    e.rhs.retain(|t| keep.contains(&t.coefficient.as_str()));
+                    e.text()
+                }),
+            Derived::Nonlinear(d) => {
+                d.equations
+                    .iter()
+                    .find(|e| e.field.id == self.field)
+                    .map(|e| {
+                        let mut e = e.clone();
+                        e.rhs.retain(|t| keep.contains(&t.coefficient.as_str()));
+                        e.text()
+                    })
+            }
+        }
+        .unwrap_or_default()
+    }
+
+    /// One coefficient's terms, without the left-hand side.
+    pub(super) fn term(&self, name: &str) -> String {
+        let e = self.equation(&[name]);
+        e.split_once(" = ")
+            .map_or(e.clone(), |(_, r)| r.to_string())
+    }
+}

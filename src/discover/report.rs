@@ -1,0 +1,415 @@
+//! The discovered equation, its library, the nested theories and their scores, and the
+//! onward `simulate` line: text, JSON and CSV.
+
+use serde::Serialize;
+
+use super::data::Recording;
+use super::regress::{cross_validated, draw, generator, Gram};
+use super::{DiscoverError, DiscoverSettings, Notation, Theory};
+use crate::equations::ForceKind;
+use crate::model::Model;
+use crate::report::{number, Report};
+
+/// Held-out folds of time for the cross-validated residual.
+pub const FOLDS: usize = 5;
+
+/// One candidate term and what the recording says of it.
+#[derive(Debug, Clone, Serialize)]
+pub struct DiscoveredTerm {
+    /// Its terms in the equation, as `equations` prints them (`−c_y ∂s⁴ y`).
+    pub term: String,
+    /// The coefficient's name.
+    pub name: String,
+    /// Conservative, dissipative or active.
+    pub kind: ForceKind,
+    /// The coefficient in body lengths and the data's time unit: the selected model's value
+    /// for a selected term, the whole library's fit otherwise.
+    pub coefficient: f64,
+    /// The same on the grid of N points (what `simulate --points N --param` takes).
+    pub on_points: f64,
+    /// 95 % bootstrap interval (body lengths), for a selected term with draws.
+    pub interval: Option<[f64; 2]>,
+    /// Share of bootstrap draws whose selection kept it.
+    pub inclusion: Option<f64>,
+    /// Kept by the selection.
+    pub selected: bool,
+}
+
+/// One nested theory's scores.
+#[derive(Debug, Clone, Serialize)]
+pub struct Comparison {
+    /// Which theory.
+    pub model: String,
+    /// Its coefficients.
+    pub terms: Vec<String>,
+    /// Held-out moment objective per row over [`FOLDS`] blocks of time, in units of the
+    /// whole library's residual variance (`regress::cross_validated`): small when the theory
+    /// holds every force present.
+    pub cv_residual: Option<f64>,
+    /// J/σ² + k ln n (Sargan's statistic plus a BIC penalty; lower is better).
+    pub criterion: Option<f64>,
+}
+
+/// What `discover` found.
+#[derive(Debug, Clone, Serialize)]
+pub struct DiscoverReport {
+    /// The recordings.
+    pub recordings: Vec<String>,
+    /// The observed field.
+    pub field: String,
+    /// Model points N.
+    pub points: usize,
+    /// Frames used (every run).
+    pub frames: usize,
+    /// The theory's order.
+    pub order: u32,
+    /// Orders beyond the leading one in the library.
+    pub beyond_leading: u32,
+    /// Active forces in the library.
+    pub active: bool,
+    /// Each mode used and its windows' half-width in frames (per recording, the first's).
+    pub modes: Vec<(usize, usize)>,
+    /// Rows of the weak form.
+    pub rows: usize,
+    /// The estimator, in one line.
+    pub estimator: &'static str,
+    /// The discovered equation in the notation of `equations`.
+    pub equation: String,
+    /// The selected terms.
+    pub selected: Vec<DiscoveredTerm>,
+    /// Every candidate.
+    pub library: Vec<DiscoveredTerm>,
+    /// The nested theories and the selection, scored.
+    pub comparison: Vec<Comparison>,
+    /// 1 − RSS/Σy² of the selected model (weighted rows).
+    pub r2: f64,
+    /// Force-noise intensity q of the residual, ⟨ξ(t)ξ(t′)⟩ = q δ(t − t′) per point (body
+    /// lengths² per time³): the Langevin part's temperature times its damping, with any
+    /// tracking noise's share.
+    pub noise: f64,
+    /// Bootstrap draws.
+    pub bootstrap: usize,
+    /// The sampling interval.
+    pub dt: f64,
+    /// The model as the onward `simulate` line names it (set by the caller).
+    pub model_argument: Option<String>,
+}
+
+const ESTIMATOR: &str = "weak form in time on the grid's modes, bumps (1 − τ²)⁴, two-stage least squares with the two previous windows as instruments";
+
+/// Fit, select, score and bootstrap the theories (the last is the whole library).
+pub(super) fn assemble(
+    recordings: &[Recording],
+    model: &Model,
+    settings: &DiscoverSettings,
+    theories: &[Theory],
+    field: &str,
+) -> Result<DiscoverReport, DiscoverError> {
+    let full = theories.last().expect("at least one theory");
+    let p = full.candidates.len();
+    let rows = &full.rows;
+    let q = rows.instruments.first().map_or(0, Vec::len);
+    let needed = q + p + 10;
+    if rows.len() < needed {
+        return Err(DiscoverError::TooFewRows {
+            rows: rows.len(),
+            needed,
+            terms: p,
+        });
+    }
+    let all: Vec<usize> = (0..p).collect();
+    let gram = Gram::new(rows, &vec![1.0; rows.len()]);
+    let (whole, _) = gram
+        .fit(&all)
+        .ok_or(DiscoverError::Degenerate { terms: p })?;
+    let selected = gram.select(&all);
+    let (beta, _) = gram
+        .fit(&selected)
+        .ok_or(DiscoverError::Degenerate { terms: p })?;
+    let rss = gram.residual(&selected, &beta);
+    // Every theory's criterion in units of the whole library's residual variance.
+    let sigma2 = gram
+        .variance(&all)
+        .ok_or(DiscoverError::Degenerate { terms: p })?;
+    // The bootstrap: inclusion by rerunning the selection, intervals of the selected set.
+    let mut included = vec![0usize; p];
+    let mut draws: Vec<Vec<f64>> = vec![Vec::new(); selected.len()];
+    let mut rng = generator(settings.seed);
+    for _ in 0..settings.bootstrap {
+        let g = Gram::new(rows, &draw(rows, recordings.len(), &mut rng));
+        for i in g.select(&all) {
+            included[i] += 1;
+        }
+        if let Some((b, _)) = g.fit(&selected) {
+            for (d, x) in draws.iter_mut().zip(b) {
+                d.push(x);
+            }
+        }
+    }
+    let points = recordings[0].fit.model_points;
+    let notation = Notation::new(model, settings.fit.order, field)?;
+    let library: Vec<DiscoveredTerm> = full
+        .candidates
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            let at = selected.iter().position(|&s| s == i);
+            let grid = at.map_or(whole[i], |j| beta[j]);
+            let scale = c.to_body_lengths(points);
+            let interval = at.and_then(|j| percentiles(&mut draws[j].clone(), scale));
+            DiscoveredTerm {
+                term: notation.term(&c.name),
+                name: c.name.clone(),
+                kind: c.kind,
+                coefficient: grid * scale,
+                on_points: grid,
+                interval,
+                inclusion: (settings.bootstrap > 0)
+                    .then(|| included[i] as f64 / settings.bootstrap as f64),
+                selected: at.is_some(),
+            }
+        })
+        .collect();
+    let keep: Vec<&str> = library
+        .iter()
+        .filter(|t| t.selected)
+        .map(|t| t.name.as_str())
+        .collect();
+    let mut comparison: Vec<Comparison> = theories
+        .iter()
+        .map(|t| {
+            let all: Vec<usize> = (0..t.candidates.len()).collect();
+            score(&t.label, t, &all, sigma2)
+        })
+        .collect();
+    comparison.push(score("selected", full, &selected, sigma2));
+    let h = 1.0 / (points as f64 - 1.0);
+    let first = &recordings[0];
+    Ok(DiscoverReport {
+        recordings: recordings.iter().map(|r| r.name.clone()).collect(),
+        field: field.to_string(),
+        points,
+        frames: recordings.iter().flat_map(|r| &r.runs).map(Vec::len).sum(),
+        order: settings.fit.order,
+        beyond_leading: model
+            .lagrangian
+            .beyond_leading
+            .max(model.rayleigh.beyond_leading),
+        active: settings.active,
+        modes: super::weak::used(first)
+            .map(|m| (m.mode, super::weak::half_width(m.omega, first.dt)))
+            .collect(),
+        rows: rows.len(),
+        estimator: ESTIMATOR,
+        equation: notation.equation(&keep),
+        selected: library.iter().filter(|t| t.selected).cloned().collect(),
+        library,
+        comparison,
+        r2: 1.0 - rss / gram.total().max(f64::MIN_POSITIVE),
+        noise: noise(rows, &selected, &beta) * h * h,
+        bootstrap: settings.bootstrap,
+        dt: first.dt,
+        model_argument: None,
+    })
+}
+
+fn score(label: &str, theory: &Theory, set: &[usize], sigma2: f64) -> Comparison {
+    let rows = &theory.rows;
+    let gram = Gram::new(rows, &vec![1.0; rows.len()]);
+    Comparison {
+        model: label.to_string(),
+        terms: set
+            .iter()
+            .map(|&i| theory.candidates[i].name.clone())
+            .collect(),
+        cv_residual: cross_validated(rows, set, FOLDS, sigma2),
+        criterion: gram.criterion(set, sigma2),
+    }
+}
+
+/// The 2.5 and 97.5 % percentiles of `draws`, times `scale`.
+fn percentiles(draws: &mut [f64], scale: f64) -> Option<[f64; 2]> {
+    if draws.len() < 20 {
+        return None;
+    }
+    draws.sort_by(f64::total_cmp);
+    let at = |p: f64| draws[((p * (draws.len() - 1) as f64).round() as usize).min(draws.len() - 1)];
+    let (a, b) = (at(0.025) * scale, at(0.975) * scale);
+    Some([a.min(b), a.max(b)])
+}
+
+/// q = Σ e² / Σ ∫ψ² over the rows (unweighted residuals), on the grid.
+fn noise(rows: &super::weak::Rows, set: &[usize], beta: &[f64]) -> f64 {
+    let mut e2 = 0.0;
+    for r in 0..rows.len() {
+        let fitted: f64 = set
+            .iter()
+            .zip(beta)
+            .map(|(&m, b)| b * rows.regressors[m][r])
+            .sum();
+        e2 += (rows.target[r] - fitted).powi(2);
+    }
+    e2 / rows.norm.iter().sum::<f64>().max(f64::MIN_POSITIVE)
+}
+
+/// A word the shell reads as itself.
+fn shell_word(s: &str) -> String {
+    if s.chars().any(char::is_control) {
+        return crate::markup::clip(s);
+    }
+    if !s.is_empty()
+        && s.chars()
+            .all(|c| c.is_ascii_alphanumeric() || "_./-+=:,".contains(c))
+    {
+        s.to_string()
+    } else {
+        format!("'{}'", s.replace('\'', "'\\''"))
+    }
+}
+
+fn interval_text(i: Option<[f64; 2]>) -> String {
+    i.map_or("—".into(), |[a, b]| {
+        format!("[{}, {}]", short(a), short(b))
+    })
+}
+
+fn short(v: f64) -> String {
+    number(format!("{v:.4e}").parse().unwrap_or(v))
+}
+
+impl DiscoverReport {
+    /// The onward `simulate` line: every library coefficient set (0 where not selected).
+    pub fn simulate_line(&self) -> String {
+        let mut line = String::from("theory-search simulate");
+        if let Some(m) = &self.model_argument {
+            line += &format!(" --model {}", shell_word(m));
+        }
+        line += &format!(" --order {}", self.order);
+        if self.beyond_leading > 0 {
+            line += &format!(" --beyond-leading {}", self.beyond_leading);
+        }
+        line += &format!(" --points {} --dt {}", self.points, number(self.dt));
+        for t in &self.library {
+            let v = if t.selected { t.on_points } else { 0.0 };
+            line += &format!(
+                " --param {}",
+                shell_word(&format!("{}={}", t.name, short(v)))
+            );
+        }
+        line
+    }
+}
+
+impl Report for DiscoverReport {
+    fn text(&self) -> String {
+        let names: Vec<String> = self
+            .recordings
+            .iter()
+            .map(|r| crate::markup::clip(r))
+            .collect();
+        let mut out = format!(
+            "Discovered equation of field {} from {} ({} frames on {} points, Δt = {}):\n  {}\n",
+            self.field,
+            names.join(", "),
+            self.frames,
+            self.points,
+            number(self.dt),
+            self.equation
+        );
+        out += &format!(
+            "Library: order {}, {} order(s) beyond leading, active forces {}: {} candidates.\n",
+            self.order,
+            self.beyond_leading,
+            if self.active { "in" } else { "out" },
+            self.library.len()
+        );
+        out += &format!(
+            "Estimator: {}; {} rows on modes {}.\n",
+            self.estimator,
+            self.rows,
+            self.modes
+                .iter()
+                .map(|(m, h)| format!("{m} (±{h} frames)"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+        out += "\n  term                          kind          coefficient    95 % interval              inclusion  selected\n";
+        for t in &self.library {
+            out += &format!(
+                "  {:<30}{:<14}{:<15}{:<27}{:<11}{}\n",
+                t.term,
+                format!("{:?}", t.kind).to_lowercase(),
+                short(t.coefficient),
+                interval_text(t.interval),
+                t.inclusion
+                    .map_or("—".into(), |x| format!("{:.0} %", 100.0 * x)),
+                if t.selected { "yes" } else { "no" }
+            );
+        }
+        out += "(coefficients in body lengths and the data's time unit; intervals from ";
+        out += &if self.bootstrap > 0 {
+            format!("{} moving-block draws)\n", self.bootstrap)
+        } else {
+            "no draws: --bootstrap B)\n".to_string()
+        };
+        out += "\nTheories compared (held-out moment residual over 5 blocks of time and the criterion J/σ² + k ln n; lower is better):\n";
+        for c in &self.comparison {
+            out += &format!(
+                "  {:<34} {:<40} cv {:<10} criterion {}\n",
+                c.model,
+                c.terms.join(", "),
+                c.cv_residual.map_or("—".into(), |x| format!("{x:.4}")),
+                c.criterion.map_or("—".into(), |x| format!("{x:.1}"))
+            );
+        }
+        out += &format!(
+            "R² = {:.4}; residual force noise q = {} (body lengths²/time³ per point)\n",
+            self.r2,
+            short(self.noise)
+        );
+        out += &format!("Onward: {}\n", self.simulate_line());
+        out
+    }
+
+    fn json(&self) -> serde_json::Value {
+        let mut v = serde_json::to_value(self).unwrap_or_default();
+        if let Some(o) = v.as_object_mut() {
+            o.insert("simulate".into(), self.simulate_line().into());
+        }
+        v
+    }
+
+    fn csv(&self) -> Option<String> {
+        let mut w = csv::Writer::from_writer(Vec::new());
+        let _ = w.write_record([
+            "name",
+            "term",
+            "kind",
+            "coefficient",
+            "on_points",
+            "low",
+            "high",
+            "inclusion",
+            "selected",
+        ]);
+        for t in &self.library {
+            let opt = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v:e}"));
+            let _ = w.write_record([
+                t.name.clone(),
+                t.term.clone(),
+                format!("{:?}", t.kind).to_lowercase(),
+                format!("{:e}", t.coefficient),
+                format!("{:e}", t.on_points),
+                opt(t.interval.map(|i| i[0])),
+                opt(t.interval.map(|i| i[1])),
+                opt(t.inclusion),
+                t.selected.to_string(),
+            ]);
+        }
+        String::from_utf8(w.into_inner().ok()?).ok()
+    }
+
+    fn check(&self) -> Result<(), crate::report::NonFinite> {
+        crate::report::check_finite(self)
+    }
+}

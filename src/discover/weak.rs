@@ -1,0 +1,194 @@
+//! The weak form in time, projected on the grid's modes.
+//!
+//! For the field's equation ∂t²u + Σ cₘ ∂t pₘ(∂tu) = Σ cₘ fₘ(u, ∂tu) + ξ on the grid
+//! ([`crate::dynamics::Candidate`]), a mode shape vᵢ and a bump ψ(t) = (1 − τ²)⁴,
+//! τ = (t − t₀)/H, both derivatives of the inertia and the momenta moved onto ψ:
+//!
+//! ∫ ψ'' vᵢ·u dt = Σₘ cₘ ∫ (ψ vᵢ·fₘ + ψ' vᵢ·pₘ) dt + ∫ ψ vᵢ·ξ dt,
+//!
+//! sums over the frames (Δt each), velocities by centred differences. One row per mode and
+//! window; windows of one mode do not overlap, so their noise terms are independent for white
+//! noise. H is the mode's own time scale, 1/(ωᵢΔt) frames (at least 3), from `fit`'s spectral fit.
+//!
+//! **Instruments.** Thermal noise ξ inside a window moves u inside it, so the regressors and
+//! the noise correlate (a least-squares fit would bias the damping); tracking noise does the
+//! same to every regressor. Each row's instruments are its mode's two previous windows (their
+//! target and regressors): the state before a window does not know the noise inside it, and is
+//! correlated with the state in it. The estimate is two-stage least squares.
+
+use super::data::Recording;
+use crate::dynamics::Candidate;
+
+/// Rows of the weak form of one library.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Rows {
+    /// ∫ψ''vᵢ·u, weighted.
+    pub target: Vec<f64>,
+    /// One regressor per candidate, weighted.
+    pub regressors: Vec<Vec<f64>>,
+    /// The instruments (previous windows' target and regressors), in the block of columns
+    /// of the row's mode (`slot`).
+    pub instruments: Vec<Vec<f64>>,
+    /// Which mode's block of instrument columns.
+    pub slot: Vec<usize>,
+    /// Number of blocks.
+    pub slots: usize,
+    /// ∫ψ² dt: the noise's share of a row, for the noise level.
+    pub norm: Vec<f64>,
+    /// The row's weight (1/rms of its mode's targets).
+    pub weight: Vec<f64>,
+    /// Time of the window's centre, on one line through every recording.
+    pub time: Vec<f64>,
+    /// Which recording.
+    pub animal: Vec<usize>,
+}
+
+impl Rows {
+    /// Number of rows.
+    pub fn len(&self) -> usize {
+        self.target.len()
+    }
+}
+
+/// The modes a recording's rows use: the lowest non-zero modes whose spectral peak `fit`
+/// resolves, up to the first it does not (a lone peak further up is more likely noise than a
+/// mode the damping left visible).
+pub(super) fn used(rec: &Recording) -> impl Iterator<Item = &crate::fit::ModeSpectralFit> {
+    rec.fit.modes_fit.iter().take_while(|m| m.resolved)
+}
+
+/// ψ, ψ', ψ'' of the bump at τ ∈ [−1, 1] (derivatives in τ).
+fn bump(tau: f64) -> (f64, f64, f64) {
+    let a = 1.0 - tau * tau;
+    (
+        a.powi(4),
+        -8.0 * tau * a.powi(3),
+        -8.0 * a.powi(3) + 48.0 * tau * tau * a * a,
+    )
+}
+
+/// The half-width in frames of mode `mode`'s windows (its angular frequency ω).
+pub(super) fn half_width(omega: f64, dt: f64) -> usize {
+    ((1.0 / (omega * dt)).round() as usize).max(3)
+}
+
+/// Per-frame projections: for each candidate, vᵢ·f and vᵢ·p at each frame of a run.
+struct Projected {
+    /// target[k] = vᵢ·u_k.
+    target: Vec<f64>,
+    force: Vec<Vec<f64>>,
+    momentum: Vec<Vec<f64>>,
+}
+
+fn project(run: &[Vec<f64>], dt: f64, shape: &[f64], library: &[Candidate]) -> Projected {
+    let n = run.len();
+    let strip = |x: &[f64]| library.first().map_or_else(|| x.to_vec(), |c| c.strip(x));
+    let s = strip(shape);
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+    let mut force = vec![vec![0.0; n]; library.len()];
+    let mut momentum = vec![vec![0.0; n]; library.len()];
+    let mut target = vec![0.0; n];
+    let frames: Vec<Vec<f64>> = run.iter().map(|p| strip(p)).collect();
+    for k in 1..n.saturating_sub(1) {
+        let u = &frames[k];
+        let v: Vec<f64> = frames[k + 1]
+            .iter()
+            .zip(&frames[k - 1])
+            .map(|(a, b)| (a - b) / (2.0 * dt))
+            .collect();
+        target[k] = dot(&s, u);
+        for (m, c) in library.iter().enumerate() {
+            if c.kinetic {
+                momentum[m][k] = dot(&s, &c.momentum(&v));
+            } else {
+                force[m][k] = dot(&s, &c.force(u, &v));
+            }
+        }
+    }
+    Projected {
+        target,
+        force,
+        momentum,
+    }
+}
+
+/// Every row of `library` over the recordings, on the modes `fit` resolved.
+pub(super) fn rows(recordings: &[Recording], library: &[Candidate]) -> Rows {
+    let mut rows = Rows {
+        regressors: vec![Vec::new(); library.len()],
+        ..Rows::default()
+    };
+    // Each mode has its own instrument columns: how earlier windows predict the present one
+    // differs from mode to mode (a pooled first stage would be weak).
+    let mut slots: Vec<usize> = recordings
+        .iter()
+        .flat_map(|r| used(r).map(|m| m.mode))
+        .collect();
+    slots.sort_unstable();
+    slots.dedup();
+    rows.slots = slots.len();
+    let mut offset = 0.0;
+    for (a, rec) in recordings.iter().enumerate() {
+        let dt = rec.dt;
+        for mode in used(rec) {
+            let Some(shape) = mode
+                .mode
+                .checked_sub(rec.first_mode)
+                .and_then(|j| rec.shapes.get(j))
+            else {
+                continue;
+            };
+            let h = half_width(mode.omega, dt);
+            let start = rows.len();
+            let mut clock = offset;
+            for run in &rec.runs {
+                let p = project(run, dt, shape, library);
+                // Windows [c − h, c + h] inside frames 1 … n − 2, two frames apart.
+                let mut history: Vec<Vec<f64>> = Vec::new();
+                let mut c = 1 + h;
+                while c + h + 1 < run.len() {
+                    let mut y = 0.0;
+                    let mut x = vec![0.0; library.len()];
+                    let mut norm = 0.0;
+                    for k in c - h..=c + h {
+                        let tau = (k as f64 - c as f64) / h as f64;
+                        let (w0, w1, w2) = bump(tau);
+                        let (d1, d2) = (w1 / (h as f64 * dt), w2 / (h as f64 * dt).powi(2));
+                        y += d2 * p.target[k] * dt;
+                        norm += w0 * w0 * dt;
+                        for (m, xm) in x.iter_mut().enumerate() {
+                            *xm += (w0 * p.force[m][k] + d1 * p.momentum[m][k]) * dt;
+                        }
+                    }
+                    let mut here = vec![y];
+                    here.extend(&x);
+                    if history.len() >= 2 {
+                        let n = history.len();
+                        let mut z = history[n - 1].clone();
+                        z.extend(&history[n - 2]);
+                        rows.slot.push(slots.binary_search(&mode.mode).unwrap_or(0));
+                        rows.target.push(y);
+                        for (m, xm) in x.iter().enumerate() {
+                            rows.regressors[m].push(*xm);
+                        }
+                        rows.instruments.push(z);
+                        rows.norm.push(norm);
+                        rows.time.push(clock + c as f64 * dt);
+                        rows.animal.push(a);
+                    }
+                    history.push(here);
+                    c += 2 * h + 3;
+                }
+                clock += run.len() as f64 * dt;
+            }
+            // Each mode weighs alike: its rows scaled by 1/rms of its targets.
+            let n = rows.len() - start;
+            let rms =
+                (rows.target[start..].iter().map(|y| y * y).sum::<f64>() / n.max(1) as f64).sqrt();
+            let w = if rms > 0.0 { 1.0 / rms } else { 1.0 };
+            rows.weight.extend(std::iter::repeat_n(w, n));
+        }
+        offset += rec.runs.iter().map(Vec::len).sum::<usize>() as f64 * dt;
+    }
+    rows
+}
