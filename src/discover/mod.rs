@@ -240,9 +240,22 @@ pub fn discover(
             rows,
         });
     }
-    let full = theories.last().expect("the leading theory is always there");
+    let Some((full, nested)) = theories.split_last_mut() else {
+        return Err(DiscoverError::EmptyLibrary { field });
+    };
     if full.candidates.is_empty() {
         return Err(DiscoverError::EmptyLibrary { field });
+    }
+    // Every theory is scored on the whole library's instruments and weights (the rows are
+    // the same windows), so their criteria compare.
+    let all: Vec<usize> = (0..full.candidates.len()).collect();
+    let gram = regress::Gram::new(&full.rows, &vec![1.0; full.rows.len()]);
+    if let Some((beta, _)) = gram.fit(&all) {
+        full.rows.reweight(&all, &beta);
+    }
+    for t in nested {
+        t.rows.instruments.clone_from(&full.rows.instruments);
+        t.rows.weight.clone_from(&full.rows.weight);
     }
     report::assemble(&recordings, model, settings, &theories, &field)
 }

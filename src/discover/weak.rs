@@ -8,7 +8,7 @@
 //!
 //! sums over the frames (Δt each), velocities by centred differences. One row per mode and
 //! window; windows of one mode do not overlap, so their noise terms are independent for white
-//! noise. H is the mode's own time scale, 1/(ωᵢΔt) frames (at least 3), from `fit`'s spectral fit.
+//! noise. H is the mode's own time scale, 1/(ωᵢΔt) frames (at least [`MIN_HALF_WIDTH`]), from `fit`'s spectral fit.
 //!
 //! **Instruments.** Thermal noise ξ inside a window moves u inside it, so the regressors and
 //! the noise correlate (a least-squares fit would bias the damping); tracking noise does the
@@ -48,6 +48,31 @@ impl Rows {
     pub fn len(&self) -> usize {
         self.target.len()
     }
+
+    /// Weigh each mode's rows by 1/(its residual's rms) under the fit (`set`, `beta`): the
+    /// second step of two-step efficient estimation, so that modes the noise dominates count
+    /// for less. Instruments are untouched, so the estimate stays consistent.
+    pub fn reweight(&mut self, set: &[usize], beta: &[f64]) {
+        let mut sum = vec![0.0; self.slots];
+        let mut count = vec![0.0; self.slots];
+        for r in 0..self.len() {
+            let fitted: f64 = set
+                .iter()
+                .zip(beta)
+                .map(|(&m, b)| b * self.regressors[m][r])
+                .sum();
+            let e = self.weight[r] * (self.target[r] - fitted);
+            sum[self.slot[r]] += e * e;
+            count[self.slot[r]] += 1.0;
+        }
+        for r in 0..self.len() {
+            let s = self.slot[r];
+            let rms = (sum[s] / count[s]).sqrt();
+            if rms > 0.0 && rms.is_finite() {
+                self.weight[r] /= rms;
+            }
+        }
+    }
 }
 
 /// The modes a recording's rows use: the lowest non-zero modes whose spectral peak `fit`
@@ -67,9 +92,12 @@ fn bump(tau: f64) -> (f64, f64, f64) {
     )
 }
 
+/// The least half-width in frames: the sums over frames must resolve the bump's ψ''.
+pub const MIN_HALF_WIDTH: usize = 6;
+
 /// The half-width in frames of mode `mode`'s windows (its angular frequency ω).
 pub(super) fn half_width(omega: f64, dt: f64) -> usize {
-    ((1.0 / (omega * dt)).round() as usize).max(3)
+    ((1.0 / (omega * dt)).round() as usize).max(MIN_HALF_WIDTH)
 }
 
 /// Per-frame projections: for each candidate, vᵢ·f and vᵢ·p at each frame of a run.
