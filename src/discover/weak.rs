@@ -75,25 +75,38 @@ impl Rows {
     }
 }
 
+/// Frames per radian a mode needs: sums over frames stand for the weak form's integrals only
+/// when the motion is sampled finely (about 19 frames per period).
+pub const MIN_FRAMES_PER_RADIAN: f64 = 3.0;
+
 /// The modes a recording's rows use: the lowest non-zero modes whose spectral peak `fit`
-/// resolves, up to the first it does not (a lone peak further up is more likely noise than a
-/// mode the damping left visible).
+/// resolves and that are sampled at [`MIN_FRAMES_PER_RADIAN`], up to the first that is not
+/// (a lone peak further up is more likely noise than a mode the damping left visible).
 pub(super) fn used(rec: &Recording) -> impl Iterator<Item = &crate::fit::ModeSpectralFit> {
-    rec.fit.modes_fit.iter().take_while(|m| m.resolved)
+    rec.fit
+        .modes_fit
+        .iter()
+        .take_while(|m| m.resolved && m.omega * rec.dt * MIN_FRAMES_PER_RADIAN <= 1.0)
 }
 
 /// ψ, ψ', ψ'' of the bump at τ ∈ [−1, 1] (derivatives in τ).
 fn bump(tau: f64) -> (f64, f64, f64) {
     let a = 1.0 - tau * tau;
+    let p = BUMP_POWER;
+    let pf = f64::from(p);
     (
-        a.powi(4),
-        -8.0 * tau * a.powi(3),
-        -8.0 * a.powi(3) + 48.0 * tau * tau * a * a,
+        a.powi(p),
+        -2.0 * pf * tau * a.powi(p - 1),
+        -2.0 * pf * a.powi(p - 1) + 4.0 * pf * (pf - 1.0) * tau * tau * a.powi(p - 2),
     )
 }
 
+/// The bump's power p in (1 − τ²)ᵖ: its derivatives up to p − 1 vanish at the ends, so the sums
+/// over frames converge fast to the integrals.
+pub const BUMP_POWER: i32 = 8;
+
 /// The least half-width in frames: the sums over frames must resolve the bump's ψ''.
-pub const MIN_HALF_WIDTH: usize = 6;
+pub const MIN_HALF_WIDTH: usize = 12;
 
 /// The half-width in frames of mode `mode`'s windows (its angular frequency ω).
 pub(super) fn half_width(omega: f64, dt: f64) -> usize {

@@ -1,0 +1,141 @@
+//! `discover` on recordings of known theories (`tests/common/recording.rs`): the passive beam
+//! found with no extra term, an active bending force found, coefficients within their
+//! tolerance and covered by their intervals; bad input refused in one line.
+
+mod common;
+#[path = "common/recording.rs"]
+mod recording;
+
+use recording::{midlines, Spec};
+use theory_search::discover::{discover, DiscoverReport, DiscoverSettings, Source};
+use theory_search::fit::{FitSettings, InputKind};
+use theory_search::model::Model;
+
+const CRAWLER: &str = "tables/models/crawler.toml";
+
+fn run(text: String, model: &str, points: usize, active: bool) -> DiscoverReport {
+    let model = Model::from_toml(&std::fs::read_to_string(model).expect("the model reads"))
+        .expect("the model loads");
+    let mut fit = FitSettings::new(InputKind::Midline);
+    fit.points = points;
+    let settings = DiscoverSettings {
+        fit,
+        active,
+        bootstrap: 100,
+        seed: 1,
+    };
+    let source = Source::Reader("simulated".into(), Box::new(std::io::Cursor::new(text)));
+    discover(vec![source], &model, &settings).expect("discover runs")
+}
+
+/// The crawler's lateral field on 25 points, `frames` frames 0.05 apart: c_y = 660, c'_y and
+/// a_y in grid units (ω₂ ≈ 0.92, ζ₂ ≈ 0.03 at c'_y = 20).
+fn crawler(a: f64, damping: f64, noise: f64, seed: u64, frames: usize) -> String {
+    let params = [
+        "c_y=660".to_string(),
+        format!("c'_y={damping}"),
+        format!("a_y={a}"),
+    ];
+    let params: Vec<&str> = params.iter().map(String::as_str).collect();
+    midlines(&Spec {
+        model: CRAWLER,
+        field: "y",
+        points: 25,
+        params: &params,
+        dt: 0.01,
+        every: 5,
+        frames,
+        temperature: 1.0,
+        noise,
+        seed,
+    })
+}
+
+/// Every term in `truth` must be selected, within `tolerance` of it, its interval covering it.
+fn check(report: &DiscoverReport, truth: &[(&str, f64)], tolerance: f64) {
+    let names: Vec<&str> = report.selected.iter().map(|t| t.name.as_str()).collect();
+    assert!(
+        truth.iter().all(|(n, _)| names.contains(n)),
+        "selected terms {names:?}\n{}",
+        text(report)
+    );
+    for (name, value) in truth {
+        let t = report
+            .selected
+            .iter()
+            .find(|t| t.name == *name)
+            .expect("selected");
+        let error = (t.on_points - value) / value;
+        let name = &t.name;
+        assert!(
+            error.abs() < tolerance,
+            "{name}: {} against {value} ({:.1} %)\n{}",
+            t.on_points,
+            100.0 * error,
+            text(report)
+        );
+        let scale = t.coefficient / t.on_points;
+        let [lo, hi] = t.interval.expect("an interval");
+        assert!(
+            lo <= value * scale && value * scale <= hi,
+            "{name}: interval [{lo}, {hi}] misses {}\n{}",
+            value * scale,
+            text(report)
+        );
+    }
+}
+
+fn text(report: &DiscoverReport) -> String {
+    use theory_search::report::Report;
+    report.text()
+}
+
+#[test]
+fn a_passive_beam_is_found_with_no_extra_term() {
+    for (noise, tolerance, seed) in [(0.01, 0.05, 1), (0.05, 0.10, 2)] {
+        let report = run(crawler(0.0, 20.0, noise, seed, 150_001), CRAWLER, 25, true);
+        check(&report, &[("c_y", 660.0), ("c'_y", 20.0)], tolerance);
+        assert_eq!(report.selected.len(), 2, "no extra term\n{}", text(&report));
+        assert_eq!(report.library.len(), 4, "a_y and g_y were candidates");
+    }
+}
+
+#[test]
+fn an_active_bending_force_is_found() {
+    let truth = [("c_y", 660.0), ("c'_y", 20.0), ("a_y", 60.0)];
+    // 5 % tracking noise: one recording, every coefficient within 10 % and covered.
+    let report = run(crawler(60.0, 20.0, 0.05, 4, 150_001), CRAWLER, 25, true);
+    check(&report, &truth, 0.10);
+    let active = report
+        .comparison
+        .iter()
+        .find(|c| c.model == "+ active forces");
+    let passive = report.comparison.first().expect("the leading theory");
+    assert!(
+        active.and_then(|a| a.criterion) < passive.criterion,
+        "the active theory scores better\n{}",
+        text(&report)
+    );
+    // 1 % tracking noise, two longer recordings: a_y comes out 2–4 % low on average (five
+    // realisations of 150 000 frames: −3.7 ± 0.6 %), so each is held to 10 % and the mean to
+    // 5 %; c_y and c'_y each to 5 %. Their intervals are not asserted here: at 300 000 frames
+    // they are narrower (±0.6 % for c_y) than the estimator's small biases.
+    let mut sum = 0.0;
+    for seed in [3, 21] {
+        let report = run(crawler(60.0, 20.0, 0.01, seed, 300_001), CRAWLER, 25, true);
+        for (name, value) in &truth[..2] {
+            let t = report.selected.iter().find(|t| t.name == *name);
+            let got = t.expect("selected").on_points;
+            assert!(
+                (got / value - 1.0).abs() < 0.05,
+                "{name} = {got}\n{}",
+                text(&report)
+            );
+        }
+        let a = report.selected.iter().find(|t| t.name == "a_y");
+        let a = a.expect("a_y selected").on_points;
+        assert!((a - 60.0).abs() < 6.0, "a_y = {a}\n{}", text(&report));
+        sum += a;
+    }
+    assert!((sum / 2.0 - 60.0).abs() < 3.0, "mean a_y = {}", sum / 2.0);
+}
