@@ -6,8 +6,8 @@
 //! Data flows one way through the modules, in layers (docs/layout.md):
 //! [`term`] → [`rules`], [`enumerate`], [`boundary`] → [`model`] → [`reduce`] → [`table`],
 //! [`catalogue`], [`interaction`], [`parts`], [`discretise`], [`active`] → [`equations`], [`codegen`],
-//! [`modal`] → [`artifacts`], [`theory`], [`dynamics`] → [`behaviour`] → [`fit`] → [`figures`] →
-//! [`cli`].
+//! [`modal`] → [`artifacts`], [`theory`], [`dynamics`] → [`behaviour`] → [`fit`] → [`discover`] →
+//! [`figures`] → [`cli`].
 #![warn(missing_docs)]
 
 pub mod active;

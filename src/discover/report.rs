@@ -95,7 +95,7 @@ pub struct DiscoverReport {
     pub model_argument: Option<String>,
 }
 
-const ESTIMATOR: &str = "weak form in time on the grid's modes, bumps (1 − τ²)⁴, two-stage least squares with the two previous windows as instruments";
+const ESTIMATOR: &str = "weak form in time on the grid's modes, bumps (1 − τ²)⁸, two-stage least squares with the two previous windows as instruments";
 
 /// Fit, select, score and bootstrap the theories (the last is the whole library).
 pub(super) fn assemble(

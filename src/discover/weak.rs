@@ -1,7 +1,7 @@
 //! The weak form in time, projected on the grid's modes.
 //!
 //! For the field's equation ∂t²u + Σ cₘ ∂t pₘ(∂tu) = Σ cₘ fₘ(u, ∂tu) + ξ on the grid
-//! ([`crate::dynamics::Candidate`]), a mode shape vᵢ and a bump ψ(t) = (1 − τ²)⁴,
+//! ([`crate::dynamics::Candidate`]), a mode shape vᵢ and a bump ψ(t) = (1 − τ²)⁸,
 //! τ = (t − t₀)/H, both derivatives of the inertia and the momenta moved onto ψ:
 //!
 //! ∫ ψ'' vᵢ·u dt = Σₘ cₘ ∫ (ψ vᵢ·fₘ + ψ' vᵢ·pₘ) dt + ∫ ψ vᵢ·ξ dt,
