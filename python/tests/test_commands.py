@@ -163,3 +163,22 @@ def test_a_driven_simulation_carries_the_injected_work_as_the_binary():
     assert sim.injected[-1] != 0.0 and "injected" in sim.to_dict()
     # Off (the default), the run and its columns are the passive body's.
     assert "injected" not in ts.simulate(points=20, steps=10, model=crawler)
+
+
+WORMPOSE = ROOT.parent / "shared" / "data" / "celegans_wormpose_15fps_52pts.csv"
+
+
+@pytest.mark.skipif(not WORMPOSE.exists(), reason="the shared recordings are not here")
+def test_discover_is_the_binarys_document_from_a_path_or_an_array():
+    got = ts.discover(str(WORMPOSE), bootstrap=20)
+    want = cli_json("discover", str(WORMPOSE), "--bootstrap", "20")
+    assert got.to_dict() == want
+    assert ts.discover in (getattr(ts, n) for n in ts.__all__)
+    import pandas as pd
+
+    frame = pd.read_csv(WORMPOSE)
+    midlines = frame.iloc[:, 1:].to_numpy().reshape(len(frame), -1, 2)
+    from_array = ts.discover(midlines, t=frame.iloc[:, 0].to_numpy(), bootstrap=20)
+    for a, b in zip(from_array["library"], want["library"]):
+        assert a["name"] == b["name"]
+        assert a["coefficient"] == pytest.approx(b["coefficient"], rel=1e-9)

@@ -27,6 +27,7 @@ from ._commands import (
     asymmetry,
     behave,
     count,
+    discover,
     figures,
     interactions,
     mathieu,
@@ -90,6 +91,7 @@ __all__ = [
     "rules",
     "figures",
     "fit",
+    "discover",
     "run",
 ]
 

@@ -37,6 +37,7 @@ __all__ = [
     "rules",
     "figures",
     "fit",
+    "discover",
     "run",
 ]
 
@@ -250,6 +251,16 @@ def fit(
     **options: Any,
 ) -> FitResult:
     """Fit the theory to midlines (arrays frames × points × 2, NaN for lost points) or files."""
+
+def discover(
+    recordings: Union[npt.ArrayLike, str, os.PathLike[str], Sequence[Union[str, os.PathLike[str]]]],
+    model: ModelLike = None,
+    t: Optional[npt.ArrayLike] = None,
+    fps: Optional[float] = None,
+    **options: Any,
+) -> Result:
+    """Which terms of the engine's library the recordings' field needs: the discovered
+    equation, every candidate with its interval and inclusion, the nested theories scored."""
 
 def run(
     command: Sequence[str], model: ModelLike = None, params: Optional[Mapping[str, float]] = None, **options: Any

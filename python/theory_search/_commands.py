@@ -351,3 +351,63 @@ def figures(
     if not written:
         raise UsageError(f"no figure was written into {os.fspath(directory)}")
     return written
+
+
+def _recording_csv(path: str, midlines: Any, t: Any, fps: Optional[float]) -> None:
+    """One animal's array (frames × points × 2, head first, NaN where lost) as the CSV `fit`
+    reads."""
+    import numpy as np
+
+    a = np.asarray(midlines, dtype=float)
+    if a.ndim != 3 or a.shape[2] != 2:
+        raise UsageError(f"midlines must be frames × points × 2, not shape {a.shape}")
+    times = np.asarray(t, dtype=float) if t is not None else np.arange(len(a)) / (fps or 1.0)
+    if times.shape != (len(a),):
+        raise UsageError(f"t must hold one time per frame ({len(a)}), not shape {times.shape}")
+    rows = np.column_stack([times, a.reshape(len(a), -1)])
+    np.savetxt(path, rows, delimiter=",", fmt="%.17g")
+
+
+@shared
+def discover(
+    recordings: Any,
+    model: Any = None,
+    t: Optional[Any] = None,
+    fps: Optional[float] = None,
+    **options: Any,
+) -> Result:
+    """Which terms of the engine's library the recordings' field needs (``discover``).
+
+    Parameters
+    ----------
+    recordings : path, list of paths, or array
+        Files, directories or patterns as ``fit`` reads them, or one animal's midlines as an
+        array (frames × points × 2, head first, NaN where the tracker lost a point).
+    @model
+    t : array, optional
+        The array's frame times (without it frames are ``1/fps`` apart).
+    fps : float, optional
+        Frames per second of the array (one time unit per frame without it or ``t``).
+    options
+        The command's: ``points``, ``active`` (True puts the model's active forces in the
+        library), ``kind``, ``field``, ``fill_gaps``, ``bootstrap``, ``seed``, ``order``,
+        ``beyond_leading``.
+
+    Returns
+    -------
+    Result
+        ``equation``, ``selected`` and ``library`` (each term's ``term``, ``name``, ``kind``,
+        ``coefficient`` in body lengths, ``on_points``, ``interval``, ``inclusion``,
+        ``selected``), ``comparison`` (each theory's ``model``, ``terms``, ``cv_residual``,
+        ``criterion``), ``r2``, ``noise``, ``simulate`` (the onward command line).
+    """
+    if isinstance(recordings, (str, os.PathLike)):
+        return run(["discover", os.fspath(recordings)], model, **options)
+    if isinstance(recordings, (list, tuple)) and all(
+        isinstance(r, (str, os.PathLike)) for r in recordings
+    ):
+        return run(["discover", *map(os.fspath, recordings)], model, **options)
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, "recording.csv")
+        _recording_csv(path, recordings, t, fps)
+        return run(["discover", path], model, **options)

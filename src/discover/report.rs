@@ -333,10 +333,10 @@ impl Report for DiscoverReport {
                 .collect::<Vec<_>>()
                 .join(", ")
         );
-        out += "\n  term                          kind          coefficient    95 % interval              inclusion  selected\n";
+        out += "\n  term                          kind          coefficient    95 % interval                 inclusion  selected\n";
         for t in &self.library {
             out += &format!(
-                "  {:<30}{:<14}{:<15}{:<27}{:<11}{}\n",
+                "  {:<30}{:<14}{:<15}{:<30}{:<11}{}\n",
                 t.term,
                 format!("{:?}", t.kind).to_lowercase(),
                 short(t.coefficient),
