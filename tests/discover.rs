@@ -148,7 +148,11 @@ fn bad_input_gets_one_line_and_its_exit_code() {
     let text = crawler(0.0, 20.0, 0.01, 5, 101);
     std::fs::write(&short, text).unwrap();
     let broken = dir.join("broken.csv");
-    std::fs::write(&broken, "0,0,0,1,0,2,0,3,0,4,0\n0.1,0,0,1,zero,2,0,3,0,4,0\n").unwrap();
+    std::fs::write(
+        &broken,
+        "0,0,0,1,0,2,0,3,0,4,0\n0.1,0,0,1,zero,2,0,3,0,4,0\n",
+    )
+    .unwrap();
     let (short, broken) = (short.to_str().unwrap(), broken.to_str().unwrap());
     let worm = "tables/models/worm.toml";
     for (args, code, says) in [
@@ -157,14 +161,22 @@ fn bad_input_gets_one_line_and_its_exit_code() {
         (vec![short, "--bootstrap", "100000"], 2, "at most"),
         (vec![short, "--points", "2"], 2, "points"),
         (vec![broken], 1, "line 2"),
-        (vec![short, "--model", CRAWLER, "--points", "25"], 1, "resolved"),
+        (
+            vec![short, "--model", CRAWLER, "--points", "25"],
+            1,
+            "resolved",
+        ),
     ] {
         let mut all = vec!["discover"];
         all.extend(args.iter().copied());
         let (status, out, err) = common::binary(&all);
         assert_eq!(status, code, "{all:?}: {err}");
         assert!(out.is_empty(), "{all:?} wrote {out}");
-        assert_eq!(err.trim().lines().count(), 1, "{all:?}: one line, not {err}");
+        assert_eq!(
+            err.trim().lines().count(),
+            1,
+            "{all:?}: one line, not {err}"
+        );
         assert!(err.contains(says), "{all:?}: {err}");
     }
     std::fs::remove_dir_all(&dir).unwrap();
