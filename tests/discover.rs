@@ -181,3 +181,51 @@ fn bad_input_gets_one_line_and_its_exit_code() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn the_json_contract_and_the_onward_simulate_line() {
+    let dir = std::env::temp_dir().join(format!("discover-json-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("passive.csv");
+    std::fs::write(&path, crawler(0.0, 20.0, 0.01, 8, 20_001)).unwrap();
+    let path = path.to_str().unwrap();
+    let args = ["discover", path, "--model", CRAWLER, "-p", "25", "--active"];
+    let json = common::cli(&[&args[..], &["--format", "json", "--bootstrap", "50"]].concat())
+        .expect("discover runs");
+    let doc: serde_json::Value = serde_json::from_str(&json).unwrap();
+    for t in doc["selected"].as_array().unwrap() {
+        for key in ["term", "kind", "coefficient", "interval", "inclusion"] {
+            assert!(!t[key].is_null(), "selected term without {key}: {t}");
+        }
+        let [lo, hi] = [
+            t["interval"][0].as_f64().unwrap(),
+            t["interval"][1].as_f64().unwrap(),
+        ];
+        assert!(lo <= hi, "{t}");
+    }
+    assert_eq!(doc["library"].as_array().unwrap().len(), 4);
+    for c in doc["comparison"].as_array().unwrap() {
+        for key in ["model", "terms", "cv_residual", "criterion"] {
+            assert!(c.get(key).is_some(), "comparison without {key}: {c}");
+        }
+    }
+    assert!(doc["r2"].as_f64().unwrap() > 0.0 && doc["noise"].as_f64().unwrap() > 0.0);
+    // The onward line runs, and names every coefficient.
+    let line = doc["simulate"].as_str().unwrap();
+    let words: Vec<String> = line
+        .split_whitespace()
+        .skip(1)
+        .map(|w| w.trim_matches('\'').replace("'\\''", "'"))
+        .collect();
+    let mut run: Vec<&str> = words.iter().map(String::as_str).collect();
+    run.extend(["--steps", "10"]);
+    common::cli(&run).expect("the onward simulate line runs");
+    for name in ["c_y", "c'_y", "a_y", "g_y"] {
+        let set = words.iter().any(|w| w.starts_with(&format!("{name}=")));
+        assert!(set, "{name} not in {line}");
+    }
+    // CSV: one row per candidate; text names the selected equation.
+    let csv = common::cli(&[&args[..], &["--format", "csv", "--bootstrap", "0"]].concat()).unwrap();
+    assert_eq!(csv.lines().count(), 5, "{csv}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

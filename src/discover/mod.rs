@@ -32,7 +32,7 @@ pub use report::{Comparison, DiscoverReport, DiscoveredTerm};
 
 use crate::dynamics::nonlinear::NonlinearError;
 use crate::dynamics::{library, Candidate};
-use crate::equations::{derive_any, Derived};
+use crate::equations::{derive_nonlinear_each, NonlinearEquation};
 use crate::fit::{FitError, FitSettings, Input};
 use crate::model::Model;
 
@@ -182,6 +182,9 @@ pub fn discover(
             model: crate::markup::clip(&model.name),
         });
     }
+    // Postures need only the grid's modes: the leading order's operator, whatever the layers.
+    let mut leading = model.clone();
+    leading.set_beyond_leading(0);
     let mut recordings = Vec::new();
     for source in sources {
         let (input, name) = match source {
@@ -197,7 +200,7 @@ pub fn discover(
                 name,
             ),
         };
-        let r = data::read(input, name, model, &settings.fit)?;
+        let r = data::read(input, name, &leading, &settings.fit)?;
         if weak::used(&r).next().is_none() {
             return Err(DiscoverError::NoResolvedMode {
                 recording: crate::markup::clip(&r.name),
@@ -213,8 +216,6 @@ pub fn discover(
     let field = first.fit.field.clone();
     let points = first.fit.model_points;
     // The nested theories: leading order passive; the model's layers; with active forces.
-    let mut leading = model.clone();
-    leading.set_beyond_leading(0);
     let mut nested = vec![("leading order, passive".to_string(), leading, false)];
     let layers = model
         .lagrangian
@@ -263,42 +264,31 @@ pub fn discover(
 /// Each coefficient's term as `equations` prints it (`−c_y ∂s⁴ y`), and the equation of a set
 /// of them.
 pub(super) struct Notation {
-    derived: Derived,
+    derived: crate::equations::Derivation<NonlinearEquation>,
     field: String,
 }
 
 impl Notation {
     fn new(model: &Model, order: u32, field: &str) -> Result<Notation, DiscoverError> {
         Ok(Notation {
-            derived: derive_any(model, order, crate::enumerate::Basis::Powers)?,
+            // The general derivation: one notation for linear and nonlinear bodies alike.
+            derived: derive_nonlinear_each(model, order, crate::enumerate::Basis::Powers)?,
             field: field.to_string(),
         })
     }
 
     /// `∂t² y = …` with only the coefficients in `keep`.
     pub(super) fn equation(&self, keep: &[&str]) -> String {
-        match &self.derived {
-            Derived::Linear(d) => d
-                .equations
-                .iter()
-                .find(|e| e.field.id == self.field)
-                .map(|e| {
-                    let mut e = e.clone();
-                    e.rhs.retain(|t| keep.contains(&t.coefficient.as_str()));
-                    e.text()
-                }),
-            Derived::Nonlinear(d) => {
-                d.equations
-                    .iter()
-                    .find(|e| e.field.id == self.field)
-                    .map(|e| {
-                        let mut e = e.clone();
-                        e.rhs.retain(|t| keep.contains(&t.coefficient.as_str()));
-                        e.text()
-                    })
-            }
-        }
-        .unwrap_or_default()
+        let found = self
+            .derived
+            .equations
+            .iter()
+            .find(|e| e.field.id == self.field);
+        found.map_or_else(String::new, |e| {
+            let mut e = e.clone();
+            e.rhs.retain(|t| keep.contains(&t.coefficient.as_str()));
+            e.text()
+        })
     }
 
     /// One coefficient's terms, without the left-hand side.
