@@ -23,6 +23,7 @@ fn run(text: String, model: &str, points: usize, active: bool) -> DiscoverReport
         active,
         bootstrap: 100,
         seed: 1,
+        replay: false,
     };
     let source = Source::Reader("simulated".into(), Box::new(std::io::Cursor::new(text)));
     discover(vec![source], &model, &settings).expect("discover runs")
@@ -183,7 +184,7 @@ fn bad_input_gets_one_line_and_its_exit_code() {
 }
 
 #[test]
-fn the_json_contract_and_the_onward_simulate_line() {
+fn the_json_contract_the_onward_simulate_line_and_the_figure() {
     let dir = std::env::temp_dir().join(format!("discover-json-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("passive.csv");
@@ -223,6 +224,18 @@ fn the_json_contract_and_the_onward_simulate_line() {
     for name in ["c_y", "c'_y", "a_y", "g_y"] {
         let set = words.iter().any(|w| w.starts_with(&format!("{name}=")));
         assert!(set, "{name} not in {line}");
+    }
+    // The figure: the discovered equation simulated and read back beside the recording.
+    let figures = dir.join("figures");
+    let figures = figures.to_str().unwrap();
+    common::cli(&[&args[..], &["--figures", figures, "--bootstrap", "0"]].concat()).unwrap();
+    let svg = std::fs::read_to_string(dir.join("figures/discover_spectra.svg")).unwrap();
+    for title in [
+        "mode 2",
+        "modal variances",
+        "discovered equation, simulated",
+    ] {
+        assert!(svg.contains(title), "the figure shows {title}");
     }
     // CSV: one row per candidate; text names the selected equation.
     let csv = common::cli(&[&args[..], &["--format", "csv", "--bootstrap", "0"]].concat()).unwrap();

@@ -36,6 +36,12 @@ pub struct Args {
     /// Seed of the bootstrap draws (same seed, same intervals).
     #[arg(long, value_name = "S", default_value_t = 1)]
     seed: u64,
+    /// Also simulate the discovered equation and write the figure comparing its modal spectra
+    /// and variances with the recording's into this directory.
+    #[arg(long, value_name = "DIR")]
+    figures: Option<PathBuf>,
+    #[command(flatten)]
+    page: super::options::FitPageArgs,
     #[command(flatten)]
     model: ModelArgs,
     /// Output format (csv: one row per library term).
@@ -58,6 +64,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
             args.bootstrap
         )));
     }
+    let page = args.page.page()?;
     let model = args.model.load()?;
     let mut fit = FitSettings::new(match args.kind {
         Kind::Midline => InputKind::Midline,
@@ -72,6 +79,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
         active: args.active,
         bootstrap: args.bootstrap,
         seed: args.seed,
+        replay: args.figures.is_some(),
     };
     let sources = crate::fit::recordings(&args.input)?
         .into_iter()
@@ -88,6 +96,9 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
         .collect();
     let mut report = discover(sources, &model, &settings).map_err(CliError::Discover)?;
     report.model_argument = args.model.model.as_ref().map(|p| p.display().to_string());
+    if let Some(dir) = &args.figures {
+        crate::figures::write_discover(dir, &report, &page).map_err(super::figures::usage)?;
+    }
     emit(out, &report, args.format)
 }
 

@@ -22,12 +22,14 @@
 
 mod data;
 mod regress;
+mod replay;
 mod report;
 mod weak;
 
 use std::io::BufRead;
 use std::path::PathBuf;
 
+pub use replay::{Replay, STEPS_PER_FRAME};
 pub use report::{Comparison, DiscoverReport, DiscoveredTerm};
 
 use crate::dynamics::nonlinear::NonlinearError;
@@ -50,6 +52,8 @@ pub struct DiscoverSettings {
     pub bootstrap: usize,
     /// Seed of the draws.
     pub seed: u64,
+    /// Simulate the discovered equation and read it back (`replay`), for the figure.
+    pub replay: bool,
 }
 
 /// One recording to read.
@@ -69,6 +73,9 @@ pub enum DiscoverError {
     /// The library could not be built.
     #[error(transparent)]
     Library(#[from] NonlinearError),
+    /// The discovered body cannot be simulated.
+    #[error("the discovered equation cannot be replayed: {0}")]
+    Replay(#[from] crate::body::BodyError),
     /// The equations could not be derived.
     #[error(transparent)]
     Equations(#[from] crate::equations::EquationError),
@@ -127,6 +134,7 @@ impl DiscoverError {
         match self {
             DiscoverError::Fit(e) => e.failure(),
             DiscoverError::Library(e) => e.failure(),
+            DiscoverError::Replay(e) => e.failure(),
             DiscoverError::Equations(_)
             | DiscoverError::NoActive { .. }
             | DiscoverError::PartialRing
@@ -216,7 +224,7 @@ pub fn discover(
     let field = first.fit.field.clone();
     let points = first.fit.model_points;
     // The nested theories: leading order passive; the model's layers; with active forces.
-    let mut nested = vec![("leading order, passive".to_string(), leading, false)];
+    let mut nested = vec![("leading order, passive".to_string(), leading.clone(), false)];
     let layers = model
         .lagrangian
         .beyond_leading
@@ -258,7 +266,21 @@ pub fn discover(
         t.rows.instruments.clone_from(&full.rows.instruments);
         t.rows.weight.clone_from(&full.rows.weight);
     }
-    report::assemble(&recordings, model, settings, &theories, &field)
+    let mut report = report::assemble(&recordings, model, settings, &theories, &field)?;
+    if settings.replay {
+        let modes: Vec<usize> = report.modes.iter().map(|m| m.0).collect();
+        let rec = &recordings[0];
+        let fit = &settings.fit;
+        report.replay = Some(replay::replay(
+            rec,
+            model,
+            &leading,
+            fit,
+            &report.library,
+            &modes,
+        )?);
+    }
+    Ok(report)
 }
 
 /// Each coefficient's term as `equations` prints it (`−c_y ∂s⁴ y`), and the equation of a set

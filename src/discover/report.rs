@@ -93,6 +93,9 @@ pub struct DiscoverReport {
     pub dt: f64,
     /// The model as the onward `simulate` line names it (set by the caller).
     pub model_argument: Option<String>,
+    /// The discovered equation simulated and read back (when asked).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub replay: Option<super::Replay>,
 }
 
 const ESTIMATOR: &str = "weak form in time on the grid's modes, bumps (1 − τ²)⁸, two-stage least squares with the two previous windows as instruments";
@@ -210,6 +213,7 @@ pub(super) fn assemble(
         bootstrap: settings.bootstrap,
         dt: first.dt,
         model_argument: None,
+        replay: None,
     })
 }
 

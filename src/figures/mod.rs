@@ -10,6 +10,7 @@
 use std::path::{Path, PathBuf};
 
 mod behaviour;
+mod discover;
 mod fit;
 mod key;
 mod modes;
@@ -212,6 +213,22 @@ fn write_figure(dir: &Path, name: &str, svg: &str, page: &Page) -> Result<PathBu
         source,
     })?;
     Ok(path)
+}
+
+/// Write `discover`'s figure (`discover_spectra`) into `dir`: the report must hold its replay.
+pub fn write_discover(
+    dir: &Path,
+    r: &crate::discover::DiscoverReport,
+    page: &Page,
+) -> Result<PathBuf, FigureError> {
+    page.check()?;
+    let replay = r
+        .replay
+        .as_ref()
+        .ok_or_else(|| err("the report holds no replay to draw"))?;
+    let svg = discover::discover_spectra(r, replay, page.canvas_width())?;
+    create_dir(dir)?;
+    write_figure(dir, "discover_spectra.svg", &svg, page)
 }
 
 /// Write [`fit_figures`] into `dir`, laid out and encoded as `page` says.

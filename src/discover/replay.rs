@@ -1,0 +1,170 @@
+//! The loop closed: the discovered equation simulated (the onward `simulate` line, in the
+//! library) and read back as the recording was, so its modal spectra and variances sit beside
+//! the observed ones.
+//!
+//! The run has the recording's frames, sampling interval and grid, five steps per frame, and
+//! Langevin noise at the temperature that gives the lowest used mode the observed variance:
+//! one run at kT = 1, then one at kT = σ²_observed/σ²_simulated (exact for a linear body, the
+//! first step of a fixed point for a nonlinear one). Each frame's field becomes the tracker's
+//! midlines (or segment lengths) with no tracking noise, and `fit` projects it as it did the
+//! recording.
+
+use serde::Serialize;
+
+use super::data::Recording;
+use super::{DiscoverError, DiscoveredTerm};
+use crate::body::{Body, Start};
+use crate::dynamics::{Config, Halt, Sample, MAX_WORK};
+use crate::fit::{fit_tracks, FitReport, FitSettings, Frame, InputKind, Track};
+use crate::modal::Params;
+use crate::model::Model;
+
+/// Steps of the simulation per frame of the recording.
+pub const STEPS_PER_FRAME: u64 = 5;
+
+/// Observed and simulated spectra and variances of the modes the regression used.
+#[derive(Debug, Clone, Serialize)]
+pub struct Replay {
+    /// Mode indices.
+    pub modes: Vec<usize>,
+    /// Welch frequencies (cycles per time unit), observed.
+    pub frequencies: Vec<f64>,
+    /// Observed PSD per mode.
+    pub observed: Vec<Vec<f64>>,
+    /// Welch frequencies of the simulation.
+    pub simulated_frequencies: Vec<f64>,
+    /// Simulated PSD per mode.
+    pub simulated: Vec<Vec<f64>>,
+    /// Observed variance per mode.
+    pub observed_variance: Vec<f64>,
+    /// Simulated variance per mode.
+    pub simulated_variance: Vec<f64>,
+    /// The temperature kT of the replay.
+    pub temperature: f64,
+    /// Frames simulated.
+    pub frames: usize,
+}
+
+/// The per-mode numbers of a fit for `modes`.
+fn picked(fit: &FitReport, modes: &[usize]) -> (Vec<Vec<f64>>, Vec<f64>) {
+    let at = |m: usize| fit.modes.iter().position(|x| x.index == m);
+    let psd = modes
+        .iter()
+        .map(|&m| {
+            at(m)
+                .and_then(|k| fit.psd.get(k).cloned())
+                .unwrap_or_default()
+        })
+        .collect();
+    let var = modes
+        .iter()
+        .map(|&m| at(m).map_or(f64::NAN, |k| fit.modes[k].variance))
+        .collect();
+    (psd, var)
+}
+
+/// Simulate `library`'s discovered coefficients and fit the run as `rec` was fitted.
+pub(super) fn replay(
+    rec: &Recording,
+    model: &Model,
+    leading: &Model,
+    settings: &FitSettings,
+    library: &[DiscoveredTerm],
+    modes: &[usize],
+) -> Result<Replay, DiscoverError> {
+    let given: Vec<(String, f64)> = library
+        .iter()
+        .map(|t| (t.name.clone(), if t.selected { t.on_points } else { 0.0 }))
+        .collect();
+    let body = Body::new(
+        model.clone(),
+        settings.order,
+        None,
+        Params::default(),
+        &given,
+    )?;
+    let points = rec.fit.model_points;
+    let observed_frames: usize = rec.runs.iter().map(Vec::len).sum();
+    // As many frames as the recording had, within the simulation's work budget.
+    let per_frame = (points * STEPS_PER_FRAME as usize).max(1) as f64;
+    let frames = observed_frames
+        .min((MAX_WORK / per_frame / 4.0) as usize)
+        .max(2);
+    let run = |temperature: f64| -> Result<FitReport, DiscoverError> {
+        let config = Config {
+            points,
+            order: settings.order,
+            dt: rec.dt / STEPS_PER_FRAME as f64,
+            steps: (frames as u64 - 1) * STEPS_PER_FRAME,
+            every: STEPS_PER_FRAME,
+            temperature,
+            seed: 1,
+            initial: Vec::new(),
+            forcing: Vec::new(),
+        };
+        let mut track = Track {
+            name: "replay".into(),
+            frames: Vec::with_capacity(frames),
+        };
+        let field = rec.fit.field.clone();
+        body.simulate(&config, &Start::default(), |ids: &[String], s: &Sample| {
+            let Some(i) = ids.iter().position(|id| *id == field) else {
+                return Err(Halt::Stop);
+            };
+            track.frames.push(Frame {
+                t: s.t,
+                values: Some(tracked(settings.kind, &s.positions[i])),
+            });
+            Ok(())
+        })?;
+        Ok(
+            fit_tracks(vec![track], leading, &Params::default(), settings)
+                .map_err(DiscoverError::Fit)?,
+        )
+    };
+    let (observed, observed_variance) = picked(&rec.fit, modes);
+    let first = run(1.0)?;
+    let (_, trial) = picked(&first, modes);
+    let ratio = observed_variance
+        .first()
+        .zip(trial.first())
+        .map(|(o, s)| o / s);
+    let temperature = ratio.filter(|r| r.is_finite() && *r > 0.0).unwrap_or(1.0);
+    let second = run(temperature)?;
+    let (simulated, simulated_variance) = picked(&second, modes);
+    Ok(Replay {
+        modes: modes.to_vec(),
+        frequencies: rec.fit.frequencies.clone(),
+        observed,
+        simulated_frequencies: second.frequencies.clone(),
+        simulated,
+        observed_variance,
+        simulated_variance,
+        temperature,
+        frames,
+    })
+}
+
+/// One frame of the field on the grid (spacing units) as a tracker writes it, head first:
+/// a midline (s, y) in body lengths with the rigid part removed, or the segment lengths.
+fn tracked(kind: InputKind, u: &[f64]) -> Vec<f64> {
+    let n = u.len();
+    let h = 1.0 / (n as f64 - 1.0);
+    match kind {
+        InputKind::Midline => {
+            let s: Vec<f64> = (0..n).map(|i| i as f64 * h).collect();
+            let ms = 0.5;
+            let my = u.iter().sum::<f64>() / n as f64 * h;
+            let vs: f64 = s.iter().map(|x| (x - ms).powi(2)).sum();
+            let b = s.iter().zip(u).map(|(x, y)| (x - ms) * y * h).sum::<f64>() / vs;
+            (0..n)
+                .rev()
+                .flat_map(|i| [s[i], u[i] * h - my - b * (s[i] - ms)])
+                .collect()
+        }
+        InputKind::Lengths => (0..n - 1)
+            .rev()
+            .map(|i| h * (1.0 + u[i + 1] - u[i]))
+            .collect(),
+    }
+}

@@ -1,0 +1,85 @@
+//! The figure of `discover`: the discovered equation simulated and read back, against the
+//! recording: each used mode's Welch spectrum, and every used mode's variance.
+
+use super::plot::*;
+use super::FigureError;
+use crate::discover::{DiscoverReport, Replay};
+
+/// log₁₀ PSD against frequency, zero frequency and empty bins left out.
+fn spectrum(frequencies: &[f64], psd: &[f64]) -> Vec<(f64, f64)> {
+    frequencies
+        .iter()
+        .zip(psd)
+        .skip(1)
+        .filter(|(_, p)| **p > 0.0)
+        .map(|(f, p)| (*f, p.log10()))
+        .collect()
+}
+
+/// The figure, laid out at `width` pixels.
+pub(super) fn discover_spectra(
+    r: &DiscoverReport,
+    p: &Replay,
+    width: u32,
+) -> Result<String, FigureError> {
+    let titles: Vec<String> = p.modes.iter().map(|m| format!("mode {m}")).collect();
+    let mut panels: Vec<Panel> = p
+        .modes
+        .iter()
+        .enumerate()
+        .take(4)
+        .map(|(k, _)| {
+            panel(
+                &titles[k],
+                "frequency (cycles per time unit)",
+                "log₁₀ PSD (Q² per cycle per time unit)",
+                vec![
+                    series(
+                        "recording",
+                        spectrum(&p.frequencies, &p.observed[k]),
+                        Mark::Line,
+                    ),
+                    series(
+                        "discovered equation, simulated",
+                        spectrum(&p.simulated_frequencies, &p.simulated[k]),
+                        Mark::Dashed,
+                    ),
+                ],
+            )
+        })
+        .collect();
+    let variance = |v: &[f64]| -> Vec<(f64, f64)> {
+        p.modes
+            .iter()
+            .zip(v)
+            .filter(|(_, x)| **x > 0.0)
+            .map(|(m, x)| (*m as f64, x.log10()))
+            .collect()
+    };
+    panels.push(panel(
+        "modal variances",
+        "mode index i",
+        "log₁₀ σᵢ²",
+        vec![
+            series("recording", variance(&p.observed_variance), Mark::Dots),
+            series(
+                "discovered equation, simulated",
+                variance(&p.simulated_variance),
+                Mark::Line,
+            ),
+        ],
+    ));
+    render(
+        width,
+        &format!(
+            "{} against the recording ({} frames simulated, kT = {:.4} matching mode {}'s variance)",
+            r.equation,
+            p.frames,
+            p.temperature,
+            p.modes.first().copied().unwrap_or(0)
+        ),
+        330,
+        (2, 3),
+        &panels,
+    )
+}
