@@ -94,7 +94,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
             }
         })
         .collect();
-    let mut report = discover(sources, &model, &settings).map_err(CliError::Discover)?;
+    let mut report = discover(sources, &model, &settings).map_err(CliError::from)?;
     report.model_argument = args.model.model.as_ref().map(|p| p.display().to_string());
     if let Some(dir) = &args.figures {
         crate::figures::write_discover(dir, &report, &page).map_err(super::figures::usage)?;
@@ -104,6 +104,6 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
 
 impl From<DiscoverError> for CliError {
     fn from(e: DiscoverError) -> Self {
-        CliError::Discover(e)
+        CliError::Discover(Box::new(e))
     }
 }

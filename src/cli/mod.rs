@@ -136,7 +136,7 @@ pub enum CliError {
     Fit(#[from] crate::fit::FitError),
     /// Discovery (exit by the kind of failure).
     #[error(transparent)]
-    Discover(crate::discover::DiscoverError),
+    Discover(Box<crate::discover::DiscoverError>),
 }
 
 impl CliError {

@@ -75,7 +75,7 @@ pub enum DiscoverError {
     Library(#[from] NonlinearError),
     /// The discovered body cannot be simulated.
     #[error("the discovered equation cannot be replayed: {0}")]
-    Replay(#[from] crate::body::BodyError),
+    Replay(Box<crate::body::BodyError>),
     /// The equations could not be derived.
     #[error(transparent)]
     Equations(#[from] crate::equations::EquationError),
@@ -145,6 +145,12 @@ impl DiscoverError {
             | DiscoverError::TooFewRows { .. }
             | DiscoverError::Degenerate { .. } => Failure::Input,
         }
+    }
+}
+
+impl From<crate::body::BodyError> for DiscoverError {
+    fn from(e: crate::body::BodyError) -> Self {
+        DiscoverError::Replay(Box::new(e))
     }
 }
 

@@ -117,10 +117,7 @@ pub(super) fn replay(
             });
             Ok(())
         })?;
-        Ok(
-            fit_tracks(vec![track], leading, &Params::default(), settings)
-                .map_err(DiscoverError::Fit)?,
-        )
+        fit_tracks(vec![track], leading, &Params::default(), settings).map_err(DiscoverError::Fit)
     };
     let (observed, observed_variance) = picked(&rec.fit, modes);
     let first = run(1.0)?;
