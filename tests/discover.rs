@@ -30,7 +30,9 @@ fn run(text: String, model: &str, points: usize, active: bool) -> DiscoverReport
 }
 
 /// The crawler's lateral field on 25 points, `frames` frames 0.05 apart: c_y = 660, c'_y and
-/// a_y in grid units (ω₂ ≈ 0.92, ζ₂ ≈ 0.03 at c'_y = 20).
+/// a_y in grid units (ω₂ ≈ 0.92, ζ₂ ≈ 0.03 at c'_y = 20). The step is 0.005: at 0.01 (the
+/// fastest mode's ωh ≈ 1) the implicit step's error leaves a_y's effect on the slow modes about
+/// 4 % weaker than the continuous equation's, which `discover` then reports.
 fn crawler(a: f64, damping: f64, noise: f64, seed: u64, frames: usize) -> String {
     let params = [
         "c_y=660".to_string(),
@@ -43,8 +45,8 @@ fn crawler(a: f64, damping: f64, noise: f64, seed: u64, frames: usize) -> String
         field: "y",
         points: 25,
         params: &params,
-        dt: 0.01,
-        every: 5,
+        dt: 0.005,
+        every: 10,
         frames,
         temperature: 1.0,
         noise,
@@ -94,8 +96,8 @@ fn text(report: &DiscoverReport) -> String {
 #[test]
 fn a_passive_beam_is_found_with_no_extra_term() {
     for (noise, tolerance, seed) in [(0.01, 0.05, 1), (0.05, 0.10, 2)] {
-        let report = run(crawler(0.0, 20.0, noise, seed, 150_001), CRAWLER, 25, true);
-        check(&report, &[("c_y", 660.0), ("c'_y", 20.0)], tolerance);
+        let report = run(crawler(0.0, 40.0, noise, seed, 300_001), CRAWLER, 25, true);
+        check(&report, &[("c_y", 660.0), ("c'_y", 40.0)], tolerance);
         assert_eq!(report.selected.len(), 2, "no extra term\n{}", text(&report));
         assert_eq!(report.library.len(), 4, "a_y and g_y were candidates");
     }
@@ -104,41 +106,18 @@ fn a_passive_beam_is_found_with_no_extra_term() {
 #[test]
 fn an_active_bending_force_is_found() {
     let truth = [("c_y", 660.0), ("c'_y", 20.0), ("a_y", 60.0)];
-    // 5 % tracking noise: one recording, every coefficient within 10 % and covered.
-    let report = run(crawler(60.0, 20.0, 0.05, 4, 150_001), CRAWLER, 25, true);
-    check(&report, &truth, 0.10);
-    let active = report
-        .comparison
-        .iter()
-        .find(|c| c.model == "+ active forces");
-    let passive = report.comparison.first().expect("the leading theory");
-    assert!(
-        active.and_then(|a| a.criterion) < passive.criterion,
-        "the active theory scores better\n{}",
-        text(&report)
-    );
-    // 1 % tracking noise, two longer recordings: a_y comes out 2–4 % low on average (five
-    // realisations of 150 000 frames: −3.7 ± 0.6 %), so each is held to 10 % and the mean to
-    // 5 %; c_y and c'_y each to 5 %. Their intervals are not asserted here: at 300 000 frames
-    // they are narrower (±0.6 % for c_y) than the estimator's small biases.
-    let mut sum = 0.0;
-    for seed in [3, 21] {
-        let report = run(crawler(60.0, 20.0, 0.01, seed, 300_001), CRAWLER, 25, true);
-        for (name, value) in &truth[..2] {
-            let t = report.selected.iter().find(|t| t.name == *name);
-            let got = t.expect("selected").on_points;
-            assert!(
-                (got / value - 1.0).abs() < 0.05,
-                "{name} = {got}\n{}",
-                text(&report)
-            );
-        }
-        let a = report.selected.iter().find(|t| t.name == "a_y");
-        let a = a.expect("a_y selected").on_points;
-        assert!((a - 60.0).abs() < 6.0, "a_y = {a}\n{}", text(&report));
-        sum += a;
+    for (noise, tolerance, seed) in [(0.01, 0.05, 3), (0.05, 0.10, 4)] {
+        let report = run(crawler(60.0, 20.0, noise, seed, 150_001), CRAWLER, 25, true);
+        check(&report, &truth, tolerance);
+        assert_eq!(report.selected.len(), 3, "no extra term\n{}", text(&report));
+        let active = report.comparison.iter().find(|c| c.model == "+ active forces");
+        let passive = report.comparison.first().expect("the leading theory");
+        assert!(
+            active.and_then(|a| a.criterion) < passive.criterion,
+            "the active theory scores better\n{}",
+            text(&report)
+        );
     }
-    assert!((sum / 2.0 - 60.0).abs() < 3.0, "mean a_y = {}", sum / 2.0);
 }
 
 #[test]
