@@ -110,7 +110,10 @@ fn an_active_bending_force_is_found() {
         let report = run(crawler(60.0, 20.0, noise, seed, 150_001), CRAWLER, 25, true);
         check(&report, &truth, tolerance);
         assert_eq!(report.selected.len(), 3, "no extra term\n{}", text(&report));
-        let active = report.comparison.iter().find(|c| c.model == "+ active forces");
+        let active = report
+            .comparison
+            .iter()
+            .find(|c| c.model == "+ active forces");
         let passive = report.comparison.first().expect("the leading theory");
         assert!(
             active.and_then(|a| a.criterion) < passive.criterion,

@@ -399,7 +399,9 @@ def discover(
         ``equation``, ``selected`` and ``library`` (each term's ``term``, ``name``, ``kind``,
         ``coefficient`` in body lengths, ``on_points``, ``interval``, ``inclusion``,
         ``selected``), ``comparison`` (each theory's ``model``, ``terms``, ``cv_residual``,
-        ``criterion``), ``r2``, ``noise``, ``simulate`` (the onward command line).
+        ``criterion``), ``r2``, ``noise``, ``simulate`` (the onward command line),
+        ``not_estimated`` (kinetic coefficients named but not regressed); with ``figures`` (a
+        folder) also ``replay`` (observed and simulated spectra and variances).
     """
     if isinstance(recordings, (str, os.PathLike)):
         return run(["discover", os.fspath(recordings)], model, **options)

@@ -176,9 +176,26 @@ fn candidates(
             .flatten()
             .map(|(_, n)| n)
             .collect();
+    // A kinetic term beyond ½(∂tφ)² renormalises the mass: the weak form cannot tell it from a
+    // rescaling of every other coefficient, so it is named (`not_estimated`) but not regressed.
     Ok(all
         .into_iter()
-        .filter(|c| active || !entering.contains(&c.name))
+        .filter(|c| !c.kinetic && (active || !entering.contains(&c.name)))
+        .collect())
+}
+
+/// The kinetic coefficients of the library (not estimated; see [`candidates`]).
+fn kinetic(
+    model: &Model,
+    settings: &DiscoverSettings,
+    points: usize,
+    field: &str,
+) -> Result<Vec<String>, DiscoverError> {
+    let all = library(model, settings.fit.order, points, field)?;
+    Ok(all
+        .into_iter()
+        .filter(|c| c.kinetic)
+        .map(|c| c.name)
         .collect())
 }
 
@@ -273,6 +290,7 @@ pub fn discover(
         t.rows.weight.clone_from(&full.rows.weight);
     }
     let mut report = report::assemble(&recordings, model, settings, &theories, &field)?;
+    report.not_estimated = kinetic(model, settings, points, &field)?;
     if settings.replay {
         let modes: Vec<usize> = report.modes.iter().map(|m| m.0).collect();
         let rec = &recordings[0];

@@ -93,6 +93,10 @@ pub struct DiscoverReport {
     pub dt: f64,
     /// The model as the onward `simulate` line names it (set by the caller).
     pub model_argument: Option<String>,
+    /// Kinetic coefficients beyond ½(∂tφ)²: in the library, not estimated (they renormalise
+    /// the mass, which the weak form cannot tell from a rescaling of every other coefficient);
+    /// the onward line sets them to 0.
+    pub not_estimated: Vec<String>,
     /// The discovered equation simulated and read back (when asked).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub replay: Option<super::Replay>,
@@ -213,6 +217,7 @@ pub(super) fn assemble(
         bootstrap: settings.bootstrap,
         dt: first.dt,
         model_argument: None,
+        not_estimated: Vec::new(),
         replay: None,
     })
 }
@@ -348,6 +353,13 @@ impl Report for DiscoverReport {
                 t.inclusion
                     .map_or("—".into(), |x| format!("{:.0} %", 100.0 * x)),
                 if t.selected { "yes" } else { "no" }
+            );
+        }
+        if !self.not_estimated.is_empty() {
+            out += &format!(
+                "Not estimated: {} (kinetic terms beyond ½(∂t{})² renormalise the mass; the weak form cannot tell them from a rescaling of every other coefficient).\n",
+                self.not_estimated.join(", "),
+                self.field
             );
         }
         out += "(coefficients in body lengths and the data's time unit; intervals from ";
