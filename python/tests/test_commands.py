@@ -29,7 +29,7 @@ def cli_json(*args):
 def test_every_command_is_a_function():
     for name in ("table", "equations", "active", "operators", "modes", "simulate", "behave", "stats",
                  "asymmetry", "mathieu", "interactions", "parts", "count", "rules", "fit",
-                 "figures"):
+                 "figures", "discover"):
         assert callable(getattr(ts, name)), name
         assert getattr(ts, name).__doc__, name
     assert ts.__version__ == "0.1.0"
