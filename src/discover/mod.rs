@@ -4,16 +4,19 @@
 //! model's order and `beyond_leading` layers (conservative from L, dissipative from R), and with
 //! `active` the `[active]` section's active and gyroscopic forces, each as the exact force the
 //! discretised body integrates ([`crate::dynamics::library`]). No generic polynomial library.
+//! Kinetic terms beyond ½(∂tφ)² are named but not estimated: they renormalise the mass, which
+//! the weak form cannot tell from a rescaling of every other coefficient.
 //!
 //! **Estimator.** The weak form in time on the grid's modes, with instruments from earlier
 //! windows (two-stage least squares; see `weak`): unbiased under thermal (Langevin) noise and
 //! white tracking noise for terms linear in the data; a nonlinear term's products of noisy
 //! derivatives keep a bias of order (noise/signal)² in its own direction (not corrected).
 //!
-//! **Selection and scores** (`regress`): backward elimination by BIC over the library; beside
-//! it the nested theories (leading order passive; with the `beyond_leading` layers; with the
-//! active forces), each scored by the held-out residual over five contiguous blocks of time
-//! and by BIC. **Uncertainty:** a moving-block bootstrap over time ([`regress::BLOCKS`] blocks,
+//! **Selection and scores** (`regress`): backward elimination over the library by the moment
+//! criterion J/σ² + |S| ln n (Sargan's statistic and a BIC penalty); beside it the nested
+//! theories (leading order passive; with the `beyond_leading` layers; with the active forces),
+//! each scored by the same criterion and by the held-out moment residual over five contiguous
+//! blocks of time, on the whole library's instruments. **Uncertainty:** a moving-block bootstrap over time ([`regress::BLOCKS`] blocks,
 //! or whole animals when there are several): each term's inclusion frequency (selection rerun
 //! per draw) and the 2.5–97.5 % percentiles of the selected terms' coefficients.
 //!
