@@ -403,13 +403,17 @@ def discover(
         ``not_estimated`` (kinetic coefficients named but not regressed); with ``figures`` (a
         folder) also ``replay`` (observed and simulated spectra and variances).
     """
+    # A model file is passed as itself, so the onward `simulate` line names it.
+    command = ["discover"]
+    if isinstance(model, (str, os.PathLike)) and os.path.isfile(model):
+        command, model = command + ["--model", os.fspath(model)], None
     if isinstance(recordings, (str, os.PathLike)):
-        return run(["discover", os.fspath(recordings)], model, **options)
+        return run(command + [os.fspath(recordings)], model, **options)
     if isinstance(recordings, (list, tuple)) and all(
         isinstance(r, (str, os.PathLike)) for r in recordings
     ):
-        return run(["discover", *map(os.fspath, recordings)], model, **options)
+        return run(command + list(map(os.fspath, recordings)), model, **options)
     with tempfile.TemporaryDirectory() as d:
         path = os.path.join(d, "recording.csv")
         _recording_csv(path, recordings, t, fps)
-        return run(["discover", path], model, **options)
+        return run(command + [path], model, **options)
