@@ -164,14 +164,17 @@ struct Theory {
     rows: weak::Rows,
 }
 
-/// The observed field's candidates of `model` (with `active` forces or without).
+/// The observed field's candidates of `model` (with `active` forces or without), and its
+/// kinetic coefficients beyond ½(∂tφ)²: those renormalise the mass, which the weak form cannot
+/// tell from a rescaling of every other coefficient, so they are named (`not_estimated`) but
+/// not regressed.
 fn candidates(
     model: &Model,
     settings: &DiscoverSettings,
     points: usize,
     field: &str,
     active: bool,
-) -> Result<Vec<Candidate>, DiscoverError> {
+) -> Result<(Vec<Candidate>, Vec<String>), DiscoverError> {
     let all = library(model, settings.fit.order, points, field)?;
     let entering: Vec<String> =
         crate::dynamics::nonlinear::active_terms(model, settings.fit.order)?
@@ -179,27 +182,13 @@ fn candidates(
             .flatten()
             .map(|(_, n)| n)
             .collect();
-    // A kinetic term beyond ½(∂tφ)² renormalises the mass: the weak form cannot tell it from a
-    // rescaling of every other coefficient, so it is named (`not_estimated`) but not regressed.
-    Ok(all
+    let (kinetic, rest): (Vec<Candidate>, Vec<Candidate>) =
+        all.into_iter().partition(|c| c.kinetic);
+    let kept = rest
         .into_iter()
-        .filter(|c| !c.kinetic && (active || !entering.contains(&c.name)))
-        .collect())
-}
-
-/// The kinetic coefficients of the library (not estimated; see [`candidates`]).
-fn kinetic(
-    model: &Model,
-    settings: &DiscoverSettings,
-    points: usize,
-    field: &str,
-) -> Result<Vec<String>, DiscoverError> {
-    let all = library(model, settings.fit.order, points, field)?;
-    Ok(all
-        .into_iter()
-        .filter(|c| c.kinetic)
-        .map(|c| c.name)
-        .collect())
+        .filter(|c| active || !entering.contains(&c.name))
+        .collect();
+    Ok((kept, kinetic.into_iter().map(|c| c.name).collect()))
 }
 
 /// Discover the terms `sources` need.
@@ -266,8 +255,11 @@ pub fn discover(
         nested.push(("+ active forces".to_string(), model.clone(), true));
     }
     let mut theories = Vec::new();
+    let mut not_estimated = Vec::new();
     for (label, m, active) in nested {
-        let candidates = candidates(&m, settings, points, &field, active)?;
+        // The last theory is the whole library: its kinetic terms are the ones named.
+        let (candidates, kinetic) = candidates(&m, settings, points, &field, active)?;
+        not_estimated = kinetic;
         let rows = weak::rows(&recordings, &candidates);
         theories.push(Theory {
             label,
@@ -293,7 +285,7 @@ pub fn discover(
         t.rows.weight.clone_from(&full.rows.weight);
     }
     let mut report = report::assemble(&recordings, model, settings, &theories, &field)?;
-    report.not_estimated = kinetic(model, settings, points, &field)?;
+    report.not_estimated = not_estimated;
     if settings.replay {
         let modes: Vec<usize> = report.modes.iter().map(|m| m.0).collect();
         let rec = &recordings[0];

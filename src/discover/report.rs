@@ -249,15 +249,9 @@ fn percentiles(draws: &mut [f64], scale: f64) -> Option<[f64; 2]> {
 
 /// q = Σ e² / Σ ∫ψ² over the rows (unweighted residuals), on the grid.
 fn noise(rows: &super::weak::Rows, set: &[usize], beta: &[f64]) -> f64 {
-    let mut e2 = 0.0;
-    for r in 0..rows.len() {
-        let fitted: f64 = set
-            .iter()
-            .zip(beta)
-            .map(|(&m, b)| b * rows.regressors[m][r])
-            .sum();
-        e2 += (rows.target[r] - fitted).powi(2);
-    }
+    let e2: f64 = (0..rows.len())
+        .map(|r| rows.residual(r, set, beta).powi(2))
+        .sum();
     e2 / rows.norm.iter().sum::<f64>().max(f64::MIN_POSITIVE)
 }
 

@@ -49,6 +49,16 @@ impl Rows {
         self.target.len()
     }
 
+    /// Row `r`'s target less the fit (`set`, `beta`), unweighted.
+    pub fn residual(&self, r: usize, set: &[usize], beta: &[f64]) -> f64 {
+        let fitted: f64 = set
+            .iter()
+            .zip(beta)
+            .map(|(&m, b)| b * self.regressors[m][r])
+            .sum();
+        self.target[r] - fitted
+    }
+
     /// Weigh each mode's rows by 1/(its residual's rms) under the fit (`set`, `beta`): the
     /// second step of two-step efficient estimation, so that modes the noise dominates count
     /// for less. Instruments are untouched, so the estimate stays consistent.
@@ -56,12 +66,7 @@ impl Rows {
         let mut sum = vec![0.0; self.slots];
         let mut count = vec![0.0; self.slots];
         for r in 0..self.len() {
-            let fitted: f64 = set
-                .iter()
-                .zip(beta)
-                .map(|(&m, b)| b * self.regressors[m][r])
-                .sum();
-            let e = self.weight[r] * (self.target[r] - fitted);
+            let e = self.weight[r] * self.residual(r, set, beta);
             sum[self.slot[r]] += e * e;
             count[self.slot[r]] += 1.0;
         }

@@ -5,17 +5,6 @@ use super::plot::*;
 use super::FigureError;
 use crate::discover::{DiscoverReport, Replay};
 
-/// log₁₀ PSD against frequency, zero frequency and empty bins left out.
-fn spectrum(frequencies: &[f64], psd: &[f64]) -> Vec<(f64, f64)> {
-    frequencies
-        .iter()
-        .zip(psd)
-        .skip(1)
-        .filter(|(_, p)| **p > 0.0)
-        .map(|(f, p)| (*f, p.log10()))
-        .collect()
-}
-
 /// The figure, laid out at `width` pixels.
 pub(super) fn discover_spectra(
     r: &DiscoverReport,
@@ -36,12 +25,12 @@ pub(super) fn discover_spectra(
                 vec![
                     series(
                         "recording",
-                        spectrum(&p.frequencies, &p.observed[k]),
+                        log_spectrum(&p.frequencies, &p.observed[k]),
                         Mark::Line,
                     ),
                     series(
                         "discovered equation, simulated",
-                        spectrum(&p.simulated_frequencies, &p.simulated[k]),
+                        log_spectrum(&p.simulated_frequencies, &p.simulated[k]),
                         Mark::Dashed,
                     ),
                 ],

@@ -255,14 +255,7 @@ pub fn fit_figures(
     ratios.zero = true;
     let spectra: Vec<Series> = (0..shown)
         .map(|k| {
-            let pts = r
-                .frequencies
-                .iter()
-                .zip(&r.psd[k])
-                .skip(1)
-                .filter(|(_, p)| **p > 0.0)
-                .map(|(f, p)| (*f, p.log10()))
-                .collect();
+            let pts = log_spectrum(&r.frequencies, &r.psd[k]);
             series(format!("mode {}", r.modes[k].index), pts, Mark::Line)
         })
         .collect();

@@ -32,6 +32,17 @@ pub(super) fn series(name: impl Into<String>, points: Vec<(f64, f64)>, mark: Mar
     }
 }
 
+/// log₁₀ PSD against frequency, the zero frequency and empty bins left out.
+pub(super) fn log_spectrum(frequencies: &[f64], psd: &[f64]) -> Vec<(f64, f64)> {
+    frequencies
+        .iter()
+        .zip(psd)
+        .skip(1)
+        .filter(|(_, p)| **p > 0.0)
+        .map(|(f, p)| (*f, p.log10()))
+        .collect()
+}
+
 /// Series drawn exactly over an earlier one join its legend entry ("y = z"), so no curve is
 /// hidden without a word.
 pub(super) fn merge_identical(all: Vec<Series>) -> Vec<Series> {
