@@ -39,11 +39,14 @@ pub(super) fn read(
     let mut first_mode = 0;
     let mut partial = false;
     let mut too_many = false;
+    let mut restrain = Restrain::default();
     let mut each = |p: &Projector, t: f64, q: &[f64]| -> Result<(), SinkError> {
         if shapes.is_none() {
             shapes = Some(p.shapes.clone());
             first_mode = p.first_mode;
+            restrain = Restrain::of(p);
         }
+        restrain.add(q);
         match p.posture(q) {
             Some(posture) if (frames.len() + 1) * posture.len() <= MAX_VALUES => {
                 frames.push((t, posture))
@@ -68,6 +71,7 @@ pub(super) fn read(
         return Err(DiscoverError::TooLarge { max: MAX_VALUES });
     }
     let dt = fit.sample_interval;
+    restrain.apply(&mut frames);
     let mut runs: Vec<Vec<Vec<f64>>> = Vec::new();
     let mut last = f64::NEG_INFINITY;
     for (t, posture) in frames {
@@ -88,4 +92,64 @@ pub(super) fn read(
         first_mode,
         fit,
     })
+}
+
+/// Lengths of a free chain are read as strains against the first frame's mean segment ℓ₀
+/// (`fit` streams, so it takes the first frame's). A uniform strain offset is harmless to a
+/// linear theory but not to a nonlinear one ((e + e₀)³ has a square term), so `discover`,
+/// which holds every frame, measures them against the mean over all frames ℓ̄ instead:
+/// ê = L/ℓ₀ − 1 becomes e = L/ℓ̄ − 1 = a·ê + (a − 1) with a = ℓ₀/ℓ̄ = 1/(1 + ⟨ê⟩). Postures
+/// are linear in the strains, so x = a·x̂ + (a − 1)·P(1), P(1) the posture of unit strain.
+#[derive(Debug, Default)]
+struct Restrain {
+    /// Each mode's mean observation (its design row's mean): ⟨ê⟩ of a frame is Σ qⱼ·this.
+    means: Vec<f64>,
+    /// The posture of unit strain everywhere.
+    unit: Vec<f64>,
+    /// Σ over frames of the frame's mean strain, and frames.
+    sum: f64,
+    frames: f64,
+}
+
+impl Restrain {
+    /// For a projector of lengths against a fixed rest length; inert otherwise (midlines, or
+    /// a ring's lengths, each frame divided by its own mean).
+    fn of(p: &Projector) -> Restrain {
+        if p.kind != crate::fit::InputKind::Lengths || p.reference_length.is_none() {
+            return Restrain::default();
+        }
+        let mean = |row: &Vec<f64>| row.iter().sum::<f64>() / row.len().max(1) as f64;
+        let ones: Vec<f64> = p.rows.iter().map(|r| r.iter().sum()).collect();
+        match p.posture(&ones) {
+            Some(unit) => Restrain {
+                means: p.design.iter().map(mean).collect(),
+                unit,
+                ..Restrain::default()
+            },
+            None => Restrain::default(),
+        }
+    }
+
+    fn add(&mut self, q: &[f64]) {
+        if self.unit.is_empty() {
+            return;
+        }
+        self.sum += q.iter().zip(&self.means).map(|(a, b)| a * b).sum::<f64>();
+        self.frames += 1.0;
+    }
+
+    fn apply(&self, frames: &mut [(f64, Vec<f64>)]) {
+        if self.unit.is_empty() || self.frames == 0.0 {
+            return;
+        }
+        let a = 1.0 / (1.0 + self.sum / self.frames);
+        if !a.is_finite() || a <= 0.0 {
+            return;
+        }
+        for (_, posture) in frames.iter_mut() {
+            for (x, u) in posture.iter_mut().zip(&self.unit) {
+                *x = a * *x + (a - 1.0) * u;
+            }
+        }
+    }
 }

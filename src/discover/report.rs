@@ -102,7 +102,25 @@ pub struct DiscoverReport {
     pub replay: Option<super::Replay>,
 }
 
-const ESTIMATOR: &str = "weak form in time on the grid's modes, bumps (1 − τ²)⁸, two-stage least squares with the two previous windows as instruments";
+const ESTIMATOR: &str = "weak form in time on the grid's modes, bumps (1 − τ²)⁸, two-stage least squares with the two previous windows and the state just before as instruments";
+
+/// The fewest bootstrap draws whose inclusion frequencies choose the model.
+pub const MEDIAN_DRAWS: usize = 20;
+
+/// The median-probability model (Barbieri & Berger 2004): the terms kept in more than half of
+/// the draws' selections. A term the whole recording's selection keeps by a small margin of
+/// its criterion, which most resamples drop, is noise the criterion's scale did not expect
+/// (on nearly noise-free recordings a tracking-noise bias is "significant"). `None` with fewer
+/// than [`MEDIAN_DRAWS`] draws, or when no term reaches half.
+fn median_model(included: &[usize], draws: usize) -> Option<Vec<usize>> {
+    if draws < MEDIAN_DRAWS {
+        return None;
+    }
+    let set: Vec<usize> = (0..included.len())
+        .filter(|&i| 2 * included[i] > draws)
+        .collect();
+    (!set.is_empty()).then_some(set)
+}
 
 /// Fit, select, score and bootstrap the theories (the last is the whole library).
 pub(super) fn assemble(
@@ -129,30 +147,44 @@ pub(super) fn assemble(
     let (whole, _) = gram
         .fit(&all)
         .ok_or(DiscoverError::Degenerate { terms: p })?;
-    let selected = gram.select(&all);
-    let (beta, _) = gram
-        .fit(&selected)
-        .ok_or(DiscoverError::Degenerate { terms: p })?;
-    let rss = gram.residual(&selected, &beta);
     // Every theory's criterion in units of the whole library's residual variance.
     let sigma2 = gram
         .variance(&all)
         .ok_or(DiscoverError::Degenerate { terms: p })?;
-    // The bootstrap: inclusion by rerunning the selection, intervals of the selected set.
+    // The bootstrap: inclusion by rerunning the selection; the median-probability model;
+    // intervals of its terms (the draws again, from the same seed, when it is not the
+    // whole recording's selection).
+    let first = gram.select(&all);
     let mut included = vec![0usize; p];
-    let mut draws: Vec<Vec<f64>> = vec![Vec::new(); selected.len()];
-    let mut rng = generator(settings.seed);
-    for _ in 0..settings.bootstrap {
-        let g = Gram::new(rows, &draw(rows, recordings.len(), &mut rng));
-        for i in g.select(&all) {
-            included[i] += 1;
+    let mut draws: Vec<Vec<f64>> = vec![Vec::new(); first.len()];
+    let resample = |each: &mut dyn FnMut(&Gram)| {
+        let mut rng = generator(settings.seed);
+        for _ in 0..settings.bootstrap {
+            each(&Gram::new(rows, &draw(rows, recordings.len(), &mut rng)));
         }
-        if let Some((b, _)) = g.fit(&selected) {
+    };
+    let fits = |g: &Gram, set: &[usize], draws: &mut Vec<Vec<f64>>| {
+        if let Some((b, _)) = g.fit(set) {
             for (d, x) in draws.iter_mut().zip(b) {
                 d.push(x);
             }
         }
+    };
+    resample(&mut |g| {
+        for i in g.select(&all) {
+            included[i] += 1;
+        }
+        fits(g, &first, &mut draws);
+    });
+    let selected = median_model(&included, settings.bootstrap).unwrap_or(first.clone());
+    if selected != first {
+        draws = vec![Vec::new(); selected.len()];
+        resample(&mut |g| fits(g, &selected, &mut draws));
     }
+    let (beta, _) = gram
+        .fit(&selected)
+        .ok_or(DiscoverError::Degenerate { terms: p })?;
+    let rss = gram.residual(&selected, &beta);
     let points = recordings[0].fit.model_points;
     let notation = Notation::new(model, settings.fit.order, field)?;
     let library: Vec<DiscoveredTerm> = full

@@ -13,8 +13,12 @@
 //! **Instruments.** Thermal noise ξ inside a window moves u inside it, so the regressors and
 //! the noise correlate (a least-squares fit would bias the damping); tracking noise does the
 //! same to every regressor. Each row's instruments are its mode's two previous windows (their
-//! target and regressors): the state before a window does not know the noise inside it, and is
-//! correlated with the state in it. The estimate is two-stage least squares.
+//! target and regressors) and the state two frames before the window opens (the mode's
+//! coordinate and every candidate's force there, projected): the state before a window does
+//! not know the noise inside it, and is correlated with the state in it. The nearby state
+//! predicts a nonlinear force's fluctuation, which the earlier windows have forgotten (a cubic
+//! term was otherwise not told from the linear stiffness). The estimate is two-stage least
+//! squares.
 
 use super::data::Recording;
 use crate::dynamics::Candidate;
@@ -212,6 +216,10 @@ pub(super) fn rows(recordings: &[Recording], library: &[Candidate]) -> Rows {
                         let n = history.len();
                         let mut z = history[n - 1].clone();
                         z.extend(&history[n - 2]);
+                        // Frames k0 ± 1 (its velocity) end before the window's first frame.
+                        let k0 = c - h - 2;
+                        z.push(p.target[k0]);
+                        z.extend((0..library.len()).map(|m| p.force[m][k0] + p.momentum[m][k0]));
                         rows.slot.push(slots.binary_search(&mode.mode).unwrap_or(0));
                         rows.target.push(y);
                         for (m, xm) in x.iter().enumerate() {
