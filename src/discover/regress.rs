@@ -28,6 +28,8 @@ pub(super) struct Gram {
     yy: f64,
     /// Rows counted.
     pub n: f64,
+    /// Instruments per slot (ZᵀZ's diagonal blocks).
+    block: usize,
     /// The instruments' scales and M⁻¹ in those units (see [`Gram::scaled`]).
     inverse: Option<(Vec<f64>, DMatrix<f64>)>,
 }
@@ -45,6 +47,7 @@ impl Gram {
             xy: DVector::zeros(p),
             yy: 0.0,
             n: 0.0,
+            block: rows.instruments.first().map_or(0, Vec::len),
             inverse: None,
         };
         let mut x = vec![0.0; p];
@@ -97,8 +100,17 @@ impl Gram {
                 }
             })
             .collect();
-        let m = DMatrix::from_fn(q, q, |i, j| self.zz[(i, j)] * d[i] * d[j]);
-        Some((d, m.svd(true, true).pseudo_inverse(1e-12).ok()?))
+        // ZᵀZ is block diagonal (a row fills its slot's block only): inverted block by block.
+        let b = self.block.max(1);
+        let mut inverse = DMatrix::zeros(q, q);
+        for at in (0..q).step_by(b) {
+            let m = DMatrix::from_fn(b, b, |i, j| {
+                self.zz[(at + i, at + j)] * d[at + i] * d[at + j]
+            });
+            let pinv = m.svd(true, true).pseudo_inverse(1e-12).ok()?;
+            inverse.view_mut((at, at), (b, b)).copy_from(&pinv);
+        }
+        Some((d, inverse))
     }
 
     /// β of the candidates `set` and the moment objective J = gᵀM⁻¹g, g = Zᵀ(y − X_Sβ);
