@@ -8,7 +8,7 @@
 //! the weak form cannot tell from a rescaling of every other coefficient.
 //!
 //! **Estimator.** The weak form in time on the grid's modes, with instruments from earlier
-//! windows (two-stage least squares; see `weak`): unbiased under thermal (Langevin) noise and
+//! windows and the state just before each window (two-stage least squares; see `weak`): unbiased under thermal (Langevin) noise and
 //! white tracking noise for terms linear in the data; a nonlinear term's products of noisy
 //! derivatives keep a bias of order (noise/signal)² in its own direction (not corrected).
 //!
@@ -16,9 +16,14 @@
 //! criterion J/σ² + |S| ln n (Sargan's statistic and a BIC penalty); beside it the nested
 //! theories (leading order passive; with the `beyond_leading` layers; with the active forces),
 //! each scored by the same criterion and by the held-out moment residual over five contiguous
-//! blocks of time, on the whole library's instruments. **Uncertainty:** a moving-block bootstrap over time ([`regress::BLOCKS`] blocks,
-//! or whole animals when there are several): each term's inclusion frequency (selection rerun
-//! per draw) and the 2.5–97.5 % percentiles of the selected terms' coefficients.
+//! blocks of time, on the whole library's instruments. **Uncertainty:** a moving-block
+//! bootstrap over time ([`regress::BLOCKS`] blocks, or whole animals when there are several):
+//! each term's inclusion frequency (selection rerun per draw); with enough draws the reported
+//! model is the median-probability one (the terms kept in more than half of them); the
+//! 2.5–97.5 % percentiles of its coefficients.
+//!
+//! **Lengths** of a free chain are measured against the mean segment over the whole recording,
+//! not `fit`'s first frame (`data`): a uniform strain offset would turn a cubic into a square.
 //!
 //! **Units.** Coefficients in body lengths (h = 1/(N − 1)) and the data's time unit, and on the
 //! grid of N points (what `simulate --points N --param` takes).
