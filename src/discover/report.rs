@@ -89,6 +89,11 @@ pub struct DiscoverReport {
     pub noise: f64,
     /// Bootstrap draws.
     pub bootstrap: usize,
+    /// Their seed.
+    pub seed: u64,
+    /// The reported selection is the draws' median-probability model (≥ [`MEDIAN_DRAWS`] draws),
+    /// not the whole recording's backward elimination.
+    pub median_model: bool,
     /// The sampling interval.
     pub dt: f64,
     /// The model as the onward `simulate` line names it (set by the caller).
@@ -247,6 +252,8 @@ pub(super) fn assemble(
         r2: 1.0 - rss / gram.total().max(f64::MIN_POSITIVE),
         noise: noise(rows, &selected, &beta) * h * h,
         bootstrap: settings.bootstrap,
+        seed: settings.seed,
+        median_model: settings.bootstrap >= MEDIAN_DRAWS,
         dt: first.dt,
         model_argument: None,
         not_estimated: Vec::new(),
@@ -389,8 +396,16 @@ impl Report for DiscoverReport {
             );
         }
         out += "(coefficients in body lengths and the data's time unit; intervals from ";
-        out += &if self.bootstrap > 0 {
-            format!("{} moving-block draws)\n", self.bootstrap)
+        out += &if self.median_model {
+            format!(
+                "{} moving-block draws, seed {}; the selection is the terms kept in more than half of them)\n",
+                self.bootstrap, self.seed
+            )
+        } else if self.bootstrap > 0 {
+            format!(
+                "{} moving-block draws, seed {})\n",
+                self.bootstrap, self.seed
+            )
         } else {
             "no draws: --bootstrap B)\n".to_string()
         };
