@@ -152,6 +152,47 @@ fn a_cubic_term_is_found_on_a_released_body() {
     }
 }
 
+/// The same cubic body at thermal equilibrium, lightly damped (c'1_x = 0.5, so that the modes
+/// up to the fourth ring: at c'1_x = 5 only overdamped modes lie above the first few and the
+/// cubic is not told from c1_x), 300 000 frames: exactly the three terms, every interval
+/// covering the truth. The intervals are wide (c1_x about ±40 %): on thermal data the cubic and
+/// the linear stiffness share most of their signal, so the 5 %/10 % precision of the released
+/// body is not claimed here.
+#[test]
+fn a_cubic_term_is_found_on_a_thermal_body() {
+    let truth = [("c1_x", 20.0), ("c2_x", 300.0), ("c'1_x", 0.5)];
+    let params = [
+        "c1_x=20",
+        "c2_x=300",
+        "c'1_x=0.5",
+        "c3_x=0",
+        "c'2_x=0",
+        "k1_x=0",
+        "k2_x=0",
+    ];
+    for (noise, seed) in [(0.01, 7), (0.05, 8)] {
+        let spec = Spec {
+            model: WORM,
+            field: "x",
+            points: 25,
+            params: &params,
+            dt: 0.01,
+            every: 5,
+            frames: 300_001,
+            temperature: 4.0,
+            noise,
+            seed,
+        };
+        let mut model = load(WORM);
+        model.set_beyond_leading(1);
+        let mut fit = FitSettings::new(InputKind::Lengths);
+        fit.points = 25;
+        let report = run_with(lengths(&spec, &[]), model, fit, false);
+        check(&report, &truth, f64::INFINITY);
+        assert_eq!(report.selected.len(), 3, "no extra term\n{}", text(&report));
+    }
+}
+
 #[test]
 fn an_active_bending_force_is_found() {
     let truth = [("c_y", 660.0), ("c'_y", 20.0), ("a_y", 60.0)];

@@ -120,8 +120,8 @@ pub fn midlines(spec: &Spec) -> String {
     out
 }
 
-/// A body released from a bent posture (`initial`: `simulate --initial` values, no thermal
-/// noise) as the segment lengths a tracker gives (head first, body lengths): the axial field
+/// The model one order beyond leading (from the `initial` state, `simulate --initial` values,
+/// at `spec.temperature`) as the segment lengths a tracker gives (head first, body lengths): the axial field
 /// `spec.field` on `spec.points` points, positions sᵢ + h·xᵢ with tracking noise of a share of
 /// the strains' rms times h.
 pub fn lengths(spec: &Spec, initial: &[&str]) -> String {
