@@ -25,6 +25,9 @@ pub(super) struct Recording {
     pub first_mode: usize,
     /// The fit of the same recording (modes, resolution, tracking noise).
     pub fit: FitReport,
+    /// The strains' factor from `fit`'s reference length to the recording's mean one
+    /// ([`Restrain`]; 1 for midlines): the fit's modal amplitudes times this are the postures'.
+    pub scale: f64,
 }
 
 /// Read one input.
@@ -71,7 +74,7 @@ pub(super) fn read(
         return Err(DiscoverError::TooLarge { max: MAX_VALUES });
     }
     let dt = fit.sample_interval;
-    restrain.apply(&mut frames);
+    let scale = restrain.apply(&mut frames);
     let mut runs: Vec<Vec<Vec<f64>>> = Vec::new();
     let mut last = f64::NEG_INFINITY;
     for (t, posture) in frames {
@@ -91,6 +94,7 @@ pub(super) fn read(
         shapes: shapes.unwrap_or_default(),
         first_mode,
         fit,
+        scale,
     })
 }
 
@@ -138,18 +142,20 @@ impl Restrain {
         self.frames += 1.0;
     }
 
-    fn apply(&self, frames: &mut [(f64, Vec<f64>)]) {
+    /// Re-measure `frames`; returns a (1 when inert).
+    fn apply(&self, frames: &mut [(f64, Vec<f64>)]) -> f64 {
         if self.unit.is_empty() || self.frames == 0.0 {
-            return;
+            return 1.0;
         }
         let a = 1.0 / (1.0 + self.sum / self.frames);
         if !a.is_finite() || a <= 0.0 {
-            return;
+            return 1.0;
         }
         for (_, posture) in frames.iter_mut() {
             for (x, u) in posture.iter_mut().zip(&self.unit) {
                 *x = a * *x + (a - 1.0) * u;
             }
         }
+        a
     }
 }

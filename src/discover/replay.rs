@@ -4,8 +4,8 @@
 //!
 //! The run has the recording's frames, sampling interval and grid, five steps per frame, and
 //! Langevin noise at the temperature that gives the lowest used mode the observed variance:
-//! one run at kT = 1, then one at kT = σ²_observed/σ²_simulated (exact for a linear body, the
-//! first step of a fixed point for a nonlinear one). Each frame's field becomes the tracker's
+//! one run at kT = 1, then kT ← kT·σ²_observed/σ²_simulated (exact in one step for a linear
+//! body; a fixed point for a nonlinear one, at most [`MATCH_RUNS`] runs, to [`MATCH_TOLERANCE`]). Each frame's field becomes the tracker's
 //! midlines (or segment lengths) with no tracking noise, and `fit` projects it as it did the
 //! recording.
 
@@ -21,6 +21,12 @@ use crate::model::Model;
 
 /// Steps of the simulation per frame of the recording.
 pub const STEPS_PER_FRAME: u64 = 5;
+
+/// At most this many runs to match the lowest mode's variance.
+pub const MATCH_RUNS: usize = 4;
+
+/// The lowest mode's variance is matched when within this share.
+pub const MATCH_TOLERANCE: f64 = 0.02;
 
 /// Observed and simulated spectra and variances of the modes the regression used.
 #[derive(Debug, Clone, Serialize)]
@@ -119,15 +125,36 @@ pub(super) fn replay(
         })?;
         fit_tracks(vec![track], leading, &Params::default(), settings).map_err(DiscoverError::Fit)
     };
-    let (observed, observed_variance) = picked(&rec.fit, modes);
-    let first = run(1.0)?;
-    let (_, trial) = picked(&first, modes);
-    let ratio = observed_variance
-        .first()
-        .zip(trial.first())
-        .map(|(o, s)| o / s);
-    let temperature = ratio.filter(|r| r.is_finite() && *r > 0.0).unwrap_or(1.0);
-    let second = run(temperature)?;
+    // The recording's fit measured strains against its first frame; the replay starts at rest,
+    // so both are put on the recording's mean segment (`Recording::scale`).
+    let (mut observed, mut observed_variance) = picked(&rec.fit, modes);
+    let square = rec.scale * rec.scale;
+    for v in observed
+        .iter_mut()
+        .flatten()
+        .chain(observed_variance.iter_mut())
+    {
+        *v *= square;
+    }
+    // kT ← kT·σ²_observed/σ²_simulated until the lowest mode's variance matches: one step for
+    // a linear body (the variance is kT times a constant), a few for a stiffening one.
+    let mut temperature = 1.0;
+    let mut second = run(temperature)?;
+    for _ in 1..MATCH_RUNS {
+        let (_, trial) = picked(&second, modes);
+        let ratio = observed_variance
+            .first()
+            .zip(trial.first())
+            .map(|(o, s)| o / s)
+            .filter(|r| r.is_finite() && *r > 0.0);
+        match ratio {
+            Some(r) if (r - 1.0).abs() > MATCH_TOLERANCE => {
+                temperature *= r;
+                second = run(temperature)?;
+            }
+            _ => break,
+        }
+    }
     let (simulated, simulated_variance) = picked(&second, modes);
     Ok(Replay {
         modes: modes.to_vec(),
