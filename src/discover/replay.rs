@@ -5,7 +5,8 @@
 //! The run has the recording's frames, sampling interval and grid, five steps per frame, and
 //! Langevin noise at the temperature that gives the lowest used mode the observed variance:
 //! one run at kT = 1, then kT ← kT·σ²_observed/σ²_simulated (exact in one step for a linear
-//! body; a fixed point for a nonlinear one, at most [`MATCH_RUNS`] runs, to [`MATCH_TOLERANCE`]). Each frame's field becomes the tracker's
+//! body; a fixed point for a nonlinear one, at most [`MATCH_RUNS`] runs, to
+//! [`MATCH_TOLERANCE`]). Each frame's field becomes the tracker's
 //! midlines (or segment lengths) with no tracking noise, and `fit` projects it as it did the
 //! recording.
 
@@ -139,9 +140,9 @@ pub(super) fn replay(
     // kT ← kT·σ²_observed/σ²_simulated until the lowest mode's variance matches: one step for
     // a linear body (the variance is kT times a constant), a few for a stiffening one.
     let mut temperature = 1.0;
-    let mut second = run(temperature)?;
+    let mut last = run(temperature)?;
     for _ in 1..MATCH_RUNS {
-        let (_, trial) = picked(&second, modes);
+        let (_, trial) = picked(&last, modes);
         let ratio = observed_variance
             .first()
             .zip(trial.first())
@@ -150,17 +151,17 @@ pub(super) fn replay(
         match ratio {
             Some(r) if (r - 1.0).abs() > MATCH_TOLERANCE => {
                 temperature *= r;
-                second = run(temperature)?;
+                last = run(temperature)?;
             }
             _ => break,
         }
     }
-    let (simulated, simulated_variance) = picked(&second, modes);
+    let (simulated, simulated_variance) = picked(&last, modes);
     Ok(Replay {
         modes: modes.to_vec(),
         frequencies: rec.fit.frequencies.clone(),
         observed,
-        simulated_frequencies: second.frequencies.clone(),
+        simulated_frequencies: last.frequencies.clone(),
         simulated,
         observed_variance,
         simulated_variance,

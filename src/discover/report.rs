@@ -91,8 +91,8 @@ pub struct DiscoverReport {
     pub bootstrap: usize,
     /// Their seed.
     pub seed: u64,
-    /// The reported selection is the draws' median-probability model (≥ [`MEDIAN_DRAWS`] draws),
-    /// not the whole recording's backward elimination.
+    /// The reported selection is the draws' median-probability model (≥ [`MEDIAN_DRAWS`] draws
+    /// and some term in more than half), not the whole recording's backward elimination.
     pub median_model: bool,
     /// The sampling interval.
     pub dt: f64,
@@ -159,9 +159,9 @@ pub(super) fn assemble(
     // The bootstrap: inclusion by rerunning the selection; the median-probability model;
     // intervals of its terms (the draws again, from the same seed, when it is not the
     // whole recording's selection).
-    let first = gram.select(&all);
+    let elimination = gram.select(&all);
     let mut included = vec![0usize; p];
-    let mut draws: Vec<Vec<f64>> = vec![Vec::new(); first.len()];
+    let mut draws: Vec<Vec<f64>> = vec![Vec::new(); elimination.len()];
     let resample = |each: &mut dyn FnMut(&Gram)| {
         let mut rng = generator(settings.seed);
         for _ in 0..settings.bootstrap {
@@ -179,10 +179,12 @@ pub(super) fn assemble(
         for i in g.select(&all) {
             included[i] += 1;
         }
-        fits(g, &first, &mut draws);
+        fits(g, &elimination, &mut draws);
     });
-    let selected = median_model(&included, settings.bootstrap).unwrap_or(first.clone());
-    if selected != first {
+    let median = median_model(&included, settings.bootstrap);
+    let median_model = median.is_some();
+    let selected = median.unwrap_or_else(|| elimination.clone());
+    if selected != elimination {
         draws = vec![Vec::new(); selected.len()];
         resample(&mut |g| fits(g, &selected, &mut draws));
     }
@@ -253,7 +255,7 @@ pub(super) fn assemble(
         noise: noise(rows, &selected, &beta) * h * h,
         bootstrap: settings.bootstrap,
         seed: settings.seed,
-        median_model: settings.bootstrap >= MEDIAN_DRAWS,
+        median_model,
         dt: first.dt,
         model_argument: None,
         not_estimated: Vec::new(),
