@@ -5,7 +5,7 @@
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use theory_search::fit::{fit_inputs, FitSettings, Input, InputKind};
+use theory_search::fit::{fit_inputs, foretold_windows, FitSettings, Input, InputKind};
 use theory_search::modal::Params;
 use theory_search::model::Model;
 
@@ -22,13 +22,7 @@ fn midlines(frames: usize, odd: impl Fn(usize, &str) -> Option<String>) -> Strin
     }
     text.push('\n');
     for i in 0..frames {
-        let t = i as f64 * 0.04;
-        let mut line = format!("{t:.2}");
-        for j in 0..POINTS {
-            let s = j as f64 / (POINTS - 1) as f64;
-            let y = 0.02 * (0.7 * t + 3.0 * s).sin() + 0.01 * (0.23 * t * (1.0 + s)).cos();
-            write!(line, ",{:.6},{y:.6}", j as f64 + 0.001 * (1.3 * t).sin()).unwrap();
-        }
+        let line = frame(i, 0.04 * i as f64);
         match odd(i, &line) {
             Some(other) => text.push_str(&other),
             None => text.push_str(&line),
@@ -38,15 +32,38 @@ fn midlines(frames: usize, odd: impl Fn(usize, &str) -> Option<String>) -> Strin
     text
 }
 
+/// Frame i's line (time 0.04 i), the body in its posture at time `phase`.
+fn frame(i: usize, phase: f64) -> String {
+    let mut line = format!("{:.2}", i as f64 * 0.04);
+    for j in 0..POINTS {
+        let s = j as f64 / (POINTS - 1) as f64;
+        let t = phase;
+        let y = 0.02 * (0.7 * t + 3.0 * s).sin() + 0.01 * (0.23 * t * (1.0 + s)).cos();
+        write!(line, ",{:.6},{y:.6}", j as f64 + 0.001 * (1.3 * t).sin()).unwrap();
+    }
+    line
+}
+
 /// The fit of `text` as a file (chunked) and as a stream of the same name (line by line): the
 /// JSON of each report, or each error's message.
 fn both(text: &[u8], settings: &FitSettings, tag: &str) -> (String, String) {
+    let (file, stream, _) = both_foretold(text, settings, tag);
+    (file, stream)
+}
+
+/// [`both`], and the windows a pilot foretold for the file.
+fn both_foretold(
+    text: &[u8],
+    settings: &FitSettings,
+    tag: &str,
+) -> (String, String, Option<Vec<usize>>) {
     let path: PathBuf = std::env::temp_dir().join(format!(
         "theory-search-chunks-{}-{tag}.csv",
         std::process::id()
     ));
     std::fs::write(&path, text).unwrap();
     let (model, params) = (Model::larva(), Params::default());
+    let foretold = foretold_windows(&path, &model, &params, settings);
     let show = |r: Result<theory_search::fit::FitReport, theory_search::fit::FitError>| match r {
         Ok(report) => serde_json::to_string(&report).unwrap(),
         Err(e) => format!("error: {e}"),
@@ -69,7 +86,7 @@ fn both(text: &[u8], settings: &FitSettings, tag: &str) -> (String, String) {
         None,
     ));
     std::fs::remove_file(&path).ok();
-    (file, stream)
+    (file, stream, foretold)
 }
 
 /// What replaces frame i's line (given the line), if anything.
@@ -129,6 +146,43 @@ fn reports_agree_to_the_bit() {
         assert!(!file.starts_with("error"), "{tag}: {file}");
         assert_eq!(file, stream, "{tag}");
     }
+}
+
+/// A file eight times the text of its first 10 240 frames: a pilot over those foretells the
+/// window, and the pass keeps every mode only there. The numbers stay the whole ladder's (the
+/// stream keeps every window): when the recording chooses the window foretold, and when its
+/// first frames move four times faster than the rest, so the pilot foretells shorter windows
+/// than the recording chooses and the file is read again; an error past the pilot's frames
+/// is worded the same.
+#[test]
+fn a_pilot_changes_no_number() {
+    let steady = midlines(90_000, |_, _| None);
+    let hasty = midlines(90_000, |i, _| {
+        (i < 12_000).then(|| frame(i, 0.16 * i as f64))
+    });
+    for (tag, text, kept) in [("steady", steady, true), ("hasty", hasty, false)] {
+        let (file, stream, foretold) = both_foretold(text.as_bytes(), &settings(None), tag);
+        assert!(!file.starts_with("error"), "{tag}: {file}");
+        assert_eq!(file, stream, "{tag}");
+        let report: serde_json::Value = serde_json::from_str(&file).unwrap();
+        let chosen = report["window"]["frames"].as_u64().unwrap() as usize;
+        let foretold = foretold.unwrap_or_else(|| panic!("{tag}: no pilot"));
+        assert_eq!(
+            foretold.contains(&chosen),
+            kept,
+            "{tag}: {foretold:?}, {chosen}"
+        );
+    }
+    let late = midlines(90_000, |i, l| (i == 80_000).then(|| with_cell(l, 5, "x1")));
+    let (file, stream, foretold) = both_foretold(late.as_bytes(), &settings(None), "late");
+    assert!(foretold.is_some() && file.starts_with("error"), "{file}");
+    assert_eq!(file, stream);
+    // A shorter file keeps the whole ladder.
+    let short = midlines(40_000, |_, _| None);
+    assert_eq!(
+        both_foretold(short.as_bytes(), &settings(None), "short").2,
+        None
+    );
 }
 
 #[test]

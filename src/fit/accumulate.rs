@@ -5,8 +5,8 @@
 use super::jitter::Jitter;
 use super::project::Scratch;
 use super::read::Source;
-use super::stats::Ladder;
 use super::stats::{Run, Stats};
+use super::welch::Ladder;
 use super::{animal::Animal, FitError, FitSettings, FrameError, InputKind, Projector, Recording};
 use crate::modal::Params;
 use crate::model::Model;
@@ -26,6 +26,8 @@ pub(super) struct Context<'a> {
     pub(super) ladder: Ladder,
     /// One input only: a file may be parsed on every core.
     pub(super) alone: bool,
+    /// Measure the tracking noise (a pilot does not: the pass reads its frames again).
+    pub(super) noise: bool,
 }
 
 /// Projectors by frame width (midlines of another K resample to the same N modes).
@@ -110,7 +112,7 @@ pub(super) fn accumulate(
             reference = Some(values.iter().sum::<f64>() / values.len() as f64);
         }
         proj.reference_length = reference;
-        if settings.kind == InputKind::Midline {
+        if settings.kind == InputKind::Midline && ctx.noise {
             if animal.jitter.is_none() {
                 animal.jitter = Jitter::new(values.len() / 2);
             }

@@ -13,7 +13,8 @@
 
 use rand::{RngExt, SeedableRng};
 
-use super::stats::{Ladder, Stats};
+use super::stats::Stats;
+use super::welch::Ladder;
 use super::{FitReport, FitSettings};
 
 /// The most replicates.

@@ -38,6 +38,14 @@ pub enum FitError {
     /// The model has no field in the role the recording measures.
     #[error(transparent)]
     Role(#[from] crate::model::RoleError),
+    /// The window chosen is one a pass pruned by a pilot kept only for the choice (the pilot
+    /// guessed another); [`super::fit_inputs`] then reads the file again with every channel
+    /// at every window, so a caller never sees it.
+    #[error("window {window} was chosen, but the pass kept only its lead modes there")]
+    Pruned {
+        /// The window chosen.
+        window: usize,
+    },
     /// An error in one of several inputs or animals.
     #[error("{name}: {why}")]
     In {
@@ -58,7 +66,10 @@ impl FitError {
             | FitError::Line { .. }
             | FitError::NoFrames { .. } => Failure::Input,
             FitError::Output(_) => Failure::Output,
-            FitError::Invalid(_) | FitError::Discretise(_) | FitError::Role(_) => Failure::Usage,
+            FitError::Invalid(_)
+            | FitError::Discretise(_)
+            | FitError::Role(_)
+            | FitError::Pruned { .. } => Failure::Usage,
             FitError::Modes(e) => e.failure(),
             FitError::In { why, .. } => why.failure(),
         }

@@ -16,7 +16,8 @@ use super::chunks::Chunked;
 use super::read::{
     is_deeplabcut, read_tracks, sniff, whole, FrameReader, Track, TrackSource, MAX_WHOLE_FILE,
 };
-use super::stats::{Ladder, Stats};
+use super::stats::Stats;
+use super::welch::Ladder;
 use super::{
     animal::{units, Animal},
     bootstrap,
@@ -75,26 +76,50 @@ pub fn fit_inputs(
     if inputs.is_empty() {
         return Err(FitError::Invalid("no recordings to fit".into()));
     }
-    let ctx = Context {
+    let mut ctx = Context {
         model,
         params,
         settings,
         ladder: Ladder::new(settings.window),
         alone: inputs.len() == 1,
+        noise: true,
     };
+    // A long file alone: its pass keeps every mode only at the windows a pilot foretells, and
+    // is made again with the whole ladder when the recording chooses another.
+    if let (None, [Input::File(path)]) = (&each, inputs.as_slice()) {
+        if let Some(ladder) = super::pilot::ladder(path, &ctx) {
+            let path = path.clone();
+            let whole = std::mem::replace(&mut ctx.ladder, ladder);
+            match pass(inputs, &ctx, None) {
+                Err(FitError::Pruned { .. }) => {}
+                done => return done,
+            }
+            ctx.ladder = whole;
+            return pass(vec![Input::File(path)], &ctx, None);
+        }
+    }
+    pass(inputs, &ctx, each)
+}
+
+/// One pass over the inputs, and the fit of what it accumulated.
+fn pass(
+    inputs: Vec<Input<'_>>,
+    ctx: &Context<'_>,
+    each: Option<Each<'_>>,
+) -> Result<FitReport, FitError> {
     let mut pool = Pool::default();
     match each {
         Some(each) => {
             let mut projs = Projectors { by_width: vec![] };
             for input in inputs {
                 let name = input.name();
-                let read = read_input(input, &ctx, &mut projs, &mut Some(&mut *each));
-                pool.take(&ctx, read.map_err(|e| with_name(e, &name))?)?;
+                let read = read_input(input, ctx, &mut projs, &mut Some(&mut *each));
+                pool.take(ctx, read.map_err(|e| with_name(e, &name))?)?;
             }
         }
-        None => parallel(inputs, &ctx, &mut pool)?,
+        None => parallel(inputs, ctx, &mut pool)?,
     }
-    pool.finish(&ctx)
+    pool.finish(ctx)
 }
 
 /// Read the inputs on all cores, handing the reads to `pool` in input order.

@@ -54,7 +54,7 @@ impl Taper {
         if let Some(t) = made.lock().ok().and_then(|m| m.get(&len).cloned()) {
             return t;
         }
-        let t = Taper::new(&super::stats::Plan::new(len).window);
+        let t = Taper::new(&super::welch::Plan::new(len).window);
         if let Ok(mut m) = made.lock() {
             m.insert(len, t.clone());
         }
@@ -551,7 +551,7 @@ mod tests {
     #[test]
     fn the_expected_spectrum_integrates_to_the_variance() {
         // Σₖ E Pₖ·df over the whole band = σ² + ν (Parseval, the taper normalised out).
-        let taper = Taper::new(&super::super::stats::Plan::new(128).window);
+        let taper = Taper::new(&super::super::welch::Plan::new(128).window);
         let p = Params {
             omega: 1.1,
             zeta: 0.15,

@@ -5,107 +5,8 @@
 //! draw) counts c·n frames, c·M and c times the sums: pooling animals, one animal alone and a
 //! resample are the same operation.
 
-use std::sync::Arc;
-
-use rustfft::num_complex::Complex;
-use rustfft::{Fft, FftPlanner};
-
-/// The windows of a Welch estimate of length `len`: Hann taper and FFT plan, shared.
-#[derive(Clone)]
-pub(super) struct Plan {
-    pub(super) window: Arc<Vec<f64>>,
-    fft: Arc<dyn Fft<f64>>,
-}
-
-impl Plan {
-    pub(super) fn new(len: usize) -> Plan {
-        let window = (0..len)
-            .map(|i| 0.5 - 0.5 * (2.0 * std::f64::consts::PI * i as f64 / len as f64).cos())
-            .collect();
-        Plan {
-            window: Arc::new(window),
-            fft: FftPlanner::new().plan_fft_forward(len),
-        }
-    }
-
-    pub(super) fn len(&self) -> usize {
-        self.window.len()
-    }
-
-    /// Add the periodograms |X̂|² of one mean-removed, tapered segment: the last W frames of
-    /// every channel of `ring`, `work` holding the buffers between calls.
-    pub(super) fn add(&self, ring: &Ring, acc: &mut [Vec<f64>], work: &mut FftWork) {
-        self.add_ending(ring, 0, acc, work);
-    }
-
-    /// [`Plan::add`] for the segment that ends `back` frames before the ring's newest.
-    fn add_ending(&self, ring: &Ring, back: usize, acc: &mut [Vec<f64>], work: &mut FftWork) {
-        let len = self.len();
-        let FftWork { data, scratch } = work;
-        data.resize(len, Complex::new(0.0, 0.0));
-        scratch.resize(self.fft.get_inplace_scratch_len(), Complex::new(0.0, 0.0));
-        let window = self.window.as_slice();
-        let mean = |c: &[f64]| lanes_sum(c) / len as f64;
-        // Two real channels a, b in one complex transform Z of a + ib:
-        // Â(k) = (Z(k) + Z̄(W−k))/2, B̂(k) = (Z(k) − Z̄(W−k))/2i.
-        for (c, acc) in (0..acc.len()).step_by(2).zip(acc.chunks_mut(2)) {
-            let a = ring.ending(c, len, back);
-            let (ma, b) = (
-                mean(a),
-                (acc.len() == 2).then(|| ring.ending(c + 1, len, back)),
-            );
-            match b {
-                Some(b) => {
-                    let mb = mean(b);
-                    for (((d, x), y), w) in data.iter_mut().zip(a).zip(b).zip(window) {
-                        *d = Complex::new((x - ma) * w, (y - mb) * w);
-                    }
-                }
-                None => {
-                    for ((d, x), w) in data.iter_mut().zip(a).zip(window) {
-                        *d = Complex::new((x - ma) * w, 0.0);
-                    }
-                }
-            }
-            self.fft.process_with_scratch(&mut data[..len], scratch);
-            let (first, second) = acc.split_at_mut(1);
-            let (first, mut second) = (&mut first[0], second.first_mut());
-            for (k, f) in first.iter_mut().enumerate() {
-                let (z, mirror) = (data[k], data[if k == 0 { 0 } else { len - k }].conj());
-                *f += (z + mirror).norm_sqr() / 4.0;
-                if let Some(second) = second.as_deref_mut() {
-                    second[k] += (z - mirror).norm_sqr() / 4.0;
-                }
-            }
-        }
-    }
-
-    /// One-sided density (per cycle per time unit) at sampling rate `fs` from the sums of
-    /// `segments` periodograms.
-    pub(super) fn density(&self, sums: &[Vec<f64>], segments: f64, fs: f64) -> Spectra {
-        let len = self.len();
-        let norm = fs * self.window.iter().map(|w| w * w).sum::<f64>() * segments;
-        let frequencies = (0..=len / 2).map(|k| k as f64 * fs / len as f64).collect();
-        let psd = sums
-            .iter()
-            .map(|acc| {
-                acc.iter()
-                    .enumerate()
-                    .map(|(k, a)| {
-                        let twice = k != 0 && !(len % 2 == 0 && k == len / 2);
-                        a / norm * if twice { 2.0 } else { 1.0 }
-                    })
-                    .collect()
-            })
-            .collect();
-        Spectra {
-            window: len,
-            segments: segments.round() as usize,
-            frequencies,
-            psd,
-        }
-    }
-}
+pub(super) use super::welch::Spectra;
+use super::welch::{FftWork, Ladder, Plan, Ring, WelchSums};
 
 /// Chan's merge of (mean, co-moment, count) b, taken `times` times, into a: returns the count.
 pub(super) fn merge_moments(
@@ -132,67 +33,6 @@ pub(super) fn merge_moments(
     n
 }
 
-/// Σ x in eight independent lanes: the compiler vectorises it (a plain fold is one serial
-/// chain of additions, which was half the time of a segment).
-fn lanes_sum(x: &[f64]) -> f64 {
-    let mut lanes = [0.0; 8];
-    let chunks = x.chunks_exact(8);
-    let tail: f64 = chunks.remainder().iter().sum();
-    for c in chunks {
-        for (l, v) in lanes.iter_mut().zip(c) {
-            *l += v;
-        }
-    }
-    lanes.iter().sum::<f64>() + tail
-}
-
-/// The buffers of [`Plan::add`], kept between segments.
-#[derive(Default)]
-pub(super) struct FftWork {
-    data: Vec<Complex<f64>>,
-    scratch: Vec<Complex<f64>>,
-}
-
-/// Welch spectra of the modal coordinates: window, segments averaged, frequencies, densities.
-pub(super) struct Spectra {
-    pub(super) window: usize,
-    pub(super) segments: usize,
-    pub(super) frequencies: Vec<f64>,
-    pub(super) psd: Vec<Vec<f64>>,
-}
-
-/// The Welch windows accumulated in one pass: the user's one, or a ladder of powers of two
-/// for the fit to choose from once the modes' frequencies are known.
-#[derive(Clone)]
-pub(super) struct Ladder {
-    pub(super) plans: Vec<Plan>,
-}
-
-/// The windows tried when none is given: 16, 32, … 4096 frames.
-pub(super) const LADDER: std::ops::RangeInclusive<u32> = 4..=12;
-
-impl Ladder {
-    /// One window `W`, or the ladder.
-    pub(super) fn new(window: Option<usize>) -> Ladder {
-        let plans = match window {
-            Some(w) => vec![Plan::new(w)],
-            None => LADDER.map(|k| Plan::new(1 << k)).collect(),
-        };
-        Ladder { plans }
-    }
-
-    fn longest(&self) -> usize {
-        self.plans.iter().map(Plan::len).max().unwrap_or(0)
-    }
-}
-
-/// Raw Welch sums at one window: Σ|X̂(f)|² per channel and frequency, and the segments.
-#[derive(Clone, Debug, Default)]
-pub(super) struct WelchSums {
-    pub(super) sums: Vec<Vec<f64>>,
-    pub(super) segments: f64,
-}
-
 /// The sufficient statistics of some frames (one run, an animal, a pool, a resample).
 #[derive(Clone, Debug, Default)]
 pub(super) struct Stats {
@@ -214,11 +54,9 @@ impl Stats {
         Stats {
             mean: vec![0.0; m],
             comoment: vec![vec![0.0; m]; m],
-            welch: ladder
-                .plans
-                .iter()
-                .map(|p| WelchSums {
-                    sums: vec![vec![0.0; p.len() / 2 + 1]; m],
+            welch: (ladder.plans.iter().enumerate())
+                .map(|(i, p)| WelchSums {
+                    sums: vec![vec![0.0; p.len() / 2 + 1]; ladder.channels(i, m)],
                     segments: 0.0,
                 })
                 .collect(),
@@ -277,7 +115,10 @@ impl Stats {
             .iter()
             .zip(&self.welch)
             .filter(|(_, w)| w.segments > 0.0)
-            .map(|(p, w)| p.density(&w.sums, w.segments, fs))
+            .map(|(p, w)| Spectra {
+                partial: w.sums.len() < self.mean.len(),
+                ..p.density(&w.sums, w.segments, fs)
+            })
             .collect();
         if !whole.is_empty() || self.short.len() < 8 {
             return whole;
@@ -286,90 +127,6 @@ impl Stats {
         let mut sums = vec![vec![0.0; own.len() / 2 + 1]; self.mean.len()];
         own.add(&Ring::of(&self.short), &mut sums, &mut FftWork::default());
         vec![own.density(&sums, 1.0, fs)]
-    }
-}
-
-/// The last frames of a run, channel by channel: every value is written twice (at i and
-/// i + cap), so the last W ≤ cap frames of a channel are one contiguous slice and a Welch
-/// segment reads them without a copy. The capacity doubles as the run grows, up to the
-/// ladder's longest window (a run of a few frames holds a few).
-pub(super) struct Ring {
-    channels: usize,
-    longest: usize,
-    cap: usize,
-    data: Vec<f64>,
-    /// Where the next frame goes, and how many frames are held.
-    pos: usize,
-    held: usize,
-}
-
-impl Ring {
-    pub(super) fn new(channels: usize, longest: usize) -> Ring {
-        Ring {
-            channels,
-            longest: longest.max(1),
-            cap: 0,
-            data: Vec::new(),
-            pos: 0,
-            held: 0,
-        }
-    }
-
-    /// How many frames are held.
-    pub(super) fn len(&self) -> usize {
-        self.held
-    }
-
-    pub(super) fn push(&mut self, q: &[f64]) {
-        if self.held == self.cap && self.cap < self.longest {
-            let frames = self.frames();
-            self.cap = (2 * self.cap).max(16).min(self.longest);
-            self.data = vec![0.0; 2 * self.cap * self.channels];
-            (self.pos, self.held) = (0, 0);
-            for f in &frames {
-                self.push(f);
-            }
-        }
-        let cap = self.cap;
-        for (c, x) in q.iter().enumerate().take(self.channels) {
-            let base = 2 * cap * c + self.pos;
-            self.data[base] = *x;
-            self.data[base + cap] = *x;
-        }
-        self.pos = (self.pos + 1) % cap;
-        self.held = (self.held + 1).min(cap);
-    }
-
-    /// The last `w` frames of channel `c` (w ≤ the frames held).
-    pub(super) fn last(&self, c: usize, w: usize) -> &[f64] {
-        self.ending(c, w, 0)
-    }
-
-    /// The `w` frames of channel `c` that end `back` frames before the newest
-    /// (w + back ≤ the frames held).
-    pub(super) fn ending(&self, c: usize, w: usize, back: usize) -> &[f64] {
-        let end = 2 * self.cap * c + self.pos + self.cap - back;
-        &self.data[end - w..end]
-    }
-
-    /// The frames held, oldest first, each a vector of channels.
-    pub(super) fn frames(&self) -> Vec<Vec<f64>> {
-        (0..self.held)
-            .map(|i| {
-                (0..self.channels)
-                    .map(|c| self.last(c, self.held)[i])
-                    .collect()
-            })
-            .collect()
-    }
-
-    fn of(frames: &[Vec<f64>]) -> Ring {
-        let channels = frames.first().map_or(0, Vec::len);
-        let mut ring = Ring::new(channels, frames.len());
-        for f in frames {
-            ring.push(f);
-        }
-        ring
     }
 }
 
@@ -518,11 +275,11 @@ impl Run {
         }
         let pending = std::mem::take(&mut self.pending);
         let (frames, ring, plans) = (self.frames, &self.ring, &self.ladder.plans);
-        let channels = self.stats.mean.len().max(1) as f64;
+        let m = self.stats.mean.len();
         let mut work_of = vec![0.0; plans.len()];
         for &(i, _) in &pending {
-            let w = plans[i].len() as f64;
-            work_of[i] += w * w.log2().max(1.0) * channels;
+            let (w, channels) = (plans[i].len() as f64, self.ladder.channels(i, m).max(1));
+            work_of[i] += w * w.log2().max(1.0) * channels as f64;
         }
         // Greedy halves, costliest window first.
         let mut order: Vec<usize> = (0..plans.len()).collect();

@@ -201,6 +201,11 @@ pub(super) fn summarise(
         |s| lowest_frequency(proj, &cov, s, fs),
         fs,
     );
+    if spec.partial {
+        return Err(FitError::Pruned {
+            window: spec.window,
+        });
+    }
     let count = match scope {
         Scope::Full => cov.len(),
         Scope::Constants(_) => settings.fit_modes.min(cov.len()),
@@ -217,6 +222,7 @@ pub(super) fn summarise(
         segments,
         frequencies,
         psd,
+        ..
     } = spec;
     let lambdas = &proj.eigenvalues;
     let m = lambdas.len();

@@ -34,7 +34,7 @@ pub(super) fn choose_window(
         return (s, choice);
     }
     let f = lowest(&spectra[reference]);
-    let wanted = f.map(|f| AUTO_BINS * fs / f);
+    let wanted = f.map(|f| wanted_frames(f, fs));
     let pick = wanted.and_then(|w| {
         enough
             .iter()
@@ -63,6 +63,37 @@ pub(super) fn choose_window(
         why,
     };
     (s, choice)
+}
+
+/// The frames a window needs for a mode of frequency `f` to lie [`AUTO_BINS`] bins above zero.
+fn wanted_frames(f: f64, fs: f64) -> f64 {
+    AUTO_BINS * fs / f
+}
+
+/// The windows a pass over a whole recording should keep for every mode, from a pilot's
+/// spectra (its first frames, every window of the ladder): the one [`choose_window`] takes
+/// there, and its neighbour when the lowest mode's frequency lies within a fifth of switching
+/// to it. `None` when the choice would not come from that frequency (a window given, too few
+/// segments, no frequency measured): the pass then keeps every window.
+pub(super) fn likely_windows(
+    spectra: &[Spectra],
+    lowest: impl Fn(&Spectra) -> Option<f64>,
+    fs: f64,
+) -> Option<Vec<usize>> {
+    let reference = spectra.iter().rposition(|s| s.segments >= 4)?;
+    let wanted = wanted_frames(lowest(&spectra[reference])?, fs);
+    let pick = spectra[..=reference]
+        .iter()
+        .map(|s| s.window)
+        .find(|&w| w as f64 >= wanted)?;
+    let mut full = vec![pick];
+    if wanted > 0.8 * pick as f64 {
+        full.push(2 * pick);
+    }
+    if wanted < 0.6 * pick as f64 {
+        full.push(pick / 2);
+    }
+    Some(full)
 }
 
 /// The lowest mode's frequency (cycles per time unit) at the window of `s`: its own spectral
@@ -119,8 +150,8 @@ pub(super) fn fit_modes_spectra(
 ) -> Vec<ModeSpectralFit> {
     let taper = Taper::hann(spec.window);
     let df = fs / spec.window as f64;
-    let peaks: Vec<(f64, f64)> = (0..cov.len())
-        .map(|j| spectral_peak_and_centroid(&spec.frequencies, &spec.psd[j]))
+    let peaks: Vec<(f64, f64)> = (spec.psd.iter())
+        .map(|p| spectral_peak_and_centroid(&spec.frequencies, p))
         .collect();
     let one = |j: usize| {
         let (peak, centroid) = peaks[j];
@@ -189,7 +220,7 @@ pub(super) fn fit_modes_spectra(
     };
     // The pooled fit (every mode, three starts) spreads its modes over the cores; an animal's
     // own fit runs where it is called (on a worker already).
-    let modes = cov.len();
+    let modes = spec.psd.len().min(cov.len());
     let threads = std::thread::available_parallelism()
         .map_or(1, |n| n.get())
         .min(modes);

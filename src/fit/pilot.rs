@@ -1,0 +1,104 @@
+//! A long file's window foretold by its first frames. Without `--window` a pass keeps the
+//! Welch sums at every window of the ladder, for every mode, so that the fit can choose once
+//! the lowest mode's frequency is known; only the chosen window is fitted. A pilot reads the
+//! first [`PILOT_FRAMES`] frames of a file at least [`WORTH`] times as long, makes the same
+//! choice on them ([`likely_windows`]), and the pass keeps every mode only there (and at a
+//! neighbour the choice could still move to), the other windows only the lead modes that
+//! choose. Every number is the same as without the pilot: when the whole recording chooses a
+//! window the pass pruned ([`super::FitError::Pruned`]), the file is read again with the full ladder.
+
+use std::io::{BufRead, BufReader, Read};
+use std::path::Path;
+
+use super::accumulate::{accumulate, Context, Projectors};
+use super::chunks::Chunked;
+use super::read::FrameReader;
+use super::welch::{Ladder, LADDER};
+use super::window::{likely_windows, lowest_frequency};
+use super::{FitSettings, InputFormat, Projector, MAX_LINE_BYTES};
+use crate::modal::Params;
+use crate::model::Model;
+
+/// Frames the pilot reads: 4 segments of the ladder's longest window (at half overlap), which
+/// is the one the choice measures the lowest mode's frequency at.
+pub(super) const PILOT_FRAMES: usize = 5 << (*LADDER.end() - 1);
+
+/// The most text the pilot reads (frames of thousands of points, lines up to
+/// [`MAX_LINE_BYTES`]): past it, no pilot.
+const MAX_PILOT_BYTES: usize = 64 << 20;
+
+/// How many times the pilot's text a file must hold for the pilot to pay: below, the pass keeps
+/// the whole ladder.
+const WORTH: u64 = 8;
+
+/// The ladder a pass over the file at `path` keeps, pruned when a pilot over its first frames
+/// foretells the window; `None` keeps the whole ladder.
+pub(super) fn ladder(path: &Path, ctx: &Context<'_>) -> Option<Ladder> {
+    windows(path, ctx).map(|full| ctx.ladder.pruned(&full))
+}
+
+/// The windows at which `fit` of the file at `path` alone keeps every mode's Welch sums, as
+/// a pilot over its first frames foretells them; `None` when it keeps every window (a short
+/// file, a window given, a track column, a layout the pilot cannot read: the pass then says
+/// what is wrong). Whatever the forecast, the fit's numbers are the whole ladder's.
+pub fn foretold_windows(
+    path: &Path,
+    model: &Model,
+    params: &Params,
+    settings: &FitSettings,
+) -> Option<Vec<usize>> {
+    let ctx = Context {
+        model,
+        params,
+        settings,
+        ladder: Ladder::new(settings.window),
+        alone: true,
+        noise: true,
+    };
+    windows(path, &ctx)
+}
+
+/// The pilot's forecast (see [`foretold_windows`]), `ctx` holding the whole ladder.
+fn windows(path: &Path, ctx: &Context<'_>) -> Option<Vec<usize>> {
+    let settings = ctx.settings;
+    if settings.window.is_some() || settings.track_column || settings.format == InputFormat::Wcon {
+        return None;
+    }
+    let file = std::fs::File::open(path).ok()?;
+    let size = file.metadata().ok()?.len();
+    let mut reader = BufReader::new(file);
+    let mut head = Vec::new();
+    for _ in 0..PILOT_FRAMES + 8 {
+        let before = head.len();
+        let read = (&mut reader)
+            .take(MAX_LINE_BYTES as u64 + 1)
+            .read_until(b'\n', &mut head)
+            .ok()?;
+        if read == 0 || head.len() - before > MAX_LINE_BYTES || head.len() > MAX_PILOT_BYTES {
+            return None;
+        }
+    }
+    let wcon = head.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{');
+    if size < WORTH * head.len() as u64 || wcon {
+        return None;
+    }
+    let source = FrameReader::new(head.as_slice(), settings);
+    let mut projs = Projectors { by_width: vec![] };
+    // The choice reads the lead modes only.
+    let ctx = Context {
+        ladder: ctx.ladder.pruned(&[]),
+        noise: false,
+        ..*ctx
+    };
+    let animal = std::thread::scope(|scope| {
+        let make = Box::new(|width| Projector::new(ctx.model, ctx.params, settings, width).ok());
+        let mut source = Chunked::new(source, scope, settings, make);
+        accumulate(&mut source, String::new(), &ctx, &mut projs, &mut None)
+    })
+    .ok()?;
+    let proj = projs.first()?;
+    let fs = 1.0 / animal.interval?;
+    let cov = animal.stats.covariance();
+    let spectra = animal.stats.spectra(&ctx.ladder, fs);
+    likely_windows(&spectra, |s| lowest_frequency(&proj, &cov, s, fs), fs)
+}
