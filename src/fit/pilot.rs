@@ -65,7 +65,13 @@ fn windows(path: &Path, ctx: &Context<'_>) -> Option<Vec<usize>> {
         return None;
     }
     let file = std::fs::File::open(path).ok()?;
-    let size = file.metadata().ok()?.len();
+    let meta = file.metadata().ok()?;
+    // Nothing is read from what is not a regular file of some length (a pipe's text would be
+    // gone for the pass).
+    let size = meta.len();
+    if !meta.is_file() || size < WORTH * PILOT_FRAMES as u64 {
+        return None;
+    }
     let mut reader = BufReader::new(file);
     let mut head = Vec::new();
     for _ in 0..PILOT_FRAMES + 8 {
