@@ -11,11 +11,10 @@ use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
 
 use super::accumulate::{accumulate, Context, Projectors};
-use super::chunks::Chunked;
 use super::read::FrameReader;
 use super::welch::{Ladder, LADDER};
 use super::window::{likely_windows, lowest_frequency};
-use super::{FitSettings, InputFormat, Projector, MAX_LINE_BYTES};
+use super::{FitSettings, InputFormat, MAX_LINE_BYTES};
 use crate::modal::Params;
 use crate::model::Model;
 
@@ -88,6 +87,7 @@ fn windows(path: &Path, ctx: &Context<'_>) -> Option<Vec<usize>> {
     if size < WORTH * head.len() as u64 || wcon {
         return None;
     }
+    // Read on this thread: for so few frames the workers save nothing (measured).
     let source = FrameReader::new(head.as_slice(), settings);
     let mut projs = Projectors { by_width: vec![] };
     // The choice reads the lead modes only.
@@ -96,12 +96,7 @@ fn windows(path: &Path, ctx: &Context<'_>) -> Option<Vec<usize>> {
         noise: false,
         ..*ctx
     };
-    let animal = std::thread::scope(|scope| {
-        let make = Box::new(|width| Projector::new(ctx.model, ctx.params, settings, width).ok());
-        let mut source = Chunked::new(source, scope, settings, make);
-        accumulate(&mut source, String::new(), &ctx, &mut projs, &mut None)
-    })
-    .ok()?;
+    let animal = accumulate(&mut { source }, String::new(), &ctx, &mut projs, &mut None).ok()?;
     let proj = projs.first()?;
     let fs = 1.0 / animal.interval?;
     let cov = animal.stats.covariance();
