@@ -89,6 +89,19 @@ fn both_foretold(
     (file, stream, foretold)
 }
 
+/// A file of `frames` frames of 10 segment lengths, sampled every time unit.
+fn lengths(frames: usize) -> String {
+    (0..frames)
+        .map(|i| {
+            let t = i as f64;
+            let cells: Vec<String> = (0..10)
+                .map(|j| format!("{:.6}", 1.0 + 0.01 * (0.3 * t + j as f64).sin()))
+                .collect();
+            format!("{t},{}\n", cells.join(","))
+        })
+        .collect()
+}
+
 /// What replaces frame i's line (given the line), if anything.
 type Odd = dyn Fn(usize, &str) -> Option<String>;
 
@@ -160,8 +173,17 @@ fn a_pilot_changes_no_number() {
     let hasty = midlines(90_000, |i, _| {
         (i < 12_000).then(|| frame(i, 0.16 * i as f64))
     });
-    for (tag, text, kept) in [("steady", steady, true), ("hasty", hasty, false)] {
-        let (file, stream, foretold) = both_foretold(text.as_bytes(), &settings(None), tag);
+    let resampled = FitSettings {
+        bootstrap: 20,
+        ..settings(None)
+    };
+    for (tag, text, s, kept) in [
+        ("steady", &steady, settings(None), true),
+        ("hasty", &hasty, settings(None), false),
+        ("steady-bootstrap", &steady, resampled.clone(), true),
+        ("hasty-bootstrap", &hasty, resampled, false),
+    ] {
+        let (file, stream, foretold) = both_foretold(text.as_bytes(), &s, tag);
         assert!(!file.starts_with("error"), "{tag}: {file}");
         assert_eq!(file, stream, "{tag}");
         let report: serde_json::Value = serde_json::from_str(&file).unwrap();
@@ -173,6 +195,14 @@ fn a_pilot_changes_no_number() {
             "{tag}: {foretold:?}, {chosen}"
         );
     }
+    // Segment lengths are foretold as midlines are.
+    let s = FitSettings {
+        kind: InputKind::Lengths,
+        ..settings(None)
+    };
+    let (file, stream, foretold) = both_foretold(lengths(120_000).as_bytes(), &s, "lengths");
+    assert!(foretold.is_some() && !file.starts_with("error"), "{file}");
+    assert_eq!(file, stream);
     let late = midlines(90_000, |i, l| (i == 80_000).then(|| with_cell(l, 5, "x1")));
     let (file, stream, foretold) = both_foretold(late.as_bytes(), &settings(None), "late");
     assert!(foretold.is_some() && file.starts_with("error"), "{file}");
@@ -187,15 +217,7 @@ fn a_pilot_changes_no_number() {
 
 #[test]
 fn lengths_and_resampled_midlines_agree() {
-    let lengths: String = (0..30_000)
-        .map(|i| {
-            let t = i as f64;
-            let cells: Vec<String> = (0..10)
-                .map(|j| format!("{:.6}", 1.0 + 0.01 * (0.3 * t + j as f64).sin()))
-                .collect();
-            format!("{t},{}\n", cells.join(","))
-        })
-        .collect();
+    let lengths = lengths(30_000);
     let s = FitSettings {
         kind: InputKind::Lengths,
         ..settings(Some(64))
