@@ -21,7 +21,11 @@ fn drag_model() -> String {
             "y = [\"DIS\", \"TRAN\", \"REF\"]",
         );
     assert_ne!(drag, planar.replace("name = \"planar\"", "name = \"drag\""));
-    let path = std::env::temp_dir().join(format!("ts-drag-{}.toml", std::process::id()));
+    // One file per call: tests run at once, and a file rewritten while another test reads it
+    // reads empty.
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let path = std::env::temp_dir().join(format!("ts-drag-{}-{call}.toml", std::process::id()));
     std::fs::write(&path, drag).unwrap();
     path.to_str().unwrap().to_string()
 }
