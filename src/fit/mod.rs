@@ -24,7 +24,9 @@
 //! the number of frames. A file fitted alone is parsed on every core (`chunks`): its first rows
 //! in order, the rest in chunks of whole lines by workers that also project the midlines, taken
 //! back in order; plain decimals are read by a fast exact parser (`number`), anything else by
-//! the line reader's own code, so every number and every message is the line reader's.
+//! the line reader's own code, so every number and every message is the line reader's. A long
+//! file alone is foretold (`pilot`): its pass keeps every mode only at the windows its first
+//! frames choose, and is made again with every window when the recording chooses another.
 //!
 //! **Observation map.** A field's operator is D = SᵀS, where S holds its difference stencils
 //! ([`crate::discretise::stencil_rows`]). The data observe S·q, not q:

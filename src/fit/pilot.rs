@@ -5,7 +5,8 @@
 //! choice on them ([`likely_windows`]), and the pass keeps every mode only there (and at a
 //! neighbour the choice could still move to), the other windows only the lead modes that
 //! choose. Every number is the same as without the pilot: when the whole recording chooses a
-//! window the pass pruned ([`super::FitError::Pruned`]), the file is read again with the full ladder.
+//! window the pass kept partially ([`super::FitError::Pruned`]), the file is read again with
+//! the whole ladder.
 
 use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
