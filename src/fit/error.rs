@@ -38,9 +38,9 @@ pub enum FitError {
     /// The model has no field in the role the recording measures.
     #[error(transparent)]
     Role(#[from] crate::model::RoleError),
-    /// The window chosen is one a pass pruned by a pilot kept only for the choice (the pilot
-    /// guessed another); [`super::fit_inputs`] then reads the file again with every channel
-    /// at every window, so a caller never sees it.
+    /// The window chosen (by the recording, or by a bootstrap resample) is one a pass pruned by
+    /// a pilot kept only for the choice (the pilot guessed another); [`super::fit_inputs`] then
+    /// reads the file again with every channel at every window, so a caller never sees it.
     #[error("window {window} was chosen, but the pass kept only its lead modes there")]
     Pruned {
         /// The window chosen.

@@ -470,15 +470,16 @@ impl Pool {
         if ctx.settings.bootstrap > 0 {
             let units = units(&self.kept);
             let pooled = report.clone();
+            // A resample that would choose a window a pilot kept partially: the pass is made again.
+            let pruned = AtomicBool::new(false);
             let fit = |s: &Stats| {
-                fit_stats(
-                    proj,
-                    ctx,
-                    s,
-                    interval,
-                    (Scope::Constants(Some(&pooled)), None),
-                )
-                .ok()
+                let scope = (Scope::Constants(Some(&pooled)), None);
+                let fitted = fit_stats(proj, ctx, s, interval, scope);
+                pruned.fetch_or(
+                    matches!(fitted, Err(FitError::Pruned { .. })),
+                    Ordering::Relaxed,
+                );
+                fitted.ok()
             };
             // A draw of one animal's blocks spans five correlation times of the slowest voting
             // mode, and the window.
@@ -508,6 +509,11 @@ impl Pool {
                     report.intervals = Some(i)
                 }
                 Err(why) => report.warnings.push(why.to_string()),
+            }
+            if pruned.load(Ordering::Relaxed) {
+                return Err(FitError::Pruned {
+                    window: report.window.frames,
+                });
             }
         }
         if self.fits.len() > 1 {
