@@ -12,7 +12,7 @@ use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
 
 use super::accumulate::{accumulate, Context, Projectors};
-use super::read::FrameReader;
+use super::read::{sniff, FrameReader};
 use super::welch::{Ladder, LADDER};
 use super::window::{likely_windows, lowest_frequency};
 use super::{FitSettings, InputFormat, MAX_LINE_BYTES};
@@ -84,12 +84,15 @@ fn windows(path: &Path, ctx: &Context<'_>) -> Option<Vec<usize>> {
             return None;
         }
     }
-    let wcon = head.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{');
-    if size < WORTH * head.len() as u64 || wcon {
+    if size < WORTH * head.len() as u64 {
+        return None;
+    }
+    let mut text: Box<dyn BufRead + Send + '_> = Box::new(head.as_slice());
+    if sniff(&mut text).ok()? == InputFormat::Wcon {
         return None;
     }
     // Read on this thread: for so few frames the workers save nothing (measured).
-    let source = FrameReader::new(head.as_slice(), settings);
+    let source = FrameReader::new(text, settings);
     let mut projs = Projectors { by_width: vec![] };
     // The choice reads the lead modes only.
     let ctx = Context {

@@ -17,8 +17,7 @@ pub(super) fn choose_window(
     fs: f64,
 ) -> (Spectra, WindowChoice) {
     let count = spectra.len();
-    let enough: Vec<usize> = (0..count).filter(|&i| spectra[i].segments >= 4).collect();
-    let reference = enough.last().copied().unwrap_or(count - 1);
+    let reference = reference(&spectra);
     if given || count == 1 {
         let s = spectra.swap_remove(reference.min(count - 1));
         let choice = WindowChoice {
@@ -33,14 +32,8 @@ pub(super) fn choose_window(
         };
         return (s, choice);
     }
-    let f = lowest(&spectra[reference]);
+    let (f, pick) = rule(&spectra, reference, lowest, fs);
     let wanted = f.map(|f| wanted_frames(f, fs));
-    let pick = wanted.and_then(|w| {
-        enough
-            .iter()
-            .copied()
-            .find(|&i| spectra[i].window as f64 >= w)
-    });
     let why = match (pick, wanted) {
         (Some(_), Some(w)) => format!(
             "the shortest window with ≥ 4 segments in which the lowest mode (f ≈ {}) lies ≥ {AUTO_BINS} bins above zero (needs ≥ {} frames)",
@@ -65,6 +58,27 @@ pub(super) fn choose_window(
     (s, choice)
 }
 
+/// The ladder's reference window: the longest with at least 4 segments, else the longest.
+fn reference(spectra: &[Spectra]) -> usize {
+    (spectra.iter().rposition(|s| s.segments >= 4)).unwrap_or(spectra.len() - 1)
+}
+
+/// The rule at `reference`: the lowest mode's frequency there, and the shortest window with at
+/// least 4 segments in which it lies [`AUTO_BINS`] bins above zero.
+fn rule(
+    spectra: &[Spectra],
+    reference: usize,
+    lowest: impl Fn(&Spectra) -> Option<f64>,
+    fs: f64,
+) -> (Option<f64>, Option<usize>) {
+    let f = lowest(&spectra[reference]);
+    let pick = f.and_then(|f| {
+        let wanted = wanted_frames(f, fs);
+        (spectra.iter()).position(|s| s.segments >= 4 && s.window as f64 >= wanted)
+    });
+    (f, pick)
+}
+
 /// The frames a window needs for a mode of frequency `f` to lie [`AUTO_BINS`] bins above zero.
 fn wanted_frames(f: f64, fs: f64) -> f64 {
     AUTO_BINS * fs / f
@@ -81,11 +95,8 @@ pub(super) fn likely_windows(
     fs: f64,
 ) -> Option<Vec<usize>> {
     let reference = spectra.iter().rposition(|s| s.segments >= 4)?;
-    let wanted = wanted_frames(lowest(&spectra[reference])?, fs);
-    let pick = spectra[..=reference]
-        .iter()
-        .map(|s| s.window)
-        .find(|&w| w as f64 >= wanted)?;
+    let (f, pick) = rule(spectra, reference, lowest, fs);
+    let (wanted, pick) = (wanted_frames(f?, fs), spectra[pick?].window);
     let mut full = vec![pick];
     if wanted > 0.8 * pick as f64 {
         full.push(2 * pick);
