@@ -28,6 +28,25 @@ pub(super) struct Context<'a> {
     pub(super) alone: bool,
     /// Measure the tracking noise (a pilot does not: the pass reads its frames again).
     pub(super) noise: bool,
+    /// Projectors made so far, by frame width: the pilot's, the parsing workers' and each
+    /// animal's are one (made once, a few milliseconds each).
+    pub(super) made: &'a ProjectorCache,
+}
+
+/// Projectors made for one fit, by frame width.
+pub(super) type ProjectorCache = std::sync::Mutex<Vec<(usize, Projector)>>;
+
+impl Context<'_> {
+    /// The projector of frames of `width` values: made once per fit, then copied.
+    pub(super) fn projector(&self, width: usize) -> Result<Projector, FitError> {
+        let mut made = self.made.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((_, p)) = made.iter().find(|(w, _)| *w == width) {
+            return Ok(p.clone());
+        }
+        let p = Projector::new(self.model, self.params, self.settings, width)?;
+        made.push((width, p.clone()));
+        Ok(p)
+    }
 }
 
 /// Projectors by frame width (midlines of another K resample to the same N modes).
@@ -51,7 +70,7 @@ impl Projectors {
         let k = match self.by_width.iter().position(|(w, _)| *w == width) {
             Some(k) => k,
             None => {
-                let p = Projector::new(ctx.model, ctx.params, ctx.settings, width)?;
+                let p = ctx.projector(width)?;
                 self.by_width.push((width, p));
                 self.by_width.len() - 1
             }

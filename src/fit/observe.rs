@@ -34,6 +34,108 @@ pub(super) fn size(x: f64, y: f64) -> f64 {
     libm::hypot(x, y)
 }
 
+/// Pairs taken at once by [`angles`] and [`sizes`]: fixed-size arrays, which the compiler
+/// turns into vector instructions (two divisions or square roots for one).
+const LANES: usize = 8;
+
+/// musl's atan polynomial for |r| < 7/16: r − r(s₁ + s₂), s₁ and s₂ its odd and even halves in
+/// z = r², w = z² (coefficients and order of operations as musl's); r itself below 2⁻²⁷.
+fn atan_small(r: f64) -> f64 {
+    const AT: [f64; 11] = [
+        3.333_333_333_333_293_2e-1,
+        -1.999_999_999_987_648_3e-1,
+        1.428_571_427_250_346_6e-1,
+        -1.111_111_040_546_235_6e-1,
+        9.090_887_133_436_506_6e-2,
+        -7.691_876_205_044_83e-2,
+        6.661_073_137_387_531_2e-2,
+        -5.833_570_133_790_573_5e-2,
+        4.976_877_994_615_932_4e-2,
+        -3.653_157_274_421_691_6e-2,
+        1.628_582_011_536_578_2e-2,
+    ];
+    let z = r * r;
+    let w = z * z;
+    let s1 = z * (AT[0] + w * (AT[2] + w * (AT[4] + w * (AT[6] + w * (AT[8] + w * AT[10])))));
+    let s2 = w * (AT[1] + w * (AT[3] + w * (AT[5] + w * (AT[7] + w * AT[9]))));
+    if r.abs() < 1.0 / 134_217_728.0 {
+        r
+    } else {
+        r - r * (s1 + s2)
+    }
+}
+
+/// [`angle`] of each (cross, dot), bit for bit, into `out`. A smooth body turns little: with
+/// dot > 0 and r = cross/dot below 7/16 in size, musl's atan2 is its atan polynomial of r
+/// alone, taken here for [`LANES`] pairs at once; any other pair is handed to [`angle`].
+pub(super) fn angles(pairs: impl Iterator<Item = (f64, f64)>, out: &mut Vec<f64>) {
+    out.clear();
+    let mut pairs = pairs.peekable();
+    while pairs.peek().is_some() {
+        let (mut cross, mut dot) = ([0.0; LANES], [1.0; LANES]);
+        let mut n = 0;
+        for ((c, d), p) in cross.iter_mut().zip(&mut dot).zip(&mut pairs) {
+            (*c, *d) = p;
+            n += 1;
+        }
+        let mut r = [0.0; LANES];
+        for ((r, c), d) in r.iter_mut().zip(&cross).zip(&dot) {
+            *r = c / d;
+        }
+        let mut a = [0.0; LANES];
+        for (a, r) in a.iter_mut().zip(&r) {
+            *a = atan_small(*r);
+        }
+        for i in 0..n {
+            if !(dot[i] > 0.0 && r[i].abs() < 0.4375) {
+                a[i] = angle(cross[i], dot[i]);
+            }
+        }
+        out.extend_from_slice(&a[..n]);
+    }
+}
+
+/// Dekker's split of x² into a head and an exact tail (musl's `sq`).
+fn square(x: f64) -> (f64, f64) {
+    const SPLIT: f64 = 134_217_728.0 + 1.0;
+    let xc = x * SPLIT;
+    let xh = x - xc + xc;
+    let xl = x - xh;
+    let hi = x * x;
+    (hi, xh * xh - hi + 2.0 * xh * xl + xl * xl)
+}
+
+/// [`size`] of each (x, y), bit for bit, into `out`: musl's hypot without its rescaling, for
+/// [`LANES`] pairs at once, where both parts lie in [2⁻⁴⁵⁰, 2⁵¹¹) within 2⁶⁴ of each other
+/// (neither the squares nor their tails leave the doubles); any other pair is handed to
+/// [`size`].
+pub(super) fn sizes(pairs: impl Iterator<Item = (f64, f64)>, out: &mut Vec<f64>) {
+    out.clear();
+    let mut pairs = pairs.peekable();
+    while pairs.peek().is_some() {
+        let (mut big, mut small) = ([1.0; LANES], [1.0; LANES]);
+        let mut n = 0;
+        for ((b, s), (x, y)) in big.iter_mut().zip(&mut small).zip(&mut pairs) {
+            // musl orders the magnitudes by their bits: by value, for numbers.
+            (*b, *s) = (x.abs().max(y.abs()), x.abs().min(y.abs()));
+            n += 1;
+        }
+        let mut h = [0.0; LANES];
+        for ((h, b), s) in h.iter_mut().zip(&big).zip(&small) {
+            let (hx, lx) = square(*b);
+            let (hy, ly) = square(*s);
+            *h = (ly + lx + hy + hx).sqrt();
+        }
+        for i in 0..n {
+            let (eb, es) = (big[i].to_bits() >> 52, small[i].to_bits() >> 52);
+            if !(es >= 0x3ff - 450 && eb <= 0x3ff + 510 && eb.wrapping_sub(es) <= 64) {
+                h[i] = size(big[i], small[i]);
+            }
+        }
+        out.extend_from_slice(&h[..n]);
+    }
+}
+
 /// Resample a polyline to `n` points equally spaced in arc length.
 fn resample(points: &[(f64, f64)], n: usize) -> Result<Vec<(f64, f64)>, FrameError> {
     let mut cum = vec![0.0];
@@ -92,12 +194,14 @@ pub(super) fn segment_angles(seg: &mut [(f64, f64)], out: &mut Vec<f64>) {
         let size = s.0.abs().max(s.1.abs());
         *s = (s.0 / size, s.1 / size);
     }
-    out.clear();
-    out.extend(seg.windows(2).map(|w| {
-        let cross = w[0].0 * w[1].1 - w[0].1 * w[1].0;
-        let dot = w[0].0 * w[1].0 + w[0].1 * w[1].1;
-        angle(cross, dot)
-    }));
+    angles(
+        seg.windows(2).map(|w| {
+            let cross = w[0].0 * w[1].1 - w[0].1 * w[1].0;
+            let dot = w[0].0 * w[1].0 + w[0].1 * w[1].1;
+            (cross, dot)
+        }),
+        out,
+    );
 }
 
 /// The observation o of one frame: turning angles (midline) or strains (lengths).

@@ -11,7 +11,7 @@
 use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
 
-use super::accumulate::{accumulate, Context, Projectors};
+use super::accumulate::{accumulate, Context, ProjectorCache, Projectors};
 use super::read::{sniff, FrameReader};
 use super::welch::{Ladder, LADDER};
 use super::window::{likely_windows, lowest_frequency};
@@ -47,6 +47,7 @@ pub fn foretold_windows(
     params: &Params,
     settings: &FitSettings,
 ) -> Option<Vec<usize>> {
+    let made = ProjectorCache::default();
     let ctx = Context {
         model,
         params,
@@ -54,6 +55,7 @@ pub fn foretold_windows(
         ladder: Ladder::new(settings.window),
         alone: true,
         noise: true,
+        made: &made,
     };
     windows(path, &ctx)
 }
@@ -82,6 +84,10 @@ fn windows(path: &Path, ctx: &Context<'_>) -> Option<Vec<usize>> {
             .ok()?;
         if read == 0 || head.len() - before > MAX_LINE_BYTES || head.len() > MAX_PILOT_BYTES {
             return None;
+        }
+        if before == 0 {
+            // Room for the frames at about the first line's length, instead of doubling.
+            head.reserve((read * (PILOT_FRAMES + 8) * 5 / 4).min(MAX_PILOT_BYTES));
         }
     }
     if size < WORTH * head.len() as u64 {

@@ -11,7 +11,7 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{mpsc, Mutex};
 
-use super::accumulate::{accumulate, Context, Each, Projectors};
+use super::accumulate::{accumulate, Context, Each, ProjectorCache, Projectors};
 use super::chunks::Chunked;
 use super::read::{
     is_deeplabcut, read_tracks, sniff, whole, FrameReader, Track, TrackSource, MAX_WHOLE_FILE,
@@ -76,6 +76,7 @@ pub fn fit_inputs(
     if inputs.is_empty() {
         return Err(FitError::Invalid("no recordings to fit".into()));
     }
+    let made = ProjectorCache::default();
     let mut ctx = Context {
         model,
         params,
@@ -83,6 +84,7 @@ pub fn fit_inputs(
         ladder: Ladder::new(settings.window),
         alone: inputs.len() == 1,
         noise: true,
+        made: &made,
     };
     // A long file alone: its pass keeps every mode only at the windows a pilot foretells, and
     // is made again with the whole ladder when the recording chooses another.
@@ -256,8 +258,7 @@ fn read_input(
     let source = FrameReader::new(reader, settings);
     let animal = if chunked {
         std::thread::scope(|scope| {
-            let make =
-                Box::new(|width| Projector::new(ctx.model, ctx.params, settings, width).ok());
+            let make = Box::new(|width| ctx.projector(width).ok());
             let mut source = Chunked::new(source, scope, settings, make);
             accumulate(&mut source, name, ctx, projs, each)
         })?

@@ -3,7 +3,7 @@
 //! with continuum modes, the projector on those (`continuum`).
 
 use super::continuum::{Grid, CONTINUUM_AMPLITUDE};
-use super::observe::{observe, segment_angles, size};
+use super::observe::{observe, segment_angles, size, sizes};
 pub use super::observe::{turning_angles, FrameError};
 use super::{FitError, FitSettings, InputKind, LineWhy, MAX_POINTS};
 use crate::modal::{field_modes, Params};
@@ -14,6 +14,7 @@ use crate::model::Model;
 pub(super) struct Scratch {
     segments: Vec<(f64, f64)>,
     angles: Vec<f64>,
+    sizes: Vec<f64>,
 }
 
 /// A frame listed head first, reordered head last (the model's orientation): points (x, y)
@@ -255,7 +256,11 @@ impl Projector {
             let i = if head_first { k - 1 - i } else { i };
             (values[2 * i], values[2 * i + 1])
         };
-        let (seg, angles) = (&mut scratch.segments, &mut scratch.angles);
+        let Scratch {
+            segments: seg,
+            angles,
+            sizes: lengths,
+        } = scratch;
         seg.clear();
         seg.extend((0..k - 1).map(|i| {
             let (a, b) = (point(i), point(i + 1));
@@ -268,7 +273,8 @@ impl Projector {
         if seg.iter().any(|s| s.0 == 0.0 && s.1 == 0.0) {
             return Err(FrameError::Coincident);
         }
-        let length: f64 = seg.iter().map(|s| size(s.0, s.1)).sum();
+        sizes(seg.iter().copied(), lengths);
+        let length: f64 = lengths.iter().sum();
         segment_angles(seg, angles);
         q.extend(
             self.rows

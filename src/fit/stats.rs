@@ -6,7 +6,7 @@
 //! resample are the same operation.
 
 pub(super) use super::welch::Spectra;
-use super::welch::{FftWork, Ladder, Plan, Ring, WelchSums};
+use super::welch::{lanes_dot, lanes_sum, FftWork, Ladder, Plan, Ring, WelchSums};
 
 /// Chan's merge of (mean, co-moment, count) b, taken `times` times, into a: returns the count.
 pub(super) fn merge_moments(
@@ -146,8 +146,11 @@ pub(super) struct Run {
     blocks: Option<(Vec<Stats>, usize)>,
     /// The run's frames, the blocks included.
     frames: usize,
-    /// Scratch: the new frame's distance from the running mean.
-    delta: Vec<f64>,
+    /// Frames counted but not yet in the mean and co-moment (the newest in the ring).
+    unmerged: usize,
+    /// Scratch of a batch: its means, and its frames less them, channel after channel.
+    batch_mean: Vec<f64>,
+    centred: Vec<f64>,
     /// Scratch of the transforms, one per thread of a flush.
     work: [FftWork; 2],
 }
@@ -168,6 +171,11 @@ fn second_core() -> bool {
     *TWO.get_or_init(|| std::thread::available_parallelism().is_ok_and(|n| n.get() > 1))
 }
 
+/// Frames whose moments are taken together: each channel's batch is one slice of the ring, its
+/// mean and centred products summed in independent lanes (two passes, then Chan's merge into the
+/// run's: as accurate as a running update, and without a division per frame and coordinate).
+const BATCH: usize = 64;
+
 /// The first block length, in frames.
 const FIRST_BLOCK: usize = 64;
 
@@ -182,7 +190,9 @@ impl Run {
             ladder: ladder.clone(),
             blocks: blocks.then(|| (Vec::new(), FIRST_BLOCK)),
             frames: 0,
-            delta: Vec::with_capacity(m),
+            unmerged: 0,
+            batch_mean: Vec::with_capacity(m),
+            centred: Vec::with_capacity(m * BATCH),
             work: Default::default(),
         }
     }
@@ -194,6 +204,7 @@ impl Run {
     /// Close the current block: into the run's total and the list (merging pairs past the cap).
     fn close_block(&mut self) {
         // A segment counts in the block where it ends.
+        self.fold();
         self.flush();
         let Some((blocks, length)) = &mut self.blocks else {
             return;
@@ -227,27 +238,19 @@ impl Run {
         }
         // Counted with the ring: a flush reads segments back from the newest frame.
         self.frames += 1;
-        let s = &mut self.stats;
-        s.count += 1.0;
-        s.spacing += spacing;
-        self.delta.clear();
-        self.delta.extend(q.iter().zip(&s.mean).map(|(a, b)| a - b));
-        for (mu, d) in s.mean.iter_mut().zip(&self.delta) {
-            *mu += d / s.count;
-        }
-        // The upper triangle only: the run's matrix is made whole when its stats leave it.
-        for (i, (row, d)) in s.comoment.iter_mut().zip(&self.delta).enumerate() {
-            for (c, (a, mu)) in row[i..].iter_mut().zip(q[i..].iter().zip(&s.mean[i..])) {
-                *c += d * (a - mu);
-            }
-        }
+        self.stats.count += 1.0;
+        self.stats.spacing += spacing;
         self.ring.push(q);
+        self.unmerged += 1;
+        if self.unmerged == BATCH {
+            self.fold();
+        }
         for (i, ((plan, since), w)) in self
             .ladder
             .plans
             .iter()
             .zip(&mut self.since)
-            .zip(&mut s.welch)
+            .zip(&mut self.stats.welch)
             .enumerate()
         {
             let len = plan.len();
@@ -263,6 +266,44 @@ impl Run {
             if self.frames - first >= DEFER {
                 self.flush();
             }
+        }
+    }
+
+    /// The unmerged frames' moments into the run's: the batch's means and co-moment (upper
+    /// triangle) from its centred values, then Chan's merge.
+    fn fold(&mut self) {
+        let b = std::mem::take(&mut self.unmerged);
+        if b == 0 {
+            return;
+        }
+        let (s, ring) = (&mut self.stats, &self.ring);
+        let m = s.mean.len();
+        let (nb, n) = (b as f64, s.count);
+        let na = n - nb;
+        self.batch_mean.clear();
+        self.centred.clear();
+        for c in 0..m {
+            let x = ring.last(c, b);
+            let mu = lanes_sum(x) / nb;
+            self.batch_mean.push(mu);
+            self.centred.extend(x.iter().map(|v| v - mu));
+        }
+        let centred = |c: usize| &self.centred[c * b..(c + 1) * b];
+        // The upper triangle only: the run's matrix is made whole when its stats leave it.
+        let w = na * nb / n;
+        for i in 0..m {
+            let di = self.batch_mean[i] - s.mean[i];
+            for j in i..m {
+                let dj = self.batch_mean[j] - s.mean[j];
+                s.comoment[i][j] += lanes_dot(centred(i), centred(j)) + w * di * dj;
+            }
+        }
+        for (mu, b) in s.mean.iter_mut().zip(&self.batch_mean) {
+            *mu = if na == 0.0 {
+                *b
+            } else {
+                *mu + (b - *mu) * nb / n
+            };
         }
     }
 
@@ -333,6 +374,7 @@ impl Run {
     /// The run's statistics, keeping its frames when it never filled the shortest window, and
     /// its blocks (empty unless asked for).
     pub(super) fn finish(mut self) -> (Stats, Vec<Stats>) {
+        self.fold();
         self.flush();
         if self.blocks.is_none() {
             self.stats.symmetrise();

@@ -115,13 +115,28 @@ impl Plan {
 
 /// Σ x in eight independent lanes: the compiler vectorises it (a plain fold is one serial
 /// chain of additions, which was half the time of a segment).
-fn lanes_sum(x: &[f64]) -> f64 {
+pub(super) fn lanes_sum(x: &[f64]) -> f64 {
     let mut lanes = [0.0; 8];
     let chunks = x.chunks_exact(8);
     let tail: f64 = chunks.remainder().iter().sum();
     for c in chunks {
         for (l, v) in lanes.iter_mut().zip(c) {
             *l += v;
+        }
+    }
+    lanes.iter().sum::<f64>() + tail
+}
+
+/// Σ xᵢyᵢ in eight independent lanes, as [`lanes_sum`].
+pub(super) fn lanes_dot(x: &[f64], y: &[f64]) -> f64 {
+    let mut lanes = [0.0; 8];
+    let (cx, cy) = (x.chunks_exact(8), y.chunks_exact(8));
+    let tail: f64 = (cx.remainder().iter().zip(cy.remainder()))
+        .map(|(a, b)| a * b)
+        .sum();
+    for (a, b) in cx.zip(cy) {
+        for ((l, u), v) in lanes.iter_mut().zip(a).zip(b) {
+            *l += u * v;
         }
     }
     lanes.iter().sum::<f64>() + tail
@@ -235,13 +250,16 @@ impl Ring {
 
     pub(super) fn push(&mut self, q: &[f64]) {
         if self.held == self.cap && self.cap < self.longest {
-            let frames = self.frames();
-            self.cap = (2 * self.cap).max(16).min(self.longest);
-            self.data = vec![0.0; 2 * self.cap * self.channels];
-            (self.pos, self.held) = (0, 0);
-            for f in &frames {
-                self.push(f);
+            // The frames held, oldest first, twice in each channel's larger space.
+            let cap = (2 * self.cap).max(16).min(self.longest);
+            let mut data = vec![0.0; 2 * cap * self.channels];
+            for c in 0..self.channels {
+                let held = self.last(c, self.held);
+                let base = 2 * cap * c;
+                data[base..base + held.len()].copy_from_slice(held);
+                data[base + cap..base + cap + held.len()].copy_from_slice(held);
             }
+            (self.data, self.cap, self.pos) = (data, cap, self.held);
         }
         let cap = self.cap;
         for (c, x) in q.iter().enumerate().take(self.channels) {
