@@ -309,7 +309,6 @@ fn parse(
     spares: &Spares,
 ) -> Parsed {
     let mut out = spares.parsed();
-    let mut values = Vec::with_capacity(width);
     let mut work = Work::default();
     let mut start = 0;
     for k in 0.. {
@@ -319,7 +318,9 @@ fn parse(
         let line = &line[..memchr::memchr(b'\n', line).map_or(line.len(), |end| end + 1)];
         start += line.len();
         out.lines = k + 1;
-        let row = match plain_line(line, width, &mut values) {
+        // Each row's values are parsed into place, after the chunk's earlier rows.
+        let from = out.values.len();
+        let row = match plain_line(line, width, &mut out.values) {
             Ok(Some(row)) => row,
             Ok(None) => continue,
             Err(why) => {
@@ -328,9 +329,10 @@ fn parse(
             }
         };
         let (t, lost) = row;
+        let values = &out.values[from..];
         let projected = match projector {
             Some(p) if !lost => {
-                let done = p.project_into(&values, settings.head_first, &mut work.0, &mut work.1);
+                let done = p.project_into(values, settings.head_first, &mut work.0, &mut work.1);
                 if done.is_ok() {
                     out.modal.extend_from_slice(&work.1);
                 }
@@ -338,7 +340,6 @@ fn parse(
             }
             _ => None,
         };
-        out.values.extend_from_slice(&values);
         out.rows.push(ParsedRow {
             t,
             lost,

@@ -95,10 +95,20 @@ fn decimal(text: &[u8]) -> Option<(f64, usize)> {
 }
 
 /// A row of exactly `width` plain cells (time first), separated by commas (cells trimmed) when
-/// the line has one, else by white space: its time, with the values in `values`. A plain row
-/// has no lost value. `None` leaves the row to the general reader.
+/// the line has one, else by white space: its time, with the values appended to `values`. A
+/// plain row has no lost value. `None` leaves the row to the general reader (and `values` as it
+/// was).
 pub(super) fn plain_row(line: &[u8], width: usize, values: &mut Vec<f64>) -> Option<f64> {
-    values.clear();
+    let start = values.len();
+    let row = plain_cells(line, values).filter(|_| values.len() - start + 1 == width);
+    if row.is_none() {
+        values.truncate(start);
+    }
+    row
+}
+
+/// The cells of a plain row appended to `values` (see [`plain_row`]); its time.
+fn plain_cells(line: &[u8], values: &mut Vec<f64>) -> Option<f64> {
     let n = line.len();
     let skip = |mut at: usize| {
         while at < n && space(line[at]) {
@@ -129,7 +139,7 @@ pub(super) fn plain_row(line: &[u8], width: usize, values: &mut Vec<f64>) -> Opt
         values.push(v);
         at += len;
     }
-    (values.len() + 1 == width).then_some(t)
+    Some(t)
 }
 
 #[cfg(test)]
@@ -198,9 +208,13 @@ mod tests {
     /// Rows the fast reader declines are exactly the ones it cannot read plainly.
     #[test]
     fn rows_declined() {
-        let mut v = Vec::new();
+        let mut v = vec![7.0];
         assert_eq!(plain_row(b" 1, 2 ,3\r", 3, &mut v), Some(1.0));
-        assert_eq!(v, [2.0, 3.0]);
+        assert_eq!(v, [7.0, 2.0, 3.0]);
+        // A row declined leaves what was there.
+        assert_eq!(plain_row(b"1,2,3,4", 3, &mut v), None);
+        assert_eq!(v, [7.0, 2.0, 3.0]);
+        v.clear();
         assert_eq!(plain_row(b"1 \t2\x0B3", 3, &mut v), Some(1.0));
         assert_eq!(plain_row(b"1,2", 3, &mut v), None);
         assert_eq!(plain_row(b"1,,3", 3, &mut v), None);

@@ -270,6 +270,7 @@ impl<R: BufRead> FrameReader<R> {
             let row = match self.plain_width() {
                 // The common row, once the layout is known.
                 Some(width) => {
+                    self.values.clear();
                     plain_line(&self.buf, width, &mut self.values).map_err(|e| bad(e.into()))?
                 }
                 None => {
@@ -401,8 +402,9 @@ fn line_text(bytes: &[u8]) -> Result<&str, LineError> {
 }
 
 /// One line (its bytes, the line end included) once the layout is known: plain rows of
-/// `width` cells. `None` for a blank or comment line; else the row's time, values (in
-/// `values`) and whether one is lost.
+/// `width` cells. `None` for a blank or comment line; else the row's time, values (appended to
+/// `values`: a parsing worker keeps a chunk's rows one after the other) and whether one is
+/// lost.
 pub(super) fn plain_line(
     bytes: &[u8],
     width: usize,
@@ -416,7 +418,12 @@ pub(super) fn plain_line(
     match line_text(bytes)?.trim() {
         "" => Ok(None),
         text if text.starts_with('#') => Ok(None),
-        text => data_row(cells(text), width, values).map(Some),
+        text => {
+            let mut row = Vec::with_capacity(width);
+            let done = data_row(cells(text), width, &mut row)?;
+            values.extend_from_slice(&row);
+            Ok(Some(done))
+        }
     }
 }
 

@@ -65,7 +65,7 @@ impl Taper {
     /// The error model and lag products of the taper `window`.
     pub(super) fn new(window: &[f64]) -> Taper {
         let len = window.len();
-        let lags = lag_products(window);
+        let lags = super::welch::lag_products(window);
         let squares: Vec<f64> = window.iter().map(|w| w * w).collect();
         let total: f64 = squares.iter().sum();
         // Σⱼ |Σₙ wₙ² e^{−2πijn/W}|² over 0 < j < W/2: one transform of the squares.
@@ -145,36 +145,6 @@ impl Taper {
         let shift = self.first / len as f64;
         *bin += -2.0 * (shift.conj() * cross).re + shift.norm_sqr() * total;
     }
-}
-
-/// r(τ) = Σₙ wₙwₙ₊τ for τ = 0 … W − 1, each sum taken in order of n. Eight lags at once: their
-/// sums are independent chains, which a processor runs side by side (one lag after the other
-/// waits on each addition in turn: W²/2 of them, 10 ms at W = 4096).
-fn lag_products(window: &[f64]) -> Vec<f64> {
-    const AT_ONCE: usize = 8;
-    let len = window.len();
-    let mut lags = Vec::with_capacity(len);
-    for first in (0..len).step_by(AT_ONCE) {
-        let lanes = AT_ONCE.min(len - first);
-        let mut sums = [0.0; AT_ONCE];
-        // Every lane's terms while all have them, then each lane's own remainder, in order.
-        let common = len - (first + lanes - 1);
-        for n in 0..common {
-            let w = window[n];
-            let ahead = &window[n + first..n + first + lanes];
-            for (s, v) in sums.iter_mut().zip(ahead) {
-                *s += w * v;
-            }
-        }
-        for (j, s) in sums.iter_mut().enumerate().take(lanes) {
-            let t = first + j;
-            for n in common..len - t {
-                *s += window[n] * window[n + t];
-            }
-        }
-        lags.extend_from_slice(&sums[..lanes]);
-    }
-    lags
 }
 
 /// One damped mode's parameters.
@@ -440,8 +410,11 @@ struct Linear<'a> {
     white: Vec<f64>,
     /// The last shape made, by (ln Ω, ln ζ): a descent's accepted step is asked for again at
     /// once, by the information there.
-    last: std::cell::RefCell<Option<((u64, u64), Rc<Vec<f64>>)>>,
+    last: std::cell::RefCell<Option<LastShape>>,
 }
+
+/// A shape S and its (ln Ω, ln ζ), by their bits.
+type LastShape = ((u64, u64), Rc<Vec<f64>>);
 
 impl<'a> Linear<'a> {
     fn new(taper: &'a Taper, fs: f64) -> Linear<'a> {
@@ -588,20 +561,6 @@ fn solve4(a: &[[f64; 4]; 4], b: &[f64; 4]) -> Option<[f64; 4]> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The lag products side by side are the plain sums, bit for bit.
-    #[test]
-    fn lag_products_are_the_sums_in_order() {
-        for len in (1..40).chain([255, 256, 1000, 4096]) {
-            let w = super::super::welch::Plan::new(len).window;
-            let plain: Vec<f64> = (0..len)
-                .map(|t| (0..len - t).map(|n| w[n] * w[n + t]).sum())
-                .collect();
-            let fast = lag_products(&w);
-            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-            assert_eq!(bits(&fast), bits(&plain), "W = {len}");
-        }
-    }
 
     #[test]
     fn the_expected_spectrum_integrates_to_the_variance() {

@@ -283,10 +283,15 @@ impl Run {
         self.batch_mean.clear();
         self.centred.clear();
         for c in 0..m {
+            // Shifted by the batch's first value: a coordinate that does not move stays exactly
+            // still (its mean exact, its co-moment zero), as the running update kept it.
             let x = ring.last(c, b);
-            let mu = lanes_sum(x) / nb;
-            self.batch_mean.push(mu);
-            self.centred.extend(x.iter().map(|v| v - mu));
+            let from = self.centred.len();
+            self.centred.extend(x.iter().map(|v| v - x[0]));
+            let shifted = &mut self.centred[from..];
+            let mu = lanes_sum(shifted) / nb;
+            shifted.iter_mut().for_each(|v| *v -= mu);
+            self.batch_mean.push(x[0] + mu);
         }
         let centred = |c: usize| &self.centred[c * b..(c + 1) * b];
         // The upper triangle only: the run's matrix is made whole when its stats leave it.
