@@ -23,7 +23,8 @@ pub(super) struct Context<'a> {
     pub(super) model: &'a Model,
     pub(super) params: &'a Params,
     pub(super) settings: &'a FitSettings,
-    pub(super) ladder: Ladder,
+    /// The Welch windows the pass keeps (see [`Context::ladder`]).
+    pub(super) ladder: PassLadder<'a>,
     /// One input only: a file may be parsed on every core.
     pub(super) alone: bool,
     /// Measure the tracking noise (a pilot does not: the pass reads its frames again).
@@ -33,10 +34,25 @@ pub(super) struct Context<'a> {
     pub(super) made: &'a ProjectorCache,
 }
 
+/// The ladder of a pass: known, or foretold by a pilot on another thread while the pass's
+/// workers already parse (its rows wait for it).
+pub(super) enum PassLadder<'a> {
+    Known(Ladder),
+    Foretold(&'a std::sync::OnceLock<Ladder>),
+}
+
 /// Projectors made for one fit, by frame width.
 pub(super) type ProjectorCache = std::sync::Mutex<Vec<(usize, Projector)>>;
 
 impl Context<'_> {
+    /// The Welch windows the pass keeps: once a pilot has foretold them, if one runs.
+    pub(super) fn ladder(&self) -> &Ladder {
+        match &self.ladder {
+            PassLadder::Known(ladder) => ladder,
+            PassLadder::Foretold(cell) => cell.wait(),
+        }
+    }
+
     /// The projector of frames of `width` values: made once per fit, then copied.
     pub(super) fn projector(&self, width: usize) -> Result<Projector, FitError> {
         let mut made = self.made.lock().unwrap_or_else(|e| e.into_inner());
@@ -194,7 +210,7 @@ fn close(run: &mut Option<Run>, animal: &mut Animal, counts: &mut Recording, ctx
     counts.longest_run = counts.longest_run.max(r.len());
     let (piece, blocks) = r.finish();
     if animal.stats.mean.is_empty() {
-        animal.stats = Stats::new(piece.mean.len(), &ctx.ladder);
+        animal.stats = Stats::new(piece.mean.len(), ctx.ladder());
     }
     animal.stats.absorb(&piece, 1.0);
     animal.pieces.extend(blocks);
@@ -227,7 +243,7 @@ fn feed(
     if let Some(each) = each {
         each(proj, t, q).map_err(FitError::Output)?;
     }
-    run.get_or_insert_with(|| Run::new(q.len(), &ctx.ladder, ctx.settings.bootstrap > 0))
+    run.get_or_insert_with(|| Run::new(q.len(), ctx.ladder(), ctx.settings.bootstrap > 0))
         .push(q, spacing);
     Ok(())
 }

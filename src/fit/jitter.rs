@@ -22,7 +22,7 @@
 use nalgebra::{DMatrix, SymmetricEigen};
 use serde::Serialize;
 
-use super::observe::{segment_angles, size};
+use super::observe::{segment_angles, size, sizes};
 use super::stats::merge_moments;
 
 /// The most tracked points the measure uses: of more, every k-th (the work per frame grows as
@@ -189,12 +189,8 @@ impl Jitter {
     /// `self.lengths`; false for a frame without them.
     fn angles_of(&mut self, values: &[f64]) -> bool {
         let (seg, lengths) = (&mut self.segments, &mut self.lengths);
-        // The body's length over every tracked point; segments between the points used.
-        let total: f64 = values
-            .chunks_exact(2)
-            .zip(values.chunks_exact(2).skip(1))
-            .map(|(a, b)| size(b[0] - a[0], b[1] - a[1]))
-            .sum();
+        // Segments between the points used, and the body's length over every tracked point (the
+        // same segments, summed in the same order, when every point is used).
         let used = values.chunks_exact(2).step_by(self.step).take(self.points);
         seg.clear();
         seg.extend(
@@ -202,8 +198,16 @@ impl Jitter {
                 .zip(used.skip(1))
                 .map(|(a, b)| (b[0] - a[0], b[1] - a[1])),
         );
-        lengths.clear();
-        lengths.extend(seg.iter().map(|s| size(s.0, s.1)));
+        sizes(seg.iter().copied(), lengths);
+        let total: f64 = if self.step == 1 {
+            lengths.iter().sum()
+        } else {
+            values
+                .chunks_exact(2)
+                .zip(values.chunks_exact(2).skip(1))
+                .map(|(a, b)| size(b[0] - a[0], b[1] - a[1]))
+                .sum()
+        };
         if !(total.is_finite() && lengths.iter().all(|&l| l > 0.0)) {
             return false;
         }

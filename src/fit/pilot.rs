@@ -11,7 +11,7 @@
 use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
 
-use super::accumulate::{accumulate, Context, ProjectorCache, Projectors};
+use super::accumulate::{accumulate, Context, PassLadder, ProjectorCache, Projectors};
 use super::read::{sniff, FrameReader};
 use super::welch::{Ladder, LADDER};
 use super::window::{likely_windows, lowest_frequency};
@@ -34,7 +34,7 @@ const WORTH: u64 = 8;
 /// The ladder a pass over the file at `path` keeps, pruned when a pilot over its first frames
 /// foretells the window; `None` keeps the whole ladder.
 pub(super) fn ladder(path: &Path, ctx: &Context<'_>) -> Option<Ladder> {
-    windows(path, ctx).map(|full| ctx.ladder.pruned(&full))
+    windows(path, ctx).map(|full| ctx.ladder().pruned(&full))
 }
 
 /// The windows at which `fit` of the file at `path` alone keeps every mode's Welch sums, as
@@ -52,7 +52,7 @@ pub fn foretold_windows(
         model,
         params,
         settings,
-        ladder: Ladder::new(settings.window),
+        ladder: PassLadder::Known(Ladder::new(settings.window)),
         alone: true,
         noise: true,
         made: &made,
@@ -102,7 +102,7 @@ fn windows(path: &Path, ctx: &Context<'_>) -> Option<Vec<usize>> {
     let mut projs = Projectors { by_width: vec![] };
     // The choice reads the lead modes only.
     let ctx = Context {
-        ladder: ctx.ladder.pruned(&[]),
+        ladder: PassLadder::Known(ctx.ladder().pruned(&[])),
         noise: false,
         ..*ctx
     };
@@ -110,6 +110,6 @@ fn windows(path: &Path, ctx: &Context<'_>) -> Option<Vec<usize>> {
     let proj = projs.first()?;
     let fs = 1.0 / animal.interval?;
     let cov = animal.stats.covariance();
-    let spectra = animal.stats.spectra(&ctx.ladder, fs);
+    let spectra = animal.stats.spectra(ctx.ladder(), fs);
     likely_windows(&spectra, |s| lowest_frequency(&proj, &cov, s, fs), fs)
 }

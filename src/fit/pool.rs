@@ -9,9 +9,9 @@ use std::collections::BTreeMap;
 use std::io::BufRead;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::sync::{mpsc, Mutex};
+use std::sync::{mpsc, Mutex, OnceLock};
 
-use super::accumulate::{accumulate, Context, Each, ProjectorCache, Projectors};
+use super::accumulate::{accumulate, Context, Each, PassLadder, ProjectorCache, Projectors};
 use super::chunks::Chunked;
 use super::read::{
     is_deeplabcut, read_tracks, sniff, whole, FrameReader, Track, TrackSource, MAX_WHOLE_FILE,
@@ -77,30 +77,52 @@ pub fn fit_inputs(
         return Err(FitError::Invalid("no recordings to fit".into()));
     }
     let made = ProjectorCache::default();
-    let mut ctx = Context {
+    let whole = Ladder::new(settings.window);
+    let ctx = Context {
         model,
         params,
         settings,
-        ladder: Ladder::new(settings.window),
+        ladder: PassLadder::Known(whole.clone()),
         alone: inputs.len() == 1,
         noise: true,
         made: &made,
     };
-    // A long file alone: its pass keeps every mode only at the windows a pilot foretells, and
-    // is made again with the whole ladder when the recording chooses another.
+    // A file alone: a pilot over its first frames foretells the windows (on a thread of its own,
+    // while the pass's workers start to parse); the pass keeps every mode only there, and is
+    // made again with the whole ladder when the recording chooses another.
     if let (None, [Input::File(path)]) = (&each, inputs.as_slice()) {
-        if let Some(ladder) = super::pilot::ladder(path, &ctx) {
-            let path = path.clone();
-            let whole = std::mem::replace(&mut ctx.ladder, ladder);
-            match pass(inputs, &ctx, None) {
-                Err(FitError::Pruned { .. }) => {}
-                done => return done,
-            }
-            ctx.ladder = whole;
-            return pass(vec![Input::File(path)], &ctx, None);
-        }
+        let path = path.clone();
+        let foretold = OnceLock::new();
+        let piloted = Context {
+            ladder: PassLadder::Foretold(&foretold),
+            ..ctx
+        };
+        let done = std::thread::scope(|scope| {
+            scope.spawn(|| {
+                // The whole ladder unless a forecast is made (a short file, a panic).
+                let _whole = Fallback(&foretold, &whole);
+                if let Some(ladder) = super::pilot::ladder(&path, &ctx) {
+                    let _ = foretold.set(ladder);
+                }
+            });
+            pass(inputs, &piloted, None)
+        });
+        return match done {
+            Err(FitError::Pruned { .. }) => pass(vec![Input::File(path)], &ctx, None),
+            done => done,
+        };
     }
     pass(inputs, &ctx, each)
+}
+
+/// Sets its cell to its ladder when dropped, unless it was set: a pass waiting on a pilot never
+/// waits forever.
+struct Fallback<'a>(&'a OnceLock<Ladder>, &'a Ladder);
+
+impl Drop for Fallback<'_> {
+    fn drop(&mut self) {
+        let _ = self.0.set(self.1.clone());
+    }
 }
 
 /// One pass over the inputs, and the fit of what it accumulated.
@@ -415,7 +437,7 @@ impl Pool {
             }
         }
         self.stats
-            .get_or_insert_with(|| Stats::new(animal.stats.mean.len(), &ctx.ladder))
+            .get_or_insert_with(|| Stats::new(animal.stats.mean.len(), ctx.ladder()))
             .absorb(&animal.stats, 1.0);
         if let Some(j) = animal.jitter.take() {
             match &mut self.jitter {
@@ -496,7 +518,7 @@ impl Pool {
                 })
                 .fold(0.0, f64::max);
             let span = (5.0 * slowest).max(report.window.frames as f64).ceil() as usize;
-            match bootstrap::intervals(&units, ctx.settings, (&ctx.ladder, span), fit) {
+            match bootstrap::intervals(&units, ctx.settings, (ctx.ladder(), span), fit) {
                 Ok(i) => {
                     // The modes' errors give κ's interval when they can (their coverage is
                     // checked, docs/fit.md); the bootstrap's stands in for the peaks' κ.
@@ -575,7 +597,7 @@ fn fit_stats(
             stats.count
         )));
     }
-    let spectra = stats.spectra(&ctx.ladder, 1.0 / interval);
+    let spectra = stats.spectra(ctx.ladder(), 1.0 / interval);
     if spectra.is_empty() {
         return Err(FitError::Invalid(format!(
             "no run of 8 frames between gaps for the spectra (longest {}); bridge short gaps with --fill-gaps K",
