@@ -38,7 +38,41 @@ pub(super) struct Context<'a> {
 /// workers already parse (its rows wait for it).
 pub(super) enum PassLadder<'a> {
     Known(Ladder),
-    Foretold(&'a std::sync::OnceLock<Ladder>),
+    Foretold(&'a Forecast),
+}
+
+/// A ladder set once by one thread and awaited by another.
+#[derive(Default)]
+pub(super) struct Forecast {
+    ladder: std::sync::OnceLock<Ladder>,
+    ready: (std::sync::Mutex<()>, std::sync::Condvar),
+}
+
+impl Forecast {
+    /// Set the ladder (the first one set stays) and wake whoever waits.
+    pub(super) fn set(&self, ladder: Ladder) {
+        let _ = self.ladder.set(ladder);
+        let (lock, ready) = &self.ready;
+        let _held = lock.lock().unwrap_or_else(|e| e.into_inner());
+        ready.notify_all();
+    }
+
+    /// The ladder, once set.
+    fn wait(&self) -> &Ladder {
+        let (lock, ready) = &self.ready;
+        let mut held = lock.lock().unwrap_or_else(|e| e.into_inner());
+        loop {
+            if let Some(ladder) = self.ladder.get() {
+                return ladder;
+            }
+            held = ready.wait(held).unwrap_or_else(|e| e.into_inner());
+        }
+    }
+
+    /// Whether a ladder was set.
+    pub(super) fn is_set(&self) -> bool {
+        self.ladder.get().is_some()
+    }
 }
 
 /// Projectors made for one fit, by frame width.

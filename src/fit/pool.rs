@@ -9,9 +9,11 @@ use std::collections::BTreeMap;
 use std::io::BufRead;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::sync::{mpsc, Mutex, OnceLock};
+use std::sync::{mpsc, Mutex};
 
-use super::accumulate::{accumulate, Context, Each, PassLadder, ProjectorCache, Projectors};
+use super::accumulate::{
+    accumulate, Context, Each, Forecast, PassLadder, ProjectorCache, Projectors,
+};
 use super::chunks::Chunked;
 use super::read::{
     is_deeplabcut, read_tracks, sniff, whole, FrameReader, Track, TrackSource, MAX_WHOLE_FILE,
@@ -92,7 +94,7 @@ pub fn fit_inputs(
     // made again with the whole ladder when the recording chooses another.
     if let (None, [Input::File(path)]) = (&each, inputs.as_slice()) {
         let path = path.clone();
-        let foretold = OnceLock::new();
+        let foretold = Forecast::default();
         let piloted = Context {
             ladder: PassLadder::Foretold(&foretold),
             ..ctx
@@ -102,7 +104,7 @@ pub fn fit_inputs(
                 // The whole ladder unless a forecast is made (a short file, a panic).
                 let _whole = Fallback(&foretold, &whole);
                 if let Some(ladder) = super::pilot::ladder(&path, &ctx) {
-                    let _ = foretold.set(ladder);
+                    foretold.set(ladder);
                 }
             });
             pass(inputs, &piloted, None)
@@ -117,11 +119,13 @@ pub fn fit_inputs(
 
 /// Sets its cell to its ladder when dropped, unless it was set: a pass waiting on a pilot never
 /// waits forever.
-struct Fallback<'a>(&'a OnceLock<Ladder>, &'a Ladder);
+struct Fallback<'a>(&'a Forecast, &'a Ladder);
 
 impl Drop for Fallback<'_> {
     fn drop(&mut self) {
-        let _ = self.0.set(self.1.clone());
+        if !self.0.is_set() {
+            self.0.set(self.1.clone());
+        }
     }
 }
 
