@@ -205,13 +205,13 @@ impl<'env, R: BufRead + Send + 'env> Source for Chunked<'_, 'env, R> {
             line,
             why: e.into(),
         })?;
-        let projected = row
-            .projected
-            .map(|p| p.map(|spacing| (&self.current.modal[m..m + modes], spacing)));
-        let m = m + if matches!(row.projected, Some(Ok(_))) {
-            modes
-        } else {
-            0
+        let (projected, m) = match row.projected {
+            Some(Ok(spacing)) => (
+                Some(Ok((&self.current.modal[m..m + modes], spacing))),
+                m + modes,
+            ),
+            Some(Err(why)) => (Some(Err(why)), m),
+            None => (None, m),
         };
         self.next = (r + 1, v + width, m);
         Ok(Some(Row {

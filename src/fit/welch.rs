@@ -247,16 +247,20 @@ pub(super) struct WelchSums {
     pub(super) segments: f64,
 }
 
-/// The last frames of a run, channel by channel: every value is written twice (at i and
-/// i + cap), so the last W ≤ cap frames of a channel are one contiguous slice and a Welch
-/// segment reads them without a copy. The capacity doubles as the run grows, up to the
-/// ladder's longest window (a run of a few frames holds a few).
+/// The last frames of a run, channel by channel, each channel in a space of twice the capacity:
+/// a frame is written once, after the last, and when the space is full the frames held move
+/// to its start (one bulk copy per capacity's frames), so the last W ≤ cap frames of a channel
+/// are always one contiguous slice and a Welch segment reads them without a copy. (Writing
+/// every value twice, at i and i + cap, kept twice the store streams open: measurably slower.)
+/// The capacity doubles as the run grows, up to the ladder's longest window (a run of a few
+/// frames holds a few).
 pub(super) struct Ring {
     channels: usize,
     longest: usize,
     cap: usize,
     data: Vec<f64>,
-    /// Where the next frame goes, and how many frames are held.
+    /// Where the next frame goes in each channel's space, and how many frames are held (the
+    /// `held` before `pos`).
     pos: usize,
     held: usize,
 }
@@ -280,25 +284,29 @@ impl Ring {
 
     pub(super) fn push(&mut self, q: &[f64]) {
         if self.held == self.cap && self.cap < self.longest {
-            // The frames held, oldest first, twice in each channel's larger space.
+            // The frames held, oldest first, at the start of each channel's larger space.
             let cap = (2 * self.cap).max(16).min(self.longest);
             let mut data = vec![0.0; 2 * cap * self.channels];
             for c in 0..self.channels {
                 let held = self.last(c, self.held);
-                let base = 2 * cap * c;
-                data[base..base + held.len()].copy_from_slice(held);
-                data[base + cap..base + cap + held.len()].copy_from_slice(held);
+                data[2 * cap * c..][..held.len()].copy_from_slice(held);
             }
             (self.data, self.cap, self.pos) = (data, cap, self.held);
         }
-        let cap = self.cap;
-        for (c, x) in q.iter().enumerate().take(self.channels) {
-            let base = 2 * cap * c + self.pos;
-            self.data[base] = *x;
-            self.data[base + cap] = *x;
+        let (cap, held) = (self.cap, self.held);
+        if self.pos == 2 * cap {
+            for c in 0..self.channels {
+                let base = 2 * cap * c;
+                self.data
+                    .copy_within(base + 2 * cap - held..base + 2 * cap, base);
+            }
+            self.pos = held;
         }
-        self.pos = if self.pos + 1 == cap { 0 } else { self.pos + 1 };
-        self.held = (self.held + 1).min(cap);
+        for (c, x) in q.iter().enumerate().take(self.channels) {
+            self.data[2 * cap * c + self.pos] = *x;
+        }
+        self.pos += 1;
+        self.held = (held + 1).min(cap);
     }
 
     /// The last `w` frames of channel `c` (w ≤ the frames held).
@@ -309,7 +317,7 @@ impl Ring {
     /// The `w` frames of channel `c` that end `back` frames before the newest
     /// (w + back ≤ the frames held).
     pub(super) fn ending(&self, c: usize, w: usize, back: usize) -> &[f64] {
-        let end = 2 * self.cap * c + self.pos + self.cap - back;
+        let end = 2 * self.cap * c + self.pos - back;
         &self.data[end - w..end]
     }
 
@@ -337,6 +345,41 @@ impl Ring {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The ring lends the frames pushed last, through growth and every move to the start.
+    #[test]
+    fn the_ring_holds_the_last_frames() {
+        for longest in [1, 5, 16, 40, 100] {
+            let mut ring = Ring::new(3, longest);
+            let mut all: Vec<Vec<f64>> = Vec::new();
+            for n in 0..1000 {
+                let frame: Vec<f64> = (0..3).map(|c| (n * 10 + c) as f64).collect();
+                ring.push(&frame);
+                all.push(frame);
+                let held = ring.len();
+                assert_eq!(
+                    held,
+                    all.len().min(ring.cap),
+                    "longest {longest}, frame {n}"
+                );
+                for c in 0..3 {
+                    for back in [0, 1, held / 3] {
+                        let w = held - back;
+                        let want: Vec<f64> = all[all.len() - back - w..all.len() - back]
+                            .iter()
+                            .map(|f| f[c])
+                            .collect();
+                        assert_eq!(ring.ending(c, w, back), want.as_slice());
+                    }
+                }
+            }
+            assert_eq!(
+                ring.cap, longest,
+                "the capacity grows to the longest window"
+            );
+            assert_eq!(ring.frames(), all[all.len() - ring.len()..].to_vec());
+        }
+    }
 
     /// The lag products side by side are the plain sums, bit for bit.
     #[test]
