@@ -12,6 +12,7 @@ use std::sync::{Arc, Mutex};
 use std::thread::Scope;
 
 use super::accumulate::Work;
+use super::number::comma_rows;
 use super::read::{plain_line, Clock, FrameReader, LineError, Row, Source};
 use super::{FitError, FitSettings, FrameError, InputKind, Projector, MAX_LINE_BYTES};
 
@@ -300,7 +301,9 @@ impl Spares {
     }
 }
 
-/// Parse one chunk: rows of `width` cells, projected when a projector is given.
+/// Parse one chunk: rows of `width` cells, projected when a projector is given. Lines are
+/// read two at a time where both are plain comma-separated rows ([`comma_rows`]), else one by
+/// one by the line reader's own function.
 fn parse(
     text: &[u8],
     width: usize,
@@ -310,42 +313,77 @@ fn parse(
 ) -> Parsed {
     let mut out = spares.parsed();
     let mut work = Work::default();
-    let mut start = 0;
-    for k in 0.. {
-        let Some(line) = text.get(start..).filter(|rest| !rest.is_empty()) else {
-            break;
-        };
-        let line = &line[..memchr::memchr(b'\n', line).map_or(line.len(), |end| end + 1)];
+    let line_at = |start: usize| {
+        let rest = text.get(start..).filter(|rest| !rest.is_empty())?;
+        Some(&rest[..memchr::memchr(b'\n', rest).map_or(rest.len(), |end| end + 1)])
+    };
+    let (mut start, mut k) = (0, 0);
+    while let Some(line) = line_at(start) {
         start += line.len();
-        out.lines = k + 1;
+        k += 1;
+        out.lines = k;
         // Each row's values are parsed into place, after the chunk's earlier rows.
         let from = out.values.len();
-        let row = match plain_line(line, width, &mut out.values) {
-            Ok(Some(row)) => row,
-            Ok(None) => continue,
+        if let Some(next) = line_at(start).filter(|n| line.len().max(n.len()) <= MAX_LINE_BYTES) {
+            if let Some([t, u]) = comma_rows([line, next], width, &mut out.values) {
+                start += next.len();
+                k += 1;
+                out.lines = k;
+                let (cells, work) = (width - 1, (projector, settings, &mut work));
+                let [a, b] = [from..from + cells, from + cells..from + 2 * cells];
+                add_row(
+                    &mut out,
+                    (work.0, work.1, &mut *work.2),
+                    (t, false, k - 1),
+                    a,
+                );
+                add_row(&mut out, work, (u, false, k), b);
+                continue;
+            }
+        }
+        match plain_line(line, width, &mut out.values) {
+            Ok(Some((t, lost))) => {
+                let values = from..out.values.len();
+                add_row(
+                    &mut out,
+                    (projector, settings, &mut work),
+                    (t, lost, k),
+                    values,
+                );
+            }
+            Ok(None) => {}
             Err(why) => {
-                out.error = Some((k + 1, why));
+                out.error = Some((k, why));
                 break;
             }
-        };
-        let (t, lost) = row;
-        let values = &out.values[from..];
-        let projected = match projector {
-            Some(p) if !lost => {
-                let done = p.project_into(values, settings.head_first, &mut work.0, &mut work.1);
-                if done.is_ok() {
-                    out.modal.extend_from_slice(&work.1);
-                }
-                Some(done)
-            }
-            _ => None,
-        };
-        out.rows.push(ParsedRow {
-            t,
-            lost,
-            line: k + 1,
-            projected,
-        });
+        }
     }
     out
+}
+
+/// The row (time, lost, line) whose values are `values` of `out.values`: projected when it can
+/// be, and listed.
+fn add_row(
+    out: &mut Parsed,
+    (projector, settings, work): (Option<&Projector>, &FitSettings, &mut Work),
+    (t, lost, line): (f64, bool, usize),
+    values: std::ops::Range<usize>,
+) {
+    let values = &out.values[values];
+    let projected = match projector {
+        Some(p) if !lost => {
+            let done = p.project_into(values, settings.head_first, &mut work.0, &mut work.1);
+            if done.is_ok() {
+                out.modal.extend_from_slice(&work.1);
+            }
+            Some(done)
+        }
+        _ => None,
+    };
+    out.rows.push(ParsedRow {
+        t,
+        lost,
+        line,
+        projected,
+    });
 }

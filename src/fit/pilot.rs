@@ -1,8 +1,9 @@
 //! A long file's window foretold by its first frames. Without `--window` a pass keeps the
 //! Welch sums at every window of the ladder, for every mode, so that the fit can choose once
 //! the lowest mode's frequency is known; only the chosen window is fitted. A pilot reads the
-//! first [`PILOT_FRAMES`] frames of a file at least [`WORTH`] times as long, makes the same
-//! choice on them ([`likely_windows`]), and the pass keeps every mode only there (and at a
+//! first [`PILOT_FRAMES`] frames of a file at least [`WORTH`] times as long (on a thread beside
+//! the pass, whose workers parse meanwhile), makes the same choice on them
+//! ([`likely_windows`]), and the pass keeps every mode only there (and at a
 //! neighbour the choice could still move to), the other windows only the lead modes that
 //! choose. Every number is the same as without the pilot: when the whole recording chooses a
 //! window the pass kept partially ([`super::FitError::Pruned`]), the file is read again with
@@ -11,7 +12,7 @@
 use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
 
-use super::accumulate::{accumulate, Context, PassLadder, ProjectorCache, Projectors};
+use super::accumulate::{accumulate, Context, Forecast, PassLadder, ProjectorCache, Projectors};
 use super::read::{sniff, FrameReader};
 use super::welch::{Ladder, LADDER};
 use super::window::{likely_windows, lowest_frequency};
@@ -35,6 +36,43 @@ const WORTH: u64 = 8;
 /// foretells the window; `None` keeps the whole ladder.
 pub(super) fn ladder(path: &Path, ctx: &Context<'_>) -> Option<Ladder> {
     windows(path, ctx).map(|full| ctx.ladder().pruned(&full))
+}
+
+/// `pass` run with the ladder a pilot over the file at `path` foretells, the pilot on a thread
+/// of its own while the pass's workers start to parse (its rows wait on the forecast); the
+/// whole ladder when none is foretold (a short file, a layout the pilot cannot read).
+pub(super) fn beside<T>(
+    path: &Path,
+    ctx: &Context<'_>,
+    whole: &Ladder,
+    pass: impl FnOnce(&Context<'_>) -> T,
+) -> T {
+    let foretold = Forecast::default();
+    let piloted = Context {
+        ladder: PassLadder::Foretold(&foretold),
+        ..*ctx
+    };
+    std::thread::scope(|scope| {
+        scope.spawn(|| {
+            let _whole = Fallback(&foretold, whole);
+            if let Some(ladder) = ladder(path, ctx) {
+                foretold.set(ladder);
+            }
+        });
+        pass(&piloted)
+    })
+}
+
+/// Sets its cell to its ladder when dropped, unless it was set: a pass waiting on a pilot never
+/// waits forever.
+struct Fallback<'a>(&'a Forecast, &'a Ladder);
+
+impl Drop for Fallback<'_> {
+    fn drop(&mut self) {
+        if !self.0.is_set() {
+            self.0.set(self.1.clone());
+        }
+    }
 }
 
 /// The windows at which `fit` of the file at `path` alone keeps every mode's Welch sums, as

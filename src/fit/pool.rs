@@ -11,9 +11,7 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{mpsc, Mutex};
 
-use super::accumulate::{
-    accumulate, Context, Each, Forecast, PassLadder, ProjectorCache, Projectors,
-};
+use super::accumulate::{accumulate, Context, Each, PassLadder, ProjectorCache, Projectors};
 use super::chunks::Chunked;
 use super::read::{
     is_deeplabcut, read_tracks, sniff, whole, FrameReader, Track, TrackSource, MAX_WHOLE_FILE,
@@ -94,39 +92,13 @@ pub fn fit_inputs(
     // made again with the whole ladder when the recording chooses another.
     if let (None, [Input::File(path)]) = (&each, inputs.as_slice()) {
         let path = path.clone();
-        let foretold = Forecast::default();
-        let piloted = Context {
-            ladder: PassLadder::Foretold(&foretold),
-            ..ctx
-        };
-        let done = std::thread::scope(|scope| {
-            scope.spawn(|| {
-                // The whole ladder unless a forecast is made (a short file, a panic).
-                let _whole = Fallback(&foretold, &whole);
-                if let Some(ladder) = super::pilot::ladder(&path, &ctx) {
-                    foretold.set(ladder);
-                }
-            });
-            pass(inputs, &piloted, None)
-        });
+        let done = super::pilot::beside(&path, &ctx, &whole, |piloted| pass(inputs, piloted, None));
         return match done {
             Err(FitError::Pruned { .. }) => pass(vec![Input::File(path)], &ctx, None),
             done => done,
         };
     }
     pass(inputs, &ctx, each)
-}
-
-/// Sets its cell to its ladder when dropped, unless it was set: a pass waiting on a pilot never
-/// waits forever.
-struct Fallback<'a>(&'a Forecast, &'a Ladder);
-
-impl Drop for Fallback<'_> {
-    fn drop(&mut self) {
-        if !self.0.is_set() {
-            self.0.set(self.1.clone());
-        }
-    }
 }
 
 /// One pass over the inputs, and the fit of what it accumulated.
