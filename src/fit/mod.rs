@@ -146,3 +146,14 @@ pub fn fit_tracks(
 ) -> Result<FitReport, FitError> {
     fit_inputs(vec![Input::Tracks(tracks)], model, params, settings, None)
 }
+
+/// A seeded xorshift stream: the tests' random inputs, the same on every run.
+#[cfg(test)]
+pub(crate) fn xorshift(mut state: u64) -> impl FnMut() -> u64 {
+    move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    }
+}

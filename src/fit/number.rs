@@ -185,13 +185,7 @@ mod tests {
     /// Every plain decimal read fast is the double `str::parse` gives.
     #[test]
     fn decimals_match_the_standard_parser() {
-        let mut state = 0x9E37_79B9_7F4A_7C15u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut next = crate::fit::xorshift(0x9E37_79B9_7F4A_7C15u64);
         for _ in 0..200_000 {
             let digits = 1 + next() % 18;
             let text: String = (0..digits)
@@ -245,13 +239,7 @@ mod tests {
     /// declined, leaving the values as they were.
     #[test]
     fn rows_in_pairs_are_rows_alone() {
-        let mut state = 0x51_7CC1_B727_220Au64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut next = crate::fit::xorshift(0x51_7CC1_B727_220Au64);
         let cell = |r: u64| {
             let v = (r % 2_000_000_000) as f64 / 1e6 - 1000.0;
             let digits = (r >> 40) as usize % 9;

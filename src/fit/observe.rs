@@ -250,13 +250,7 @@ mod tests {
     /// every quadrant, tiny and huge parts, zeros, infinities and NaN.
     #[test]
     fn batched_angles_and_sizes_are_musls() {
-        let mut state = 0x2545_F491_4F6C_DD1Du64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut next = crate::fit::xorshift(0x2545_F491_4F6C_DD1Du64);
         let special = [
             0.0,
             -0.0,

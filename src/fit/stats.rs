@@ -130,7 +130,7 @@ impl Stats {
     }
 }
 
-/// Streams one run's frames into its [`Stats`]: running moments, Welch segments at half
+/// Streams one run's frames into its [`Stats`]: moments in batches, Welch segments at half
 /// overlap at every window of the ladder. For a bootstrap over time it accumulates consecutive
 /// blocks of frames instead (each segment in the block where it ends), the run being their
 /// sum; past [`MAX_BLOCKS`] blocks, neighbours merge and the block length doubles.
