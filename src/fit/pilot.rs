@@ -4,8 +4,8 @@
 //! first [`PILOT_FRAMES`] frames of a file at least [`WORTH`] times as long (on a thread beside
 //! the pass, whose workers parse meanwhile), makes the same choice on them
 //! ([`likely_windows`]), and the pass keeps every mode only there (and at a
-//! neighbour the choice could still move to), the other windows only the lead modes that
-//! choose. Every number is the same as without the pilot: when the whole recording chooses a
+//! neighbour the choice could still move to), the longest window only the lead modes whose
+//! frequency chooses, the other windows none (their segments are counted). Every number is the same as without the pilot: when the whole recording chooses a
 //! window the pass kept partially ([`super::FitError::Pruned`]), the file is read again with
 //! the whole ladder.
 

@@ -325,7 +325,7 @@ impl Run {
         let m = self.stats.mean.len();
         let mut work_of = vec![0.0; plans.len()];
         for &(i, _) in &pending {
-            let (w, channels) = (plans[i].len() as f64, self.ladder.channels(i, m).max(1));
+            let (w, channels) = (plans[i].len() as f64, self.ladder.channels(i, m));
             work_of[i] += w * w.log2().max(1.0) * channels as f64;
         }
         // Greedy halves, costliest window first.

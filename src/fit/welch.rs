@@ -1,8 +1,9 @@
 //! Welch's estimate of the modal coordinates' spectra: each segment of W frames mean-removed,
 //! Hann-tapered and transformed, |X̂(f)|² summed over segments at half overlap, the density
 //! Σ|X̂|²·(2 off the ends)/(fs·Σw²·segments). A pass keeps the sums at every window of a
-//! [`Ladder`] (the user's window, or powers of two to choose from); a ladder may keep only its
-//! lead channels at windows a pilot says will not be chosen (their spectra choose, never fit).
+//! [`Ladder`] (the user's window, or powers of two to choose from); a ladder a pilot prunes
+//! keeps only the lead channels at its longest window (their spectra choose, never fit) and no
+//! channel at the other windows it does not expect to be chosen (their segments still count).
 
 use std::sync::Arc;
 
@@ -186,7 +187,8 @@ pub(super) struct Spectra {
     pub(super) frequencies: Vec<f64>,
     /// The densities of the channels kept at this window (every one, unless it is partial).
     pub(super) psd: Vec<Vec<f64>>,
-    /// Only the lead channels were kept here: enough to choose the window, not to fit at it.
+    /// Only the lead channels (or none) were kept here: enough to choose the window, not to fit
+    /// at it.
     pub(super) partial: bool,
 }
 
@@ -219,10 +221,18 @@ impl Ladder {
     }
 
     /// This ladder keeping every channel only at the windows `full`, the [`LEAD`] channels at
-    /// the others.
+    /// the longest (where a long recording's choice measures the lowest mode), none at the
+    /// others: their segments are still counted, which is all the choice reads of them. A
+    /// recording whose runs are too short for the longest window measures at a shorter one,
+    /// which then holds no channel: the pass is made again with the whole ladder.
     pub(super) fn pruned(&self, full: &[usize]) -> Ladder {
+        let longest = self.longest();
         let kept = (self.plans.iter())
-            .map(|p| (!full.contains(&p.len())).then_some(LEAD))
+            .map(|p| match p.len() {
+                w if full.contains(&w) => None,
+                w if w == longest => Some(LEAD),
+                _ => Some(0),
+            })
             .collect();
         Ladder {
             plans: self.plans.clone(),

@@ -5,6 +5,7 @@ use super::project::Projector;
 use super::spectrum::{fit_mode, Taper};
 use super::stats::Spectra;
 use super::verdict::{ModeSpectralFit, WindowChoice};
+use super::welch::LEAD;
 use crate::report::fixed;
 
 /// The Welch window: the given one, or the shortest of the ladder in which the lowest mode's
@@ -115,6 +116,10 @@ pub(super) fn lowest_frequency(
     s: &Spectra,
     fs: f64,
 ) -> Option<f64> {
+    // A window a pilot's ladder keeps without its lead modes measures nothing.
+    if s.psd.len() < LEAD.min(cov.len()) {
+        return None;
+    }
     let first = fit_modes_spectra(proj, cov, s, fs, (1, None))
         .into_iter()
         .next()?;
