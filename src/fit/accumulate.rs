@@ -68,11 +68,6 @@ impl Forecast {
             held = ready.wait(held).unwrap_or_else(|e| e.into_inner());
         }
     }
-
-    /// Whether a ladder was set.
-    pub(super) fn is_set(&self) -> bool {
-        self.ladder.get().is_some()
-    }
 }
 
 /// Projectors made for one fit, by frame width.

@@ -7,6 +7,7 @@
 //! frames parsed from them), whatever the file's length.
 
 use std::io::{BufRead, Read as _};
+use std::ops::Range;
 use std::sync::mpsc::{self, Receiver, SyncSender};
 use std::sync::{Arc, Mutex};
 use std::thread::Scope;
@@ -313,6 +314,29 @@ fn parse(
 ) -> Parsed {
     let mut out = spares.parsed();
     let mut work = Work::default();
+    // The row (time, lost, line) whose values are `values` of `out.values`: projected when it
+    // can be, and listed.
+    let mut add_row = |out: &mut Parsed,
+                       (t, lost, line): (f64, bool, usize),
+                       values: Range<usize>| {
+        let values = &out.values[values];
+        let projected = match projector {
+            Some(p) if !lost => {
+                let done = p.project_into(values, settings.head_first, &mut work.0, &mut work.1);
+                if done.is_ok() {
+                    out.modal.extend_from_slice(&work.1);
+                }
+                Some(done)
+            }
+            _ => None,
+        };
+        out.rows.push(ParsedRow {
+            t,
+            lost,
+            line,
+            projected,
+        });
+    };
     let line_at = |start: usize| {
         let rest = text.get(start..).filter(|rest| !rest.is_empty())?;
         Some(&rest[..memchr::memchr(b'\n', rest).map_or(rest.len(), |end| end + 1)])
@@ -329,27 +353,16 @@ fn parse(
                 start += next.len();
                 k += 1;
                 out.lines = k;
-                let (cells, work) = (width - 1, (projector, settings, &mut work));
-                let [a, b] = [from..from + cells, from + cells..from + 2 * cells];
-                add_row(
-                    &mut out,
-                    (work.0, work.1, &mut *work.2),
-                    (t, false, k - 1),
-                    a,
-                );
-                add_row(&mut out, work, (u, false, k), b);
+                let cells = width - 1;
+                add_row(&mut out, (t, false, k - 1), from..from + cells);
+                add_row(&mut out, (u, false, k), from + cells..from + 2 * cells);
                 continue;
             }
         }
         match plain_line(line, width, &mut out.values) {
             Ok(Some((t, lost))) => {
                 let values = from..out.values.len();
-                add_row(
-                    &mut out,
-                    (projector, settings, &mut work),
-                    (t, lost, k),
-                    values,
-                );
+                add_row(&mut out, (t, lost, k), values);
             }
             Ok(None) => {}
             Err(why) => {
@@ -359,31 +372,4 @@ fn parse(
         }
     }
     out
-}
-
-/// The row (time, lost, line) whose values are `values` of `out.values`: projected when it can
-/// be, and listed.
-fn add_row(
-    out: &mut Parsed,
-    (projector, settings, work): (Option<&Projector>, &FitSettings, &mut Work),
-    (t, lost, line): (f64, bool, usize),
-    values: std::ops::Range<usize>,
-) {
-    let values = &out.values[values];
-    let projected = match projector {
-        Some(p) if !lost => {
-            let done = p.project_into(values, settings.head_first, &mut work.0, &mut work.1);
-            if done.is_ok() {
-                out.modal.extend_from_slice(&work.1);
-            }
-            Some(done)
-        }
-        _ => None,
-    };
-    out.rows.push(ParsedRow {
-        t,
-        lost,
-        line,
-        projected,
-    });
 }

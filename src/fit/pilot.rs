@@ -3,11 +3,11 @@
 //! the lowest mode's frequency is known; only the chosen window is fitted. A pilot reads the
 //! first [`PILOT_FRAMES`] frames of a file at least [`WORTH`] times as long (on a thread beside
 //! the pass, whose workers parse meanwhile), makes the same choice on them
-//! ([`likely_windows`]), and the pass keeps every mode only there (and at a
-//! neighbour the choice could still move to), the longest window only the lead modes whose
-//! frequency chooses, the other windows none (their segments are counted). Every number is the same as without the pilot: when the whole recording chooses a
-//! window the pass kept partially ([`super::FitError::Pruned`]), the file is read again with
-//! the whole ladder.
+//! ([`likely_windows`]), and the pass keeps every mode only there (and at a neighbour the
+//! choice could still move to), the longest window only the lead modes whose frequency
+//! chooses, the other windows none (their segments are counted). Every number is the same as
+//! without the pilot: when the whole recording chooses a window the pass kept partially
+//! ([`super::FitError::Pruned`]), the file is read again with the whole ladder.
 
 use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
@@ -63,15 +63,13 @@ pub(super) fn beside<T>(
     })
 }
 
-/// Sets its cell to its ladder when dropped, unless it was set: a pass waiting on a pilot never
-/// waits forever.
+/// Sets its forecast to its ladder when dropped (a forecast already made stays): a pass waiting
+/// on a pilot never waits forever.
 struct Fallback<'a>(&'a Forecast, &'a Ladder);
 
 impl Drop for Fallback<'_> {
     fn drop(&mut self) {
-        if !self.0.is_set() {
-            self.0.set(self.1.clone());
-        }
+        self.0.set(self.1.clone());
     }
 }
 
@@ -138,7 +136,7 @@ fn windows(path: &Path, ctx: &Context<'_>) -> Option<Vec<usize>> {
     // Read on this thread: for so few frames the workers save nothing (measured).
     let source = FrameReader::new(text, settings);
     let mut projs = Projectors { by_width: vec![] };
-    // The choice reads the lead modes only.
+    // The choice reads the lead modes at the longest window, the others' segment counts.
     let ctx = Context {
         ladder: PassLadder::Known(ctx.ladder().pruned(&[])),
         noise: false,

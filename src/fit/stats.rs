@@ -260,7 +260,10 @@ impl Run {
             if self.ring.len() >= len && *since >= len / 2 {
                 *since = 0;
                 w.segments += 1.0;
-                self.pending.push((i, self.frames));
+                // A window a pruned ladder keeps no channel at only counts its segments.
+                if !w.sums.is_empty() {
+                    self.pending.push((i, self.frames));
+                }
             }
         }
         if let Some(&(_, first)) = self.pending.first() {

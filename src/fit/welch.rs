@@ -201,9 +201,9 @@ pub(super) struct Ladder {
     kept: Vec<Option<usize>>,
 }
 
-/// The channels a pruned ladder keeps where it does not expect the choice: the lowest mode,
-/// whose frequency chooses the window, and its neighbour, whose peak bounds its fitting band
-/// (one complex transform for the two).
+/// The channels a pruned ladder keeps at its longest window: the lowest mode, whose frequency
+/// there chooses the window, and its neighbour, whose peak bounds its fitting band (one complex
+/// transform for the two).
 pub(super) const LEAD: usize = 2;
 
 /// The windows tried when none is given: 16, 32, … 4096 frames.
