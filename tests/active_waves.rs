@@ -261,8 +261,11 @@ fn a_section_without_ost_keeps_inertia_out_of_every_numerical_command() {
         "y = [\"OST\", \"TRAN\", \"REF\", \"ROT\", \"GAL\"]",
         "y = [\"TRAN\", \"REF\", \"ROT\", \"GAL\"]",
     );
-    let dir = std::env::temp_dir().join(format!("ts-noost-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir_held = tempfile::Builder::new()
+        .prefix("ts-noost-")
+        .tempdir()
+        .unwrap();
+    let dir = dir_held.path();
     let path = dir.join("noost.toml");
     std::fs::write(&path, text).unwrap();
     let m = path.to_str().unwrap();
@@ -282,5 +285,4 @@ fn a_section_without_ost_keeps_inertia_out_of_every_numerical_command() {
         );
         assert_eq!(err.trim_end().lines().count(), 1, "{err}");
     }
-    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -101,10 +101,11 @@ fn run_cli(args: &[&str]) -> serde_json::Value {
     serde_json::from_slice(&out).unwrap()
 }
 
-fn temp_dir(tag: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("ts-animals-{tag}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn temp_dir(tag: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("ts-animals-{tag}-"))
+        .tempdir()
+        .unwrap()
 }
 
 /// The numbers two fits of the same frames must share.
@@ -134,7 +135,8 @@ fn assert_same(a: &serde_json::Value, b: &serde_json::Value, what: &str) {
 #[test]
 fn a_directory_a_track_file_and_memory_give_one_pooled_fit() {
     let animals: Vec<_> = (0..3).map(|i| animal(1500, 10 + i)).collect();
-    let dir = temp_dir("dir");
+    let dir_held = temp_dir("dir");
+    let dir = dir_held.path();
     let mut tracked = String::from("track,t,coordinates…\n");
     for (i, a) in animals.iter().enumerate() {
         std::fs::write(dir.join(format!("worm{i}.csv")), csv(a, None)).unwrap();
@@ -169,7 +171,6 @@ fn a_directory_a_track_file_and_memory_give_one_pooled_fit() {
     let serial = run_cli(&[d, "--fit-modes", "2", "--series", series.to_str().unwrap()]);
     assert_eq!(serial["omega"], from_dir["omega"]);
     assert_eq!(serial["pca_variance_share"], from_dir["pca_variance_share"]);
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// The same frames as WCON: arrayed and single-valued records, an id repeated, nulls, the head
@@ -214,7 +215,8 @@ fn wcon(animals: &[Vec<(f64, Vec<f64>)>]) -> String {
 #[test]
 fn wcon_and_deeplabcut_read_the_same_frames_as_plain_csv() {
     let animals: Vec<_> = (0..2).map(|i| animal(1200, 20 + i)).collect();
-    let dir = temp_dir("formats");
+    let dir_held = temp_dir("formats");
+    let dir = dir_held.path();
     for (i, a) in animals.iter().enumerate() {
         std::fs::write(dir.join(format!("a{i}.csv")), csv(a, None)).unwrap();
     }
@@ -246,7 +248,6 @@ fn wcon_and_deeplabcut_read_the_same_frames_as_plain_csv() {
     }
     let pattern = format!("{}/dlc*.dlc", dir.display());
     assert_same(&plain, &run_cli(&[&pattern]), "DeepLabCut");
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]
@@ -277,7 +278,8 @@ fn a_handwritten_wcon_file_from_the_specification() {
 
 #[test]
 fn bad_wcon_is_one_clear_line() {
-    let dir = temp_dir("badwcon");
+    let dir_held = temp_dir("badwcon");
+    let dir = dir_held.path();
     for (text, says) in [
         ("{\"data\": []}", "units"),
         ("{\"units\": {\"t\": \"s\", \"x\": \"mm\"}, \"data\": []}", "\"y\""),
@@ -298,7 +300,6 @@ fn bad_wcon_is_one_clear_line() {
         assert!(!e.to_string().contains('\n'), "{e}");
         assert_ne!(e.exit_code(), 0);
     }
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]

@@ -2,8 +2,6 @@
 //! exists, so each command must run on each body or refuse it in one line that says why (a
 //! missing role, a field without the structure a behaviour needs).
 
-use std::path::PathBuf;
-
 use theory_search::dynamics::{simulate, Config};
 use theory_search::modal::Params;
 use theory_search::model::Model;
@@ -21,10 +19,11 @@ fn model_path(name: &str) -> String {
     format!("{}/tables/models/{name}.toml", env!("CARGO_MANIFEST_DIR"))
 }
 
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("ts-bodies-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn tmp(name: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("ts-bodies-{name}-"))
+        .tempdir()
+        .unwrap()
 }
 
 mod common;
@@ -97,7 +96,8 @@ fn midlines(body: &str, points: usize) -> String {
 fn every_body_runs_every_command() {
     for body in BODIES {
         let m = model_path(body);
-        let dir = tmp(body);
+        let dir_held = tmp(body);
+        let dir = dir_held.path();
         let data = dir.join("midlines.csv");
         std::fs::write(&data, midlines(body, 12)).unwrap();
         let (figs, gen) = (dir.join("figures"), dir.join("emit"));
@@ -211,7 +211,6 @@ fn every_body_runs_every_command() {
         let listed = run(&commands[18].1).unwrap();
         let written = listed.lines().filter(|l| l.starts_with("wrote")).count();
         assert!(written >= 6, "{body}: {listed}");
-        std::fs::remove_dir_all(&dir).ok();
     }
 }
 
@@ -219,7 +218,8 @@ fn every_body_runs_every_command() {
 fn fit_recovers_the_scale_of_a_held_body() {
     // ω_b = 1 in the simulation: the fit must find it through the body's own boundary.
     for body in ["zebrafish", "channel_worm", "larva"] {
-        let dir = tmp(&format!("fit-{body}"));
+        let dir_held = tmp(&format!("fit-{body}"));
+        let dir = dir_held.path();
         let data = dir.join("m.csv");
         std::fs::write(&data, midlines(body, 12)).unwrap();
         let out = run(&[
@@ -239,13 +239,13 @@ fn fit_recovers_the_scale_of_a_held_body() {
         let v: serde_json::Value = serde_json::from_str(&out).unwrap();
         let omega = v["omega"].as_f64().unwrap();
         assert!((omega - 1.0).abs() < 0.05, "{body}: ω = {omega}");
-        std::fs::remove_dir_all(&dir).ok();
     }
 }
 
 #[test]
 fn a_missing_role_is_one_line_naming_role_and_command() {
-    let dir = tmp("norole");
+    let dir_held = tmp("norole");
+    let dir = dir_held.path();
     let path = dir.join("m.toml");
     let text = std::fs::read_to_string(model_path("zebrafish"))
         .unwrap()
@@ -266,5 +266,4 @@ fn a_missing_role_is_one_line_naming_role_and_command() {
     let (code, msg) = run(&["modes", "-p", "8", "--model", p]).unwrap_err();
     assert_eq!(code, 1);
     assert!(msg.contains("both have role axial"), "{msg}");
-    std::fs::remove_dir_all(&dir).ok();
 }

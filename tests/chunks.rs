@@ -3,7 +3,6 @@
 //! the file the odd line sits (the chunks are 64 KiB: these files hold dozens of them).
 
 use std::fmt::Write as _;
-use std::path::PathBuf;
 
 use theory_search::fit::{fit_inputs, foretold_windows, FitSettings, Input, InputKind};
 use theory_search::modal::Params;
@@ -57,10 +56,12 @@ fn both_foretold(
     settings: &FitSettings,
     tag: &str,
 ) -> (String, String, Option<Vec<usize>>) {
-    let path: PathBuf = std::env::temp_dir().join(format!(
-        "theory-search-chunks-{}-{tag}.csv",
-        std::process::id()
-    ));
+    let held = tempfile::Builder::new()
+        .prefix(&format!("theory-search-chunks-{tag}-"))
+        .suffix(".csv")
+        .tempfile()
+        .unwrap();
+    let path = held.path().to_path_buf();
     std::fs::write(&path, text).unwrap();
     let (model, params) = (Model::larva(), Params::default());
     let foretold = foretold_windows(&path, &model, &params, settings);
@@ -85,7 +86,6 @@ fn both_foretold(
         settings,
         None,
     ));
-    std::fs::remove_file(&path).ok();
     (file, stream, foretold)
 }
 

@@ -79,8 +79,11 @@ fn bad_input_is_one_line_and_non_zero() {
 
 #[test]
 fn malformed_model_files_name_the_problem() {
-    let dir = std::env::temp_dir().join(format!("theory-search-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir_held = tempfile::Builder::new()
+        .prefix("theory-search-cli-")
+        .tempdir()
+        .unwrap();
+    let dir = dir_held.path();
     let broken = dir.join("broken.toml");
     std::fs::write(&broken, "name = \"w\"\nfields = [\n").unwrap();
     assert_clean_error(&["--model", broken.to_str().unwrap()], "line");
@@ -269,8 +272,11 @@ fn simulate_command_writes_csv() {
     assert!(lines[0].ends_with("q_z_5"));
     let cols = lines[0].split(',').count();
     assert!(lines.iter().all(|l| l.split(',').count() == cols));
-    let dir = std::env::temp_dir().join(format!("theory-search-sim-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir_held = tempfile::Builder::new()
+        .prefix("theory-search-sim-")
+        .tempdir()
+        .unwrap();
+    let dir = dir_held.path();
     let file = dir.join("run.csv");
     let (code, out, _) = run(&[
         "simulate",
@@ -645,17 +651,19 @@ fn fit_command() {
         .unwrap();
     assert!(child.status.success());
     // Figures.
-    let dir = std::env::temp_dir().join(format!("theory-search-fit-{}", std::process::id()));
+    let dir_held = tempfile::Builder::new()
+        .prefix("theory-search-fit-")
+        .tempdir()
+        .unwrap();
+    let dir = dir_held.path();
     let (code, _, err) = run(&["fit", example, "--figures", dir.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
     for name in ["fit_shapes.svg", "fit_summary.svg"] {
         let svg = std::fs::read_to_string(dir.join(name)).unwrap();
         assert!(svg.contains("<polyline"), "{name}");
     }
-    std::fs::remove_dir_all(&dir).unwrap();
     // The modal series, streamed.
-    let series =
-        std::env::temp_dir().join(format!("theory-search-series-{}.csv", std::process::id()));
+    let series = dir.join("series.csv");
     let (code, _, err) = run(&["fit", example, "--series", series.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
     let text = std::fs::read_to_string(&series).unwrap();
@@ -667,7 +675,7 @@ fn fit_command() {
         "cannot write",
     );
     // Errors: files exit 1 naming the line, settings exit 2.
-    let bad = std::env::temp_dir().join(format!("theory-search-bad-{}.csv", std::process::id()));
+    let bad = dir.join("bad.csv");
     std::fs::write(&bad, "0 0 0 1 0 2 0 3 0 4 0\n1 0 0 1 0 2 x 3 0 4 0\n").unwrap();
     let (code, _, err) = run(&["fit", bad.to_str().unwrap()]);
     assert_eq!(code, 1);

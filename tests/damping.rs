@@ -12,7 +12,7 @@ mod common;
 use common::in_process;
 
 /// The planar model with drag on its bending field, written to a temporary file.
-fn drag_model() -> String {
+fn drag_model() -> tempfile::NamedTempFile {
     let planar = include_str!("../tables/models/planar.toml");
     let drag = planar
         .replace("name = \"planar\"", "name = \"drag\"")
@@ -21,13 +21,15 @@ fn drag_model() -> String {
             "y = [\"DIS\", \"TRAN\", \"REF\"]",
         );
     assert_ne!(drag, planar.replace("name = \"planar\"", "name = \"drag\""));
-    // One file per call: tests run at once, and a file rewritten while another test reads it
-    // reads empty.
-    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let path = std::env::temp_dir().join(format!("ts-drag-{}-{call}.toml", std::process::id()));
-    std::fs::write(&path, drag).unwrap();
-    path.to_str().unwrap().to_string()
+    // One file per call, removed when dropped: tests run at once, and a file rewritten while
+    // another test reads it reads empty.
+    let file = tempfile::Builder::new()
+        .prefix("ts-drag-")
+        .suffix(".toml")
+        .tempfile()
+        .unwrap();
+    std::fs::write(file.path(), drag).unwrap();
+    file
 }
 
 fn json(args: &[&str]) -> Value {
@@ -44,20 +46,22 @@ fn numbers(v: &Value) -> Vec<f64> {
 
 #[test]
 fn the_drag_body_is_linear_but_not_modal() {
-    let model = drag_model();
-    let eq = in_process(&["--model", &model]).unwrap();
+    let file = drag_model();
+    let model = file.path().to_str().unwrap();
+    let eq = in_process(&["--model", model]).unwrap();
     assert!(eq.contains("R_y = c'_y (∂t y)²"), "{eq}");
     // Behaviours need the modal theory and say so.
-    let (code, err) = in_process(&["behave", "rolling", "--model", &model]).unwrap_err();
+    let (code, err) = in_process(&["behave", "rolling", "--model", model]).unwrap_err();
     assert_eq!(code, 2);
     assert!(err.contains("needs the exact modal theory"), "{err}");
 }
 
 #[test]
 fn every_root_is_minus_c_prime_plus_i_root_of_kappa_minus_c_prime_squared() {
-    let model = drag_model();
+    let file = drag_model();
+    let model = file.path().to_str().unwrap();
     for (cp, args) in [(0.1, vec![]), (0.3, vec!["--param", "cp_y=0.3"])] {
-        let mut all = vec!["modes", "-p", "10", "--model", &model, "--format", "json"];
+        let mut all = vec!["modes", "-p", "10", "--model", model, "--format", "json"];
         all.extend(args);
         let v = json(&all);
         assert_eq!(v["nonlinear"], false);
@@ -99,9 +103,10 @@ fn every_root_is_minus_c_prime_plus_i_root_of_kappa_minus_c_prime_squared() {
 
 #[test]
 fn a_mode_rings_down_as_the_closed_form_says() {
-    let model = drag_model();
+    let file = drag_model();
+    let model = file.path().to_str().unwrap();
     let v = json(&[
-        "modes", "-p", "10", "--model", &model, "--format", "json", "--shapes",
+        "modes", "-p", "10", "--model", model, "--format", "json", "--shapes",
     ]);
     let y = &v["fields"][1];
     let kappa = numbers(&y["eigenvalues"])[3];
@@ -114,7 +119,7 @@ fn a_mode_rings_down_as_the_closed_form_says() {
         "-p",
         "10",
         "--model",
-        &model,
+        model,
         "--initial",
         "y:3=1",
         "--dt",

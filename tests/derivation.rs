@@ -209,8 +209,11 @@ fn a_fields_equation_does_not_depend_on_the_other_fields() {
 
 #[test]
 fn a_field_without_an_equation_does_not_block_the_others() {
-    let dir = std::env::temp_dir().join(format!("ts-derivation-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir_held = tempfile::Builder::new()
+        .prefix("ts-derivation-")
+        .tempdir()
+        .unwrap();
+    let dir = dir_held.path();
     let path = dir.join("two.toml");
     let text = r#"
 name = "two"
@@ -262,5 +265,4 @@ b = ["DIS", "TRAN", "REF"]
     let refused = text.replace("[rayleigh]\n", "[rayleigh]\ndominance = \"by-part\"\n");
     let e = Model::from_toml(&refused).unwrap_err().to_string();
     assert!(e.contains("[rayleigh] dominance"), "{e}");
-    std::fs::remove_dir_all(&dir).ok();
 }

@@ -196,8 +196,11 @@ fn an_active_bending_force_is_found() {
 
 #[test]
 fn bad_input_gets_one_line_and_its_exit_code() {
-    let dir = std::env::temp_dir().join(format!("discover-bad-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir_held = tempfile::Builder::new()
+        .prefix("discover-bad-")
+        .tempdir()
+        .unwrap();
+    let dir = dir_held.path();
     let short = dir.join("short.csv");
     let text = crawler(0.0, 20.0, 0.01, 5, 101);
     std::fs::write(&short, text).unwrap();
@@ -233,13 +236,15 @@ fn bad_input_gets_one_line_and_its_exit_code() {
         );
         assert!(err.contains(says), "{all:?}: {err}");
     }
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn the_json_contract_the_onward_simulate_line_and_the_figure() {
-    let dir = std::env::temp_dir().join(format!("discover-json-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir_held = tempfile::Builder::new()
+        .prefix("discover-json-")
+        .tempdir()
+        .unwrap();
+    let dir = dir_held.path();
     let path = dir.join("passive.csv");
     std::fs::write(&path, crawler(0.0, 20.0, 0.01, 8, 20_001)).unwrap();
     let path = path.to_str().unwrap();
@@ -293,5 +298,4 @@ fn the_json_contract_the_onward_simulate_line_and_the_figure() {
     // CSV: one row per candidate; text names the selected equation.
     let csv = common::cli(&[&args[..], &["--format", "csv", "--bootstrap", "0"]].concat()).unwrap();
     assert_eq!(csv.lines().count(), 5, "{csv}");
-    std::fs::remove_dir_all(&dir).unwrap();
 }

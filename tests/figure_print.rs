@@ -69,15 +69,16 @@ fn make_svgs(width_mm: f64) -> Svgs {
 
 /// The fit's figures of the example recording, written by the command.
 fn fit_svgs(width_mm: f64) -> Vec<(String, String)> {
-    let dir = std::env::temp_dir().join(format!(
-        "theory-search-print-{}-{width_mm}",
-        std::process::id()
-    ));
+    let dir_held = tempfile::Builder::new()
+        .prefix("theory-search-print-")
+        .tempdir()
+        .unwrap();
+    let dir = dir_held.path();
     let example = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/examples/midlines.csv");
     let out = Command::new(env!("CARGO_BIN_EXE_theory-search"))
         .args(["fit", example, "--figure-width", &width_mm.to_string()])
         .arg("--figures")
-        .arg(&dir)
+        .arg(dir)
         .output()
         .unwrap();
     assert!(
@@ -90,7 +91,6 @@ fn fit_svgs(width_mm: f64) -> Vec<(String, String)> {
         let svg = std::fs::read_to_string(dir.join(name)).unwrap();
         svgs.push((format!("{name} at {width_mm} mm"), svg));
     }
-    std::fs::remove_dir_all(&dir).unwrap();
     svgs
 }
 
@@ -249,7 +249,11 @@ use common::binary as cli;
 
 #[test]
 fn the_command_writes_png_and_pdf_of_the_width_asked_for() {
-    let dir = std::env::temp_dir().join(format!("theory-search-png-{}", std::process::id()));
+    let dir_held = tempfile::Builder::new()
+        .prefix("theory-search-png-")
+        .tempdir()
+        .unwrap();
+    let dir = dir_held.path();
     let d = dir.to_str().unwrap();
     let (code, out, err) = cli(&[
         "figures",
@@ -291,7 +295,8 @@ fn the_command_writes_png_and_pdf_of_the_width_asked_for() {
     assert!(text.starts_with("%PDF-"));
     // 120 mm = 340.157 pt.
     assert!(text.contains("/MediaBox [0 0 340.15"), "{:.300}", text);
-    std::fs::remove_dir_all(&dir).unwrap();
+    // Gone, so that the refusals below are seen to write nothing.
+    std::fs::remove_dir_all(dir).unwrap();
     for (args, says) in [
         (
             vec!["--width", "NaN"],

@@ -91,10 +91,14 @@ fn unknown_figure_is_an_error() {
 
 #[test]
 fn the_command_writes_quietly_and_fails_cleanly() {
-    let dir = std::env::temp_dir().join(format!("theory-search-figures-{}", std::process::id()));
+    let dir_held = tempfile::Builder::new()
+        .prefix("theory-search-figures-")
+        .tempdir()
+        .unwrap();
+    let dir = dir_held.path();
     let out = Command::new(env!("CARGO_BIN_EXE_theory-search"))
         .args(["figures", "--samples", "5000", "--out"])
-        .arg(&dir)
+        .arg(dir)
         .output()
         .unwrap();
     assert!(out.status.success());
@@ -126,11 +130,10 @@ fn the_command_writes_quietly_and_fails_cleanly() {
     assert!(err.starts_with("error: cannot create"), "{err}");
     let out = Command::new(env!("CARGO_BIN_EXE_theory-search"))
         .args(["figures", "--only", "x.svg", "--out"])
-        .arg(&dir)
+        .arg(dir)
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// docs/commands.md shows `tables/figures/self_righting.svg`: it must be what the engine draws now.
@@ -184,12 +187,16 @@ fn every_figure_renders_to_pixels() {
 /// unit that could break the markup is refused (from either face: the library checks it).
 #[test]
 fn fit_figures_carry_the_time_unit() {
-    let dir = std::env::temp_dir().join(format!("ts-fit-units-{}", std::process::id()));
+    let dir_held = tempfile::Builder::new()
+        .prefix("ts-fit-units-")
+        .tempdir()
+        .unwrap();
+    let dir = dir_held.path();
     let example = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/examples/midlines.csv");
     let run = |unit: &str| {
         std::process::Command::new(env!("CARGO_BIN_EXE_theory-search"))
             .args(["fit", example, "--time-unit", unit, "--figures"])
-            .arg(&dir)
+            .arg(dir)
             .output()
             .unwrap()
     };
@@ -201,7 +208,6 @@ fn fit_figures_carry_the_time_unit() {
     }
     let bad = run("<s>");
     assert_eq!(bad.status.code(), Some(2));
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// Panels that share every series show their key once: the bending fields y and z draw modes

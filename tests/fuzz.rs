@@ -10,7 +10,6 @@
 //! campaign for developers (docs/budgets.md).
 
 use std::io::Write;
-use std::path::PathBuf;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -23,10 +22,11 @@ fn bin() -> &'static str {
     env!("CARGO_BIN_EXE_theory-search")
 }
 
-fn scratch(tag: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("ts-fuzz-{}-{tag}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch(tag: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("ts-fuzz-{tag}-"))
+        .tempdir()
+        .unwrap()
 }
 
 /// Run with a time limit; returns (code, stdout, stderr) or panics on a hang or a signal.
@@ -320,7 +320,8 @@ proptest! {
         dpi in extreme(),
         format in prop_oneof![Just("svg"), Just("png"), Just("pdf")],
     ) {
-        let dir = scratch("page");
+        let dir_held = scratch("page");
+        let dir = dir_held.path();
         let args: Vec<String> = [
             "figures", "--only", "spectrum", "--format", format, "--figures",
             dir.to_str().unwrap(),
@@ -343,7 +344,8 @@ proptest! {
             text[at] = byte;
         }
         text.truncate(text.len() - cut % (text.len() / 4).max(1));
-        let dir = scratch("model");
+        let dir_held = scratch("model");
+        let dir = dir_held.path();
         let path = dir.join(format!("m{}.toml", text.len()));
         std::fs::write(&path, &text).unwrap();
         let p = path.to_str().unwrap().to_string();
@@ -369,7 +371,8 @@ proptest! {
 /// answers (finite) or refuses in one line, in time.
 #[test]
 fn the_reported_command_lines_answer_in_time() {
-    let dir = scratch("reported");
+    let dir_held = scratch("reported");
+    let dir = dir_held.path();
     let example = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/examples/midlines.csv");
     let figs = dir.join("figs");
     let figs = figs.to_str().unwrap();
@@ -429,14 +432,14 @@ fn the_reported_command_lines_answer_in_time() {
         obeys_the_rule(&args, None);
         assert!(start.elapsed() < LIMIT, "{line}: {:?}", start.elapsed());
     }
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// Exit codes follow one rule: 2 for bad usage or values, 1 for files that cannot be read or
 /// written (or are not what they claim), 3 for a computation that failed on valid input.
 #[test]
 fn exit_codes_follow_one_rule() {
-    let dir = scratch("codes");
+    let dir_held = scratch("codes");
+    let dir = dir_held.path();
     let bad_params = dir.join("p.toml");
     std::fs::write(&bad_params, "omega_b = \"x\"").unwrap();
     let p = bad_params.to_str().unwrap().to_string();
@@ -464,5 +467,4 @@ fn exit_codes_follow_one_rule() {
         None,
     );
     assert_eq!(code, 1, "{err}");
-    std::fs::remove_dir_all(&dir).ok();
 }

@@ -112,9 +112,12 @@ fn harness(source: &str, points: usize, inputs: &[(Vec<f64>, Vec<f64>, Vec<f64>)
     main += "}\n";
     // One directory per harness: the tests run in parallel.
     static RUNS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-    let run = RUNS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let dir = std::env::temp_dir().join(format!("ts-forces-{}-{run}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let _run = RUNS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir_held = tempfile::Builder::new()
+        .prefix("ts-forces-")
+        .tempdir()
+        .unwrap();
+    let dir = dir_held.path();
     let file = dir.join("forces.rs");
     std::fs::write(&file, format!("{source}{main}")).unwrap();
     let exe = dir.join("forces");

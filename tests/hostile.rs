@@ -68,8 +68,12 @@ pub fn entries() -> Vec<(&'static str, &'static str)> {
 "#;
 
 /// Compile `source` as `generated/operators.rs` under the stub; panics with rustc's errors.
-fn compile(source: &str, tag: &str) {
-    let dir = std::env::temp_dir().join(format!("ts-hostile-{}-{tag}", std::process::id()));
+fn compile(source: &str, _tag: &str) {
+    let dir_held = tempfile::Builder::new()
+        .prefix("ts-hostile-")
+        .tempdir()
+        .unwrap();
+    let dir = dir_held.path();
     std::fs::create_dir_all(dir.join("generated")).unwrap();
     std::fs::write(dir.join("lib.rs"), STUB).unwrap();
     // The stub's `pub mod operators;` inside `mod generated` looks in generated/.
@@ -88,7 +92,6 @@ fn compile(source: &str, tag: &str) {
         .arg(dir.join("lib.rs"))
         .output()
         .expect("rustc runs");
-    std::fs::remove_dir_all(&dir).ok();
     assert!(
         out.status.success(),
         "generated code does not compile:\n{}",
@@ -163,8 +166,11 @@ fn text_that_could_end_a_line_is_refused_naming_the_key() {
     let err = Model::from_toml(&id).unwrap_err().to_string();
     assert!(err.contains("field id \"1x\""), "{err}");
     // The CLI says it in one line, exit 1.
-    let dir = std::env::temp_dir().join(format!("ts-hostile-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir_held = tempfile::Builder::new()
+        .prefix("ts-hostile-cli-")
+        .tempdir()
+        .unwrap();
+    let dir = dir_held.path();
     let path = dir.join("m.toml");
     std::fs::write(&path, &newline).unwrap();
     let mut out = Vec::new();
@@ -183,7 +189,6 @@ fn text_that_could_end_a_line_is_refused_naming_the_key() {
     assert_eq!(e.exit_code(), 1);
     assert!(!e.to_string().contains('\n'));
     assert!(!dir.join("src").exists(), "nothing is written");
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]
@@ -252,8 +257,11 @@ fn cli(args: &[&str]) -> (u8, String, String) {
 
 #[test]
 fn hostile_input_ii_exits_cleanly_with_bounded_lines() {
-    let dir = std::env::temp_dir().join(format!("ts-hostile-ii-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir_held = tempfile::Builder::new()
+        .prefix("ts-hostile-ii-")
+        .tempdir()
+        .unwrap();
+    let dir = dir_held.path();
     // Coordinates whose squares overflow: no panic, a finite report or one clean line.
     let header: Vec<String> = (0..12).map(|i| format!("x{i},y{i}")).collect();
     let mut text = format!("t,{}\n", header.join(","));
@@ -319,13 +327,15 @@ fn hostile_input_ii_exits_cleanly_with_bounded_lines() {
     let (code, _, err) = cli(&["behave", "self-righting", "--sweep", &sweep]);
     assert_eq!(code, 2);
     assert!(err.contains("at most 50"), "{err}");
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]
 fn fitted_scales_written_by_params_out_read_back() {
-    let dir = std::env::temp_dir().join(format!("ts-params-out-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir_held = tempfile::Builder::new()
+        .prefix("ts-params-out-")
+        .tempdir()
+        .unwrap();
+    let dir = dir_held.path();
     let example = format!(
         "{}/tables/examples/midlines.csv",
         env!("CARGO_MANIFEST_DIR")
@@ -367,5 +377,4 @@ fn fitted_scales_written_by_params_out_read_back() {
             .unwrap();
         assert_eq!(value, omega, "{written}");
     }
-    std::fs::remove_dir_all(&dir).ok();
 }

@@ -400,8 +400,11 @@ fn the_command_falls_back_to_the_exact_equations() {
         "x = [\"OST\", \"TRAN\", \"REF\", \"KIN\"]",
         "x = [\"OST\", \"TRAN\", \"KIN\"]",
     );
-    let dir = std::env::temp_dir().join(format!("ts-nonlinear-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir_held = tempfile::Builder::new()
+        .prefix("ts-nonlinear-")
+        .tempdir()
+        .unwrap();
+    let dir = dir_held.path();
     let path = dir.join("noref.toml");
     std::fs::write(&path, text).unwrap();
     for format in ["text", "json", "latex"] {
@@ -452,7 +455,6 @@ fn the_command_falls_back_to_the_exact_equations() {
             _ => assert!(out.contains("\\begin{align*}"), "{out}"),
         }
     }
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// The commands that still need a linear equation (operators, the behaviours) refuse the

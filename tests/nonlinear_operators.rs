@@ -123,8 +123,11 @@ fn the_linearised_tethered_filament_has_its_curvature_and_friction() {
 #[test]
 fn every_shipped_model_runs_through_every_numerical_command() {
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/models");
-    let out = std::env::temp_dir().join(format!("ts-emit-{}", std::process::id()));
-    let out = out.to_str().unwrap();
+    let out = tempfile::Builder::new()
+        .prefix("ts-emit-")
+        .tempdir()
+        .unwrap();
+    let out = out.path().to_str().unwrap();
     let mut seen = 0;
     for entry in std::fs::read_dir(dir).unwrap() {
         let path = entry.unwrap().path();

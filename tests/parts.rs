@@ -195,8 +195,11 @@ fn rayleigh_terms_reduce_modulo_space_derivatives_only() {
     }
     // `parts` and `table` agree: the table's survivor ∂t u is kept.
     let mut out = Vec::new();
-    let dir = std::env::temp_dir().join(format!("ts-dis-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir_held = tempfile::Builder::new()
+        .prefix("ts-dis-")
+        .tempdir()
+        .unwrap();
+    let dir = dir_held.path();
     let path = dir.join("m.toml");
     std::fs::write(&path, DIS_ONLY).unwrap();
     theory_search::cli::run(
@@ -215,5 +218,4 @@ fn rayleigh_terms_reduce_modulo_space_derivatives_only() {
     .unwrap();
     let text = String::from_utf8(out).unwrap();
     assert!(!text.contains("∂t u ≡ 0"), "{text}");
-    std::fs::remove_dir_all(&dir).ok();
 }

@@ -159,8 +159,11 @@ fn arguments(command: &str, scratch: &Path) -> (Vec<String>, Vec<(String, String
 
 #[test]
 fn every_block_says_what_it_is_and_shown_output_is_printed() {
-    let scratch = std::env::temp_dir().join(format!("ts-docs-{}", std::process::id()));
-    std::fs::create_dir_all(&scratch).unwrap();
+    let scratch_held = tempfile::Builder::new()
+        .prefix("ts-docs-")
+        .tempdir()
+        .unwrap();
+    let scratch = scratch_held.path();
     let (mut commands, mut outputs) = (0, 0);
     let mut problems = Vec::new();
     for (path, text) in pages() {
@@ -172,7 +175,7 @@ fn every_block_says_what_it_is_and_shown_output_is_printed() {
                     for line in joined.lines() {
                         let line = line.split(" #").next().unwrap().trim();
                         if let Some(rest) = line.strip_prefix("cargo run --release -- ") {
-                            run(&arguments(rest, &scratch).0);
+                            run(&arguments(rest, scratch).0);
                             commands += 1;
                         }
                     }
@@ -183,7 +186,7 @@ fn every_block_says_what_it_is_and_shown_output_is_printed() {
                         problems.push(format!("{page}: a console block starts {first:?}"));
                         continue;
                     };
-                    let (args, back) = arguments(command, &scratch);
+                    let (args, back) = arguments(command, scratch);
                     let mut printed = run(&args);
                     for (moved, shown_as) in back {
                         printed = printed.replace(&moved, &shown_as);
@@ -202,7 +205,6 @@ fn every_block_says_what_it_is_and_shown_output_is_printed() {
             }
         }
     }
-    std::fs::remove_dir_all(&scratch).ok();
     assert!(problems.is_empty(), "{}", problems.join("\n"));
     assert!(commands >= 7, "{commands} commands");
     assert!(outputs >= 15, "{outputs} outputs checked");
@@ -213,7 +215,11 @@ fn every_block_says_what_it_is_and_shown_output_is_printed() {
 /// names a subcommand whose `--help` runs. Output directories go to a scratch place.
 #[test]
 fn every_inline_command_in_the_readme_and_docs_runs() {
-    let dir = std::env::temp_dir().join(format!("ts-inline-{}", std::process::id()));
+    let dir_held = tempfile::Builder::new()
+        .prefix("ts-inline-")
+        .tempdir()
+        .unwrap();
+    let dir = dir_held.path();
     let mut ran = 0;
     for (path, text) in &pages() {
         for (i, piece) in text.split('`').enumerate() {
@@ -258,6 +264,5 @@ fn every_inline_command_in_the_readme_and_docs_runs() {
             ran += 1;
         }
     }
-    std::fs::remove_dir_all(&dir).ok();
     assert!(ran >= 10, "{ran} inline commands");
 }

@@ -128,8 +128,11 @@ fn several_recordings_pool_into_one_fit_beside_each_own() {
 
 #[test]
 fn a_fit_feeds_the_other_commands_through_a_parameter_file() {
-    let dir = std::env::temp_dir().join(format!("ts-params-out-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir_held = tempfile::Builder::new()
+        .prefix("ts-params-out-")
+        .tempdir()
+        .unwrap();
+    let dir = dir_held.path();
     let params = dir.join("fitted.toml");
     let path = data("celegans_wormpose_15fps_52pts.csv");
     let mut out = Vec::new();
@@ -153,7 +156,6 @@ fn a_fit_feeds_the_other_commands_through_a_parameter_file() {
     .unwrap();
     let fitted: serde_json::Value = serde_json::from_slice(&out).unwrap();
     assert_modes_take_omega(&["--params", p], &fitted);
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]
@@ -191,8 +193,11 @@ fn deeplabcut_files_are_read_with_their_likelihoods() {
         }
         dlc += &(cells.join(",") + "\n");
     }
-    let dir = std::env::temp_dir().join(format!("ts-dlc-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir_held = tempfile::Builder::new()
+        .prefix("ts-dlc-")
+        .tempdir()
+        .unwrap();
+    let dir = dir_held.path();
     let path = dir.join("dlc.csv");
     std::fs::write(&path, &dlc).unwrap();
     let fps = (1.0 / dt).to_string();
@@ -247,7 +252,6 @@ fn deeplabcut_files_are_read_with_their_likelihoods() {
     let v: serde_json::Value = serde_json::from_slice(&out).unwrap();
     let said = v["warnings"].to_string();
     assert!(said.contains("--fps was not used"), "{said}");
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]
