@@ -1,10 +1,10 @@
 //! One large recording read on every core. The first rows (a header, the first frame) are read
 //! in order and fix the layout; the rest of the file is cut into chunks of whole lines, which
-//! workers parse ([`plain_line`], the line reader's own function) and, for midlines, project
-//! onto the modes, while this thread takes the chunks back in order: it runs the clock and
-//! hands the rows on exactly as the line reader would, so every number and every message is the
-//! same. Memory holds the chunks in flight (about 8 × workers × [`CHUNK`] of text and the
-//! frames parsed from them), whatever the file's length.
+//! workers read in turn and parse ([`plain_line`], the line reader's own function) and, for
+//! midlines, project onto the modes, while this thread takes the chunks back in order: it runs
+//! the clock and hands the rows on exactly as the line reader would, so every number and every
+//! message is the same. Memory holds the chunks in flight (about 8 × workers × [`CHUNK`] of
+//! text and the frames parsed from them), whatever the file's length.
 
 use std::io::{BufRead, Read as _};
 use std::ops::Range;
@@ -43,7 +43,7 @@ struct ParsedRow {
     projected: Option<Result<f64, FrameError>>,
 }
 
-/// What the reading thread hands on, in order: a chunk being parsed, or why reading stopped.
+/// What the workers hand on, in order: a chunk being parsed, or why reading stopped.
 type Pending = Result<Receiver<Parsed>, FitError>;
 
 /// Builds the workers' projector for a frame of so many values (`None`: the rows go on
@@ -97,7 +97,7 @@ impl<'scope, 'env, R: BufRead + Send + 'env> Chunked<'scope, 'env, R> {
         }
     }
 
-    /// Hand the rest of the stream to a reading thread and workers, rows of `width` cells.
+    /// Hand the rest of the stream to the workers, which read and parse it, rows of `width` cells.
     fn start(&mut self, head: FrameReader<R>, width: usize) {
         let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
         let projector = (self.settings.kind == InputKind::Midline)
@@ -107,18 +107,19 @@ impl<'scope, 'env, R: BufRead + Send + 'env> Chunked<'scope, 'env, R> {
         self.first = head.values.clone();
         let (reader, clock, line) = head.into_rest();
         (self.clock, self.base) = (clock, line);
-        let (jobs, queue) = mpsc::channel::<(Vec<u8>, mpsc::Sender<Parsed>)>();
-        let queue = Arc::new(Mutex::new(queue));
-        // At most 8 × workers chunks wait to be taken: the reading thread blocks. The slack lets
-        // the workers go on while this thread transforms a batch of segments (2 × workers
-        // chunks left them idle: 6 % more wall time).
+        // At most 8 × workers chunks wait to be taken: a worker reading the next one blocks. The
+        // slack lets the workers go on while this thread transforms a batch of segments
+        // (2 × workers chunks left them idle: 6 % more wall time).
         let (order, chunks) = mpsc::sync_channel(8 * workers);
+        let feed = Arc::new(Mutex::new(Feed {
+            reader,
+            order: Some(order),
+        }));
         for _ in 0..workers {
-            let (queue, projector, settings) =
-                (Arc::clone(&queue), projector.clone(), self.settings);
+            let (feed, projector, settings) = (Arc::clone(&feed), projector.clone(), self.settings);
             let spares = Arc::clone(&self.spares);
             self.scope.spawn(move || loop {
-                let job = queue.lock().ok().and_then(|q| q.recv().ok());
+                let job = feed.lock().ok().and_then(|mut f| f.next(&spares));
                 let Some((text, parsed)) = job else {
                     return;
                 };
@@ -126,9 +127,6 @@ impl<'scope, 'env, R: BufRead + Send + 'env> Chunked<'scope, 'env, R> {
                 Spares::give(&spares.text, text);
             });
         }
-        let spares = Arc::clone(&self.spares);
-        self.scope
-            .spawn(move || read_chunks(reader, jobs, order, &spares));
         self.chunks = Some(chunks);
     }
 
@@ -230,38 +228,47 @@ impl<'env, R: BufRead + Send + 'env> Source for Chunked<'_, 'env, R> {
     }
 }
 
-/// Read the rest of `reader` in chunks of whole lines and hand them to `jobs`, in order to
-/// `order`; stops at the end, at an error, or when the receiver is gone.
-fn read_chunks<R: BufRead>(
-    mut reader: R,
-    jobs: mpsc::Sender<(Vec<u8>, mpsc::Sender<Parsed>)>,
-    order: SyncSender<Pending>,
-    spares: &Spares,
-) {
-    loop {
+/// The rest of the stream, read in chunks of whole lines by whichever worker is free (no
+/// reading thread of its own: one thread fewer to wake ~900 times a 10⁶-frame file), each
+/// chunk's place in line handed to `order` while the reader is held, so the chunks stay in
+/// order.
+struct Feed<R> {
+    reader: R,
+    /// Gone at the end, at an error, or once the receiver is.
+    order: Option<SyncSender<Pending>>,
+}
+
+impl<R: BufRead> Feed<R> {
+    /// The next chunk, and where its parsed rows go; `None` at the end, at an error (sent on
+    /// in order), or when the receiver is gone.
+    fn next(&mut self, spares: &Spares) -> Option<(Vec<u8>, mpsc::Sender<Parsed>)> {
+        let order = self.order.as_ref()?;
         let mut text = spares
             .text()
             .unwrap_or_else(|| Vec::with_capacity(CHUNK + 256));
-        let mut read = (&mut reader).take(CHUNK as u64).read_to_end(&mut text);
+        let reader = &mut self.reader;
+        let mut read = reader.take(CHUNK as u64).read_to_end(&mut text);
         if matches!(read, Ok(n) if n > 0) && text.last() != Some(&b'\n') {
             // The last line to its end, or past the longest line allowed (then an error).
-            read = (&mut reader)
+            read = reader
                 .take(MAX_LINE_BYTES as u64 + 1)
                 .read_until(b'\n', &mut text);
         }
-        match read {
+        let job = match read {
             Err(e) => {
                 let _ = order.send(Err(FitError::Io(e)));
-                return;
+                None
             }
-            Ok(_) if text.is_empty() => return,
+            Ok(_) if text.is_empty() => None,
             Ok(_) => {
                 let (tx, rx) = mpsc::channel();
-                if jobs.send((text, tx)).is_err() || order.send(Ok(rx)).is_err() {
-                    return;
-                }
+                order.send(Ok(rx)).is_ok().then_some((text, tx))
             }
+        };
+        if job.is_none() {
+            self.order = None;
         }
+        job
     }
 }
 
