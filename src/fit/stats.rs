@@ -151,26 +151,17 @@ pub(super) struct Run {
     /// Scratch of a batch: its means, and its frames less them, channel after channel.
     batch_mean: Vec<f64>,
     centred: Vec<f64>,
-    /// Scratch of the transforms, one per thread of a flush.
-    work: [FftWork; 2],
+    /// Scratch of the transforms.
+    work: FftWork,
 }
 
 /// The most blocks one run keeps for a bootstrap over time.
 pub(super) const MAX_BLOCKS: usize = 256;
 
 /// How many frames a due segment may wait for its transform: the segments of that many frames
-/// are transformed together, over two cores when there are two (4096: half the helper threads
-/// of 2048, 2.6 % less wall time on the 10⁶-frame bench; 8192 no better, 2 MiB more).
+/// are transformed together (4096: 2.6 % less wall time than 2048 on the 10⁶-frame bench when
+/// a helper thread shared each batch; 8192 no better, 2 MiB more).
 const DEFER: usize = 4096;
-
-/// The work (W·log₂W per channel, summed) worth a helper thread.
-const PARALLEL_WORK: f64 = 65536.0;
-
-/// Whether a second core is there to share a flush.
-fn second_core() -> bool {
-    static TWO: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    *TWO.get_or_init(|| std::thread::available_parallelism().is_ok_and(|n| n.get() > 1))
-}
 
 /// Frames whose moments are taken together: each channel's batch is one slice of the ring, its
 /// mean and centred products summed in independent lanes (two passes, then Chan's merge into the
@@ -316,68 +307,24 @@ impl Run {
         }
     }
 
-    /// Transform the pending segments, the windows split in two groups of about equal work and
-    /// one group on a helper thread when there is enough work and a second core. Each window's
-    /// segments are added in the order they came due, so the sums are the same either way.
+    /// Transform the pending segments, window by window, each window's in the order they came
+    /// due: the sums are those of transforming each segment as it came due. All on this
+    /// thread: a helper thread taking half the windows made the 10⁶-frame bench 8 % slower
+    /// once the workers read their own chunks (both cores parse; the pass waited on the helper).
     fn flush(&mut self) {
-        if self.pending.is_empty() {
-            return;
-        }
-        let pending = std::mem::take(&mut self.pending);
-        let (frames, ring, plans) = (self.frames, &self.ring, &self.ladder.plans);
-        let m = self.stats.mean.len();
-        let mut work_of = vec![0.0; plans.len()];
-        for &(i, _) in &pending {
-            let (w, channels) = (plans[i].len() as f64, self.ladder.channels(i, m));
-            work_of[i] += w * w.log2().max(1.0) * channels as f64;
-        }
-        // Greedy halves, costliest window first.
-        let mut order: Vec<usize> = (0..plans.len()).collect();
-        order.sort_by(|a, b| work_of[*b].total_cmp(&work_of[*a]));
-        let (mut mine, mut theirs, mut helper) = (0.0, 0.0, vec![false; plans.len()]);
-        for i in order {
-            if theirs < mine {
-                helper[i] = true;
-                theirs += work_of[i];
-            } else {
-                mine += work_of[i];
+        let (frames, ring, pending) = (self.frames, &self.ring, &self.pending);
+        for (i, (plan, w)) in self
+            .ladder
+            .plans
+            .iter()
+            .zip(&mut self.stats.welch)
+            .enumerate()
+        {
+            for &(_, due) in pending.iter().filter(|p| p.0 == i) {
+                plan.add_ending(ring, frames - due, &mut w.sums, &mut self.work);
             }
         }
-        let split = theirs >= PARALLEL_WORK && second_core();
-        type Group<'a> = Vec<(&'a Plan, &'a mut WelchSums, Vec<usize>)>;
-        let (mut here, mut there): (Group<'_>, Group<'_>) = (Vec::new(), Vec::new());
-        for (i, (plan, w)) in plans.iter().zip(&mut self.stats.welch).enumerate() {
-            let backs: Vec<usize> = pending
-                .iter()
-                .filter(|p| p.0 == i)
-                .map(|p| frames - p.1)
-                .collect();
-            if backs.is_empty() {
-                continue;
-            }
-            if split && helper[i] {
-                &mut there
-            } else {
-                &mut here
-            }
-            .push((plan, w, backs));
-        }
-        let transform = |group: Group<'_>, work: &mut FftWork| {
-            for (plan, w, backs) in group {
-                for back in backs {
-                    plan.add_ending(ring, back, &mut w.sums, work);
-                }
-            }
-        };
-        let [work, other] = &mut self.work;
-        if there.is_empty() {
-            transform(here, work);
-        } else {
-            std::thread::scope(|scope| {
-                scope.spawn(|| transform(there, other));
-                transform(here, work);
-            });
-        }
+        self.pending.clear();
     }
 
     /// The run's statistics, keeping its frames when it never filled the shortest window, and
