@@ -309,7 +309,7 @@ impl Run {
 
     /// Transform the pending segments, window by window, each window's in the order they came
     /// due: the sums are those of transforming each segment as it came due. All on this
-    /// thread: a helper thread taking half the windows made the 10⁶-frame bench 8 % slower
+    /// thread: a helper thread taking half the windows made the 10⁶-frame bench 10 % slower
     /// once the workers read their own chunks (both cores parse; the pass waited on the helper).
     fn flush(&mut self) {
         let (frames, ring, pending) = (self.frames, &self.ring, &self.pending);
