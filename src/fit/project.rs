@@ -61,9 +61,6 @@ pub struct Projector {
     pub boundary: crate::boundary::Boundary,
     /// S vⱼ of the grid's modes over the observations (`None` for part of a ring).
     pub lattice: Option<Vec<Vec<f64>>>,
-    /// `rows` transposed, observation after observation (the modes of each side by side), for
-    /// [`Projector::project_into`]; made with them.
-    columns: Vec<f64>,
 }
 
 impl Projector {
@@ -172,7 +169,6 @@ impl Projector {
             (false, Some(continuum)) => continuum,
             _ => (projector, design),
         };
-        let columns = transpose(&projector);
         Ok(Projector {
             kind: settings.kind,
             input_points: k_in,
@@ -190,7 +186,6 @@ impl Projector {
             stencil: fm.k,
             boundary: fm.field.boundary,
             lattice,
-            columns,
         })
     }
 
@@ -256,21 +251,21 @@ impl Projector {
             q.extend(self.modal(values)?);
             return Ok(self.spacing(values));
         }
+        let k = self.points;
+        let point = |i: usize| {
+            let i = if head_first { k - 1 - i } else { i };
+            (values[2 * i], values[2 * i + 1])
+        };
         let Scratch {
             segments: seg,
             angles,
             sizes: lengths,
         } = scratch;
         seg.clear();
-        // Point to point, from the tail when the head comes first (the frame oriented head
-        // last), the point pairs read straight from the row.
-        let points = values.chunks_exact(2);
-        let step = |(a, b): (&[f64], &[f64])| (b[0] - a[0], b[1] - a[1]);
-        if head_first {
-            seg.extend(points.clone().rev().zip(points.rev().skip(1)).map(step));
-        } else {
-            seg.extend(points.clone().zip(points.skip(1)).map(step));
-        }
+        seg.extend((0..k - 1).map(|i| {
+            let (a, b) = (point(i), point(i + 1));
+            (b.0 - a.0, b.1 - a.1)
+        }));
         // As `turning_angles`, in its order: overflow before coincidence.
         if seg.iter().any(|s| !(s.0.is_finite() && s.1.is_finite())) {
             return Err(FrameError::Overflow);
@@ -281,15 +276,11 @@ impl Projector {
         sizes(seg.iter().copied(), lengths);
         let length: f64 = lengths.iter().sum();
         segment_angles(seg, angles);
-        // Qⱼ = Σᵢ rowⱼᵢ·ψᵢ for every mode at once: each summed from −0.0 angle after angle, the
-        // order `Iterator::sum` takes, so the same bits, with the modes side by side in lanes.
-        let modes = self.rows.len();
-        q.resize(modes, -0.0);
-        for (column, psi) in self.columns.chunks_exact(modes.max(1)).zip(angles.iter()) {
-            for (qj, p) in q.iter_mut().zip(column) {
-                *qj += p * psi;
-            }
-        }
+        q.extend(
+            self.rows
+                .iter()
+                .map(|p| p.iter().zip(angles.iter()).map(|(a, b)| a * b).sum::<f64>()),
+        );
         if !q.iter().all(|v| v.is_finite()) {
             return Err(FrameError::Overflow);
         }
@@ -417,15 +408,6 @@ fn observed_field(model: &Model, settings: &FitSettings) -> Result<usize, FitErr
     })
 }
 
-/// Rows transposed into one column-major list, a shorter row padded with zeros (which add
-/// nothing to a finite sum).
-fn transpose(rows: &[Vec<f64>]) -> Vec<f64> {
-    let width = rows.iter().map(Vec::len).max().unwrap_or(0);
-    (0..width)
-        .flat_map(|i| rows.iter().map(move |r| r.get(i).copied().unwrap_or(0.0)))
-        .collect()
-}
-
 /// The rows of (BᵀB)⁻¹Bᵀ for B = [design | 1], the constant absorbing the unknown mean strain of
 /// a partial ring; the constant's own row is dropped.
 fn least_squares_rows(design: &[Vec<f64>]) -> Result<Vec<Vec<f64>>, FitError> {
@@ -439,41 +421,4 @@ fn least_squares_rows(design: &[Vec<f64>]) -> Result<Vec<Vec<f64>>, FitError> {
     Ok((0..m)
         .map(|j| solved.row(j).iter().cloned().collect())
         .collect())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A frame projected with the modes side by side is bit for bit the frame projected mode
-    /// by mode ([`Projector::modal`]: each row's products summed in order), either way round.
-    #[test]
-    fn modes_side_by_side_are_modes_one_by_one() {
-        let (model, params) = (Model::larva(), Params::default());
-        let mut next = crate::fit::xorshift(0x3C6E_F372_FE94_F82Bu64);
-        let mut unit = move || (next() % 2_000_001) as f64 / 1e6 - 1.0;
-        for points in [5, 12, 31] {
-            let mut settings = FitSettings::new(InputKind::Midline);
-            settings.points = points;
-            let p = Projector::new(&model, &params, &settings, 2 * points).unwrap();
-            let (mut work, mut q) = (Scratch::default(), Vec::new());
-            for _ in 0..500 {
-                let values: Vec<f64> = (0..points)
-                    .flat_map(|i| [i as f64 + 0.05 * unit(), 0.3 * unit()])
-                    .collect();
-                for head_first in [false, true] {
-                    p.project_into(&values, head_first, &mut work, &mut q)
-                        .unwrap();
-                    let oriented = if head_first {
-                        reversed(p.kind, &values)
-                    } else {
-                        values.clone()
-                    };
-                    let want = p.modal(&oriented).unwrap();
-                    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-                    assert_eq!(bits(&q), bits(&want), "{points} points, {values:?}");
-                }
-            }
-        }
-    }
 }
