@@ -422,3 +422,41 @@ fn least_squares_rows(design: &[Vec<f64>]) -> Result<Vec<Vec<f64>>, FitError> {
         .map(|j| solved.row(j).iter().cloned().collect())
         .collect())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A frame projected on the fast path (segments straight from the row, the batched angles)
+    /// is bit for bit the frame through the general one ([`Projector::modal`]: the midline's
+    /// turning angles, each row's products summed in order), either way round.
+    #[test]
+    fn the_fast_projection_is_the_general_one() {
+        let (model, params) = (Model::larva(), Params::default());
+        let mut next = crate::fit::xorshift(0x3C6E_F372_FE94_F82Bu64);
+        let mut unit = move || (next() % 2_000_001) as f64 / 1e6 - 1.0;
+        for points in [5, 12, 31] {
+            let mut settings = FitSettings::new(InputKind::Midline);
+            settings.points = points;
+            let p = Projector::new(&model, &params, &settings, 2 * points).unwrap();
+            let (mut work, mut q) = (Scratch::default(), Vec::new());
+            for _ in 0..500 {
+                let values: Vec<f64> = (0..points)
+                    .flat_map(|i| [i as f64 + 0.05 * unit(), 0.3 * unit()])
+                    .collect();
+                for head_first in [false, true] {
+                    p.project_into(&values, head_first, &mut work, &mut q)
+                        .unwrap();
+                    let oriented = if head_first {
+                        reversed(p.kind, &values)
+                    } else {
+                        values.clone()
+                    };
+                    let want = p.modal(&oriented).unwrap();
+                    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                    assert_eq!(bits(&q), bits(&want), "{points} points, {values:?}");
+                }
+            }
+        }
+    }
+}
