@@ -261,10 +261,7 @@ fn a_section_without_ost_keeps_inertia_out_of_every_numerical_command() {
         "y = [\"OST\", \"TRAN\", \"REF\", \"ROT\", \"GAL\"]",
         "y = [\"TRAN\", \"REF\", \"ROT\", \"GAL\"]",
     );
-    let dir_held = tempfile::Builder::new()
-        .prefix("ts-noost-")
-        .tempdir()
-        .unwrap();
+    let dir_held = common::scratch("noost");
     let dir = dir_held.path();
     let path = dir.join("noost.toml");
     std::fs::write(&path, text).unwrap();

@@ -2,6 +2,8 @@
 //! (from `simulate`), written as plain CSV, a directory of files, one track-id file, WCON and
 //! DeepLabCut, must give the same fit; bootstrap intervals must cover the truth.
 
+mod common;
+
 use std::fmt::Write as _;
 
 use theory_search::dynamics::{simulate, Config};
@@ -101,13 +103,6 @@ fn run_cli(args: &[&str]) -> serde_json::Value {
     serde_json::from_slice(&out).unwrap()
 }
 
-fn temp_dir(tag: &str) -> tempfile::TempDir {
-    tempfile::Builder::new()
-        .prefix(&format!("ts-animals-{tag}-"))
-        .tempdir()
-        .unwrap()
-}
-
 /// The numbers two fits of the same frames must share.
 fn assert_same(a: &serde_json::Value, b: &serde_json::Value, what: &str) {
     for key in [
@@ -135,7 +130,7 @@ fn assert_same(a: &serde_json::Value, b: &serde_json::Value, what: &str) {
 #[test]
 fn a_directory_a_track_file_and_memory_give_one_pooled_fit() {
     let animals: Vec<_> = (0..3).map(|i| animal(1500, 10 + i)).collect();
-    let dir_held = temp_dir("dir");
+    let dir_held = common::scratch("animals-dir");
     let dir = dir_held.path();
     let mut tracked = String::from("track,t,coordinates…\n");
     for (i, a) in animals.iter().enumerate() {
@@ -215,7 +210,7 @@ fn wcon(animals: &[Vec<(f64, Vec<f64>)>]) -> String {
 #[test]
 fn wcon_and_deeplabcut_read_the_same_frames_as_plain_csv() {
     let animals: Vec<_> = (0..2).map(|i| animal(1200, 20 + i)).collect();
-    let dir_held = temp_dir("formats");
+    let dir_held = common::scratch("animals-formats");
     let dir = dir_held.path();
     for (i, a) in animals.iter().enumerate() {
         std::fs::write(dir.join(format!("a{i}.csv")), csv(a, None)).unwrap();
@@ -278,7 +273,7 @@ fn a_handwritten_wcon_file_from_the_specification() {
 
 #[test]
 fn bad_wcon_is_one_clear_line() {
-    let dir_held = temp_dir("badwcon");
+    let dir_held = common::scratch("animals-badwcon");
     let dir = dir_held.path();
     for (text, says) in [
         ("{\"data\": []}", "units"),

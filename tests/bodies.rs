@@ -19,14 +19,8 @@ fn model_path(name: &str) -> String {
     format!("{}/tables/models/{name}.toml", env!("CARGO_MANIFEST_DIR"))
 }
 
-fn tmp(name: &str) -> tempfile::TempDir {
-    tempfile::Builder::new()
-        .prefix(&format!("ts-bodies-{name}-"))
-        .tempdir()
-        .unwrap()
-}
-
 mod common;
+
 use common::in_process as run;
 
 /// Which (body, command) pairs are refused, and a phrase the refusal must contain. Everything
@@ -96,7 +90,7 @@ fn midlines(body: &str, points: usize) -> String {
 fn every_body_runs_every_command() {
     for body in BODIES {
         let m = model_path(body);
-        let dir_held = tmp(body);
+        let dir_held = common::scratch(&format!("bodies-{body}"));
         let dir = dir_held.path();
         let data = dir.join("midlines.csv");
         std::fs::write(&data, midlines(body, 12)).unwrap();
@@ -218,7 +212,7 @@ fn every_body_runs_every_command() {
 fn fit_recovers_the_scale_of_a_held_body() {
     // ω_b = 1 in the simulation: the fit must find it through the body's own boundary.
     for body in ["zebrafish", "channel_worm", "larva"] {
-        let dir_held = tmp(&format!("fit-{body}"));
+        let dir_held = common::scratch(&format!("bodies-fit-{body}"));
         let dir = dir_held.path();
         let data = dir.join("m.csv");
         std::fs::write(&data, midlines(body, 12)).unwrap();
@@ -244,7 +238,7 @@ fn fit_recovers_the_scale_of_a_held_body() {
 
 #[test]
 fn a_missing_role_is_one_line_naming_role_and_command() {
-    let dir_held = tmp("norole");
+    let dir_held = common::scratch("bodies-norole");
     let dir = dir_held.path();
     let path = dir.join("m.toml");
     let text = std::fs::read_to_string(model_path("zebrafish"))

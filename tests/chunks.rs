@@ -8,6 +8,8 @@ use theory_search::fit::{fit_inputs, foretold_windows, FitSettings, Input, Input
 use theory_search::modal::Params;
 use theory_search::model::Model;
 
+mod common;
+
 const POINTS: usize = 12;
 /// The frame the odd line replaces: dozens of chunks into the file.
 const FAR: usize = 25_000;
@@ -56,11 +58,7 @@ fn both_foretold(
     settings: &FitSettings,
     tag: &str,
 ) -> (String, String, Option<Vec<usize>>) {
-    let held = tempfile::Builder::new()
-        .prefix(&format!("theory-search-chunks-{tag}-"))
-        .suffix(".csv")
-        .tempfile()
-        .unwrap();
+    let held = common::scratch_file(&format!("chunks-{tag}"), ".csv");
     let path = held.path().to_path_buf();
     std::fs::write(&path, text).unwrap();
     let (model, params) = (Model::larva(), Params::default());

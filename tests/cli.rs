@@ -3,6 +3,7 @@
 use std::process::Command;
 
 mod common;
+
 use common::binary as run;
 
 fn assert_clean_error(args: &[&str], needle: &str) {
@@ -79,10 +80,7 @@ fn bad_input_is_one_line_and_non_zero() {
 
 #[test]
 fn malformed_model_files_name_the_problem() {
-    let dir_held = tempfile::Builder::new()
-        .prefix("theory-search-cli-")
-        .tempdir()
-        .unwrap();
+    let dir_held = common::scratch("cli");
     let dir = dir_held.path();
     let broken = dir.join("broken.toml");
     std::fs::write(&broken, "name = \"w\"\nfields = [\n").unwrap();
@@ -272,10 +270,7 @@ fn simulate_command_writes_csv() {
     assert!(lines[0].ends_with("q_z_5"));
     let cols = lines[0].split(',').count();
     assert!(lines.iter().all(|l| l.split(',').count() == cols));
-    let dir_held = tempfile::Builder::new()
-        .prefix("theory-search-sim-")
-        .tempdir()
-        .unwrap();
+    let dir_held = common::scratch("sim");
     let dir = dir_held.path();
     let file = dir.join("run.csv");
     let (code, out, _) = run(&[
@@ -651,10 +646,7 @@ fn fit_command() {
         .unwrap();
     assert!(child.status.success());
     // Figures.
-    let dir_held = tempfile::Builder::new()
-        .prefix("theory-search-fit-")
-        .tempdir()
-        .unwrap();
+    let dir_held = common::scratch("fit");
     let dir = dir_held.path();
     let (code, _, err) = run(&["fit", example, "--figures", dir.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");

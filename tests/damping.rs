@@ -9,6 +9,7 @@
 use serde_json::Value;
 
 mod common;
+
 use common::in_process;
 
 /// The planar model with drag on its bending field, written to a temporary file.
@@ -23,11 +24,7 @@ fn drag_model() -> tempfile::NamedTempFile {
     assert_ne!(drag, planar.replace("name = \"planar\"", "name = \"drag\""));
     // One file per call, removed when dropped: tests run at once, and a file rewritten while
     // another test reads it reads empty.
-    let file = tempfile::Builder::new()
-        .prefix("ts-drag-")
-        .suffix(".toml")
-        .tempfile()
-        .unwrap();
+    let file = common::scratch_file("drag", ".toml");
     std::fs::write(file.path(), drag).unwrap();
     file
 }

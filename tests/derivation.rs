@@ -2,6 +2,8 @@
 //! density enters through the velocity jet at fixed time on both paths, a field's equation
 //! does not depend on the other fields, and a field without an equation does not block the rest.
 
+mod common;
+
 use num_rational::Rational64;
 use theory_search::enumerate::Basis;
 use theory_search::equations::{
@@ -209,10 +211,7 @@ fn a_fields_equation_does_not_depend_on_the_other_fields() {
 
 #[test]
 fn a_field_without_an_equation_does_not_block_the_others() {
-    let dir_held = tempfile::Builder::new()
-        .prefix("ts-derivation-")
-        .tempdir()
-        .unwrap();
+    let dir_held = common::scratch("derivation");
     let dir = dir_held.path();
     let path = dir.join("two.toml");
     let text = r#"

@@ -196,10 +196,7 @@ fn an_active_bending_force_is_found() {
 
 #[test]
 fn bad_input_gets_one_line_and_its_exit_code() {
-    let dir_held = tempfile::Builder::new()
-        .prefix("discover-bad-")
-        .tempdir()
-        .unwrap();
+    let dir_held = common::scratch("discover-bad");
     let dir = dir_held.path();
     let short = dir.join("short.csv");
     let text = crawler(0.0, 20.0, 0.01, 5, 101);
@@ -240,10 +237,7 @@ fn bad_input_gets_one_line_and_its_exit_code() {
 
 #[test]
 fn the_json_contract_the_onward_simulate_line_and_the_figure() {
-    let dir_held = tempfile::Builder::new()
-        .prefix("discover-json-")
-        .tempdir()
-        .unwrap();
+    let dir_held = common::scratch("discover-json");
     let dir = dir_held.path();
     let path = dir.join("passive.csv");
     std::fs::write(&path, crawler(0.0, 20.0, 0.01, 8, 20_001)).unwrap();

@@ -69,10 +69,7 @@ fn make_svgs(width_mm: f64) -> Svgs {
 
 /// The fit's figures of the example recording, written by the command.
 fn fit_svgs(width_mm: f64) -> Vec<(String, String)> {
-    let dir_held = tempfile::Builder::new()
-        .prefix("theory-search-print-")
-        .tempdir()
-        .unwrap();
+    let dir_held = common::scratch("print");
     let dir = dir_held.path();
     let example = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/examples/midlines.csv");
     let out = Command::new(env!("CARGO_BIN_EXE_theory-search"))
@@ -245,14 +242,12 @@ fn no_legend_covers_data() {
 }
 
 mod common;
+
 use common::binary as cli;
 
 #[test]
 fn the_command_writes_png_and_pdf_of_the_width_asked_for() {
-    let dir_held = tempfile::Builder::new()
-        .prefix("theory-search-png-")
-        .tempdir()
-        .unwrap();
+    let dir_held = common::scratch("png");
     let dir = dir_held.path();
     let d = dir.to_str().unwrap();
     let (code, out, err) = cli(&[

@@ -1,6 +1,8 @@
 //! The SVG figures: every one renders from the library, carries labelled axes and its data, and
 //! the command stays quiet when its output is piped.
 
+mod common;
+
 use std::process::Command;
 
 use theory_search::figures::{figure, FigureSettings, FIGURES};
@@ -91,10 +93,7 @@ fn unknown_figure_is_an_error() {
 
 #[test]
 fn the_command_writes_quietly_and_fails_cleanly() {
-    let dir_held = tempfile::Builder::new()
-        .prefix("theory-search-figures-")
-        .tempdir()
-        .unwrap();
+    let dir_held = common::scratch("figures");
     let dir = dir_held.path();
     let out = Command::new(env!("CARGO_BIN_EXE_theory-search"))
         .args(["figures", "--samples", "5000", "--out"])
@@ -187,10 +186,7 @@ fn every_figure_renders_to_pixels() {
 /// unit that could break the markup is refused (from either face: the library checks it).
 #[test]
 fn fit_figures_carry_the_time_unit() {
-    let dir_held = tempfile::Builder::new()
-        .prefix("ts-fit-units-")
-        .tempdir()
-        .unwrap();
+    let dir_held = common::scratch("fit-units");
     let dir = dir_held.path();
     let example = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/examples/midlines.csv");
     let run = |unit: &str| {

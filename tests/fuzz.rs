@@ -9,6 +9,8 @@
 //! `.ci/run` runs it); `PROPTEST_CASES=2000 cargo test --release --test fuzz` is the longer
 //! campaign for developers (docs/budgets.md).
 
+mod common;
+
 use std::io::Write;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -20,13 +22,6 @@ const LIMIT: Duration = Duration::from_secs(20);
 
 fn bin() -> &'static str {
     env!("CARGO_BIN_EXE_theory-search")
-}
-
-fn scratch(tag: &str) -> tempfile::TempDir {
-    tempfile::Builder::new()
-        .prefix(&format!("ts-fuzz-{tag}-"))
-        .tempdir()
-        .unwrap()
 }
 
 /// Run with a time limit; returns (code, stdout, stderr) or panics on a hang or a signal.
@@ -320,7 +315,7 @@ proptest! {
         dpi in extreme(),
         format in prop_oneof![Just("svg"), Just("png"), Just("pdf")],
     ) {
-        let dir_held = scratch("page");
+        let dir_held = common::scratch("fuzz-page");
         let dir = dir_held.path();
         let args: Vec<String> = [
             "figures", "--only", "spectrum", "--format", format, "--figures",
@@ -344,7 +339,7 @@ proptest! {
             text[at] = byte;
         }
         text.truncate(text.len() - cut % (text.len() / 4).max(1));
-        let dir_held = scratch("model");
+        let dir_held = common::scratch("fuzz-model");
         let dir = dir_held.path();
         let path = dir.join(format!("m{}.toml", text.len()));
         std::fs::write(&path, &text).unwrap();
@@ -371,7 +366,7 @@ proptest! {
 /// answers (finite) or refuses in one line, in time.
 #[test]
 fn the_reported_command_lines_answer_in_time() {
-    let dir_held = scratch("reported");
+    let dir_held = common::scratch("fuzz-reported");
     let dir = dir_held.path();
     let example = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/examples/midlines.csv");
     let figs = dir.join("figs");
@@ -438,7 +433,7 @@ fn the_reported_command_lines_answer_in_time() {
 /// written (or are not what they claim), 3 for a computation that failed on valid input.
 #[test]
 fn exit_codes_follow_one_rule() {
-    let dir_held = scratch("codes");
+    let dir_held = common::scratch("fuzz-codes");
     let dir = dir_held.path();
     let bad_params = dir.join("p.toml");
     std::fs::write(&bad_params, "omega_b = \"x\"").unwrap();

@@ -4,6 +4,8 @@
 //! potential (central differences of its energy), dissipation and active forces, its Jacobians
 //! against differences of the integrator's force.
 
+mod common;
+
 use std::collections::BTreeMap;
 use std::process::Command;
 
@@ -113,10 +115,7 @@ fn harness(source: &str, points: usize, inputs: &[(Vec<f64>, Vec<f64>, Vec<f64>)
     // One directory per harness: the tests run in parallel.
     static RUNS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
     let _run = RUNS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let dir_held = tempfile::Builder::new()
-        .prefix("ts-forces-")
-        .tempdir()
-        .unwrap();
+    let dir_held = common::scratch("forces");
     let dir = dir_held.path();
     let file = dir.join("forces.rs");
     std::fs::write(&file, format!("{source}{main}")).unwrap();

@@ -3,6 +3,8 @@
 //! literals or comments. The generated code is compiled with rustc against a stub of
 //! `src/generated/mod.rs` and its items are counted.
 
+mod common;
+
 use std::process::Command;
 
 use theory_search::codegen::operators_source;
@@ -69,10 +71,7 @@ pub fn entries() -> Vec<(&'static str, &'static str)> {
 
 /// Compile `source` as `generated/operators.rs` under the stub; panics with rustc's errors.
 fn compile(source: &str, _tag: &str) {
-    let dir_held = tempfile::Builder::new()
-        .prefix("ts-hostile-")
-        .tempdir()
-        .unwrap();
+    let dir_held = common::scratch("hostile");
     let dir = dir_held.path();
     std::fs::create_dir_all(dir.join("generated")).unwrap();
     std::fs::write(dir.join("lib.rs"), STUB).unwrap();
@@ -166,10 +165,7 @@ fn text_that_could_end_a_line_is_refused_naming_the_key() {
     let err = Model::from_toml(&id).unwrap_err().to_string();
     assert!(err.contains("field id \"1x\""), "{err}");
     // The CLI says it in one line, exit 1.
-    let dir_held = tempfile::Builder::new()
-        .prefix("ts-hostile-cli-")
-        .tempdir()
-        .unwrap();
+    let dir_held = common::scratch("hostile-cli");
     let dir = dir_held.path();
     let path = dir.join("m.toml");
     std::fs::write(&path, &newline).unwrap();
@@ -257,10 +253,7 @@ fn cli(args: &[&str]) -> (u8, String, String) {
 
 #[test]
 fn hostile_input_ii_exits_cleanly_with_bounded_lines() {
-    let dir_held = tempfile::Builder::new()
-        .prefix("ts-hostile-ii-")
-        .tempdir()
-        .unwrap();
+    let dir_held = common::scratch("hostile-ii");
     let dir = dir_held.path();
     // Coordinates whose squares overflow: no panic, a finite report or one clean line.
     let header: Vec<String> = (0..12).map(|i| format!("x{i},y{i}")).collect();
@@ -331,10 +324,7 @@ fn hostile_input_ii_exits_cleanly_with_bounded_lines() {
 
 #[test]
 fn fitted_scales_written_by_params_out_read_back() {
-    let dir_held = tempfile::Builder::new()
-        .prefix("ts-params-out-")
-        .tempdir()
-        .unwrap();
+    let dir_held = common::scratch("params-out");
     let dir = dir_held.path();
     let example = format!(
         "{}/tables/examples/midlines.csv",

@@ -3,6 +3,8 @@
 //! the unit square with a bump that vanishes on its edges), and a sweep over the requirement
 //! subsets of the larva's columns.
 
+mod common;
+
 use std::collections::BTreeMap;
 
 use num_bigint::BigInt;
@@ -400,10 +402,7 @@ fn the_command_falls_back_to_the_exact_equations() {
         "x = [\"OST\", \"TRAN\", \"REF\", \"KIN\"]",
         "x = [\"OST\", \"TRAN\", \"KIN\"]",
     );
-    let dir_held = tempfile::Builder::new()
-        .prefix("ts-nonlinear-")
-        .tempdir()
-        .unwrap();
+    let dir_held = common::scratch("nonlinear");
     let dir = dir_held.path();
     let path = dir.join("noref.toml");
     std::fs::write(&path, text).unwrap();

@@ -2,6 +2,7 @@
 //! operators the engine prints for the same squares and against hand-built matrices.
 
 mod common;
+
 use common::{cli, matrix};
 
 fn json(args: &[&str]) -> serde_json::Value {
@@ -123,10 +124,7 @@ fn the_linearised_tethered_filament_has_its_curvature_and_friction() {
 #[test]
 fn every_shipped_model_runs_through_every_numerical_command() {
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/models");
-    let out = tempfile::Builder::new()
-        .prefix("ts-emit-")
-        .tempdir()
-        .unwrap();
+    let out = common::scratch("emit");
     let out = out.path().to_str().unwrap();
     let mut seen = 0;
     for entry in std::fs::read_dir(dir).unwrap() {

@@ -2,6 +2,8 @@
 //! every relation checked by an independent Euler–Lagrange operator, and the larva's reduced
 //! bases.
 
+mod common;
+
 use num_rational::Rational64;
 use theory_search::model::{Density, Model};
 use theory_search::parts::{
@@ -195,10 +197,7 @@ fn rayleigh_terms_reduce_modulo_space_derivatives_only() {
     }
     // `parts` and `table` agree: the table's survivor ∂t u is kept.
     let mut out = Vec::new();
-    let dir_held = tempfile::Builder::new()
-        .prefix("ts-dis-")
-        .tempdir()
-        .unwrap();
+    let dir_held = common::scratch("dis");
     let dir = dir_held.path();
     let path = dir.join("m.toml");
     std::fs::write(&path, DIS_ONLY).unwrap();

@@ -8,6 +8,8 @@
 //!
 //! Every inline command in running text runs too.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 fn root() -> &'static Path {
@@ -159,10 +161,7 @@ fn arguments(command: &str, scratch: &Path) -> (Vec<String>, Vec<(String, String
 
 #[test]
 fn every_block_says_what_it_is_and_shown_output_is_printed() {
-    let scratch_held = tempfile::Builder::new()
-        .prefix("ts-docs-")
-        .tempdir()
-        .unwrap();
+    let scratch_held = common::scratch("docs");
     let scratch = scratch_held.path();
     let (mut commands, mut outputs) = (0, 0);
     let mut problems = Vec::new();
@@ -215,10 +214,7 @@ fn every_block_says_what_it_is_and_shown_output_is_printed() {
 /// names a subcommand whose `--help` runs. Output directories go to a scratch place.
 #[test]
 fn every_inline_command_in_the_readme_and_docs_runs() {
-    let dir_held = tempfile::Builder::new()
-        .prefix("ts-inline-")
-        .tempdir()
-        .unwrap();
+    let dir_held = common::scratch("inline");
     let dir = dir_held.path();
     let mut ran = 0;
     for (path, text) in &pages() {

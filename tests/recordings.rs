@@ -2,6 +2,8 @@
 //! counts match the data's README, and the fits agree with what a plain PCA of the gap-free
 //! frames shows there.
 
+mod common;
+
 /// The path of a recording in `../shared/data`.
 fn data(file: &str) -> String {
     format!("{}/../shared/data/{file}", env!("CARGO_MANIFEST_DIR"))
@@ -128,10 +130,7 @@ fn several_recordings_pool_into_one_fit_beside_each_own() {
 
 #[test]
 fn a_fit_feeds_the_other_commands_through_a_parameter_file() {
-    let dir_held = tempfile::Builder::new()
-        .prefix("ts-params-out-")
-        .tempdir()
-        .unwrap();
+    let dir_held = common::scratch("params-out");
     let dir = dir_held.path();
     let params = dir.join("fitted.toml");
     let path = data("celegans_wormpose_15fps_52pts.csv");
@@ -193,10 +192,7 @@ fn deeplabcut_files_are_read_with_their_likelihoods() {
         }
         dlc += &(cells.join(",") + "\n");
     }
-    let dir_held = tempfile::Builder::new()
-        .prefix("ts-dlc-")
-        .tempdir()
-        .unwrap();
+    let dir_held = common::scratch("dlc");
     let dir = dir_held.path();
     let path = dir.join("dlc.csv");
     std::fs::write(&path, &dlc).unwrap();

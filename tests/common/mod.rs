@@ -48,3 +48,21 @@ pub fn matrix(v: &serde_json::Value) -> Vec<Vec<f64>> {
         .collect()
 }
 pub mod beam;
+
+/// A scratch directory (`ts-{tag}-…` in the system's temporary directory), removed when
+/// dropped, also when the test fails.
+pub fn scratch(tag: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("ts-{tag}-"))
+        .tempdir()
+        .expect("a scratch directory")
+}
+
+/// A scratch file named `ts-{tag}-…{suffix}`, removed when dropped.
+pub fn scratch_file(tag: &str, suffix: &str) -> tempfile::NamedTempFile {
+    tempfile::Builder::new()
+        .prefix(&format!("ts-{tag}-"))
+        .suffix(suffix)
+        .tempfile()
+        .expect("a scratch file")
+}
