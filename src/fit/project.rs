@@ -61,6 +61,9 @@ pub struct Projector {
     pub boundary: crate::boundary::Boundary,
     /// S vⱼ of the grid's modes over the observations (`None` for part of a ring).
     pub lattice: Option<Vec<Vec<f64>>>,
+    /// How many leading coordinates are the body's continuum modes' (the rest are the N-point
+    /// modes'): the most whose projection keeps tracking noise within twice the N-point gain.
+    pub continuum_modes: usize,
 }
 
 impl Projector {
@@ -165,10 +168,11 @@ impl Projector {
             stencil: fm.k,
             boundary: fm.field.boundary,
         };
-        let (projector, design) = match (partial, grid.continuum(&projector)) {
-            (false, Some(continuum)) => continuum,
-            _ => (projector, design),
-        };
+        let (projector, design, continuum_modes) =
+            match (partial, grid.continuum(&projector, &design)) {
+                (false, Some(continuum)) => continuum,
+                _ => (projector, design, 0),
+            };
         Ok(Projector {
             kind: settings.kind,
             input_points: k_in,
@@ -186,7 +190,33 @@ impl Projector {
             stencil: fm.k,
             boundary: fm.field.boundary,
             lattice,
+            continuum_modes,
         })
+    }
+
+    /// Each coordinate's gain of white tracking noise: its standard deviation under this
+    /// projector over that under the N-point one, for independent noise of one size on every
+    /// tracked coordinate (midlines; `None` for lengths and part of a ring). At most
+    /// `NOISE_GAIN` = 2 by construction (see `continuum`).
+    pub fn noise_gains(&self) -> Option<Vec<f64>> {
+        let lattice = self.lattice.as_ref()?;
+        let rows: Vec<Vec<f64>> = lattice
+            .iter()
+            .zip(&self.eigenvalues)
+            .map(|(d, l)| d.iter().map(|x| x / l).collect())
+            .collect();
+        let noise = self.grid().noise_covariance()?;
+        Some(super::continuum::noise_gains(&noise, &self.rows, &rows))
+    }
+
+    fn grid(&self) -> Grid {
+        Grid {
+            kind: self.kind,
+            input_points: self.input_points,
+            points: self.points,
+            stencil: self.stencil,
+            boundary: self.boundary,
+        }
     }
 
     /// The posture on the model's points (zero modes removed, in units of the point spacing)
@@ -293,13 +323,7 @@ impl Projector {
     /// reads its continuum amplitude times this gain; equipartition is tested on Var Qⱼ/gainⱼ².
     pub fn continuum_gains(&self) -> Vec<Option<f64>> {
         let m = self.eigenvalues.len();
-        let grid = Grid {
-            kind: self.kind,
-            input_points: self.input_points,
-            points: self.points,
-            stencil: self.stencil,
-            boundary: self.boundary,
-        };
+        let grid = self.grid();
         (0..m)
             .map(|j| {
                 let values = grid.continuum_midline(j)?;
