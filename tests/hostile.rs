@@ -9,6 +9,9 @@ use std::process::Command;
 
 use theory_search::codegen::operators_source;
 use theory_search::discretise::plan;
+use theory_search::failure::Failure;
+use theory_search::fit::{fit_inputs, FitError, FitSettings, Frame, Input, InputKind, Track};
+use theory_search::modal::Params;
 use theory_search::model::Model;
 
 const PLANAR: &str = include_str!("../tables/models/planar.toml");
@@ -322,22 +325,213 @@ fn hostile_input_ii_exits_cleanly_with_bounded_lines() {
     assert!(err.contains("at most 50"), "{err}");
 }
 
+/// The shipped example (`tables/examples/midlines.csv`: a comment, the header on line 2, 12
+/// points from line 3 on), each data row's cells (time first) rewritten by `row`.
+fn example_with(row: impl Fn(Vec<f64>) -> Vec<f64>) -> String {
+    let example = include_str!("../tables/examples/midlines.csv");
+    let mut text = String::new();
+    for line in example.lines() {
+        match line
+            .split(',')
+            .map(str::parse)
+            .collect::<Result<Vec<f64>, _>>()
+        {
+            Ok(cells) => {
+                let cells: Vec<String> = row(cells).iter().map(f64::to_string).collect();
+                text += &cells.join(",");
+            }
+            Err(_) => text += line,
+        }
+        text.push('\n');
+    }
+    text
+}
+
+/// The binary reading `text` on its standard input: (exit code, stderr).
+fn binary_reading(args: &[&str], text: &str) -> (i32, String) {
+    use std::io::Write as _;
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_theory-search"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    // The binary may stop reading at the refused line: a broken pipe is its answer, not ours.
+    let _ = child.stdin.take().map(|mut i| i.write_all(text.as_bytes()));
+    let out = child.wait_with_output().expect("the binary ends");
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    (out.status.code().unwrap_or(-1), err)
+}
+
+/// `fit_inputs` on one input: its error.
+fn fit_error(input: Input<'_>, settings: &FitSettings) -> FitError {
+    let (model, params) = (Model::larva(), Params::default());
+    match fit_inputs(vec![input], &model, &params, settings, None) {
+        Ok(report) => panic!("fitted {} frames", report.frames),
+        Err(e) => e,
+    }
+}
+
+/// `text` as a file (read in chunks on every core), alone and beside the example (read line by
+/// line), as standard input, and through the library both ways: every one refused with `want`
+/// in one line, with the exit code and failure kind given.
+fn refused_everywhere(text: &str, extra: &[&str], settings: &FitSettings, want: &str, code: u8) {
+    let held = common::scratch_file("refused", ".csv");
+    let path = held.path().to_str().unwrap();
+    std::fs::write(path, text).unwrap();
+    let example = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/examples/midlines.csv");
+    let mut runs = vec![
+        [&["fit", path][..], extra].concat(),
+        [&["fit", path, example][..], extra].concat(),
+    ];
+    if extra.is_empty() {
+        runs.push(vec!["fit", example, path]);
+    }
+    for args in runs {
+        let (got, _, err) = cli(&args);
+        assert_eq!(got, code, "{args:?}: {err}");
+        assert!(err.contains(want) && !err.contains('\n'), "{args:?}: {err}");
+    }
+    let (got, _, err) = common::binary(&[&["fit", path][..], extra].concat());
+    assert_eq!(got, i32::from(code), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains(want), "{err}");
+    let (got, err) = binary_reading(&[&["fit", "-"][..], extra].concat(), text);
+    assert_eq!(got, i32::from(code), "{err}");
+    assert!(err.contains(want) && err.contains("-: "), "{err}");
+    let kind = if code == 2 {
+        Failure::Usage
+    } else {
+        Failure::Input
+    };
+    let reader = Box::new(std::io::Cursor::new(text.as_bytes().to_vec()));
+    for e in [
+        fit_error(Input::File(path.into()), settings),
+        fit_error(
+            Input::Reader {
+                name: "r".into(),
+                reader,
+            },
+            settings,
+        ),
+    ] {
+        assert_eq!(e.failure(), kind, "{e}");
+        assert!(e.to_string().contains(want), "{e}");
+    }
+}
+
+#[test]
+fn rows_wider_or_narrower_than_their_header_are_refused_naming_the_line() {
+    // Issue 49: a header naming 12 points over rows of 13 was read as 13-point midlines.
+    let settings = FitSettings::new(InputKind::Midline);
+    let wide = example_with(|mut cells| {
+        let (x, y) = (cells[cells.len() - 2], cells[cells.len() - 1]);
+        cells.extend([x + 1.0, y]);
+        cells
+    });
+    let want = "line 3: 27 columns where the header (line 2) names 25: 13 points where it names 12";
+    refused_everywhere(&wide, &[], &settings, want, 1);
+    let narrow = example_with(|cells| cells[..cells.len() - 2].to_vec());
+    let want = "line 3: 23 columns where the header (line 2) names 25: 11 points where it names 12";
+    refused_everywhere(&narrow, &[], &settings, want, 1);
+    // A header ending in an ellipsis names the first columns only; one cell is a title.
+    let example = example_with(|cells| cells);
+    for header in ["t,x1,y1,...", "t,x1,y1,x2,y2…", "frames"] {
+        let text = example.replacen(example.lines().nth(1).unwrap(), header, 1);
+        let (model, params) = (Model::larva(), Params::default());
+        let read = theory_search::fit::fit(text.as_bytes(), &model, &params, &settings);
+        assert_eq!(read.map(|r| r.frames).map_err(|e| e.to_string()), Ok(3000));
+    }
+    // A track column counts in both; lengths are counted as columns.
+    let tracked = "id,t,x1,y1\nA,0,1,2,3\n";
+    let mut settings = FitSettings::new(InputKind::Lengths);
+    settings.track_column = true;
+    let reader = Box::new(std::io::Cursor::new(tracked.as_bytes().to_vec()));
+    let e = fit_error(
+        Input::Reader {
+            name: "r".into(),
+            reader,
+        },
+        &settings,
+    );
+    assert!(
+        e.to_string()
+            .ends_with("line 2: 5 columns where the header (line 1) names 4"),
+        "{e}"
+    );
+    // A row wider than the rest deep in a file, in a chunk a worker parses, is refused too.
+    let mut late = example;
+    late += "3000,0,0,1,0,2,0,3,0,4,0,5,0,6,0,7,0,8,0,9,0,10,0,11,0,12,0\n";
+    assert!(late.len() > 1 << 18, "past the first chunk");
+    let want = "line 3003: 27 columns where the first frame had 25";
+    refused_everywhere(&late, &[], &FitSettings::new(InputKind::Midline), want, 1);
+}
+
+#[test]
+fn fps_beside_a_time_column_is_refused_by_fit_and_discover() {
+    // Issue 53: `fit tables/examples/midlines.csv --fps 15` fitted the file's own clock.
+    let mut settings = FitSettings::new(InputKind::Midline);
+    settings.fps = Some(15.0);
+    let example = example_with(|cells| cells);
+    let want = "--fps applies to files without a time column; this file has one: column 1, headed \"t\" (line 2)";
+    refused_everywhere(&example, &["--fps", "15"], &settings, want, 2);
+    let bare: String = example.lines().skip(2).map(|l| format!("{l}\n")).collect();
+    let want = "this file has one: column 1, time \"0\" on line 1";
+    refused_everywhere(&bare, &["--fps", "15"], &settings, want, 2);
+    let held = common::scratch_file("fps-discover", ".csv");
+    let path = held.path().to_str().unwrap();
+    std::fs::write(path, &example).unwrap();
+    let (code, _, err) = cli(&["discover", path, "--fps", "15", "--bootstrap", "0"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--fps applies to files without a time column"),
+        "{err}"
+    );
+    // WCON records and tracks in memory carry their times as well.
+    let wcon = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/two_worms.wcon");
+    let e = fit_error(Input::File(wcon.into()), &settings);
+    assert_eq!(e.failure(), Failure::Usage, "{e}");
+    assert!(
+        e.to_string()
+            .ends_with("this file has one: its records' \"t\" (WCON)"),
+        "{e}"
+    );
+    let frames = (0..64)
+        .map(|i| Frame {
+            t: f64::from(i),
+            values: Some((0..12).flat_map(|j| [f64::from(j), 0.0]).collect()),
+        })
+        .collect();
+    let tracks = vec![Track {
+        name: "a".into(),
+        frames,
+    }];
+    let e = fit_error(Input::Tracks(tracks), &settings);
+    assert!(e.to_string().contains("--fps applies"), "{e}");
+}
+
 #[test]
 fn fitted_scales_written_by_params_out_read_back() {
     let dir_held = common::scratch("params-out");
     let dir = dir_held.path();
-    let example = format!(
-        "{}/tables/examples/midlines.csv",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    // At the highest frame rate ω is of order 10⁸ or more: still written as a float.
-    for fps in ["1e9", "30"] {
+    // At the highest frame rate ω is of order 10⁸ or more: still written as a float. The
+    // example's time column is rescaled (--fps applies only to DeepLabCut's frame indices).
+    for fps in [1e9, 30.0] {
         let params = dir.join(format!("p{fps}.toml"));
+        let recording = dir.join(format!("r{fps}.csv"));
+        std::fs::write(
+            &recording,
+            example_with(|mut cells| {
+                cells[0] /= fps;
+                cells
+            }),
+        )
+        .unwrap();
         let (code, report, err) = cli(&[
             "fit",
-            &example,
-            "--fps",
-            fps,
+            recording.to_str().unwrap(),
             "--params-out",
             params.to_str().unwrap(),
             "--format",
@@ -347,6 +541,7 @@ fn fitted_scales_written_by_params_out_read_back() {
         let omega = serde_json::from_str::<serde_json::Value>(&report).unwrap()["omega"]
             .as_f64()
             .unwrap();
+        assert!(omega > 1e8 || fps < 1e9, "{omega}");
         let (code, modes, err) = cli(&[
             "modes",
             "-p",

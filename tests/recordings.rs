@@ -224,30 +224,20 @@ fn deeplabcut_files_are_read_with_their_likelihoods() {
     // The same physics as the plain file: ω_b = 1 in the simulation.
     let omega = v["omega"].as_f64().unwrap();
     assert!((omega - 1.0).abs() < 0.02, "{omega}");
-    // --fps took: no word of it going unused. On a file with a time column it is said.
-    let said = v["warnings"].to_string();
-    assert!(!said.contains("--fps was not used"), "{said}");
+    // --fps took: the frame indices over it are the clock. A file with a time column refuses it.
+    assert!((v["sample_interval"].as_f64().unwrap() - dt).abs() < 1e-9 * dt);
     let example = format!(
         "{}/tables/examples/midlines.csv",
         env!("CARGO_MANIFEST_DIR")
     );
-    let mut out = Vec::new();
-    theory_search::cli::run(
-        [
-            "theory-search",
-            "fit",
-            &example,
-            "--fps",
-            "15",
-            "--format",
-            "json",
-        ],
-        &mut out,
-    )
-    .unwrap();
-    let v: serde_json::Value = serde_json::from_slice(&out).unwrap();
-    let said = v["warnings"].to_string();
-    assert!(said.contains("--fps was not used"), "{said}");
+    let args = ["theory-search", "fit", &example, "--fps", "15"];
+    let e = theory_search::cli::run(args, &mut Vec::new()).unwrap_err();
+    assert_eq!(e.exit_code(), 2, "{e}");
+    assert!(
+        e.to_string()
+            .contains("--fps applies to files without a time column"),
+        "{e}"
+    );
 }
 
 #[test]

@@ -387,7 +387,8 @@ def discover(
     t : array, optional
         The array's frame times (without it frames are ``1/fps`` apart).
     fps : float, optional
-        Frames per second of the array (one time unit per frame without it or ``t``).
+        Frames per second of the array (one time unit per frame without it or ``t``), or of
+        DeepLabCut files (refused for files with a time column).
     options
         The command's: ``points``, ``active`` (True puts the model's active forces in the
         library), ``kind``, ``field``, ``fill_gaps``, ``bootstrap``, ``seed``, ``order``,
@@ -407,12 +408,13 @@ def discover(
     command = ["discover"]
     if isinstance(model, (str, os.PathLike)) and os.path.isfile(model):
         command, model = command + ["--model", os.fspath(model)], None
+    # Files take fps as the command does: a DeepLabCut export's, refused beside a time column.
     if isinstance(recordings, (str, os.PathLike)):
-        return run(command + [os.fspath(recordings)], model, **options)
+        return run(command + [os.fspath(recordings)], model, fps=fps, **options)
     if isinstance(recordings, (list, tuple)) and all(
         isinstance(r, (str, os.PathLike)) for r in recordings
     ):
-        return run(command + list(map(os.fspath, recordings)), model, **options)
+        return run(command + list(map(os.fspath, recordings)), model, fps=fps, **options)
     with tempfile.TemporaryDirectory() as d:
         path = os.path.join(d, "recording.csv")
         _recording_csv(path, recordings, t, fps)

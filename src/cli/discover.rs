@@ -30,6 +30,10 @@ pub struct Args {
     /// Bridge gaps of at most K lost frames linearly (0: none); longer gaps split the runs.
     #[arg(long, value_name = "K", default_value_t = crate::fit::DEFAULT_FILL_GAPS)]
     fill_gaps: usize,
+    /// Frames per second of a DeepLabCut file (its rows hold frame indices; without it the
+    /// time unit is one frame). Refused for a file with a time column.
+    #[arg(allow_hyphen_values = true, long, value_name = "F")]
+    fps: Option<f64>,
     /// Moving-block bootstrap draws for intervals and inclusion frequencies (0: none).
     #[arg(long, value_name = "B", default_value_t = 200)]
     bootstrap: usize,
@@ -74,6 +78,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     fit.order = args.model.order;
     fit.points = args.points;
     fit.fill_gaps = args.fill_gaps;
+    fit.fps = args.fps;
     let settings = DiscoverSettings {
         fit,
         active: args.active,

@@ -55,7 +55,7 @@ pub struct Args {
     #[arg(long, value_name = "K", default_value_t = crate::fit::DEFAULT_FILL_GAPS)]
     fill_gaps: usize,
     /// Frames per second of a DeepLabCut file (its rows hold frame indices; without it the
-    /// time unit is one frame).
+    /// time unit is one frame). Refused for a file with a time column.
     #[arg(allow_hyphen_values = true, long, value_name = "F")]
     fps: Option<f64>,
     /// DeepLabCut points tracked below this likelihood make their frame lost.

@@ -26,6 +26,13 @@ pub enum FitError {
         /// Frames read.
         read: usize,
     },
+    /// `--fps` given for a recording that keeps its own clock: only a DeepLabCut export's rows
+    /// hold frame indices, which it turns into time.
+    #[error("--fps applies to files without a time column; this file has one: {has}")]
+    Fps {
+        /// Where the recording's time is.
+        has: String,
+    },
     /// A setting or the data as a whole is unusable.
     #[error("{0}")]
     Invalid(String),
@@ -67,6 +74,7 @@ impl FitError {
             | FitError::NoFrames { .. } => Failure::Input,
             FitError::Output(_) => Failure::Output,
             FitError::Invalid(_)
+            | FitError::Fps { .. }
             | FitError::Discretise(_)
             | FitError::Role(_)
             | FitError::Pruned { .. } => Failure::Usage,

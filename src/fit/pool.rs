@@ -13,9 +13,7 @@ use std::sync::{mpsc, Mutex};
 
 use super::accumulate::{accumulate, Context, Each, PassLadder, ProjectorCache, Projectors};
 use super::chunks::Chunked;
-use super::read::{
-    is_deeplabcut, read_tracks, sniff, whole, FrameReader, Track, TrackSource, MAX_WHOLE_FILE,
-};
+use super::read::{read_tracks, sniff, whole, FrameReader, Track, TrackSource, MAX_WHOLE_FILE};
 use super::stats::Stats;
 use super::welch::Ladder;
 use super::{
@@ -58,9 +56,6 @@ struct Read {
     units: Units,
     /// A projector of the worker's (the pool's fits need one).
     projector: Option<Projector>,
-    /// The input's name when `--fps` was given but its clock is a time column (only a
-    /// DeepLabCut file's frame indices take it).
-    fps_unused: Option<String>,
 }
 
 /// Fit several inputs, each one animal or several (track ids, WCON ids): one pooled fit and,
@@ -191,7 +186,11 @@ fn parallel(inputs: Vec<Input<'_>>, ctx: &Context<'_>, pool: &mut Pool) -> Resul
 /// An error reading input `name`, named (unless the input has no name).
 fn with_name(e: FitError, name: &str) -> FitError {
     match e {
-        FitError::Io(_) | FitError::Open(_) | FitError::Line { .. } | FitError::NoFrames { .. }
+        FitError::Io(_)
+        | FitError::Open(_)
+        | FitError::Line { .. }
+        | FitError::NoFrames { .. }
+        | FitError::Fps { .. }
             if !name.is_empty() =>
         {
             FitError::In {
@@ -211,10 +210,19 @@ fn read_input(
     each: &mut Option<Each<'_>>,
 ) -> Result<Read, FitError> {
     let settings = ctx.settings;
+    // Only a DeepLabCut export takes --fps (its rows hold frame indices); the line reader
+    // refuses it for a CSV, whose first column is time.
+    let fps = |has: &str| match settings.fps {
+        Some(_) => Err(FitError::Fps { has: has.into() }),
+        None => Ok(()),
+    };
     // A file alone is parsed on every core (a stream is not: its reader could wait forever).
     let mut chunked = false;
     let (name, mut reader): (String, Box<dyn BufRead + Send + '_>) = match input {
-        Input::Tracks(tracks) => return read_tracks_of(tracks, ctx, projs, each, Units::default()),
+        Input::Tracks(tracks) => {
+            fps("each frame's t (tracks held in memory)")?;
+            return read_tracks_of(tracks, ctx, projs, each, Units::default());
+        }
         Input::Reader { name, reader } => (name, reader),
         Input::File(path) => {
             let file = std::fs::File::open(&path).map_err(FitError::Open)?;
@@ -229,29 +237,19 @@ fn read_input(
         InputFormat::Auto => sniff(&mut reader)?,
         forced => forced,
     };
-    // Only a DeepLabCut export takes --fps (its rows hold frame indices); any other input
-    // keeps its own clock.
-    let fps_unused = (settings.fps.is_some()
-        && (format == InputFormat::Wcon || !is_deeplabcut(&mut reader)?))
-    .then(|| name.clone());
     if format == InputFormat::Wcon {
+        fps("its records' \"t\" (WCON)")?;
         let text = whole(reader)?;
         let w = super::wcon::parse(&text, &name, settings.head_first)?;
         let units = Units {
             time: Some(w.time_unit),
             length: Some(w.length_unit),
         };
-        return Ok(Read {
-            fps_unused,
-            ..read_tracks_of(w.tracks, ctx, projs, each, units)?
-        });
+        return read_tracks_of(w.tracks, ctx, projs, each, units);
     }
     if settings.track_column {
         let tracks = read_tracks(std::io::Read::take(reader, MAX_WHOLE_FILE), &name, settings)?;
-        return Ok(Read {
-            fps_unused,
-            ..read_tracks_of(tracks, ctx, projs, each, Units::default())?
-        });
+        return read_tracks_of(tracks, ctx, projs, each, Units::default());
     }
     let source = FrameReader::new(reader, settings);
     let animal = if chunked {
@@ -267,7 +265,6 @@ fn read_input(
         animals: vec![animal],
         units: Units::default(),
         projector: projs.first(),
-        fps_unused,
     })
 }
 
@@ -296,7 +293,6 @@ fn read_tracks_of(
         animals,
         units,
         projector: projs.first(),
-        fps_unused: None,
     })
 }
 
@@ -310,8 +306,6 @@ struct Pool {
     interval: Option<f64>,
     units: Option<Units>,
     projector: Option<Projector>,
-    /// Inputs whose own clock made `--fps` unused.
-    fps_unused: Vec<String>,
     /// Each animal's own fit.
     fits: Vec<AnimalFit>,
     /// Each animal's statistics and runs (bootstrap only).
@@ -339,7 +333,6 @@ impl Pool {
         if self.projector.is_none() {
             self.projector = read.projector;
         }
-        self.fps_unused.extend(read.fps_unused);
         for animal in read.animals {
             self.take_animal(ctx, animal)?;
         }
@@ -459,13 +452,6 @@ impl Pool {
         let described = Some((counts, named));
         let mut report = fit_stats(proj, ctx, stats, interval, (Scope::Full, described))?;
         report.tracking_noise = self.jitter.as_ref().and_then(Jitter::estimate);
-        if !self.fps_unused.is_empty() {
-            report.warnings.push(format!(
-                "--fps was not used: it converts a DeepLabCut file's frame indices to time, and {} {} (a time column or WCON's units)",
-                crate::markup::clip(&self.fps_unused.join(", ")),
-                if self.fps_unused.len() == 1 { "keeps its own clock" } else { "keep their own clocks" }
-            ));
-        }
         if ctx.settings.bootstrap > 0 {
             let units = units(&self.kept);
             let pooled = report.clone();

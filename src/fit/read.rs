@@ -6,7 +6,7 @@
 use std::io::BufRead;
 
 use super::number::plain_row;
-use super::{FitError, FitSettings, FrameError, InputFormat, LineWhy};
+use super::{FitError, FitSettings, FrameError, InputFormat, InputKind, LineWhy};
 use crate::markup::clip;
 use crate::report::number;
 
@@ -188,6 +188,10 @@ pub(super) struct FrameReader<R> {
     /// The line last read (1-based).
     pub(super) line: usize,
     width: Option<usize>,
+    /// The header line, if it names every column: its line number and how many it names.
+    header: Option<(usize, usize)>,
+    /// Midlines (`x y` pairs after time) or lengths: how a width is counted in messages.
+    kind: InputKind,
     seen_data: bool,
     clock: Clock,
     /// The first column is a track id (rows of several animals, in any order): time steps are
@@ -212,6 +216,8 @@ impl<R: BufRead> FrameReader<R> {
             buf: Vec::new(),
             line: 0,
             width: None,
+            header: None,
+            kind: settings.kind,
             seen_data: false,
             clock: Clock::default(),
             track: settings.track_column,
@@ -314,12 +320,44 @@ impl<R: BufRead> FrameReader<R> {
             self.dlc = true;
             return Ok(None);
         }
-        let first_number = cells[usize::from(self.track).min(cells.len() - 1)];
-        if !self.seen_data && !self.dlc && first_number.parse::<f64>().is_err() {
-            self.seen_data = true;
-            return Ok(None);
+        let time = usize::from(self.track).min(cells.len() - 1);
+        let header = !self.seen_data && !self.dlc && cells[time].parse::<f64>().is_err();
+        // The first line of any other layout holds, or names, a column of time.
+        if !self.seen_data && !self.dlc && self.fps.is_some() {
+            let (column, cell) = (time + 1, clip(cells[time]));
+            return Err(FitError::Fps {
+                has: if header {
+                    format!("column {column}, headed {cell} (line {line})")
+                } else {
+                    format!("column {column}, time {cell} on line {line}")
+                },
+            });
         }
         self.seen_data = true;
+        if header {
+            // A header of one cell is a title, one ending in an ellipsis (`t,x1,y1,…`) names
+            // the first columns only; any other names every column the rows hold.
+            let last = cells[cells.len() - 1];
+            let abridged = last.ends_with("...") || last.ends_with('…');
+            self.header = (cells.len() > 1 && !abridged).then_some((line, cells.len()));
+            return Ok(None);
+        }
+        if let Some((header, names)) = self.header.take() {
+            if cells.len() != names {
+                let lead = 1 + usize::from(self.track);
+                let points = (self.kind == InputKind::Midline)
+                    .then(|| [cells.len(), names].map(|n| n.saturating_sub(lead)))
+                    .filter(|v| v.iter().all(|v| v % 2 == 0))
+                    .map(|v| (v[0] / 2, v[1] / 2));
+                return Err(bad(LineError::Header {
+                    count: cells.len(),
+                    names,
+                    header,
+                    points,
+                }
+                .into()));
+            }
+        }
         self.track_id = if self.track {
             if cells.len() < 2 {
                 return Err(bad("a track id and then time are needed".into()));
@@ -379,6 +417,18 @@ pub enum LineError {
         count: usize,
         /// Cells of the first frame.
         width: usize,
+    },
+    /// Another width than the header names.
+    #[error("{count} columns where the header (line {header}) names {names}{}", points.map_or(String::new(), |(p, q)| format!(": {p} points where it names {q}")))]
+    Header {
+        /// Cells on this line.
+        count: usize,
+        /// Cells the header names.
+        names: usize,
+        /// The header's line.
+        header: usize,
+        /// Points on this line and in the header, for midlines.
+        points: Option<(usize, usize)>,
     },
     /// A time that is not a finite number.
     #[error("column 1: time {0:?} is not a finite number")]
@@ -549,17 +599,6 @@ pub(super) fn sniff(reader: &mut Box<dyn BufRead + Send + '_>) -> Result<InputFo
 
 /// The first cells of DeepLabCut's three header rows; an export opens with the first.
 const DLC_HEADERS: [&str; 3] = ["scorer", "bodyparts", "coords"];
-
-/// Whether the stream's first non-blank text is DeepLabCut's first header row (peeked, not
-/// read): a DeepLabCut export, whose rows hold frame indices.
-pub(super) fn is_deeplabcut(reader: &mut Box<dyn BufRead + Send + '_>) -> Result<bool, FitError> {
-    let buf = reader.fill_buf().map_err(FitError::Io)?;
-    let start = buf
-        .iter()
-        .position(|b| !b.is_ascii_whitespace())
-        .unwrap_or(buf.len());
-    Ok(buf[start..].starts_with(DLC_HEADERS[0].as_bytes()))
-}
 
 /// A whole stream as text, at most [`MAX_WHOLE_FILE`] bytes.
 pub(super) fn whole(reader: Box<dyn BufRead + Send + '_>) -> Result<String, FitError> {
