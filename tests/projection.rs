@@ -108,3 +108,43 @@ fn a_clamped_beam_with_tracking_noise_keeps_its_kappa() {
         );
     }
 }
+
+/// `discover` answers a clamped–free thermal beam with tracking noise (the projection no longer
+/// drowns its low modes): its stiffness selected, positive, at 12 and 19 points, 1 % and 5 %.
+#[test]
+fn discover_answers_a_clamped_beam_with_tracking_noise() {
+    use theory_search::discover::{discover, DiscoverSettings, Source};
+    for (points, share) in [(12, 0.01), (12, 0.05), (19, 0.01), (19, 0.05)] {
+        let body = Body {
+            clamped: true,
+            kappa: 0.01,
+            zeta1: 0.05,
+            amplitude: 0.01,
+            points,
+            noise: share * 0.01,
+            frames: 20_000,
+            modes: 8,
+        };
+        let answers = common::beam::on_two_cores(4, |seed| {
+            let mut fit = FitSettings::new(InputKind::Midline);
+            fit.points = points;
+            let settings = DiscoverSettings {
+                fit,
+                active: false,
+                bootstrap: 0,
+                seed: 1,
+                replay: false,
+            };
+            let text = record(&body, 41_000 + seed);
+            let source = Source::Reader("beam".into(), Box::new(std::io::Cursor::new(text)));
+            discover(vec![source], &common::beam::model(true), &settings)
+                .map(|r| r.equation.clone())
+                .map_err(|e| e.to_string())
+        });
+        println!("clamped–free N = {points}, noise {share}: {answers:?}");
+        for a in &answers {
+            let equation = a.as_ref().expect("discover answers");
+            assert!(equation.contains("c_y"), "no stiffness: {equation}");
+        }
+    }
+}
