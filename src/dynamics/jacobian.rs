@@ -60,7 +60,11 @@ impl Jacobian {
     /// Newton iterations and steps while it still makes them converge.
     pub(super) fn factor(self) -> Factored {
         match self {
+            // A ring whose stencils never wrap (a body with no stiffness, friction or mass
+            // term: only forces) has no corners, and nalgebra's LU of the empty capacitance
+            // matrix panics on its first solve: the band is the whole matrix.
             Jacobian::Banded(b) => Factored::Banded(b.shifted(0.0)),
+            Jacobian::Cyclic(b, corners) if corners.is_empty() => Factored::Banded(b.shifted(0.0)),
             Jacobian::Cyclic(b, corners) => {
                 let band = b.shifted(0.0);
                 let mut index: Vec<usize> = corners.iter().flat_map(|c| [c.0, c.1]).collect();
