@@ -240,3 +240,40 @@ fn a_body_moved_by_a_gyroscopic_force_alone_runs_and_keeps_its_energy() {
         }
     }
 }
+
+/// The emitted operators of every shipped model import only names they use (a ring's file
+/// has no `banded_*` and once imported `Banded` all the same: an unused-import warning).
+#[test]
+fn emitted_operators_import_only_what_they_use() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tables/models");
+    let mut checked = 0;
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let text = std::fs::read_to_string(entry.unwrap().path()).unwrap();
+        let model = theory_search::model::Model::from_toml(&text).unwrap();
+        for order in [2, 4, 6] {
+            let Ok(source) = theory_search::codegen::operators_source(&model, order) else {
+                continue;
+            };
+            checked += 1;
+            let (imports, body): (Vec<&str>, Vec<&str>) =
+                source.lines().partition(|l| l.starts_with("use "));
+            let body = body.join("\n");
+            for name in imports.iter().flat_map(|l| {
+                l.rsplit("::")
+                    .next()
+                    .unwrap()
+                    .split(|c: char| !c.is_alphanumeric() && c != '_')
+            }) {
+                let used = body
+                    .split(|c: char| !c.is_alphanumeric() && c != '_')
+                    .any(|w| w == name);
+                assert!(
+                    name.is_empty() || used,
+                    "{} at order {order}: {name} unused",
+                    model.name
+                );
+            }
+        }
+    }
+    assert!(checked >= 8, "{checked}");
+}
