@@ -59,10 +59,26 @@ pub fn markdown_cell(s: &str) -> String {
     s.replace('\\', "\\\\").replace('|', "\\|")
 }
 
-/// Fold a multi-line message (TOML errors quote the offending line) onto one line.
+/// `s` with every control or invisible formatting character ([`is_invisible`]) written as
+/// its escape (`\u{202e}`), as Rust's `{:?}` writes them in a quoted model name: a quoted line
+/// of input never reorders or hides the message around it.
+pub fn visible(s: &str) -> String {
+    if !s.chars().any(|c| c.is_control() || is_invisible(c)) {
+        return s.to_string();
+    }
+    s.chars()
+        .map(|c| match c.is_control() || is_invisible(c) {
+            true => c.escape_unicode().to_string(),
+            false => c.to_string(),
+        })
+        .collect()
+}
+
+/// Fold a multi-line message (TOML errors quote the offending line) onto one line, invisible
+/// characters escaped ([`visible`]).
 pub fn one_line(s: &str) -> String {
     s.split('\n')
-        .map(str::trim)
+        .map(|l| visible(l.trim()))
         .filter(|l| !l.is_empty() && l.chars().any(|c| c.is_alphanumeric()))
         .map(|l| {
             // A quoted line of input is cut: a 1 MB line is not echoed back.
@@ -80,12 +96,15 @@ pub fn one_line(s: &str) -> String {
 /// The longest error line printed, in characters.
 pub const LINE_LIMIT: usize = 1000;
 
-/// One line of an error message, bounded: every word (a run without spaces, such as a quoted
-/// value or a path) longer than 2 × [`QUOTE_LIMIT`] characters is cut to [`QUOTE_LIMIT`] with
-/// its length said, and the line to [`LINE_LIMIT`] characters.
+/// One line of an error message, bounded: invisible characters escaped ([`visible`]), numbers
+/// printed out in hundreds of digits put in short form ([`short_numbers`]), every word (a run
+/// without spaces, such as a quoted value or a path) longer than 2 × [`QUOTE_LIMIT`]
+/// characters cut to [`QUOTE_LIMIT`] with its length said, and the line to [`LINE_LIMIT`]
+/// characters.
 pub fn bound_line(s: &str) -> String {
     let words: Vec<String> = s
         .split(' ')
+        .map(|w| short_numbers(&visible(w)))
         .map(|w| {
             let len = w.chars().count();
             if len > 2 * QUOTE_LIMIT {
@@ -102,6 +121,54 @@ pub fn bound_line(s: &str) -> String {
     } else {
         line
     }
+}
+
+/// Digits in a number's plain form beyond which it is written in exponent form: more than
+/// any `u64` has, so a count or an index is never rewritten.
+const LONG_NUMBER: usize = 20;
+
+/// `w` with every number that `{}` wrote out for an `f64` in more than [`LONG_NUMBER`]
+/// digits (1e300: 301 digits, at most 17 of them significant) in short form
+/// ([`crate::report::number`]). Digits that are part of a name or a path (`x1000…`, `/1000…/`),
+/// or carry more significant digits than an `f64` prints, are left alone.
+pub fn short_numbers(w: &str) -> String {
+    let named = |c: Option<&char>| c.is_some_and(|&c| c.is_alphanumeric() || "_/\\".contains(c));
+    let chars: Vec<char> = w.chars().collect();
+    let mut out = String::with_capacity(w.len());
+    let mut i = 0;
+    while i < chars.len() {
+        if !chars[i].is_ascii_digit() || named(i.checked_sub(1).map(|j| &chars[j])) {
+            out.push(chars[i]);
+            i += 1;
+            continue;
+        }
+        let mut end = i + 1;
+        while end < chars.len()
+            && (chars[end].is_ascii_digit() || (chars[end] == '.' && !chars[i..end].contains(&'.')))
+        {
+            end += 1;
+        }
+        // A trailing full stop ends a sentence, not the number.
+        let stop = usize::from(chars[end - 1] == '.');
+        let text: String = chars[i..end - stop].iter().collect();
+        let digits: String = text.chars().filter(char::is_ascii_digit).collect();
+        let significant = digits.trim_matches('0').len();
+        match text.parse::<f64>() {
+            // Typed digits past f64's range stay digits (cut as a word), never `inf`.
+            Ok(v)
+                if digits.len() > LONG_NUMBER
+                    && significant <= 17
+                    && v.is_finite()
+                    && !named(chars.get(end)) =>
+            {
+                out.push_str(&crate::report::number(v));
+            }
+            _ => out.push_str(&text),
+        }
+        out.extend(&chars[end - stop..end]);
+        i = end;
+    }
+    out
 }
 
 /// Markdown as plain aligned text: headings lose their `#`s, tables become columns padded to

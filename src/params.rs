@@ -1,6 +1,8 @@
 //! Frequency and damping scales (`omega_X`, `zeta_X` for each scale suffix X of the model's
 //! fields), read from `--param NAME=VALUE` and TOML files, each checked as it is set.
 
+use crate::report::number;
+
 /// Frequency and damping scales: `omega_X`, `zeta_X` for each scale suffix X (`s`, `b`, `t`).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Params {
@@ -40,12 +42,14 @@ impl Params {
         }
         if kind == "omega" && value <= 0.0 {
             return Err(err(&format!(
-                "a frequency scale must be positive, not {value}"
+                "a frequency scale must be positive, not {}",
+                number(value)
             )));
         }
         if kind == "zeta" && value < 0.0 {
             return Err(err(&format!(
-                "a damping scale cannot be negative ({value})"
+                "a damping scale cannot be negative ({})",
+                number(value)
             )));
         }
         self.values.insert(name.to_string(), value);

@@ -16,6 +16,7 @@ const PERISTALSIS: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
     "/tables/models/peristalsis.toml"
 );
+const MIDLINES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/examples/midlines.csv");
 
 /// `args` fails with `code`, one line on stderr containing `needle`, nothing on stdout that
 /// is not a finite number, within a few seconds; the line.
@@ -239,6 +240,78 @@ fn a_body_moved_by_a_gyroscopic_force_alone_runs_and_keeps_its_energy() {
             }
         }
     }
+}
+
+/// Hostile input IV: a 100 000-character `--field` or recording path is quoted cut to 80
+/// characters with its length said, and a number of 301 digits in short form.
+#[test]
+fn long_words_and_long_numbers_in_errors_are_cut_or_shortened() {
+    let long = "x".repeat(100_000);
+    let path = format!("/no/such/{long}.csv");
+    for command in ["fit", "discover"] {
+        let err = fails(
+            &[command, MIDLINES, "--field", &long],
+            2,
+            "(100002 characters)",
+        );
+        // The word (its opening quote and 79 characters) cut to 80.
+        assert!(err.contains(&format!("\"{}…", "x".repeat(79))), "{err}");
+        fails(&[command, &path], 1, "characters)");
+    }
+    let err = fails(
+        &["modes", "--points", "12", "--param", "zeta_b=-1e300"],
+        2,
+        "(-1e300)",
+    );
+    assert!(!err.contains("000000"), "{err}");
+    let err = fails(
+        &["mathieu", "--ratio-max", "1e-300"],
+        2,
+        "0.5…1e-300 is empty",
+    );
+    assert!(!err.contains("000000"), "{err}");
+    // A typed count or index is never rewritten, and digits past f64's range are cut, not ∞.
+    let words = theory_search::markup::bound_line(&format!(
+        "18446744073709551615 x{0} /{0}/ 1{0}. {1}",
+        "0".repeat(30),
+        "9".repeat(400)
+    ));
+    assert!(
+        words.starts_with(&format!(
+            "18446744073709551615 x{0} /{0}/ 1e30. ",
+            "0".repeat(30)
+        )),
+        "{words}"
+    );
+    assert!(words.ends_with("(400 characters)"), "{words}");
+}
+
+/// A model file: the peristalsis body with `from` replaced by `to`.
+fn peristalsis_with(from: &str, to: &str) -> tempfile::NamedTempFile {
+    let text = std::fs::read_to_string(PERISTALSIS).unwrap();
+    assert!(text.contains(from), "{from}");
+    let file = common::scratch_file("hostile-iv", ".toml");
+    std::fs::write(file.path(), text.replacen(from, to, 1)).unwrap();
+    file
+}
+
+/// A TOML error quoting a line with a bidirectional override shows it escaped, as a quoted
+/// model name does.
+#[test]
+fn a_quoted_toml_line_shows_invisible_characters_escaped() {
+    let model = peristalsis_with(
+        "name = \"peristalsis\"",
+        "name = \"peri\u{202e}stalsis\" = 3",
+    );
+    let args = [
+        "modes",
+        "-p",
+        "12",
+        "--model",
+        model.path().to_str().unwrap(),
+    ];
+    let err = fails(&args, 1, "peri\\u{202e}stalsis");
+    assert!(!err.contains('\u{202e}'), "{err}");
 }
 
 /// The emitted operators of every shipped model import only names they use (a ring's file

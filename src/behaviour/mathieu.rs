@@ -4,7 +4,7 @@
 //! ω = 2λ, between ω/λ = 2√(1 − ε) and 2√(1 + ε) for small ε.
 
 use super::{finite, positive, rk4_step, BehaviourError};
-use crate::report::{check_finite, csv_table, to_json, NonFinite, Report};
+use crate::report::{check_finite, csv_table, number, to_json, NonFinite, Report};
 
 /// The monodromy matrix of `Φ̈ + λ²[1 − 2ε cos ωt]Φ = 0` over one period 2π/ω.
 pub fn mathieu_monodromy(lambda: f64, epsilon: f64, omega: f64) -> [[f64; 2]; 2] {
@@ -162,7 +162,9 @@ pub fn stability_chart(
     );
     if lo >= hi {
         return Err(BehaviourError::new(format!(
-            "the ω/λ range {lo}…{hi} is empty"
+            "the ω/λ range {}…{} is empty",
+            number(lo),
+            number(hi)
         )));
     }
     let emax = finite("ε_max", epsilon_max)?;

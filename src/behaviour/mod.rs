@@ -137,7 +137,8 @@ fn positive(name: &str, v: f64) -> Result<f64, BehaviourError> {
         Ok(v)
     } else {
         Err(BehaviourError::new(format!(
-            "{name} must be positive, not {v}"
+            "{name} must be positive, not {}",
+            crate::report::number(v)
         )))
     }
 }

@@ -114,7 +114,7 @@ pub enum CliError {
     #[error("{0}")]
     Usage(String),
     /// The model lacks a field role the command needs (exit 2).
-    #[error(transparent)]
+    #[error("{}", bounded_text(.0))]
     Role(#[from] RoleError),
     /// A file that cannot be read, or a model file that is invalid (exit 1).
     #[error("{0}")]
@@ -126,17 +126,25 @@ pub enum CliError {
     #[error("{0}")]
     Output(String),
     /// The body: its coefficients, modes, operators or run (exit by the kind of failure).
-    #[error(transparent)]
+    #[error("{}", bounded_text(.0))]
     Body(#[from] BodyError),
     /// A behaviour model (exit by the kind of failure).
-    #[error(transparent)]
-    Behaviour(crate::behaviour::BehaviourError),
+    #[error("{}", bounded_text(.0))]
+    Behaviour(#[source] crate::behaviour::BehaviourError),
     /// A fit (exit by the kind of failure).
-    #[error(transparent)]
+    #[error("{}", bounded_text(.0))]
     Fit(#[from] crate::fit::FitError),
     /// Discovery (exit by the kind of failure).
-    #[error(transparent)]
-    Discover(Box<crate::discover::DiscoverError>),
+    #[error("{}", bounded_text(.0))]
+    Discover(#[source] Box<crate::discover::DiscoverError>),
+}
+
+/// A library error's message as one bounded line ([`crate::markup::bound_line`]): a typed
+/// error keeps its type (and so its exit code and Python exception), and the words it quotes
+/// (a 100 000-character `--field`, a recording's path, a number of 301 digits) are cut or put
+/// in short form wherever in the library the message was built.
+fn bounded_text(e: &dyn std::fmt::Display) -> String {
+    crate::markup::bound_line(&e.to_string())
 }
 
 impl CliError {
