@@ -340,6 +340,20 @@ impl Model {
                 "[rayleigh] dominance: a Rayleigh density has one part (all of it enters through δR/δ(∂tφ)), so only [lagrangian] takes dominance = \"by-part\"".into(),
             ));
         }
+        // Forces are not densities: no parts compete and no interaction table is built for
+        // them, so these keys would be read and ignored.
+        if let Some(active) = &self.active {
+            if active.dominance != Dominance::Joint {
+                return Err(invalid(
+                    "[active] dominance: forces are not a density with parts; only [lagrangian] takes dominance".into(),
+                ));
+            }
+            if !active.interaction.is_empty() {
+                return Err(invalid(
+                    "[active] interaction: no interaction table is built for forces; only [lagrangian] and [rayleigh] take interaction rules".into(),
+                ));
+            }
+        }
         for (name, spec) in [
             ("lagrangian", &self.lagrangian),
             ("rayleigh", &self.rayleigh),

@@ -295,6 +295,29 @@ fn peristalsis_with(from: &str, to: &str) -> tempfile::NamedTempFile {
     file
 }
 
+/// `[active]` keys that forces cannot use are refused naming the key, as `[rayleigh]`
+/// refuses `dominance`.
+#[test]
+fn active_keys_forces_cannot_use_are_refused_naming_the_key() {
+    for (key, line) in [
+        ("[active] dominance", "dominance = \"by-part\"\n"),
+        ("[active] interaction", "interaction = [\"OST\"]\n"),
+    ] {
+        let model = peristalsis_with("[active]\n", &format!("[active]\n{line}"));
+        fails(
+            &[
+                "modes",
+                "-p",
+                "12",
+                "--model",
+                model.path().to_str().unwrap(),
+            ],
+            1,
+            key,
+        );
+    }
+}
+
 /// A TOML error quoting a line with a bidirectional override shows it escaped, as a quoted
 /// model name does.
 #[test]
