@@ -74,11 +74,13 @@ pub fn visible(s: &str) -> String {
         .collect()
 }
 
-/// Fold a multi-line message (TOML errors quote the offending line) onto one line, invisible
-/// characters escaped ([`visible`]).
+/// Fold a multi-line message (TOML errors quote the offending line) onto one line, each line
+/// bounded as [`bound_line`] bounds one (invisible characters escaped, long words cut, long
+/// numbers in short form): the Python exceptions of library errors are as bounded as the
+/// command line's.
 pub fn one_line(s: &str) -> String {
     s.split('\n')
-        .map(|l| visible(l.trim()))
+        .map(|l| bound_line(l.trim()))
         .filter(|l| !l.is_empty() && l.chars().any(|c| c.is_alphanumeric()))
         .map(|l| {
             // A quoted line of input is cut: a 1 MB line is not echoed back.

@@ -284,6 +284,10 @@ fn long_words_and_long_numbers_in_errors_are_cut_or_shortened() {
         "{words}"
     );
     assert!(words.ends_with("(400 characters)"), "{words}");
+    // Library errors folded onto one line (Python's exceptions) are bounded the same way.
+    let folded =
+        theory_search::markup::one_line(&format!("no field {long:?}\n\n-1{}", "0".repeat(300)));
+    assert!(folded.ends_with("(100002 characters); -1e300"), "{folded}");
 }
 
 /// A model file: the peristalsis body with `from` replaced by `to`.
