@@ -26,7 +26,9 @@
 //! not `fit`'s first frame (`data`): a uniform strain offset would turn a cubic into a square.
 //!
 //! **Units.** Coefficients in body lengths (h = 1/(N − 1)) and the data's time unit, and on the
-//! grid of N points (what `simulate --points N --param` takes).
+//! grid of N points (what `simulate --points N --param` takes). Inside, time is measured in
+//! frames (`weak`), so no decision depends on the unit the time column is written in; each
+//! coefficient is taken back to that unit at the end.
 
 mod data;
 mod regress;
@@ -130,6 +132,15 @@ pub enum DiscoverError {
         /// Library terms.
         terms: usize,
     },
+    /// A coefficient or the noise is beyond the floats in the data's time unit.
+    #[error("the discovered coefficients are beyond the floating-point range in the data's time unit (Δt = {dt}): rescale the time column")]
+    OutOfRange {
+        /// The sampling interval, as printed.
+        dt: String,
+    },
+    /// The weak form's sums are not finite (the postures overflow them).
+    #[error("the weak form's sums of the recording are not finite (the postures' values overflow them): rescale the recording")]
+    NonFinite,
     /// Too many bootstrap draws.
     #[error("--bootstrap takes at most {MAX_DRAWS} draws, not {0}")]
     Draws(usize),
@@ -151,7 +162,9 @@ impl DiscoverError {
             DiscoverError::TooLarge { .. }
             | DiscoverError::NoResolvedMode { .. }
             | DiscoverError::TooFewRows { .. }
-            | DiscoverError::Degenerate { .. } => Failure::Input,
+            | DiscoverError::Degenerate { .. }
+            | DiscoverError::OutOfRange { .. }
+            | DiscoverError::NonFinite => Failure::Input,
         }
     }
 }

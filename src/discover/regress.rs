@@ -17,6 +17,15 @@ use rand::{RngExt, SeedableRng};
 
 use super::weak::Rows;
 
+/// The factor 1/√v that scales a diagonal entry v of a Gram matrix to 1 (0 for an empty column).
+fn unit_diagonal(v: f64) -> f64 {
+    if v > 0.0 {
+        1.0 / v.sqrt()
+    } else {
+        0.0
+    }
+}
+
 /// The rows' cross products, each row counted `count` times.
 #[derive(Debug, Clone)]
 pub(super) struct Gram {
@@ -82,24 +91,25 @@ impl Gram {
             g.yy += c * y * y;
             g.n += c;
         }
-        g.inverse = g.scaled();
+        g.inverse = g.finite().then(|| g.scaled()).flatten();
         g
+    }
+
+    /// Every cross product is finite (no decomposition may see anything else).
+    pub fn finite(&self) -> bool {
+        let all = |m: &DMatrix<f64>| m.iter().all(|x| x.is_finite());
+        all(&self.zz)
+            && all(&self.zx)
+            && all(&self.xx)
+            && self.zy.iter().chain(self.xy.iter()).all(|x| x.is_finite())
+            && self.yy.is_finite()
     }
 
     /// The instruments scaled to unit diagonal (M's conditioning is then their own), and
     /// M⁻¹ in those units; `None` when the pseudo-inverse fails.
     fn scaled(&self) -> Option<(Vec<f64>, DMatrix<f64>)> {
         let q = self.zz.nrows();
-        let d: Vec<f64> = (0..q)
-            .map(|i| {
-                let v = self.zz[(i, i)];
-                if v > 0.0 {
-                    1.0 / v.sqrt()
-                } else {
-                    0.0
-                }
-            })
-            .collect();
+        let d: Vec<f64> = (0..q).map(|i| unit_diagonal(self.zz[(i, i)])).collect();
         // ZᵀZ is block diagonal (a row fills its slot's block only): inverted block by block.
         let b = self.block.max(1);
         let mut inverse = DMatrix::zeros(q, q);
@@ -107,6 +117,9 @@ impl Gram {
             let m = DMatrix::from_fn(b, b, |i, j| {
                 self.zz[(at + i, at + j)] * d[at + i] * d[at + j]
             });
+            if !m.iter().all(|x| x.is_finite()) {
+                return None;
+            }
             let pinv = m.svd(true, true).pseudo_inverse(1e-12).ok()?;
             inverse.view_mut((at, at), (b, b)).copy_from(&pinv);
         }
@@ -126,7 +139,19 @@ impl Gram {
         let a = minv * &zx;
         let h = zx.transpose() * &a;
         let rhs = a.transpose() * &zy;
-        let beta = h.svd(true, true).solve(&rhs, 1e-14).ok()?;
+        // H scaled to unit diagonal, so that the SVD's cut is relative: a regressor's scale
+        // (its unit, its mode's time scale) decides nothing. β = S (SHS)⁺ S rhs.
+        let s = DVector::from_fn(set.len(), |i, _| unit_diagonal(h[(i, i)]));
+        let scaled = DMatrix::from_fn(set.len(), set.len(), |i, j| h[(i, j)] * s[i] * s[j]);
+        let rhs = rhs.component_mul(&s);
+        if !(scaled.iter().chain(rhs.iter()).all(|x| x.is_finite())) {
+            return None;
+        }
+        let beta = scaled
+            .svd(true, true)
+            .solve(&rhs, 1e-14)
+            .ok()?
+            .component_mul(&s);
         let g = zy - zx * &beta;
         let j = g.dot(&(minv * &g));
         let beta: Vec<f64> = beta.iter().copied().collect();

@@ -5,6 +5,7 @@ use serde::Serialize;
 
 use super::data::Recording;
 use super::regress::{cross_validated, draw, generator, Gram};
+use super::weak::{in_data_unit, time_unit};
 use super::{DiscoverError, DiscoverSettings, Notation, Theory};
 use crate::equations::ForceKind;
 use crate::model::Model;
@@ -149,6 +150,9 @@ pub(super) fn assemble(
     }
     let all: Vec<usize> = (0..p).collect();
     let gram = Gram::new(rows, &vec![1.0; rows.len()]);
+    if !gram.finite() {
+        return Err(DiscoverError::NonFinite);
+    }
     let (whole, _) = gram
         .fit(&all)
         .ok_or(DiscoverError::Degenerate { terms: p })?;
@@ -194,15 +198,21 @@ pub(super) fn assemble(
     let rss = gram.residual(&selected, &beta);
     let points = recordings[0].fit.model_points;
     let notation = Notation::new(model, settings.fit.order, field)?;
+    // The rows measure time in frames: each coefficient back in the data's unit.
+    let unit = time_unit(recordings);
     let library: Vec<DiscoveredTerm> = full
         .candidates
         .iter()
         .enumerate()
         .map(|(i, c)| {
             let at = selected.iter().position(|&s| s == i);
-            let grid = at.map_or(whole[i], |j| beta[j]);
+            let grid = in_data_unit(at.map_or(whole[i], |j| beta[j]), unit, c.time_power);
             let scale = c.to_body_lengths(points);
-            let interval = at.and_then(|j| percentiles(&mut draws[j].clone(), scale));
+            let interval = at.and_then(|j| {
+                percentiles(&mut draws[j].clone(), |x| {
+                    in_data_unit(x, unit, c.time_power) * scale
+                })
+            });
             DiscoveredTerm {
                 term: notation.term(&c.name),
                 name: c.name.clone(),
@@ -230,6 +240,20 @@ pub(super) fn assemble(
         .collect();
     comparison.push(score("selected", full, &selected, sigma2));
     let h = 1.0 / (points as f64 - 1.0);
+    // q in body lengths² per time unit³.
+    let noise = in_data_unit(noise(rows, &selected, &beta), unit, -3) * h * h;
+    let beyond = library
+        .iter()
+        .flat_map(|t| {
+            [t.coefficient, t.on_points]
+                .into_iter()
+                .chain(t.interval.into_iter().flatten())
+        })
+        .chain([noise])
+        .any(|x| !x.is_finite());
+    if beyond {
+        return Err(DiscoverError::OutOfRange { dt: number(unit) });
+    }
     let first = &recordings[0];
     Ok(DiscoverReport {
         recordings: recordings.iter().map(|r| r.name.clone()).collect(),
@@ -252,7 +276,7 @@ pub(super) fn assemble(
         library,
         comparison,
         r2: 1.0 - rss / gram.total().max(f64::MIN_POSITIVE),
-        noise: noise(rows, &selected, &beta) * h * h,
+        noise,
         bootstrap: settings.bootstrap,
         seed: settings.seed,
         median_model,
@@ -277,18 +301,18 @@ fn score(label: &str, theory: &Theory, set: &[usize], sigma2: f64) -> Comparison
     }
 }
 
-/// The 2.5 and 97.5 % percentiles of `draws`, times `scale`.
-fn percentiles(draws: &mut [f64], scale: f64) -> Option<[f64; 2]> {
+/// The 2.5 and 97.5 % percentiles of `draws`, each through `convert`.
+fn percentiles(draws: &mut [f64], convert: impl Fn(f64) -> f64) -> Option<[f64; 2]> {
     if draws.len() < 20 {
         return None;
     }
     draws.sort_by(f64::total_cmp);
     let at = |p: f64| draws[((p * (draws.len() - 1) as f64).round() as usize).min(draws.len() - 1)];
-    let (a, b) = (at(0.025) * scale, at(0.975) * scale);
+    let (a, b) = (convert(at(0.025)), convert(at(0.975)));
     Some([a.min(b), a.max(b)])
 }
 
-/// q = Σ e² / Σ ∫ψ² over the rows (unweighted residuals), on the grid.
+/// q = Σ e² / Σ ∫ψ² over the rows (unweighted residuals), on the grid, time in frames.
 fn noise(rows: &super::weak::Rows, set: &[usize], beta: &[f64]) -> f64 {
     let e2: f64 = (0..rows.len())
         .map(|r| rows.residual(r, set, beta).powi(2))

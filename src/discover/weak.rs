@@ -19,6 +19,13 @@
 //! predicts a nonlinear force's fluctuation, which the earlier windows have forgotten (a cubic
 //! term was otherwise not told from the linear stiffness). The estimate is two-stage least
 //! squares.
+//!
+//! **Time in frames.** The rows measure time in the first recording's sampling interval
+//! ([`time_unit`]), not in the data's unit: the sums, the instruments, the windows' clock and
+//! every tolerance downstream are then the same numbers whatever unit the time column is
+//! written in (seconds, milliseconds, or 10¹⁰⁰ of them), and nothing overflows on the way.
+//! A coefficient of dimension Tᵖ ([`Candidate::time_power`]) is taken back to the data's
+//! unit by the factor Δtᵖ ([`in_data_unit`]).
 
 use super::data::Recording;
 use crate::dynamics::Candidate;
@@ -162,7 +169,21 @@ fn project(run: &[Vec<f64>], dt: f64, shape: &[f64], library: &[Candidate]) -> P
     }
 }
 
-/// Every row of `library` over the recordings, on the modes `fit` resolved.
+/// The time unit of the rows, in the data's: the first recording's sampling interval (a frame).
+pub(super) fn time_unit(recordings: &[Recording]) -> f64 {
+    recordings.first().map_or(1.0, |r| r.dt)
+}
+
+/// A quantity of dimension Tᵖ measured in frames ([`time_unit`] `unit`), in the data's time
+/// unit: `x`·unitᵖ, one factor at a time so that no power of the unit overflows on its own
+/// (non-finite only when the answer is beyond the floats).
+pub(super) fn in_data_unit(x: f64, unit: f64, p: i32) -> f64 {
+    let step = if p < 0 { unit.recip() } else { unit };
+    (0..p.unsigned_abs()).fold(x, |x, _| x * step)
+}
+
+/// Every row of `library` over the recordings, on the modes `fit` resolved, time in frames of
+/// the first recording ([`time_unit`]).
 pub(super) fn rows(recordings: &[Recording], library: &[Candidate]) -> Rows {
     let mut rows = Rows {
         regressors: vec![Vec::new(); library.len()],
@@ -178,8 +199,10 @@ pub(super) fn rows(recordings: &[Recording], library: &[Candidate]) -> Rows {
     slots.dedup();
     rows.slots = slots.len();
     let mut offset = 0.0;
+    let unit = time_unit(recordings);
     for (a, rec) in recordings.iter().enumerate() {
-        let dt = rec.dt;
+        // 1 for the first recording, whatever its unit.
+        let dt = rec.dt / unit;
         for mode in used(rec) {
             let Some(shape) = mode
                 .mode
@@ -188,7 +211,7 @@ pub(super) fn rows(recordings: &[Recording], library: &[Candidate]) -> Rows {
             else {
                 continue;
             };
-            let h = half_width(mode.omega, dt);
+            let h = half_width(mode.omega, rec.dt);
             let start = rows.len();
             let mut clock = offset;
             for run in &rec.runs {

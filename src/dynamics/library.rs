@@ -30,6 +30,11 @@ pub struct Candidate {
     pub kinetic: bool,
     /// The power of the spacing h that turns the grid's coefficient into body lengths.
     pub spacing_power: i32,
+    /// The power p of the time unit in the coefficient's dimension (T^p): −2 for a force of
+    /// the positions alone, −2 + k for one of degree k in the velocities (−1 for c′ of
+    /// (∂t∂s²φ)²), so the coefficient in time unit τ₀ is the one in the unit τ₁ times
+    /// (τ₀/τ₁)^p.
+    pub time_power: i32,
     system: FieldSystem,
 }
 
@@ -110,7 +115,9 @@ pub fn library(
             .into_iter()
             .flatten()
             .find(|(_, n)| n == name);
-        let (kind, kinetic, spacing_power) = match (term, entering) {
+        let (kind, kinetic, spacing_power, time_power) = match (term, entering) {
+            // ∂R/∂v of (∂t∂sᵇφ)ⁿ has degree n − 1 in the velocities, V's gradient none; a
+            // kinetic term's momentum, of degree n − 1, enters as ∂t p(v) beside ∂t²φ.
             (Some(t), _) => (
                 match t.density {
                     Density::Lagrangian => ForceKind::Conservative,
@@ -118,6 +125,11 @@ pub fn library(
                 },
                 t.kinetic,
                 2 + t.power as i32 * (t.b as i32 - 1),
+                match (t.density, t.kinetic) {
+                    (Density::Lagrangian, false) => -2,
+                    (Density::Lagrangian, true) => t.power as i32 - 2,
+                    (Density::Rayleigh, _) => t.power as i32 - 3,
+                },
             ),
             (None, Some((term, _))) => {
                 let lost: i32 = term
@@ -130,7 +142,12 @@ pub fn library(
                 } else {
                     ForceKind::Active
                 };
-                (kind, false, 1 - lost)
+                let velocities: i32 = term
+                    .factors()
+                    .iter()
+                    .map(|f| (f.power * f.deriv.t) as i32)
+                    .sum();
+                (kind, false, 1 - lost, velocities - 2)
             }
             // Another field's coefficient.
             (None, None) => continue,
@@ -140,6 +157,7 @@ pub fn library(
             kind,
             kinetic,
             spacing_power,
+            time_power,
             system,
         });
     }

@@ -432,7 +432,10 @@ fn scales(
             "no frequency could be measured (flat spectra): give --omega".into(),
         ));
     }
-    if beta.is_nan() || beta <= 0.0 || (0..m).all(|j| cov[j][j] <= 0.0) {
+    // β = modes/Σω²λσ² is 0 when ω² alone overflows (a time unit of 10⁻²⁰⁰ s): that is a
+    // scale out of range (below), not postures at rest.
+    let overflow = !(omega * omega).is_finite();
+    if (!overflow && (beta.is_nan() || beta <= 0.0)) || (0..m).all(|j| cov[j][j] <= 0.0) {
         return Err(invalid(
             "the postures do not vary: no temperature can be fitted".into(),
         ));
