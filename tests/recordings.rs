@@ -117,15 +117,57 @@ fn several_recordings_pool_into_one_fit_beside_each_own() {
         one["omega"].as_f64().unwrap(),
     );
     assert!((alone / whole - 1.0).abs() < 1e-6, "{alone} {whole}");
-    // Recordings of different rates cannot share spectra: one line, exit 2.
+    // Recordings of different rates cannot share spectra: the pool keeps the first's rate, the
+    // other is fitted alone in its own time unit and listed with the reason.
     let wt2 = data("celegans_wt2_crawling_30fps_49pts.csv");
-    let e = theory_search::cli::run(
-        ["theory-search", "fit", &path, &wt2, "--head", "first"],
-        &mut Vec::new(),
+    let mut out = Vec::new();
+    theory_search::cli::run(
+        [
+            "theory-search",
+            "fit",
+            &path,
+            &wt2,
+            "--head",
+            "first",
+            "--format",
+            "json",
+        ],
+        &mut out,
     )
-    .unwrap_err();
-    assert_eq!(e.exit_code(), 2);
-    assert!(e.to_string().contains("sampled every"), "{e}");
+    .expect("a directory of two rates is fitted");
+    let mixed: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    assert_eq!(mixed["frames"], one["frames"], "only the first rate pooled");
+    assert_eq!(mixed["recording"]["recordings"], 1);
+    let animals = mixed["animals"].as_array().unwrap();
+    assert_eq!(animals.len(), 2);
+    assert!(animals[0].get("note").is_none(), "{}", animals[0]);
+    let note = animals[1]["note"].as_str().unwrap();
+    assert!(
+        note.contains("sampled every 0.0333, the pool every 0.066667")
+            && note.contains("not pooled"),
+        "{note}"
+    );
+    // Its own fit, in its own time unit: the same ω as the file fitted alone.
+    let mut out = Vec::new();
+    theory_search::cli::run(
+        [
+            "theory-search",
+            "fit",
+            &wt2,
+            "--head",
+            "first",
+            "--format",
+            "json",
+        ],
+        &mut out,
+    )
+    .unwrap();
+    let alone: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let (a, b) = (
+        animals[1]["omega"].as_f64().unwrap(),
+        alone["omega"].as_f64().unwrap(),
+    );
+    assert!((a / b - 1.0).abs() < 1e-6, "{a} {b}");
 }
 
 #[test]

@@ -79,7 +79,7 @@ impl fmt::Display for ModeNote {
                 "its line reaches past Nyquist (Ω(1 + {NYQUIST_HALF_WIDTHS}ζ) above it): Ω and ζ are biased by its own aliasing"
             ),
             ModeNote::MostlyFlat => {
-                f.write_str("its spectrum is mostly flat (its line's peak under 3 × the white level)")
+                f.write_str("its spectrum is mostly flat (white level ν above 3σ², its line's peak under 30 × the white level)")
             }
             ModeNote::OmegaUncertain => f.write_str("Ω is known to worse than 25 %"),
             ModeNote::UnderFloor { variance, floor } => write!(

@@ -5,6 +5,7 @@
 //! worker) and, for the bootstrap only, every piece's statistics.
 
 use super::jitter::Jitter;
+use crate::report::number;
 use std::collections::BTreeMap;
 use std::io::BufRead;
 use std::path::PathBuf;
@@ -351,6 +352,12 @@ impl Pool {
     }
 
     fn take_animal(&mut self, ctx: &Context<'_>, mut animal: Animal) -> Result<(), FitError> {
+        if let (Some(a), Some(b)) = (self.interval, animal.interval) {
+            if (a - b).abs() > 0.01 * a {
+                self.apart(ctx, animal, a, b);
+                return Ok(());
+            }
+        }
         let c = &animal.counts;
         let total = &mut self.counts;
         total.recordings += 1;
@@ -360,17 +367,8 @@ impl Pool {
         total.gaps += c.gaps;
         total.runs += c.runs;
         total.longest_run = total.longest_run.max(c.longest_run);
-        if let Some(b) = animal.interval {
-            match self.interval {
-                Some(a) if (a - b).abs() > 0.01 * a => {
-                    return Err(FitError::Invalid(format!(
-                        "{} is sampled every {b}, the first animal every {a}: fit recordings of one rate together",
-                        animal.name
-                    )))
-                }
-                None => self.interval = Some(b),
-                _ => {}
-            }
+        if self.interval.is_none() {
+            self.interval = animal.interval;
         }
         if animal.stats.count == 0.0 {
             self.fit_first(ctx);
@@ -423,6 +421,29 @@ impl Pool {
             self.kept.push(animal);
         }
         Ok(())
+    }
+
+    /// An animal sampled at another rate than the pool's (the first timed animal's): spectra
+    /// in frames of different lengths cannot be summed, so it is fitted alone, in its own time
+    /// unit, listed among the animals with a note, and left out of the pooled fit.
+    fn apart(&mut self, ctx: &Context<'_>, animal: Animal, pooled: f64, own: f64) {
+        self.fit_first(ctx);
+        let parts = (animal.name.as_str(), &animal.counts, &animal.stats);
+        let mut fit = match (animal.own, self.projector.as_ref()) {
+            (Some(fit), _) => fit,
+            (None, Some(proj)) if animal.stats.count > 0.0 => own_fit(proj, ctx, parts, own),
+            _ => AnimalFit::failed(parts.0, parts.2, parts.1, "no usable frame"),
+        };
+        let why = format!(
+            "sampled every {}, the pool every {}: fitted alone in its own time unit, not pooled",
+            number(own),
+            number(pooled)
+        );
+        fit.note = Some(match fit.note {
+            Some(n) => format!("{why}; {n}"),
+            None => why,
+        });
+        self.fits.push(fit);
     }
 
     fn finish(self, ctx: &Context<'_>) -> Result<FitReport, FitError> {

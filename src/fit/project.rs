@@ -99,7 +99,7 @@ impl Projector {
         };
         if rows.len() != expected {
             return Err(invalid(format!(
-            "field {} ({:?}, k = {}) has {} difference rows on {n} points, but the {} give {expected} observations",
+            "field {} ({}, k = {}) has {} difference rows on {n} points, but the {} give {expected} observations",
             fm.field.id,
             fm.field.boundary,
             fm.k,

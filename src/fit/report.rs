@@ -189,7 +189,8 @@ pub struct AnimalFit {
     pub pca_variance_share: Vec<f64>,
     /// Its components' overlaps with their modes.
     pub mode_overlap: Vec<f64>,
-    /// Why it could not be fitted alone (it still counts in the pool).
+    /// Why it could not be fitted alone (it still counts in the pool), or why it is not in the
+    /// pool (sampled at another rate than the pool's).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub note: Option<String>,
 }
