@@ -61,10 +61,10 @@ fn tracking_noise_reaches_no_coordinate_with_a_gain_above_two() {
     }
 }
 
-/// κ covered in at least 18 of 20 seeds for a clamped–free thermal beam at `points` tracked
-/// and model points, with tracking noise `share` of the first mode's rms.
-fn clamped_coverage(points: usize, share: f64) -> usize {
-    let body = Body {
+/// A clamped–free thermal beam (κ = 0.01, ζ₁ = 0.05, eight modes, 20 000 frames) tracked at
+/// `points` points with position noise `share` of its first mode's rms.
+fn clamped(points: usize, share: f64) -> Body {
+    Body {
         clamped: true,
         kappa: 0.01,
         zeta1: 0.05,
@@ -73,7 +73,13 @@ fn clamped_coverage(points: usize, share: f64) -> usize {
         noise: share * 0.01,
         frames: 20_000,
         modes: 8,
-    };
+    }
+}
+
+/// κ covered in at least 18 of 20 seeds for a clamped–free thermal beam at `points` tracked
+/// and model points, with tracking noise `share` of the first mode's rms.
+fn clamped_coverage(points: usize, share: f64) -> usize {
+    let body = clamped(points, share);
     let fits = common::beam::on_two_cores(20, |seed| {
         fitted(&record(&body, 31_000 + seed), true, points, None)
     });
@@ -115,16 +121,7 @@ fn a_clamped_beam_with_tracking_noise_keeps_its_kappa() {
 fn discover_answers_a_clamped_beam_with_tracking_noise() {
     use theory_search::discover::{discover, DiscoverSettings, Source};
     for (points, share) in [(12, 0.01), (12, 0.05), (19, 0.01), (19, 0.05)] {
-        let body = Body {
-            clamped: true,
-            kappa: 0.01,
-            zeta1: 0.05,
-            amplitude: 0.01,
-            points,
-            noise: share * 0.01,
-            frames: 20_000,
-            modes: 8,
-        };
+        let body = clamped(points, share);
         let answers = common::beam::on_two_cores(4, |seed| {
             let mut fit = FitSettings::new(InputKind::Midline);
             fit.points = points;

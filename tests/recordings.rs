@@ -120,22 +120,7 @@ fn several_recordings_pool_into_one_fit_beside_each_own() {
     // Recordings of different rates cannot share spectra: the pool keeps the first's rate, the
     // other is fitted alone in its own time unit and listed with the reason.
     let wt2 = data("celegans_wt2_crawling_30fps_49pts.csv");
-    let mut out = Vec::new();
-    theory_search::cli::run(
-        [
-            "theory-search",
-            "fit",
-            &path,
-            &wt2,
-            "--head",
-            "first",
-            "--format",
-            "json",
-        ],
-        &mut out,
-    )
-    .expect("a directory of two rates is fitted");
-    let mixed: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let mixed = fit("celegans_wormpose_15fps_52pts.csv", &[&wt2]);
     assert_eq!(mixed["frames"], one["frames"], "only the first rate pooled");
     assert_eq!(mixed["recording"]["recordings"], 1);
     let animals = mixed["animals"].as_array().unwrap();
@@ -148,21 +133,7 @@ fn several_recordings_pool_into_one_fit_beside_each_own() {
         "{note}"
     );
     // Its own fit, in its own time unit: the same ω as the file fitted alone.
-    let mut out = Vec::new();
-    theory_search::cli::run(
-        [
-            "theory-search",
-            "fit",
-            &wt2,
-            "--head",
-            "first",
-            "--format",
-            "json",
-        ],
-        &mut out,
-    )
-    .unwrap();
-    let alone: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let alone = fit("celegans_wt2_crawling_30fps_49pts.csv", &[]);
     let (a, b) = (
         animals[1]["omega"].as_f64().unwrap(),
         alone["omega"].as_f64().unwrap(),

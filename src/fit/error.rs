@@ -129,3 +129,48 @@ impl From<&str> for LineWhy {
         LineWhy::Text(why.to_string())
     }
 }
+
+/// Why one line of a recording cannot be read (the line number is the caller's).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum LineError {
+    /// Longer than [`super::MAX_LINE_BYTES`].
+    #[error(
+        "longer than {} bytes: not a recording of midlines",
+        super::MAX_LINE_BYTES
+    )]
+    TooLong,
+    /// Not UTF-8.
+    #[error("is not UTF-8 text")]
+    NotUtf8,
+    /// Another width than the first frame's.
+    #[error("{count} columns where the first frame had {width}")]
+    Width {
+        /// Cells on this line.
+        count: usize,
+        /// Cells of the first frame.
+        width: usize,
+    },
+    /// Another width than the header names.
+    #[error("{count} columns where the header (line {header}) names {names}{}", points.map_or(String::new(), |(p, q)| format!(": {p} points where it names {q}")))]
+    Header {
+        /// Cells on this line.
+        count: usize,
+        /// Cells the header names.
+        names: usize,
+        /// The header's line.
+        header: usize,
+        /// Points on this line and in the header, for midlines.
+        points: Option<(usize, usize)>,
+    },
+    /// A time that is not a finite number.
+    #[error("column 1: time {0:?} is not a finite number")]
+    Time(String),
+    /// A value that is not a number.
+    #[error("column {column}: {} is not a number", crate::markup::clip(.text))]
+    Cell {
+        /// Column (1-based, time included).
+        column: usize,
+        /// The cell.
+        text: String,
+    },
+}

@@ -509,7 +509,7 @@ impl Pool {
                         c.interval = i.continuum;
                         c.interval_from = i.continuum.map(|_| "bootstrap");
                     }
-                    if let Some(why) = degenerate(&report, &i) {
+                    if let Some(why) = bootstrap::degenerate(&report, &i) {
                         report.warnings.push(why);
                     }
                     report.intervals = Some(i)
@@ -528,27 +528,6 @@ impl Pool {
         report.onward = report.onward_arguments();
         Ok(report)
     }
-}
-
-/// Why ω's bootstrap interval has an end on the estimate itself (within 1 % of its width),
-/// when it has: from spectral peaks (no mode resolved) the resamples' peaks fall on the same
-/// few frequency bins.
-fn degenerate(report: &FitReport, i: &bootstrap::Intervals) -> Option<String> {
-    let [lo, hi] = i.omega;
-    let w = report.omega;
-    let edge = (w - lo).min(hi - w) <= 0.01 * (hi - lo);
-    edge.then(|| {
-        let cause = if report.modes_fit.iter().any(|m| m.votes) {
-            "the resamples' fits keep landing on the same value"
-        } else {
-            "ω comes from the spectral peaks (no mode is resolved), and the resamples' peaks fall on the same few frequency bins"
-        };
-        format!(
-            "the bootstrap interval of ω, [{}, {}], ends on the estimate: it is degenerate, not precise ({cause}); use a longer recording or --window",
-            crate::report::fixed(lo, 6),
-            crate::report::fixed(hi, 6)
-        )
-    })
 }
 
 /// An animal's own fit (only the constants) from its name, counts and statistics, or why it

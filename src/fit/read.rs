@@ -5,6 +5,7 @@
 
 use std::io::BufRead;
 
+pub use super::error::LineError;
 use super::number::plain_row;
 use super::{FitError, FitSettings, FrameError, InputFormat, InputKind, LineWhy};
 use crate::markup::clip;
@@ -399,48 +400,6 @@ pub(super) struct Parsed {
     pub(super) lost: bool,
     /// Frames the time step says are missing before this one.
     pub(super) missing_before: usize,
-}
-
-/// Why one line of a recording cannot be read (the line number is the caller's).
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum LineError {
-    /// Longer than [`MAX_LINE_BYTES`].
-    #[error("longer than {MAX_LINE_BYTES} bytes: not a recording of midlines")]
-    TooLong,
-    /// Not UTF-8.
-    #[error("is not UTF-8 text")]
-    NotUtf8,
-    /// Another width than the first frame's.
-    #[error("{count} columns where the first frame had {width}")]
-    Width {
-        /// Cells on this line.
-        count: usize,
-        /// Cells of the first frame.
-        width: usize,
-    },
-    /// Another width than the header names.
-    #[error("{count} columns where the header (line {header}) names {names}{}", points.map_or(String::new(), |(p, q)| format!(": {p} points where it names {q}")))]
-    Header {
-        /// Cells on this line.
-        count: usize,
-        /// Cells the header names.
-        names: usize,
-        /// The header's line.
-        header: usize,
-        /// Points on this line and in the header, for midlines.
-        points: Option<(usize, usize)>,
-    },
-    /// A time that is not a finite number.
-    #[error("column 1: time {0:?} is not a finite number")]
-    Time(String),
-    /// A value that is not a number.
-    #[error("column {column}: {} is not a number", clip(.text))]
-    Cell {
-        /// Column (1-based, time included).
-        column: usize,
-        /// The cell.
-        text: String,
-    },
 }
 
 /// A line's text (its bytes, the line end included), checked: not too long, UTF-8.
