@@ -226,6 +226,27 @@ pub(super) fn intervals(
     })
 }
 
+/// Why ω's bootstrap interval has an end on the estimate itself (within 1 % of its width),
+/// when it has: from spectral peaks (no mode resolved) the resamples' peaks fall on the same
+/// few frequency bins.
+pub(super) fn degenerate(report: &FitReport, i: &Intervals) -> Option<String> {
+    let [lo, hi] = i.omega;
+    let w = report.omega;
+    let edge = (w - lo).min(hi - w) <= 0.01 * (hi - lo);
+    edge.then(|| {
+        let cause = if report.modes_fit.iter().any(|m| m.votes) {
+            "the resamples' fits keep landing on the same value"
+        } else {
+            "ω comes from the spectral peaks (no mode is resolved), and the resamples' peaks fall on the same few frequency bins"
+        };
+        format!(
+            "the bootstrap interval of ω, [{}, {}], ends on the estimate: it is degenerate, not precise ({cause}); use a longer recording or --window",
+            crate::report::fixed(lo, 6),
+            crate::report::fixed(hi, 6)
+        )
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::{expanded_tail, student_975};
@@ -258,25 +279,4 @@ mod tests {
         assert!((expanded_tail(100_000) - 0.025).abs() < 1e-4);
         assert!(expanded_tail(2) > 0.0 && expanded_tail(2) < 1e-6);
     }
-}
-
-/// Why ω's bootstrap interval has an end on the estimate itself (within 1 % of its width),
-/// when it has: from spectral peaks (no mode resolved) the resamples' peaks fall on the same
-/// few frequency bins.
-pub(super) fn degenerate(report: &FitReport, i: &Intervals) -> Option<String> {
-    let [lo, hi] = i.omega;
-    let w = report.omega;
-    let edge = (w - lo).min(hi - w) <= 0.01 * (hi - lo);
-    edge.then(|| {
-        let cause = if report.modes_fit.iter().any(|m| m.votes) {
-            "the resamples' fits keep landing on the same value"
-        } else {
-            "ω comes from the spectral peaks (no mode is resolved), and the resamples' peaks fall on the same few frequency bins"
-        };
-        format!(
-            "the bootstrap interval of ω, [{}, {}], ends on the estimate: it is degenerate, not precise ({cause}); use a longer recording or --window",
-            crate::report::fixed(lo, 6),
-            crate::report::fixed(hi, 6)
-        )
-    })
 }
