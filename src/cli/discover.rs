@@ -101,7 +101,8 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
         .collect();
     let mut report = discover(sources, &model, &settings).map_err(CliError::from)?;
     report.model_argument = args.model.model.as_ref().map(|p| p.display().to_string());
-    if let Some(dir) = &args.figures {
+    // An equation `simulate` refuses has no replay to draw: the report says why instead.
+    if let (Some(dir), None) = (&args.figures, &report.onward_refused) {
         crate::figures::write_discover(dir, &report, &page).map_err(super::figures::usage)?;
     }
     emit(out, &report, args.format)

@@ -304,7 +304,10 @@ pub fn discover(
     }
     let mut report = report::assemble(&recordings, model, settings, &theories, &field)?;
     report.not_estimated = not_estimated;
-    if settings.replay {
+    report.onward_refused = replay::discovered_body(model, settings.fit.order, &report.library)
+        .err()
+        .map(|e| crate::markup::one_line(&e.to_string()));
+    if settings.replay && report.onward_refused.is_none() {
         let modes: Vec<usize> = report.modes.iter().map(|m| m.0).collect();
         let rec = &recordings[0];
         let fit = &settings.fit;

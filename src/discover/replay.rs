@@ -70,6 +70,21 @@ fn picked(fit: &FitReport, modes: &[usize]) -> (Vec<Vec<f64>>, Vec<f64>) {
     (psd, var)
 }
 
+/// The body the onward `simulate` line makes: every library coefficient set (0 where not
+/// selected). `simulate` refuses exactly what this refuses (a selection with no stiffness, a
+/// stiffness of the wrong sign), so its error is why no onward line is printed.
+pub(super) fn discovered_body(
+    model: &Model,
+    order: u32,
+    library: &[DiscoveredTerm],
+) -> Result<Body, crate::body::BodyError> {
+    let given: Vec<(String, f64)> = library
+        .iter()
+        .map(|t| (t.name.clone(), if t.selected { t.on_points } else { 0.0 }))
+        .collect();
+    Body::new(model.clone(), order, None, Params::default(), &given)
+}
+
 /// Simulate `library`'s discovered coefficients and fit the run as `rec` was fitted.
 pub(super) fn replay(
     rec: &Recording,
@@ -79,17 +94,7 @@ pub(super) fn replay(
     library: &[DiscoveredTerm],
     modes: &[usize],
 ) -> Result<Replay, DiscoverError> {
-    let given: Vec<(String, f64)> = library
-        .iter()
-        .map(|t| (t.name.clone(), if t.selected { t.on_points } else { 0.0 }))
-        .collect();
-    let body = Body::new(
-        model.clone(),
-        settings.order,
-        None,
-        Params::default(),
-        &given,
-    )?;
+    let body = discovered_body(model, settings.order, library)?;
     let points = rec.fit.model_points;
     let observed_frames: usize = rec.runs.iter().map(Vec::len).sum();
     // As many frames as the recording had, within the simulation's work budget.
@@ -191,5 +196,45 @@ fn tracked(kind: InputKind, u: &[f64]) -> Vec<f64> {
             .rev()
             .map(|i| h * (1.0 + u[i + 1] - u[i]))
             .collect(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::equations::ForceKind;
+
+    fn term(name: &str, kind: ForceKind, on_points: f64, selected: bool) -> DiscoveredTerm {
+        DiscoveredTerm {
+            term: name.into(),
+            name: name.into(),
+            kind,
+            coefficient: on_points,
+            on_points,
+            interval: None,
+            inclusion: None,
+            selected,
+        }
+    }
+
+    /// The onward line is made only of what `simulate` takes: a selection without the bending
+    /// stiffness (the line would pass c_y = 0) or with a negative one is refused, with why.
+    #[test]
+    fn an_equation_simulate_would_refuse_has_no_onward_line() {
+        let larva = Model::larva();
+        let damping = |on| term("c'_y", ForceKind::Dissipative, 0.1, on);
+        let stiffness = |v| term("c_y", ForceKind::Conservative, v, true);
+        let without = [
+            term("c_y", ForceKind::Conservative, 0.0, false),
+            damping(true),
+        ];
+        let Err(e) = discovered_body(&larva, 4, &without) else {
+            panic!("a selection without c_y is refused")
+        };
+        assert!(e.to_string().contains("c_y"), "{e}");
+        let negative = [stiffness(-2.0), damping(true)];
+        assert!(discovered_body(&larva, 4, &negative).is_err());
+        let passive = [stiffness(2.0), damping(true)];
+        assert!(discovered_body(&larva, 4, &passive).is_ok());
     }
 }

@@ -106,6 +106,9 @@ pub struct DiscoverReport {
     /// The discovered equation simulated and read back (when asked).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub replay: Option<super::Replay>,
+    /// Why `simulate` would refuse the discovered equation (no onward line is printed then).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub onward_refused: Option<String>,
 }
 
 const ESTIMATOR: &str = "weak form in time on the grid's modes, bumps (1 − τ²)⁸, two-stage least squares with the two previous windows and the state just before as instruments";
@@ -284,6 +287,7 @@ pub(super) fn assemble(
         model_argument: None,
         not_estimated: Vec::new(),
         replay: None,
+        onward_refused: None,
     })
 }
 
@@ -450,14 +454,23 @@ impl Report for DiscoverReport {
             self.r2,
             short(self.noise)
         );
-        out += &format!("Onward: {}\n", self.simulate_line());
+        out += &match &self.onward_refused {
+            None => format!("Onward: {}\n", self.simulate_line()),
+            Some(why) => format!(
+                "Onward: none: simulate refuses the discovered equation ({why}), so there is nothing to replay or draw\n"
+            ),
+        };
         out
     }
 
     fn json(&self) -> serde_json::Value {
         let mut v = serde_json::to_value(self).unwrap_or_default();
         if let Some(o) = v.as_object_mut() {
-            o.insert("simulate".into(), self.simulate_line().into());
+            let line = match self.onward_refused {
+                None => self.simulate_line().into(),
+                Some(_) => serde_json::Value::Null,
+            };
+            o.insert("simulate".into(), line);
         }
         v
     }
