@@ -411,3 +411,37 @@ fn a_window_that_cannot_resolve_the_modes_says_so() {
     .unwrap();
     assert!(!String::from_utf8(out).unwrap().contains("cannot resolve"));
 }
+
+/// Bridging is said whenever it synthesises more than 5 % of the frames used: WT2 (runs of
+/// 12–25 frames between stage moves) with `--fill-gaps 10` has a fifth of its frames drawn as
+/// straight lines; at the default (gaps of ≤ 2 frames) it has less, and no warning.
+#[test]
+fn a_fit_says_what_share_of_its_frames_bridging_synthesised() {
+    let file = "celegans_wt2_crawling_30fps_49pts.csv";
+    let warned = |v: &serde_json::Value| {
+        v["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter_map(|w| w.as_str())
+            .find(|w| w.contains("were synthesised by bridging"))
+            .map(str::to_string)
+    };
+    let wide = fit(file, &["--fill-gaps", "10"]);
+    let filled = wide["recording"]["frames_filled"].as_u64().unwrap();
+    let frames = wide["frames"].as_u64().unwrap();
+    assert!(filled * 20 > frames, "{filled} of {frames}");
+    let w = warned(&wide).expect("a warning at a fifth of the frames bridged");
+    assert!(
+        w.contains(&format!("{filled} of the {frames} frames used")),
+        "{w}"
+    );
+    let default = fit(file, &[]);
+    let filled = default["recording"]["frames_filled"].as_u64().unwrap();
+    let frames = default["frames"].as_u64().unwrap();
+    assert_eq!(
+        warned(&default).is_some(),
+        filled * 20 > frames,
+        "{filled} of {frames}"
+    );
+}

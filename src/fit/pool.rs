@@ -473,6 +473,7 @@ impl Pool {
         let described = Some((counts, named));
         let mut report = fit_stats(proj, ctx, stats, interval, (Scope::Full, described))?;
         report.tracking_noise = self.jitter.as_ref().and_then(Jitter::estimate);
+        report.warnings.extend(super::report::bridged(&report));
         if ctx.settings.bootstrap > 0 {
             let units = units(&self.kept);
             let pooled = report.clone();

@@ -226,6 +226,24 @@ impl AnimalFit {
     }
 }
 
+/// Above this share of synthesised frames, bridging is a warning: the spectra lean on it.
+const BRIDGED_SHARE: f64 = 0.05;
+
+/// The warning that more than [`BRIDGED_SHARE`] of the frames used were bridged, with the share.
+pub(super) fn bridged(report: &FitReport) -> Option<String> {
+    let r = &report.recording;
+    let share = r.frames_filled as f64 / report.frames.max(1) as f64;
+    (share > BRIDGED_SHARE).then(|| {
+        format!(
+            "{} of the {} frames used ({} %) were synthesised by bridging gaps of up to {} frames (--fill-gaps): the spectra lean on straight lines; --fill-gaps 0 fits the runs alone",
+            r.frames_filled,
+            report.frames,
+            crate::report::fixed(100.0 * share, 1),
+            r.fill_gaps
+        )
+    })
+}
+
 impl Report for FitReport {
     fn check(&self) -> Result<(), NonFinite> {
         check_finite(self)
