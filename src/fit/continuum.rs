@@ -90,7 +90,7 @@ impl Grid {
     /// amplifies tracking noise. The design keeps the first M continuum columns and completes
     /// them with the grid's own Sv_j for j > M, M the largest for which white tracking noise
     /// reaches no coordinate with more than [`NOISE_GAIN`] times its standard deviation under
-    /// the N-point projector ([`Grid::noise_gains`]). Coordinates past M are the N-point ones
+    /// the N-point projector ([`noise_gains`]). Coordinates past M are the N-point ones
     /// (as before the continuum projector existed); M = N − 2 wherever C⁺ is well behaved,
     /// which is the free–free beam at every N tested.
     #[allow(clippy::type_complexity)]

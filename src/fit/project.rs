@@ -17,6 +17,16 @@ pub(super) struct Scratch {
     sizes: Vec<f64>,
 }
 
+/// The N-point projector's rows: the S vⱼ are orthogonal with |S vⱼ|² = λⱼ, so
+/// Qⱼ = (S vⱼ)·o/λⱼ.
+fn lattice_rows(design: &[Vec<f64>], lambdas: &[f64]) -> Vec<Vec<f64>> {
+    design
+        .iter()
+        .zip(lambdas)
+        .map(|(d, l)| d.iter().map(|x| x / l).collect())
+        .collect()
+}
+
 /// A frame listed head first, reordered head last (the model's orientation): points (x, y)
 /// pairs for midlines, segments for lengths.
 pub(super) fn reversed(kind: InputKind, values: &[f64]) -> Vec<f64> {
@@ -152,12 +162,7 @@ impl Projector {
         let projector: Vec<Vec<f64>> = if partial {
             least_squares_rows(&design)?
         } else {
-            // The S vⱼ are orthogonal with |S vⱼ|² = λⱼ: Qⱼ = (S vⱼ)·o/λⱼ.
-            design
-                .iter()
-                .zip(&lambdas)
-                .map(|(d, l)| d.iter().map(|x| x / l).collect())
-                .collect()
+            lattice_rows(&design, &lambdas)
         };
         // The grid's own observation pattern S vⱼ, kept for postures on the model's points.
         let lattice = (!partial).then(|| design.clone());
@@ -200,11 +205,7 @@ impl Projector {
     /// `NOISE_GAIN` = 2 by construction (see `continuum`).
     pub fn noise_gains(&self) -> Option<Vec<f64>> {
         let lattice = self.lattice.as_ref()?;
-        let rows: Vec<Vec<f64>> = lattice
-            .iter()
-            .zip(&self.eigenvalues)
-            .map(|(d, l)| d.iter().map(|x| x / l).collect())
-            .collect();
+        let rows = lattice_rows(lattice, &self.eigenvalues);
         let noise = self.grid().noise_covariance()?;
         Some(super::continuum::noise_gains(&noise, &self.rows, &rows))
     }
