@@ -5,9 +5,10 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
-use theory_search::fit::{fit, FitSettings, InputKind};
+use theory_search::fit::{fit, FitSettings};
 use theory_search::modal::Params;
 use theory_search::model::Model;
+use theory_search::recording::InputKind;
 
 fn frames(n: usize) -> String {
     let mut s = String::new();

@@ -35,6 +35,7 @@ pub mod modal;
 pub mod model;
 pub mod params;
 pub mod parts;
+pub mod recording;
 pub mod reduce;
 pub mod report;
 pub mod rules;

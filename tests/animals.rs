@@ -7,9 +7,10 @@ mod common;
 use std::fmt::Write as _;
 
 use theory_search::dynamics::{simulate, Config};
-use theory_search::fit::{fit_tracks, FitReport, FitSettings, Frame, InputKind, Track};
+use theory_search::fit::{fit_tracks, FitReport, FitSettings};
 use theory_search::modal::Params;
 use theory_search::model::Model;
+use theory_search::recording::{Frame, InputKind, Track};
 
 const OMEGA: f64 = 1.0;
 const KT: f64 = 1e-4;

@@ -4,9 +4,10 @@
 
 use std::fmt::Write as _;
 
-use theory_search::fit::{fit_inputs, foretold_windows, FitSettings, Input, InputKind};
+use theory_search::fit::{fit_inputs, foretold_windows, FitSettings, Input};
 use theory_search::modal::Params;
 use theory_search::model::Model;
+use theory_search::recording::InputKind;
 
 mod common;
 
@@ -137,21 +138,17 @@ fn reports_agree_to_the_bit() {
     for (tag, s) in [
         ("w128", settings(Some(128))),
         ("auto", settings(None)),
-        (
-            "filled",
-            FitSettings {
-                fill_gaps: 3,
-                ..settings(Some(64))
-            },
-        ),
-        (
-            "tail",
-            FitSettings {
-                head_first: false,
-                bootstrap: 20,
-                ..settings(Some(64))
-            },
-        ),
+        ("filled", {
+            let mut s = settings(Some(64));
+            s.recording.fill_gaps = 3;
+            s
+        }),
+        ("tail", {
+            let mut s = settings(Some(64));
+            s.recording.head_first = false;
+            s.bootstrap = 20;
+            s
+        }),
     ] {
         let (file, stream) = both(text.as_bytes(), &s, tag);
         assert!(!file.starts_with("error"), "{tag}: {file}");
@@ -195,10 +192,8 @@ fn a_pilot_changes_no_number() {
         );
     }
     // Segment lengths are foretold as midlines are.
-    let s = FitSettings {
-        kind: InputKind::Lengths,
-        ..settings(None)
-    };
+    let mut s = settings(None);
+    s.recording.kind = InputKind::Lengths;
     let (file, stream, foretold) = both_foretold(lengths(120_000).as_bytes(), &s, "lengths");
     assert!(foretold.is_some() && !file.starts_with("error"), "{file}");
     assert_eq!(file, stream);
@@ -222,17 +217,13 @@ fn a_pilot_changes_no_number() {
 #[test]
 fn lengths_and_resampled_midlines_agree() {
     let lengths = lengths(30_000);
-    let s = FitSettings {
-        kind: InputKind::Lengths,
-        ..settings(Some(64))
-    };
+    let mut s = settings(Some(64));
+    s.recording.kind = InputKind::Lengths;
     let (file, stream) = both(lengths.as_bytes(), &s, "lengths");
     assert!(!file.starts_with("error"), "{file}");
     assert_eq!(file, stream);
-    let s = FitSettings {
-        points: 9,
-        ..settings(Some(64))
-    };
+    let mut s = settings(Some(64));
+    s.recording.points = 9;
     let (file, stream) = both(midlines(30_000, |_, _| None).as_bytes(), &s, "resampled");
     assert!(!file.starts_with("error"), "{file}");
     assert_eq!(file, stream);

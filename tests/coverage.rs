@@ -279,7 +279,7 @@ fn tracking_noise_of_many_points_uses_every_kth() {
 }
 
 /// The tracking noise `fit` reads, at its defaults, on a recording of `body`.
-fn tracking_noise(body: Body, seed: u64) -> theory_search::fit::TrackingNoise {
+fn tracking_noise(body: Body, seed: u64) -> theory_search::recording::TrackingNoise {
     let fit = fitted(&record(&body, seed), body.clamped, 12, None);
     fit.tracking_noise.expect("midlines give a tracking noise")
 }

@@ -9,15 +9,16 @@ mod recording;
 
 use recording::{lengths, midlines, Spec};
 use theory_search::discover::{discover, DiscoverReport, DiscoverSettings, Source};
-use theory_search::fit::{FitSettings, InputKind};
+use theory_search::fit::FitSettings;
 use theory_search::model::Model;
+use theory_search::recording::InputKind;
 
 const CRAWLER: &str = "tables/models/crawler.toml";
 const WORM: &str = "tables/models/worm.toml";
 
 fn run(text: String, model: &str, points: usize, active: bool) -> DiscoverReport {
     let mut fit = FitSettings::new(InputKind::Midline);
-    fit.points = points;
+    fit.recording.points = points;
     run_with(text, load(model), fit, active)
 }
 
@@ -28,7 +29,7 @@ fn load(model: &str) -> Model {
 
 fn run_with(text: String, model: Model, fit: FitSettings, active: bool) -> DiscoverReport {
     let settings = DiscoverSettings {
-        fit,
+        recording: fit.recording,
         active,
         bootstrap: 100,
         seed: 1,
@@ -141,7 +142,7 @@ fn worm_axial(
     let mut model = load(WORM);
     model.set_beyond_leading(1);
     let mut fit = FitSettings::new(InputKind::Lengths);
-    fit.points = 25;
+    fit.recording.points = 25;
     run_with(lengths(&spec, initial), model, fit, false)
 }
 

@@ -5,9 +5,10 @@ use std::fmt::Write as _;
 use std::io::Cursor;
 
 use theory_search::dynamics::{simulate, Config};
-use theory_search::fit::{fit, FitError, FitReport, FitSettings, InputKind};
+use theory_search::fit::{fit, FitError, FitReport, FitSettings};
 use theory_search::modal::Params;
 use theory_search::model::Model;
+use theory_search::recording::InputKind;
 
 /// Simulated larva at known scales: ω_b, ζ_b, kT, N points, `frames` frames every `dt`.
 struct Truth {
@@ -149,7 +150,7 @@ fn other_scales_and_sampling() {
         seed: 3,
     };
     let mut settings = FitSettings::new(InputKind::Midline);
-    settings.points = 9;
+    settings.recording.points = 9;
     settings.window = Some(2048);
     settings.fit_modes = 3;
     let r = larva_fit(&t.midline(",", false), &settings).unwrap();
@@ -268,10 +269,8 @@ fn segment_lengths_give_back_the_axial_scales() {
 #[test]
 fn lost_frames_split_the_recording_into_runs() {
     // No bridging first (the default bridges gaps of ≤ 2 frames).
-    let s = FitSettings {
-        fill_gaps: 0,
-        ..FitSettings::new(InputKind::Midline)
-    };
+    let mut s = FitSettings::new(InputKind::Midline);
+    s.recording.fill_gaps = 0;
     let frame = |t: usize, lost: bool| -> String {
         let mut c = vec![format!("{t}")];
         for j in 0..6 {
@@ -301,7 +300,7 @@ fn lost_frames_split_the_recording_into_runs() {
     assert_eq!(r.frames, 53);
     // Bridging gaps of up to 2 frames joins the first two runs; the 5-frame gap stays.
     let mut fill = s.clone();
-    fill.fill_gaps = 2;
+    fill.recording.fill_gaps = 2;
     let r = larva_fit(&text, &fill).unwrap();
     assert_eq!((r.recording.gaps, r.recording.frames_filled), (1, 2));
     assert_eq!(r.recording.longest_run, 40);
@@ -375,7 +374,7 @@ fn bad_input_names_the_line() {
     }
     // Without resampling (K = N) a repeated point leaves a segment with no direction.
     let mut twelve = s.clone();
-    twelve.points = 6;
+    twelve.recording.points = 6;
     assert!(larva_fit(&good, &twelve).is_ok());
     let mut r = rows.clone();
     r[2][3] = r[2][1].clone();
@@ -395,7 +394,7 @@ fn bad_input_names_the_line() {
     bad.omega = Some(f64::NAN);
     assert!(larva_fit(&good, &bad).is_err());
     bad = s.clone();
-    bad.field = Some("w".into());
+    bad.recording.field = Some("w".into());
     assert!(larva_fit(&good, &bad)
         .unwrap_err()
         .to_string()
@@ -500,7 +499,7 @@ fn the_continuum_constant_does_not_depend_on_the_model_points() {
         .into_iter()
         .map(|n| {
             let mut s = FitSettings::new(InputKind::Midline);
-            s.points = n;
+            s.recording.points = n;
             let r = larva_fit(&text, &s).unwrap();
             let c = r.continuum.expect("a beam has continuum roots");
             assert_eq!(c.name, "kappa");
@@ -570,13 +569,13 @@ fn a_travelling_wave_fills_the_first_axial_pair() {
 /// order in the amplitude that the small-angle reading neglects.
 #[test]
 fn projection_recovers_modal_coordinates_at_every_size() {
-    use theory_search::fit::Projector;
+    use theory_search::recording::Projector;
     let model = Model::larva();
     let params = Params::default();
     for n in [5usize, 7, 12, 25, 40] {
         let mut s = FitSettings::new(InputKind::Midline);
-        s.points = n;
-        let p = Projector::new(&model, &params, &s, 2 * n).unwrap();
+        s.recording.points = n;
+        let p = Projector::new(&model, &params, &s.recording, 2 * n).unwrap();
         assert_eq!(p.eigenvalues.len(), n - 2);
         let gains = p.continuum_gains();
         let amp = 1e-5;
@@ -621,7 +620,7 @@ fn projection_recovers_modal_coordinates_at_every_size() {
     let worm = Model::from_toml(include_str!("../tables/models/worm.toml")).unwrap();
     for k in [3usize, 8, 15] {
         let s = FitSettings::new(InputKind::Lengths);
-        let mut p = Projector::new(&worm, &params, &s, k).unwrap();
+        let mut p = Projector::new(&worm, &params, &s.recording, k).unwrap();
         p.reference_length = Some(1.0);
         assert_eq!((p.points, p.eigenvalues.len()), (k + 1, k));
         let q: Vec<f64> = (0..k).map(|j| 0.01 * (j as f64 + 0.5).cos()).collect();
@@ -637,7 +636,7 @@ fn projection_recovers_modal_coordinates_at_every_size() {
     // Segment strains are linear in x: exact.
     for k in [3usize, 7, 16] {
         let s = FitSettings::new(InputKind::Lengths);
-        let p = Projector::new(&model, &params, &s, k).unwrap();
+        let p = Projector::new(&model, &params, &s.recording, k).unwrap();
         assert_eq!((p.points, p.eigenvalues.len()), (k + 1, k - 1));
         let q: Vec<f64> = (0..k - 1).map(|j| 0.01 * (j as f64 + 0.5).cos()).collect();
         let x: Vec<f64> = (0..k)
@@ -694,7 +693,7 @@ fn a_partial_ring_of_segments() {
     let mut s = FitSettings::new(InputKind::Lengths);
     s.window = Some(2048);
     s.fit_modes = 2;
-    s.ring = Some(10);
+    s.recording.ring = Some(10);
     let r = larva_fit(&text, &s).unwrap();
     // Six unknowns from seven strains: the three lowest pairs.
     assert_eq!((r.points, r.model_points, r.modes.len()), (7, 11, 6));
@@ -714,11 +713,11 @@ fn a_partial_ring_of_segments() {
         r.warnings
     );
     // Without the ring the same data are read as a closed ring of 7: a different body.
-    s.ring = None;
+    s.recording.ring = None;
     let whole = larva_fit(&text, &s).unwrap();
     assert_eq!(whole.model_points, 8);
     assert!(whole.warnings.is_empty());
-    s.ring = Some(6);
+    s.recording.ring = Some(6);
     assert!(larva_fit(&text, &s)
         .unwrap_err()
         .to_string()

@@ -10,9 +10,10 @@ use std::process::Command;
 use theory_search::codegen::operators_source;
 use theory_search::discretise::plan;
 use theory_search::failure::Failure;
-use theory_search::fit::{fit_inputs, FitError, FitSettings, Frame, Input, InputKind, Track};
+use theory_search::fit::{fit_inputs, FitError, FitSettings, Input};
 use theory_search::modal::Params;
 use theory_search::model::Model;
+use theory_search::recording::{Frame, InputKind, Track};
 
 const PLANAR: &str = include_str!("../tables/models/planar.toml");
 
@@ -447,7 +448,7 @@ fn rows_wider_or_narrower_than_their_header_are_refused_naming_the_line() {
     // A track column counts in both; lengths are counted as columns.
     let tracked = "id,t,x1,y1\nA,0,1,2,3\n";
     let mut settings = FitSettings::new(InputKind::Lengths);
-    settings.track_column = true;
+    settings.recording.track_column = true;
     let reader = Box::new(std::io::Cursor::new(tracked.as_bytes().to_vec()));
     let e = fit_error(
         Input::Reader {
@@ -473,7 +474,7 @@ fn rows_wider_or_narrower_than_their_header_are_refused_naming_the_line() {
 fn fps_beside_a_time_column_is_refused_by_fit_and_discover() {
     // Issue 53: `fit tables/examples/midlines.csv --fps 15` fitted the file's own clock.
     let mut settings = FitSettings::new(InputKind::Midline);
-    settings.fps = Some(15.0);
+    settings.recording.fps = Some(15.0);
     let example = example_with(|cells| cells);
     let want = "--fps applies to files without a time column; this file has one: column 1, headed \"t\" (line 2)";
     refused_everywhere(&example, &["--fps", "15"], &settings, want, 2);

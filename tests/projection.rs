@@ -7,9 +7,10 @@
 mod common;
 
 use common::beam::{fitted, record, Body};
-use theory_search::fit::{FitSettings, InputKind, Projector};
+use theory_search::fit::FitSettings;
 use theory_search::modal::Params;
 use theory_search::model::Model;
+use theory_search::recording::{InputKind, Projector};
 
 /// The larva with its bending field's ends replaced (the head is point 1 of a recording).
 fn body(head: &str, tail: &str) -> Model {
@@ -22,8 +23,9 @@ fn body(head: &str, tail: &str) -> Model {
 
 fn gains(model: &Model, points: usize) -> (Vec<f64>, usize, usize) {
     let mut s = FitSettings::new(InputKind::Midline);
-    s.points = points;
-    let p = Projector::new(model, &Params::default(), &s, 2 * points).expect("a projector");
+    s.recording.points = points;
+    let p =
+        Projector::new(model, &Params::default(), &s.recording, 2 * points).expect("a projector");
     let g = p.noise_gains().expect("midline gains");
     (g, p.continuum_modes, p.eigenvalues.len())
 }
@@ -124,9 +126,9 @@ fn discover_answers_a_clamped_beam_with_tracking_noise() {
         let body = clamped(points, share);
         let answers = common::beam::on_two_cores(4, |seed| {
             let mut fit = FitSettings::new(InputKind::Midline);
-            fit.points = points;
+            fit.recording.points = points;
             let settings = DiscoverSettings {
-                fit,
+                recording: fit.recording,
                 active: false,
                 bootstrap: 0,
                 seed: 1,

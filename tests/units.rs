@@ -11,9 +11,10 @@ mod recording;
 use recording::{midlines, Spec};
 use theory_search::discover::{discover, DiscoverReport, DiscoverSettings, Source};
 use theory_search::dynamics::library;
-use theory_search::fit::{fit, FitReport, FitSettings, InputKind};
+use theory_search::fit::{fit, FitReport, FitSettings};
 use theory_search::modal::Params;
 use theory_search::model::Model;
+use theory_search::recording::InputKind;
 
 const CRAWLER: &str = "tables/models/crawler.toml";
 const WORM: &str = "tables/models/worm.toml";
@@ -54,13 +55,13 @@ fn in_unit(text: &str, unit: f64) -> String {
 
 fn settings() -> FitSettings {
     let mut fit = FitSettings::new(InputKind::Midline);
-    fit.points = 25;
+    fit.recording.points = 25;
     fit
 }
 
 fn discovered(text: String) -> DiscoverReport {
     let settings = DiscoverSettings {
-        fit: settings(),
+        recording: settings().recording,
         active: true,
         bootstrap: 40,
         seed: 1,

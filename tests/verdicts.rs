@@ -10,9 +10,10 @@ mod common;
 use common::beam::{fitted, on_two_cores, record, Body, CLAMPED_BEAM, FREE_BEAM};
 use rand::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
-use theory_search::fit::{fit, FitReport, FitSettings, InputKind, Verdict};
+use theory_search::fit::{fit, FitReport, FitSettings, Verdict};
 use theory_search::modal::Params;
 use theory_search::model::Model;
+use theory_search::recording::InputKind;
 
 const BODY: Body = FREE_BEAM;
 

@@ -14,11 +14,10 @@ use pyo3::types::PyDict;
 use theory_search::body::{Body, BodyError, BodyModes, BodyOperators, Start};
 use theory_search::enumerate::Basis;
 use theory_search::failure::Failure;
-use theory_search::fit::{
-    fit_inputs, FitError, FitReport, FitSettings, Frame, Input, InputKind, Track,
-};
+use theory_search::fit::{fit_inputs, FitError, FitReport, FitSettings, Input};
 use theory_search::modal::Params;
 use theory_search::model::{one_line, Density, Model};
+use theory_search::recording::{Frame, Setting, Track};
 
 create_exception!(
     _native,
@@ -454,73 +453,72 @@ fn limits(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     Ok(d)
 }
 
-/// The fit's settings from keyword arguments.
-fn settings_of(options: Option<&Bound<'_, PyDict>>) -> PyResult<FitSettings> {
-    let mut s = FitSettings::new(InputKind::Midline);
-    let Some(options) = options else {
-        return Ok(s);
-    };
-    for (key, value) in options.iter() {
-        let key: String = key.extract()?;
-        // A value of the wrong type or range (points=-1, window=2**64) is a usage error.
-        let bad = |e: PyErr| {
+/// One keyword argument as the library's [`Setting`]: the library checks its type and range,
+/// in the command line's words.
+fn setting_of(key: &str, value: &Bound<'_, PyAny>) -> PyResult<Setting> {
+    use pyo3::types::{PyBool, PyFloat, PyInt, PyString};
+    if let Ok(b) = value.cast::<PyBool>() {
+        return Ok(Setting::Bool(b.is_true()));
+    }
+    if value.is_instance_of::<PyInt>() {
+        return value.extract::<i128>().map(Setting::Int).map_err(|_| {
             usage(format!(
-                "fit option {key}: {}",
-                theory_search::markup::bound_line(&e.value(value.py()).to_string())
+                "{}: a whole number out of range",
+                theory_search::markup::clip(key)
             ))
-        };
-        match key.as_str() {
-            "kind" => {
-                s.kind = match value.extract::<String>().map_err(bad)?.as_str() {
-                    "midline" => InputKind::Midline,
-                    "lengths" => InputKind::Lengths,
-                    other => {
-                        return Err(usage(format!(
-                            "kind must be \"midline\" or \"lengths\", not {other:?}"
-                        )))
-                    }
-                }
-            }
-            "field" => s.field = value.extract().map_err(bad)?,
-            "order" => s.order = value.extract().map_err(bad)?,
-            "points" => s.points = value.extract().map_err(bad)?,
-            "window" => s.window = value.extract().map_err(bad)?,
-            "fit_modes" => s.fit_modes = value.extract().map_err(bad)?,
-            "omega" => s.omega = value.extract().map_err(bad)?,
-            "ring" => s.ring = value.extract().map_err(bad)?,
-            "fill_gaps" => s.fill_gaps = value.extract().map_err(bad)?,
-            "head" => {
-                s.head_first = match value.extract::<String>().map_err(bad)?.as_str() {
-                    "first" => true,
-                    "last" => false,
-                    other => {
-                        return Err(usage(format!(
-                            "head must be \"first\" or \"last\", not {other:?}"
-                        )))
-                    }
-                }
-            }
-            "fps" => s.fps = value.extract().map_err(bad)?,
-            "min_likelihood" => s.min_likelihood = value.extract().map_err(bad)?,
-            "track_column" => s.track_column = value.extract().map_err(bad)?,
-            "bootstrap" => s.bootstrap = value.extract().map_err(bad)?,
-            "seed" => s.seed = value.extract().map_err(bad)?,
-            "time_unit" => s.time_unit = value.extract().map_err(bad)?,
-            "length_unit" => s.length_unit = value.extract().map_err(bad)?,
-            other => return Err(usage(format!("fit has no option {other:?}"))),
+        });
+    }
+    if let Ok(x) = value.cast::<PyFloat>() {
+        return Ok(Setting::Float(x.value()));
+    }
+    if let Ok(t) = value.cast::<PyString>() {
+        return Ok(Setting::Text(t.to_string()));
+    }
+    // numpy's scalars: whole numbers first, then reals.
+    if let Ok(i) = value.extract::<i128>() {
+        return Ok(Setting::Int(i));
+    }
+    if let Ok(x) = value.extract::<f64>() {
+        return Ok(Setting::Float(x));
+    }
+    let kind = value
+        .get_type()
+        .name()
+        .map(|n| n.to_string())
+        .unwrap_or_default();
+    Err(usage(format!(
+        "{} must be a number, text or a switch, not a {}",
+        theory_search::markup::clip(key),
+        theory_search::markup::clip(&kind)
+    )))
+}
+
+/// Keyword arguments as (name, value) pairs (`None` values left to the defaults).
+fn pairs_of(options: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, Setting)>> {
+    let mut pairs = Vec::new();
+    for (key, value) in options.into_iter().flat_map(|o| o.iter()) {
+        let key: String = key
+            .extract()
+            .map_err(|_| usage("option names must be text"))?;
+        if !value.is_none() {
+            pairs.push((key.clone(), setting_of(&key, &value)?));
         }
     }
-    Ok(s)
+    Ok(pairs)
+}
+
+/// The fit's settings from keyword arguments, by the library's one constructor.
+fn settings_of(options: Option<&Bound<'_, PyDict>>) -> PyResult<FitSettings> {
+    let pairs = pairs_of(options)?;
+    FitSettings::from_pairs(pairs.iter().map(|(k, v)| (k.as_str(), v.clone()))).map_err(fit_error)
 }
 
 fn fit_error(e: FitError) -> PyErr {
     let text = one_line(&e.to_string());
-    match e.innermost() {
-        FitError::Open(io) if io.kind() == std::io::ErrorKind::NotFound => {
-            MissingError::new_err(text)
-        }
-        _ => raised(e.failure(), text),
+    if e.is_missing() {
+        return MissingError::new_err(text);
     }
+    raised(e.failure(), text)
 }
 
 /// The report as JSON plus the arrays JSON leaves out: frequencies, spectra (modes ×
@@ -708,8 +706,8 @@ fn fit_paths<'py>(
     let settings = settings_of(options)?;
     // Files, directories and patterns, as the command line takes them.
     let paths: Vec<std::path::PathBuf> = paths.into_iter().map(Into::into).collect();
-    let inputs = theory_search::fit::recordings(&paths)
-        .map_err(fit_error)?
+    let inputs = theory_search::recording::recordings(&paths)
+        .map_err(|e| fit_error(e.into()))?
         .into_iter()
         .map(Input::File)
         .collect::<Vec<_>>();

@@ -4,8 +4,8 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use super::{emit, CliError, ModelArgs};
-use crate::discover::{discover, DiscoverError, DiscoverSettings, Source, MAX_DRAWS};
-use crate::fit::{FitSettings, InputKind};
+use crate::discover::{discover, DiscoverError, DiscoverSettings, Source};
+use crate::recording::Setting;
 use crate::report::Output;
 
 /// Arguments of `discover`.
@@ -14,26 +14,11 @@ pub struct Args {
     /// The recordings (`-` for standard input), as `fit` reads them; several are several animals.
     #[arg(value_name = "FILE", required = true)]
     input: Vec<PathBuf>,
-    /// What the columns after time hold.
-    #[arg(long, value_enum, default_value_t = Kind::Midline)]
-    kind: Kind,
-    /// The model field the data observe (default: the lateral field for midlines, the axial
-    /// one for lengths).
-    #[arg(long)]
-    field: Option<String>,
-    /// Model points N for midlines (resampled by arc length), from 3 to 500.
-    #[arg(long, short, default_value_t = 12, value_name = "N")]
-    points: usize,
+    #[command(flatten)]
+    recording: super::recording::RecordingArgs,
     /// Put the model's `[active]` forces (active and gyroscopic) in the library.
     #[arg(long)]
     active: bool,
-    /// Bridge gaps of at most K lost frames linearly (0: none); longer gaps split the runs.
-    #[arg(long, value_name = "K", default_value_t = crate::fit::DEFAULT_FILL_GAPS)]
-    fill_gaps: usize,
-    /// Frames per second of a DeepLabCut file (its rows hold frame indices; without it the
-    /// time unit is one frame). Refused for a file with a time column.
-    #[arg(allow_hyphen_values = true, long, value_name = "F")]
-    fps: Option<f64>,
     /// Moving-block bootstrap draws for intervals and inclusion frequencies (0: none).
     #[arg(long, value_name = "B", default_value_t = 200)]
     bootstrap: usize,
@@ -53,40 +38,19 @@ pub struct Args {
     format: Output,
 }
 
-/// Input kinds.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-enum Kind {
-    Midline,
-    Lengths,
-}
-
 /// Discover and print.
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
-    if args.bootstrap > MAX_DRAWS {
-        return Err(CliError::Usage(format!(
-            "--bootstrap takes at most {MAX_DRAWS} draws, not {}",
-            args.bootstrap
-        )));
-    }
     let page = args.page.page()?;
     let model = args.model.load()?;
-    let mut fit = FitSettings::new(match args.kind {
-        Kind::Midline => InputKind::Midline,
-        Kind::Lengths => InputKind::Lengths,
-    });
-    fit.field = args.field.clone();
-    fit.order = args.model.order;
-    fit.points = args.points;
-    fit.fill_gaps = args.fill_gaps;
-    fit.fps = args.fps;
-    let settings = DiscoverSettings {
-        fit,
-        active: args.active,
-        bootstrap: args.bootstrap,
-        seed: args.seed,
-        replay: args.figures.is_some(),
-    };
-    let sources = crate::fit::recordings(&args.input)?
+    let mut pairs = args.recording.pairs(args.model.order);
+    pairs.extend([
+        ("active", Setting::Bool(args.active)),
+        ("bootstrap", super::recording::count(args.bootstrap)),
+        ("seed", Setting::Int(args.seed.into())),
+    ]);
+    let mut settings = DiscoverSettings::from_pairs(pairs)?;
+    settings.replay = args.figures.is_some();
+    let sources = crate::recording::recordings(&args.input)?
         .into_iter()
         .map(|p| {
             if p.as_os_str() == "-" {

@@ -4,12 +4,10 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use super::{emit, CliError, ModelArgs};
-use crate::fit::{
-    checked_unit, fit_inputs, Estimator, FitReport, FitSettings, Input, InputFormat, InputKind,
-    Projector, SinkError, MAX_REPLICATES,
-};
+use crate::fit::{fit_inputs, FitReport, FitSettings, Input, SinkError};
 use crate::modal::Params;
 use crate::model::Model;
+use crate::recording::{Projector, Setting};
 use crate::report::Output;
 
 /// Arguments of `fit`.
@@ -21,17 +19,8 @@ pub struct Args {
     /// and each animal's own.
     #[arg(value_name = "FILE", required = true)]
     input: Vec<PathBuf>,
-    /// What the columns after time hold.
-    #[arg(long, value_enum, default_value_t = FitKind::Midline)]
-    kind: FitKind,
-    /// The model field the data observe (default: the lateral field for midlines, the axial
-    /// one for lengths).
-    #[arg(long)]
-    field: Option<String>,
-    /// Model points N for midlines (resampled by arc length when the data have another K),
-    /// from 3 to 500.
-    #[arg(long, short, default_value_t = 12, value_name = "N")]
-    points: usize,
+    #[command(flatten)]
+    recording: super::recording::RecordingArgs,
     /// Welch window in frames (default: chosen from the data, so that the lowest mode lies
     /// 16 frequency bins above zero).
     #[arg(long, value_name = "FRAMES")]
@@ -45,37 +34,6 @@ pub struct Args {
     /// Fix ω instead of fitting it.
     #[arg(allow_hyphen_values = true, long)]
     omega: Option<f64>,
-    /// Lengths only: the number of segments around the whole body when only the first K
-    /// were measured (fits the lowest whole modes by least squares).
-    #[arg(long, value_name = "R")]
-    ring: Option<usize>,
-    /// Bridge gaps of at most K lost frames linearly (0: none); longer gaps split the recording
-    /// into runs (the covariance pools every usable frame, the spectra use windows inside one
-    /// run).
-    #[arg(long, value_name = "K", default_value_t = crate::fit::DEFAULT_FILL_GAPS)]
-    fill_gaps: usize,
-    /// Frames per second of a DeepLabCut file (its rows hold frame indices; without it the
-    /// time unit is one frame). Refused for a file with a time column.
-    #[arg(allow_hyphen_values = true, long, value_name = "F")]
-    fps: Option<f64>,
-    /// DeepLabCut points tracked below this likelihood make their frame lost.
-    #[arg(
-        allow_hyphen_values = true,
-        long,
-        value_name = "P",
-        default_value_t = 0.6
-    )]
-    min_likelihood: f64,
-    /// Which end the data list first: `first` (head first, as trackers write) or `last`.
-    /// A WCON record's own `"head"` (`L`/`R`) is followed where it is given.
-    #[arg(long, value_enum, default_value_t = HeadEnd::First)]
-    head: HeadEnd,
-    /// The inputs' layout (auto: `{` opens WCON, DeepLabCut's header rows mark its CSV).
-    #[arg(long, value_enum, default_value_t = Format::Auto)]
-    input_format: Format,
-    /// The first CSV column is a track id: each track is one animal (rows may interleave).
-    #[arg(long)]
-    track_column: bool,
     /// Bootstrap replicates for 95 % intervals: whole animals (or one animal's whole runs)
     /// are drawn with replacement.
     #[arg(long, value_name = "B", default_value_t = 0)]
@@ -83,12 +41,6 @@ pub struct Args {
     /// Seed of the bootstrap draws (same seed, same intervals).
     #[arg(long, value_name = "S", default_value_t = 1)]
     seed: u64,
-    /// Unit of the time column (e.g. `s`), printed with ω and β (a WCON file names its own).
-    #[arg(long, value_name = "UNIT")]
-    time_unit: Option<String>,
-    /// Unit of the coordinates (e.g. `mm`), printed with the point spacing.
-    #[arg(long, value_name = "UNIT")]
-    length_unit: Option<String>,
     /// Also write the fit's figures into this directory (SVG unless `--figure-format`).
     #[arg(long, value_name = "DIR")]
     figures: Option<PathBuf>,
@@ -111,28 +63,6 @@ pub struct Args {
     format: Output,
 }
 
-/// Input layouts of `fit`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-enum Format {
-    Auto,
-    Csv,
-    Wcon,
-}
-
-/// Input kinds of `fit`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-enum FitKind {
-    Midline,
-    Lengths,
-}
-
-/// Where the head is in each frame.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-enum HeadEnd {
-    First,
-    Last,
-}
-
 /// Frequency estimators of `fit`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 enum FitEstimator {
@@ -145,53 +75,17 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     // Figure options are checked before the (possibly long) fit.
     let page = args.page.page()?;
     let model = args.model.load()?;
-    let mut settings = FitSettings::new(match args.kind {
-        FitKind::Midline => InputKind::Midline,
-        FitKind::Lengths => InputKind::Lengths,
-    });
-    settings.field = args.field.clone();
-    settings.order = args.model.order;
-    settings.points = args.points;
-    settings.window = args.window;
-    settings.estimator = match args.estimator {
-        FitEstimator::Peak => Estimator::Peak,
-        FitEstimator::Centroid => Estimator::Centroid,
-    };
-    settings.fit_modes = args.fit_modes;
-    settings.omega = args.omega;
-    if args.ring.is_some() && args.kind != FitKind::Lengths {
-        return Err(CliError::Usage(
-            "--ring applies to --kind lengths only".into(),
-        ));
-    }
-    settings.ring = args.ring;
-    settings.fill_gaps = args.fill_gaps;
-    settings.head_first = args.head == HeadEnd::First;
-    settings.fps = args.fps;
-    settings.min_likelihood = args.min_likelihood;
-    settings.format = match args.input_format {
-        Format::Auto => InputFormat::Auto,
-        Format::Csv => InputFormat::Csv,
-        Format::Wcon => InputFormat::Wcon,
-    };
-    settings.track_column = args.track_column;
-    if args.bootstrap > MAX_REPLICATES {
-        return Err(CliError::Usage(format!(
-            "--bootstrap takes at most {MAX_REPLICATES} replicates, not {}",
-            args.bootstrap
-        )));
-    }
-    settings.bootstrap = args.bootstrap;
-    settings.seed = args.seed;
-    let unit = |u: &Option<String>| {
-        u.as_deref()
-            .map(checked_unit)
-            .transpose()
-            .map_err(CliError::usage)
-    };
-    settings.time_unit = unit(&args.time_unit)?;
-    settings.length_unit = unit(&args.length_unit)?;
-    let inputs: Vec<Input<'_>> = crate::fit::recordings(&args.input)?
+    let mut pairs = args.recording.pairs(args.model.order);
+    pairs.extend([
+        ("estimator", super::recording::choice(args.estimator)),
+        ("fit_modes", super::recording::count(args.fit_modes)),
+        ("bootstrap", super::recording::count(args.bootstrap)),
+        ("seed", Setting::Int(args.seed.into())),
+    ]);
+    pairs.extend(args.window.map(|w| ("window", super::recording::count(w))));
+    pairs.extend(args.omega.map(|w| ("omega", Setting::Float(w))));
+    let settings = FitSettings::from_pairs(pairs)?;
+    let inputs: Vec<Input<'_>> = crate::recording::recordings(&args.input)?
         .into_iter()
         .map(|p| {
             if p.as_os_str() == "-" {

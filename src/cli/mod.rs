@@ -30,6 +30,7 @@ mod modes;
 mod operators;
 mod options;
 mod parts;
+mod recording;
 mod rules;
 mod simulate;
 mod stats;
@@ -131,6 +132,9 @@ pub enum CliError {
     /// A behaviour model (exit by the kind of failure).
     #[error("{}", bounded_text(.0))]
     Behaviour(#[source] crate::behaviour::BehaviourError),
+    /// A recording that cannot be read (exit by the kind of failure).
+    #[error("{}", bounded_text(.0))]
+    Recording(#[from] crate::recording::RecordingError),
     /// A fit (exit by the kind of failure).
     #[error("{}", bounded_text(.0))]
     Fit(#[from] crate::fit::FitError),
@@ -156,6 +160,7 @@ impl CliError {
             CliError::Output(_) => Failure::Output,
             CliError::Body(e) => e.failure(),
             CliError::Behaviour(e) => e.failure(),
+            CliError::Recording(e) => e.failure(),
             CliError::Fit(e) => e.failure(),
             CliError::Discover(e) => e.failure(),
         }

@@ -3,9 +3,10 @@
 //! points ([`crate::fit::Projector::posture`]); runs split where frames are lost.
 
 use super::DiscoverError;
-use crate::fit::{fit_inputs, FitReport, FitSettings, Input, Projector, SinkError};
+use crate::fit::{fit_inputs, FitReport, FitSettings, Input, SinkError};
 use crate::modal::Params;
 use crate::model::Model;
+use crate::recording::Projector;
 
 /// At most this many frames × points are held (postures are kept in memory).
 pub const MAX_VALUES: usize = 50_000_000;
@@ -119,7 +120,7 @@ impl Restrain {
     /// For a projector of lengths against a fixed rest length; inert otherwise (midlines, or
     /// a ring's lengths, each frame divided by its own mean).
     fn of(p: &Projector) -> Restrain {
-        if p.kind != crate::fit::InputKind::Lengths || p.reference_length.is_none() {
+        if p.kind != crate::recording::InputKind::Lengths || p.reference_length.is_none() {
             return Restrain::default();
         }
         let mean = |row: &Vec<f64>| row.iter().sum::<f64>() / row.len().max(1) as f64;

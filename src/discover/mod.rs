@@ -47,6 +47,7 @@ use crate::dynamics::{library, Candidate};
 use crate::equations::{derive_nonlinear_each, NonlinearEquation};
 use crate::fit::{FitError, FitSettings, Input};
 use crate::model::Model;
+use crate::recording::{InputKind, RecordingSettings, Setting};
 
 /// At most this many bootstrap draws.
 pub const MAX_DRAWS: usize = 10_000;
@@ -54,8 +55,8 @@ pub const MAX_DRAWS: usize = 10_000;
 /// Settings of `discover`.
 #[derive(Debug, Clone)]
 pub struct DiscoverSettings {
-    /// How the recordings are read and projected (`fit`'s settings; `order` is the theory's).
-    pub fit: FitSettings,
+    /// How the recordings are read and projected (`order` is the theory's).
+    pub recording: RecordingSettings,
     /// Include the `[active]` section's forces in the library.
     pub active: bool,
     /// Bootstrap draws (0: no intervals).
@@ -64,6 +65,62 @@ pub struct DiscoverSettings {
     pub seed: u64,
     /// Simulate the discovered equation and read it back (`replay`), for the figure.
     pub replay: bool,
+}
+
+impl DiscoverSettings {
+    /// Defaults for `kind`: the recording's ([`RecordingSettings::new`]), the passive library,
+    /// 200 draws, seed 1, no replay.
+    pub fn new(kind: InputKind) -> Self {
+        DiscoverSettings {
+            recording: RecordingSettings::new(kind),
+            active: false,
+            bootstrap: 200,
+            seed: 1,
+            replay: false,
+        }
+    }
+
+    /// Set the option `name` (Python's keyword; the command line's flag with `_` for `-`) to
+    /// `value`, checked; a recording option goes to [`RecordingSettings::set`]. `Ok(false)`:
+    /// no such option.
+    pub fn set(&mut self, name: &str, value: &Setting) -> Result<bool, DiscoverError> {
+        let fit = |e: crate::recording::RecordingError| DiscoverError::Fit(e.into());
+        match name {
+            "active" => self.active = value.switch(name).map_err(fit)?,
+            "bootstrap" => self.bootstrap = value.count(name, MAX_DRAWS).map_err(fit)?,
+            "seed" => self.seed = value.count(name, usize::MAX).map_err(fit)? as u64,
+            _ => return self.recording.set(name, value).map_err(fit),
+        }
+        Ok(true)
+    }
+
+    /// The settings from (name, value) pairs, each checked, then the whole: the one
+    /// constructor both faces call. A name that is no option is refused.
+    pub fn from_pairs<'a>(
+        pairs: impl IntoIterator<Item = (&'a str, Setting)>,
+    ) -> Result<DiscoverSettings, DiscoverError> {
+        let mut settings = DiscoverSettings::new(InputKind::Midline);
+        for (name, value) in pairs {
+            if !settings.set(name, &value)? {
+                let name = crate::markup::clip(name);
+                let why = format!("discover has no option {name:?}");
+                return Err(DiscoverError::Fit(FitError::Invalid(why)));
+            }
+        }
+        settings
+            .recording
+            .check()
+            .map_err(|e| DiscoverError::Fit(e.into()))?;
+        Ok(settings)
+    }
+
+    /// The settings `fit` reads and projects each recording with.
+    pub(super) fn fit(&self) -> FitSettings {
+        FitSettings {
+            recording: self.recording.clone(),
+            ..FitSettings::new(self.recording.kind)
+        }
+    }
 }
 
 /// One recording to read.
@@ -193,9 +250,9 @@ fn candidates(
     field: &str,
     active: bool,
 ) -> Result<(Vec<Candidate>, Vec<String>), DiscoverError> {
-    let all = library(model, settings.fit.order, points, field)?;
+    let all = library(model, settings.recording.order, points, field)?;
     let entering: Vec<String> =
-        crate::dynamics::nonlinear::active_terms(model, settings.fit.order)?
+        crate::dynamics::nonlinear::active_terms(model, settings.recording.order)?
             .into_iter()
             .flatten()
             .map(|(_, n)| n)
@@ -226,6 +283,7 @@ pub fn discover(
     // Postures need only the grid's modes: the leading order's operator, whatever the layers.
     let mut leading = model.clone();
     leading.set_beyond_leading(0);
+    let fit = settings.fit();
     let mut recordings = Vec::new();
     for source in sources {
         let (input, name) = match source {
@@ -241,7 +299,7 @@ pub fn discover(
                 name,
             ),
         };
-        let r = data::read(input, name, &leading, &settings.fit)?;
+        let r = data::read(input, name, &leading, &fit)?;
         if weak::used(&r).next().is_none() {
             return Err(DiscoverError::NoResolvedMode {
                 recording: crate::markup::clip(&r.name),
@@ -304,18 +362,18 @@ pub fn discover(
     }
     let mut report = report::assemble(&recordings, model, settings, &theories, &field)?;
     report.not_estimated = not_estimated;
-    report.onward_refused = replay::discovered_body(model, settings.fit.order, &report.library)
-        .err()
-        .map(|e| crate::markup::one_line(&e.to_string()));
+    report.onward_refused =
+        replay::discovered_body(model, settings.recording.order, &report.library)
+            .err()
+            .map(|e| crate::markup::one_line(&e.to_string()));
     if settings.replay && report.onward_refused.is_none() {
         let modes: Vec<usize> = report.modes.iter().map(|m| m.0).collect();
         let rec = &recordings[0];
-        let fit = &settings.fit;
         report.replay = Some(replay::replay(
             rec,
             model,
             &leading,
-            fit,
+            &fit,
             &report.library,
             &modes,
         )?);

@@ -16,9 +16,10 @@ use super::data::Recording;
 use super::{DiscoverError, DiscoveredTerm};
 use crate::body::{Body, Start};
 use crate::dynamics::{Config, Halt, Sample, MAX_WORK};
-use crate::fit::{fit_tracks, FitReport, FitSettings, Frame, InputKind, Track};
+use crate::fit::{fit_tracks, FitReport, FitSettings};
 use crate::modal::Params;
 use crate::model::Model;
+use crate::recording::{Frame, InputKind, Track};
 
 /// Steps of the simulation per frame of the recording.
 pub const STEPS_PER_FRAME: u64 = 5;
@@ -94,7 +95,7 @@ pub(super) fn replay(
     library: &[DiscoveredTerm],
     modes: &[usize],
 ) -> Result<Replay, DiscoverError> {
-    let body = discovered_body(model, settings.order, library)?;
+    let body = discovered_body(model, settings.recording.order, library)?;
     let points = rec.fit.model_points;
     let observed_frames: usize = rec.runs.iter().map(Vec::len).sum();
     // As many frames as the recording had, within the simulation's work budget.
@@ -105,7 +106,7 @@ pub(super) fn replay(
     let run = |temperature: f64| -> Result<FitReport, DiscoverError> {
         let config = Config {
             points,
-            order: settings.order,
+            order: settings.recording.order,
             dt: rec.dt / STEPS_PER_FRAME as f64,
             steps: (frames as u64 - 1) * STEPS_PER_FRAME,
             every: STEPS_PER_FRAME,
@@ -125,7 +126,7 @@ pub(super) fn replay(
             };
             track.frames.push(Frame {
                 t: s.t,
-                values: Some(tracked(settings.kind, &s.positions[i])),
+                values: Some(tracked(settings.recording.kind, &s.positions[i])),
             });
             Ok(())
         })?;

@@ -200,7 +200,7 @@ pub(super) fn assemble(
         .ok_or(DiscoverError::Degenerate { terms: p })?;
     let rss = gram.residual(&selected, &beta);
     let points = recordings[0].fit.model_points;
-    let notation = Notation::new(model, settings.fit.order, field)?;
+    let notation = Notation::new(model, settings.recording.order, field)?;
     // The rows measure time in frames: each coefficient back in the data's unit.
     let unit = time_unit(recordings);
     let library: Vec<DiscoveredTerm> = full
@@ -263,7 +263,7 @@ pub(super) fn assemble(
         field: field.to_string(),
         points,
         frames: recordings.iter().flat_map(|r| &r.runs).map(Vec::len).sum(),
-        order: settings.fit.order,
+        order: settings.recording.order,
         beyond_leading: model
             .lagrangian
             .beyond_leading

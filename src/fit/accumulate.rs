@@ -2,14 +2,15 @@
 //! last, projected, handed to the per-frame sink and added to its run; lost frames split the
 //! runs unless `--fill-gaps` bridges them.
 
-use super::jitter::Jitter;
-use super::project::Scratch;
-use super::read::Source;
 use super::stats::{Run, Stats};
 use super::welch::Ladder;
-use super::{animal::Animal, FitError, FitSettings, FrameError, InputKind, Projector, Recording};
+use super::{animal::Animal, FitError, FitSettings, Recording};
 use crate::modal::Params;
 use crate::model::Model;
+use crate::recording::Jitter;
+use crate::recording::Source;
+use crate::recording::Work;
+use crate::recording::{FrameError, InputKind, Projector, RecordingError};
 
 /// The per-frame callback of a streaming fit: projector, time, modal coordinates.
 pub type Each<'a> = &'a mut dyn FnMut(&Projector, f64, &[f64]) -> Result<(), SinkError>;
@@ -88,7 +89,7 @@ impl Context<'_> {
         if let Some((_, p)) = made.iter().find(|(w, _)| *w == width) {
             return Ok(p.clone());
         }
-        let p = Projector::new(self.model, self.params, self.settings, width)?;
+        let p = Projector::new(self.model, self.params, &self.settings.recording, width)?;
         made.push((width, p.clone()));
         Ok(p)
     }
@@ -105,7 +106,7 @@ impl Projectors {
         ctx: &Context<'_>,
         width: usize,
     ) -> Result<&mut Projector, FitError> {
-        if ctx.settings.kind == InputKind::Lengths {
+        if ctx.settings.recording.kind == InputKind::Lengths {
             if let Some(&(w, _)) = self.by_width.first().filter(|(w, _)| *w != width) {
                 return Err(FitError::Invalid(format!(
                     "{width} segments where the first animal has {w}: rings of another K are another body"
@@ -167,16 +168,18 @@ pub(super) fn accumulate(
         };
         let line = row.line;
         let proj = projs.get(ctx, values.len()).map_err(|e| match e {
-            FitError::Line { why, .. } => FitError::Line { line, why },
+            FitError::Recording(RecordingError::Line { why, .. }) => {
+                RecordingError::Line { line, why }.into()
+            }
             other => other,
         })?;
-        if settings.kind == InputKind::Lengths && reference.is_none() {
+        if settings.recording.kind == InputKind::Lengths && reference.is_none() {
             // Each animal's own rest length: a constant offset in the strains only shifts the
             // means, which the covariance and the spectra remove.
             reference = Some(values.iter().sum::<f64>() / values.len() as f64);
         }
         proj.reference_length = reference;
-        if settings.kind == InputKind::Midline && ctx.noise {
+        if settings.recording.kind == InputKind::Midline && ctx.noise {
             if animal.jitter.is_none() {
                 animal.jitter = Jitter::new(values.len() / 2);
             }
@@ -187,7 +190,7 @@ pub(super) fn accumulate(
         if pending > 0 {
             counts.frames_lost += pending;
             match previous {
-                Some(t0) if pending <= settings.fill_gaps => {
+                Some(t0) if pending <= settings.recording.fill_gaps => {
                     for k in 1..=pending {
                         let w = k as f64 / (pending + 1) as f64;
                         let t = t0 + w * (row.t - t0);
@@ -218,7 +221,7 @@ pub(super) fn accumulate(
             row.projected,
         )?;
         previous = Some(row.t);
-        if settings.fill_gaps > 0 {
+        if settings.recording.fill_gaps > 0 {
             previous_values.clear();
             previous_values.extend_from_slice(values);
         }
@@ -255,14 +258,16 @@ fn feed(
     (t, values, line): (f64, &[f64], usize),
     projected: Option<Result<(&[f64], f64), FrameError>>,
 ) -> Result<(), FitError> {
-    let bad = |why: FrameError| FitError::Line {
-        line,
-        why: why.into(),
+    let bad = |why: FrameError| {
+        FitError::from(RecordingError::Line {
+            line,
+            why: why.into(),
+        })
     };
     let (q, spacing) = match projected {
         Some(done) => done.map_err(bad)?,
         None => {
-            let head_first = ctx.settings.head_first;
+            let head_first = ctx.settings.recording.head_first;
             let spacing = proj
                 .project_into(values, head_first, &mut work.0, &mut work.1)
                 .map_err(bad)?;
@@ -276,6 +281,3 @@ fn feed(
         .push(q, spacing);
     Ok(())
 }
-
-/// Work space of a projection: the projector's, and the modal coordinates.
-pub(super) type Work = (Scratch, Vec<f64>);

@@ -14,7 +14,7 @@ pub(super) struct Animal {
     /// Its own fit, when the worker that read it made it (several inputs).
     pub(super) own: Option<super::AnimalFit>,
     /// Its tracked points' turning angles, for the tracking noise (midlines only).
-    pub(super) jitter: Option<super::jitter::Jitter>,
+    pub(super) jitter: Option<crate::recording::Jitter>,
 }
 
 /// The units a bootstrap draws: the animals, or the one animal's blocks of frames in time order

@@ -13,12 +13,13 @@ use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
 
 use super::accumulate::{accumulate, Context, Forecast, PassLadder, ProjectorCache, Projectors};
-use super::read::{sniff, FrameReader};
 use super::welch::{Ladder, LADDER};
 use super::window::{likely_windows, lowest_frequency};
-use super::{FitSettings, InputFormat, MAX_LINE_BYTES};
+use super::FitSettings;
 use crate::modal::Params;
 use crate::model::Model;
+use crate::recording::{sniff, FrameReader};
+use crate::recording::{InputFormat, MAX_LINE_BYTES};
 
 /// Frames the pilot reads: 4 segments of the ladder's longest window (at half overlap), which
 /// is the one the choice measures the lowest mode's frequency at.
@@ -99,7 +100,10 @@ pub fn foretold_windows(
 /// The pilot's forecast (see [`foretold_windows`]), `ctx` holding the whole ladder.
 fn windows(path: &Path, ctx: &Context<'_>) -> Option<Vec<usize>> {
     let settings = ctx.settings;
-    if settings.window.is_some() || settings.track_column || settings.format == InputFormat::Wcon {
+    if settings.window.is_some()
+        || settings.recording.track_column
+        || settings.recording.format == InputFormat::Wcon
+    {
         return None;
     }
     let file = std::fs::File::open(path).ok()?;
@@ -134,7 +138,7 @@ fn windows(path: &Path, ctx: &Context<'_>) -> Option<Vec<usize>> {
         return None;
     }
     // Read on this thread: for so few frames the workers save nothing (measured).
-    let source = FrameReader::new(text, settings);
+    let source = FrameReader::new(text, &settings.recording);
     let mut projs = Projectors { by_width: vec![] };
     // The choice reads the lead modes at the longest window, the others' segment counts.
     let ctx = Context {

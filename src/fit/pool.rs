@@ -4,7 +4,7 @@
 //! numbers do not depend on the number of threads. Memory holds the inputs in flight (one per
 //! worker) and, for the bootstrap only, every piece's statistics.
 
-use super::jitter::Jitter;
+use crate::recording::Jitter;
 use crate::report::number;
 use std::collections::BTreeMap;
 use std::io::BufRead;
@@ -13,18 +13,21 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{mpsc, Mutex};
 
 use super::accumulate::{accumulate, Context, Each, PassLadder, ProjectorCache, Projectors};
-use super::chunks::Chunked;
-use super::read::{read_tracks, sniff, whole, FrameReader, Track, TrackSource, MAX_WHOLE_FILE};
 use super::stats::Stats;
 use super::welch::Ladder;
 use super::{
     animal::{units, Animal},
     bootstrap,
     summary::{summarise, Origin, Scope},
-    AnimalFit, FitError, FitReport, FitSettings, InputFormat, Projector, Recording, Units,
+    AnimalFit, FitError, FitReport, FitSettings, Recording,
 };
 use crate::modal::Params;
 use crate::model::Model;
+use crate::recording::Chunked;
+use crate::recording::{
+    read_tracks, sniff, whole, FrameReader, Track, TrackSource, MAX_WHOLE_FILE,
+};
+use crate::recording::{InputFormat, Projector, RecordingError, Units};
 
 /// One input of a fit.
 pub enum Input<'a> {
@@ -187,18 +190,16 @@ fn parallel(inputs: Vec<Input<'_>>, ctx: &Context<'_>, pool: &mut Pool) -> Resul
 /// An error reading input `name`, named (unless the input has no name).
 fn with_name(e: FitError, name: &str) -> FitError {
     match e {
-        FitError::Io(_)
-        | FitError::Open(_)
-        | FitError::Line { .. }
-        | FitError::NoFrames { .. }
-        | FitError::Fps { .. }
-            if !name.is_empty() =>
-        {
-            FitError::In {
-                name: name.to_string(),
-                why: Box::new(e),
-            }
-        }
+        FitError::Recording(
+            RecordingError::Io(_)
+            | RecordingError::Open(_)
+            | RecordingError::Line { .. }
+            | RecordingError::NoFrames { .. }
+            | RecordingError::Fps { .. },
+        ) if !name.is_empty() => FitError::In {
+            name: name.to_string(),
+            why: Box::new(e),
+        },
         other => other,
     }
 }
@@ -213,8 +214,8 @@ fn read_input(
     let settings = ctx.settings;
     // Only a DeepLabCut export takes --fps (its rows hold frame indices); the line reader
     // refuses it for a CSV, whose first column is time.
-    let fps = |has: &str| match settings.fps {
-        Some(_) => Err(FitError::Fps { has: has.into() }),
+    let fps = |has: &str| match settings.recording.fps {
+        Some(_) => Err(RecordingError::Fps { has: has.into() }),
         None => Ok(()),
     };
     // A file alone is parsed on every core (a stream is not: its reader could wait forever).
@@ -226,7 +227,7 @@ fn read_input(
         }
         Input::Reader { name, reader } => (name, reader),
         Input::File(path) => {
-            let file = std::fs::File::open(&path).map_err(FitError::Open)?;
+            let file = std::fs::File::open(&path).map_err(RecordingError::Open)?;
             chunked = ctx.alone;
             (
                 path.display().to_string(),
@@ -234,29 +235,33 @@ fn read_input(
             )
         }
     };
-    let format = match settings.format {
+    let format = match settings.recording.format {
         InputFormat::Auto => sniff(&mut reader)?,
         forced => forced,
     };
     if format == InputFormat::Wcon {
         fps("its records' \"t\" (WCON)")?;
         let text = whole(reader)?;
-        let w = super::wcon::parse(&text, &name, settings.head_first)?;
+        let w = crate::recording::parse_wcon(&text, &name, settings.recording.head_first)?;
         let units = Units {
             time: Some(w.time_unit),
             length: Some(w.length_unit),
         };
         return read_tracks_of(w.tracks, ctx, projs, each, units);
     }
-    if settings.track_column {
-        let tracks = read_tracks(std::io::Read::take(reader, MAX_WHOLE_FILE), &name, settings)?;
+    if settings.recording.track_column {
+        let tracks = read_tracks(
+            std::io::Read::take(reader, MAX_WHOLE_FILE),
+            &name,
+            &settings.recording,
+        )?;
         return read_tracks_of(tracks, ctx, projs, each, Units::default());
     }
-    let source = FrameReader::new(reader, settings);
+    let source = FrameReader::new(reader, &settings.recording);
     let animal = if chunked {
         std::thread::scope(|scope| {
             let make = Box::new(|width| ctx.projector(width).ok());
-            let mut source = Chunked::new(source, scope, settings, make);
+            let mut source = Chunked::new(source, scope, &settings.recording, make);
             accumulate(&mut source, name, ctx, projs, each)
         })?
     } else {
@@ -282,7 +287,7 @@ fn read_tracks_of(
         let mut source = TrackSource::new(track);
         animals.push(
             accumulate(&mut source, name.clone(), ctx, projs, each).map_err(|e| match e {
-                FitError::Line { .. } => FitError::In {
+                FitError::Recording(RecordingError::Line { .. }) => FitError::In {
                     name,
                     why: Box::new(e),
                 },
@@ -449,9 +454,9 @@ impl Pool {
     fn finish(self, ctx: &Context<'_>) -> Result<FitReport, FitError> {
         let (Some(stats), Some(proj)) = (&self.stats, &self.projector) else {
             // A recording with nothing in it is a problem of the file: named, when there is one.
-            let empty = FitError::NoFrames {
+            let empty = FitError::from(RecordingError::NoFrames {
                 read: self.counts.frames_read,
-            };
+            });
             let mut names = self.fits.iter().map(|f| f.recording.as_str());
             return Err(match (names.next(), names.next()) {
                 (Some(name), None) if !name.is_empty() => with_name(empty, name),
@@ -460,14 +465,14 @@ impl Pool {
         };
         let interval = self.interval.unwrap_or(1.0);
         let mut named = self.units.clone().unwrap_or_default();
-        if let Some(u) = &ctx.settings.time_unit {
+        if let Some(u) = &ctx.settings.recording.time_unit {
             named.time = Some(u.clone());
         }
-        if let Some(u) = &ctx.settings.length_unit {
+        if let Some(u) = &ctx.settings.recording.length_unit {
             named.length = Some(u.clone());
         }
         let counts = Recording {
-            fill_gaps: ctx.settings.fill_gaps,
+            fill_gaps: ctx.settings.recording.fill_gaps,
             ..self.counts.clone()
         };
         let described = Some((counts, named));

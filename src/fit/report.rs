@@ -3,7 +3,7 @@
 use super::bootstrap::Intervals;
 use super::stats::Stats;
 use super::verdict::{self, ModeSpectralFit, TheoryTests, WindowChoice};
-use super::{InputKind, Units};
+use crate::recording::{InputKind, Units};
 use crate::report::{check_finite, csv_numbers, fixed, number, to_json, NonFinite, Report};
 
 /// How complete a recording was.
@@ -77,7 +77,7 @@ pub struct FitReport {
     /// The Welch window used, and why.
     pub window: WindowChoice,
     /// The tracking noise σ measured at the tracked points (midlines; see `fit::jitter`).
-    pub tracking_noise: Option<super::TrackingNoise>,
+    pub tracking_noise: Option<crate::recording::TrackingNoise>,
     /// Input kind.
     pub kind: InputKind,
     /// Observed field.

@@ -7,31 +7,7 @@
 
 pub(super) use super::welch::Spectra;
 use super::welch::{lanes_dot, lanes_sum, FftWork, Ladder, Plan, Ring, WelchSums};
-
-/// Chan's merge of (mean, co-moment, count) b, taken `times` times, into a: returns the count.
-pub(super) fn merge_moments(
-    (mean, comoment, na): (&mut [f64], &mut [Vec<f64>], f64),
-    (other_mean, other_comoment, count): (&[f64], &[Vec<f64>], f64),
-    times: f64,
-) -> f64 {
-    let nb = times * count;
-    let n = na + nb;
-    let delta: Vec<f64> = other_mean
-        .iter()
-        .zip(mean.iter())
-        .map(|(b, a)| b - a)
-        .collect();
-    for (mu, d) in mean.iter_mut().zip(&delta) {
-        *mu += d * nb / n;
-    }
-    let w = na * nb / n;
-    for (i, row) in comoment.iter_mut().enumerate() {
-        for (j, c) in row.iter_mut().enumerate() {
-            *c += times * other_comoment[i][j] + w * delta[i] * delta[j];
-        }
-    }
-    n
-}
+pub(super) use crate::recording::merge_moments;
 
 /// The sufficient statistics of some frames (one run, an animal, a pool, a resample).
 #[derive(Clone, Debug, Default)]

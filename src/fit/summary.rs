@@ -1,17 +1,16 @@
 //! From accumulated moments to a report: PCA, overlaps, shares, spectral peaks, and the ω and
 //! β fits.
 
-use super::project::Projector;
 use super::stats::Spectra;
 use super::verdict::{self, ModeSpectralFit, TheoryTests};
 use super::window::{
     choose_window, fit_modes_spectra, lowest_frequency, spectral_peak_and_centroid,
 };
+use crate::recording::Projector;
 use crate::report::{fixed, number};
 
-use super::{
-    Continuum, Estimator, FitError, FitReport, FitSettings, ModeFit, Recording, Subspace, Units,
-};
+use super::{Continuum, Estimator, FitError, FitReport, FitSettings, ModeFit, Recording, Subspace};
+use crate::recording::Units;
 
 /// How much of a fit to make: everything, or only the constants (ω, β, κ from the first
 /// `fit_modes` modes) for an animal alone or a bootstrap resample, warm-started from the
@@ -252,7 +251,7 @@ pub(super) fn summarise(
         &mut warnings,
     )?;
     warn_of(&modes_fit, &cov, &tests, &mut warnings);
-    warnings.extend(origin.warnings((used_window, segments), proj, settings.ring));
+    warnings.extend(origin.warnings((used_window, segments), proj, settings.recording.ring));
     for x in &mut modes {
         x.theory_angular_frequency = omega * x.eigenvalue.sqrt();
     }
@@ -279,7 +278,7 @@ pub(super) fn summarise(
         overlap,
         omega,
         beta,
-        kind: settings.kind,
+        kind: settings.recording.kind,
         field: proj.field.clone(),
         scale: proj.scale.clone(),
         model_points: proj.points,

@@ -459,7 +459,7 @@ fn exponent(points: &[(usize, f64, f64, f64)], expected: f64) -> TheoryTest {
 /// The lines `fit` prints for the per-mode fits, the floor and the tests.
 pub(super) fn text(
     fits: &[ModeSpectralFit],
-    (floor, tracking): (Option<f64>, Option<&super::TrackingNoise>),
+    (floor, tracking): (Option<f64>, Option<&crate::recording::TrackingNoise>),
     tests: &TheoryTests,
     window: &WindowChoice,
 ) -> String {

@@ -1,11 +1,11 @@
 //! Each mode's spectrum fitted at one Welch window, and that window chosen from the data: the
 //! ladder's shortest window in which the lowest mode lies [`AUTO_BINS`] bins above zero.
 
-use super::project::Projector;
 use super::spectrum::{fit_mode, Taper};
 use super::stats::Spectra;
 use super::verdict::{ModeSpectralFit, WindowChoice};
 use super::welch::LEAD;
+use crate::recording::Projector;
 use crate::report::fixed;
 
 /// The Welch window: the given one, or the shortest of the ladder in which the lowest mode's

@@ -6,9 +6,10 @@
 
 use rand::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
-use theory_search::fit::{fit, FitReport, FitSettings, InputKind};
+use theory_search::fit::{fit, FitReport, FitSettings};
 use theory_search::modal::Params;
 use theory_search::model::Model;
+use theory_search::recording::InputKind;
 
 /// A simulated body: its ends, κ (ωₙ = κ rₙ², body length 1), the first mode's damping ratio
 /// (ζₙ ∝ rₙ², Kelvin damping), the first mode's rms amplitude, tracked points, position noise
@@ -149,7 +150,7 @@ pub fn model(clamped: bool) -> Model {
 
 pub fn fitted(text: &str, clamped: bool, points: usize, window: Option<usize>) -> FitReport {
     let mut s = FitSettings::new(InputKind::Midline);
-    s.points = points;
+    s.recording.points = points;
     s.window = window;
     // Point 1 (s = 0 here, the clamped end) is read as the head: the zebrafish model clamps
     // its head.

@@ -4,16 +4,16 @@
 
 use std::path::{Path, PathBuf};
 
-use super::FitError;
+use super::RecordingError;
 
 /// Files a directory holds recordings in.
 const EXTENSIONS: [&str; 4] = ["csv", "txt", "wcon", "json"];
 
 /// The files of `dir` whose names `keep` accepts, in name order.
-fn files_in(dir: &Path, keep: &dyn Fn(&str) -> bool) -> Result<Vec<PathBuf>, FitError> {
+fn files_in(dir: &Path, keep: &dyn Fn(&str) -> bool) -> Result<Vec<PathBuf>, RecordingError> {
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
         .map_err(|e| {
-            FitError::Open(std::io::Error::new(
+            RecordingError::Open(std::io::Error::new(
                 e.kind(),
                 format!("cannot read {}: {e}", dir.display()),
             ))
@@ -46,7 +46,7 @@ fn matches(pattern: &[char], name: &[char]) -> bool {
 
 /// The recordings named: files as given, a directory's recordings and a pattern's matches in
 /// name order.
-pub fn recordings(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, FitError> {
+pub fn recordings(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, RecordingError> {
     let mut out = Vec::new();
     for path in inputs {
         let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
@@ -64,9 +64,9 @@ pub fn recordings(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, FitError> {
             continue;
         };
         if files.is_empty() {
-            return Err(FitError::In {
+            return Err(RecordingError::In {
                 name: path.display().to_string(),
-                why: Box::new(FitError::Io(std::io::Error::other(
+                why: Box::new(RecordingError::Io(std::io::Error::other(
                     "no recordings there (.csv, .txt, .wcon or .json files)",
                 ))),
             });
@@ -74,7 +74,7 @@ pub fn recordings(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, FitError> {
         out.extend(files);
     }
     if out.len() > 1 && out.iter().any(|p| p.as_os_str() == "-") {
-        return Err(FitError::Invalid(
+        return Err(RecordingError::Invalid(
             "standard input (-) is one recording: give files instead to pool several".into(),
         ));
     }

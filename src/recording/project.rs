@@ -5,17 +5,20 @@
 use super::continuum::{Grid, CONTINUUM_AMPLITUDE};
 use super::observe::{observe, segment_angles, size, sizes};
 pub use super::observe::{turning_angles, FrameError};
-use super::{FitError, FitSettings, InputKind, LineWhy, MAX_POINTS};
+use super::{InputKind, LineWhy, RecordingError, RecordingSettings, MAX_POINTS};
 use crate::modal::{field_modes, Params};
 use crate::model::Model;
 
 /// Work space of [`Projector::project_into`].
 #[derive(Debug, Default)]
-pub(super) struct Scratch {
+pub(crate) struct Scratch {
     segments: Vec<(f64, f64)>,
     angles: Vec<f64>,
     sizes: Vec<f64>,
 }
+
+/// Work space of a projection: the projector's, and the modal coordinates.
+pub(crate) type Work = (Scratch, Vec<f64>);
 
 /// The N-point projector's rows: the S vⱼ are orthogonal with |S vⱼ|² = λⱼ, so
 /// Qⱼ = (S vⱼ)·o/λⱼ.
@@ -29,7 +32,7 @@ fn lattice_rows(design: &[Vec<f64>], lambdas: &[f64]) -> Vec<Vec<f64>> {
 
 /// A frame listed head first, reordered head last (the model's orientation): points (x, y)
 /// pairs for midlines, segments for lengths.
-pub(super) fn reversed(kind: InputKind, values: &[f64]) -> Vec<f64> {
+pub(crate) fn reversed(kind: InputKind, values: &[f64]) -> Vec<f64> {
     match kind {
         InputKind::Midline => values.chunks(2).rev().flatten().copied().collect(),
         InputKind::Lengths => values.iter().rev().copied().collect(),
@@ -81,10 +84,10 @@ impl Projector {
     pub fn new(
         model: &Model,
         params: &Params,
-        settings: &FitSettings,
+        settings: &RecordingSettings,
         width: usize,
-    ) -> Result<Projector, FitError> {
-        let invalid = |s: String| FitError::Invalid(s);
+    ) -> Result<Projector, RecordingError> {
+        let invalid = |s: String| RecordingError::Invalid(s);
         let (k_in, n) = dimensions(settings, width)?;
         let field_index = observed_field(model, settings)?;
         // Only the observed field's modes: another field's limits must not refuse this fit.
@@ -263,7 +266,7 @@ impl Projector {
     /// last first when `head_first`: [`Projector::modal`] and [`Projector::spacing`] of the
     /// oriented frame, the same numbers, without a new vector for midlines of N points (the
     /// common case, which a long recording repeats a million times).
-    pub(super) fn project_into(
+    pub(crate) fn project_into(
         &self,
         values: &[f64],
         head_first: bool,
@@ -368,9 +371,12 @@ fn fitted_of_ring(lambdas: &[f64], observed: usize) -> Option<usize> {
 }
 
 /// Values per frame → (measured points or segments K, model points N), checked.
-fn dimensions(settings: &FitSettings, width: usize) -> Result<(usize, usize), FitError> {
-    let invalid = |s: String| FitError::Invalid(s);
-    let line = |why: LineWhy| FitError::Line { line: 0, why };
+fn dimensions(
+    settings: &RecordingSettings,
+    width: usize,
+) -> Result<(usize, usize), RecordingError> {
+    let invalid = |s: String| RecordingError::Invalid(s);
+    let line = |why: LineWhy| RecordingError::Line { line: 0, why };
     let (k_in, n) = match settings.kind {
         InputKind::Midline => {
             if width % 2 != 0 {
@@ -415,8 +421,8 @@ fn dimensions(settings: &FitSettings, width: usize) -> Result<(usize, usize), Fi
 }
 
 /// The model field the data observe: `--field`, or the role the input kind implies.
-fn observed_field(model: &Model, settings: &FitSettings) -> Result<usize, FitError> {
-    let invalid = |s: String| FitError::Invalid(s);
+fn observed_field(model: &Model, settings: &RecordingSettings) -> Result<usize, RecordingError> {
+    let invalid = |s: String| RecordingError::Invalid(s);
     Ok(match &settings.field {
         Some(id) => model
             .fields
@@ -435,12 +441,12 @@ fn observed_field(model: &Model, settings: &FitSettings) -> Result<usize, FitErr
 
 /// The rows of (BᵀB)⁻¹Bᵀ for B = [design | 1], the constant absorbing the unknown mean strain of
 /// a partial ring; the constant's own row is dropped.
-fn least_squares_rows(design: &[Vec<f64>]) -> Result<Vec<Vec<f64>>, FitError> {
+fn least_squares_rows(design: &[Vec<f64>]) -> Result<Vec<Vec<f64>>, RecordingError> {
     let (m, k) = (design.len(), design[0].len());
     let b = nalgebra::DMatrix::from_fn(k, m + 1, |i, j| if j < m { design[j][i] } else { 1.0 });
     let normal = b.transpose() * &b;
     let chol = nalgebra::Cholesky::new(normal).ok_or_else(|| {
-        FitError::Invalid("the measured segments do not separate the fitted modes".into())
+        RecordingError::Invalid("the measured segments do not separate the fitted modes".into())
     })?;
     let solved = chol.solve(&b.transpose());
     Ok((0..m)
@@ -458,10 +464,10 @@ mod tests {
     #[test]
     fn the_fast_projection_is_the_general_one() {
         let (model, params) = (Model::larva(), Params::default());
-        let mut next = crate::fit::xorshift(0x3C6E_F372_FE94_F82Bu64);
+        let mut next = crate::recording::xorshift(0x3C6E_F372_FE94_F82Bu64);
         let mut unit = move || (next() % 2_000_001) as f64 / 1e6 - 1.0;
         for points in [5, 12, 31] {
-            let mut settings = FitSettings::new(InputKind::Midline);
+            let mut settings = RecordingSettings::new(InputKind::Midline);
             settings.points = points;
             let p = Projector::new(&model, &params, &settings, 2 * points).unwrap();
             let (mut work, mut q) = (Scratch::default(), Vec::new());

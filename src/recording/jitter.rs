@@ -22,8 +22,8 @@
 use nalgebra::{DMatrix, SymmetricEigen};
 use serde::Serialize;
 
+use super::merge_moments;
 use super::observe::{segment_angles, size, sizes};
-use super::stats::merge_moments;
 
 /// The most tracked points the measure uses: of more, every k-th (the work per frame grows as
 /// the square of the points, the final eigenproblem as the cube).
@@ -51,7 +51,7 @@ fn plateau(sorted: &[f64], n: f64) -> (f64, usize) {
 
 /// What one pass collects of the tracked points' turning angles (one K; pieces add up).
 #[derive(Clone, Debug)]
-pub(super) struct Jitter {
+pub(crate) struct Jitter {
     /// Points per frame in the file, the step between those used, and how many are used.
     tracked: usize,
     step: usize,
@@ -95,7 +95,7 @@ pub struct TrackingNoise {
 impl Jitter {
     /// For midlines of `tracked` points (at least 4: two angles); of more than
     /// [`MAX_POINTS`], every k-th is used.
-    pub(super) fn new(tracked: usize) -> Option<Jitter> {
+    pub(crate) fn new(tracked: usize) -> Option<Jitter> {
         let step = tracked.saturating_sub(1).div_ceil(MAX_POINTS - 1).max(1);
         let points = tracked.saturating_sub(1) / step + 1;
         let d = points.checked_sub(2).filter(|&d| d >= 2)?;
@@ -121,7 +121,7 @@ impl Jitter {
 
     /// One recorded frame (x₁, y₁, x₂, …), `follows` when it is the frame right after the
     /// previous recorded one (no loss, nothing bridged between).
-    pub(super) fn frame(&mut self, values: &[f64], follows: bool) {
+    pub(crate) fn frame(&mut self, values: &[f64], follows: bool) {
         let n = self.seen;
         self.seen += 1;
         if !follows {
@@ -217,7 +217,7 @@ impl Jitter {
     }
 
     /// Add another animal's (same K).
-    pub(super) fn absorb(&mut self, other: &Jitter) {
+    pub(crate) fn absorb(&mut self, other: &Jitter) {
         if other.tracked != self.tracked || other.frames == 0.0 {
             return;
         }
@@ -242,7 +242,7 @@ impl Jitter {
     }
 
     /// σ from what was collected: `None` with fewer frames than 4d (or 50).
-    pub(super) fn estimate(&self) -> Option<TrackingNoise> {
+    pub(crate) fn estimate(&self) -> Option<TrackingNoise> {
         let d = self.mean.len();
         if self.frames < (4 * d).max(50) as f64 {
             return None;

@@ -9,20 +9,20 @@
 use serde_json::Value;
 
 use super::read::{Frame, Track};
-use super::FitError;
+use super::RecordingError;
 
 /// Most animals one file may hold.
 const MAX_IDS: usize = 100_000;
 
 /// The tracks of a WCON text and its time and length units.
-pub(super) struct Wcon {
-    pub(super) tracks: Vec<Track>,
-    pub(super) time_unit: String,
-    pub(super) length_unit: String,
+pub(crate) struct Wcon {
+    pub(crate) tracks: Vec<Track>,
+    pub(crate) time_unit: String,
+    pub(crate) length_unit: String,
 }
 
-fn bad(why: impl Into<String>) -> FitError {
-    FitError::Invalid(format!("WCON: {}", why.into()))
+fn bad(why: impl Into<String>) -> RecordingError {
+    RecordingError::Invalid(format!("WCON: {}", why.into()))
 }
 
 /// A length unit's size in metres: `[number*][prefix]unit`, with the format's prefixes and
@@ -65,7 +65,7 @@ fn metres(unit: &str) -> Option<f64> {
 }
 
 /// A unit string from the file: text, printable, short.
-fn unit(units: &serde_json::Map<String, Value>, key: &str) -> Result<String, FitError> {
+fn unit(units: &serde_json::Map<String, Value>, key: &str) -> Result<String, RecordingError> {
     let u = units
         .get(key)
         .and_then(Value::as_str)
@@ -74,7 +74,7 @@ fn unit(units: &serde_json::Map<String, Value>, key: &str) -> Result<String, Fit
 }
 
 /// A number or `null` (missing) as f64.
-fn number(v: &Value) -> Result<f64, FitError> {
+fn number(v: &Value) -> Result<f64, RecordingError> {
     match v {
         Value::Null => Ok(f64::NAN),
         Value::Number(n) => n.as_f64().ok_or_else(|| bad("a number out of range")),
@@ -91,8 +91,8 @@ fn arrayed(v: &Value) -> Vec<&Value> {
 }
 
 /// Parse a WCON text; `head_first` is the orientation the frames are given to the fit in.
-pub(super) fn parse(text: &str, name: &str, head_first: bool) -> Result<Wcon, FitError> {
-    let root: Value = serde_json::from_str(text).map_err(|e| FitError::Line {
+pub(crate) fn parse(text: &str, name: &str, head_first: bool) -> Result<Wcon, RecordingError> {
+    let root: Value = serde_json::from_str(text).map_err(|e| RecordingError::Line {
         line: e.line(),
         why: e.into(),
     })?;
@@ -168,7 +168,7 @@ fn record_frames(
     r: usize,
     head_first: bool,
     y_scale: f64,
-) -> Result<Vec<Frame>, FitError> {
+) -> Result<Vec<Frame>, RecordingError> {
     let get = |key: &str| {
         record
             .get(key)
@@ -177,7 +177,7 @@ fn record_frames(
     let t = get("t")?;
     let single = !t.is_array();
     let times = arrayed(t);
-    let per_time = |key: &str| -> Result<Vec<Vec<&Value>>, FitError> {
+    let per_time = |key: &str| -> Result<Vec<Vec<&Value>>, RecordingError> {
         let v = get(key)?;
         let rows: Vec<Vec<&Value>> = if single {
             vec![arrayed(v)]

@@ -7,7 +7,7 @@ use std::io::BufRead;
 
 pub use super::error::LineError;
 use super::number::plain_row;
-use super::{FitError, FitSettings, FrameError, InputFormat, InputKind, LineWhy};
+use super::{FrameError, InputFormat, InputKind, LineWhy, RecordingError, RecordingSettings};
 use crate::markup::clip;
 use crate::report::number;
 
@@ -30,25 +30,25 @@ pub struct Track {
 }
 
 /// A stream of rows of one animal.
-pub(super) trait Source {
+pub(crate) trait Source {
     /// The next row, or `None` at the end; it borrows the source until the next call.
-    fn next_row(&mut self) -> Result<Option<Row<'_>>, FitError>;
+    fn next_row(&mut self) -> Result<Option<Row<'_>>, RecordingError>;
     /// The sampling interval seen (the first time step).
     fn interval(&self) -> Option<f64>;
 }
 
 /// One row of a recording, lent by its [`Source`].
-pub(super) struct Row<'a> {
-    pub(super) t: f64,
+pub(crate) struct Row<'a> {
+    pub(crate) t: f64,
     /// The frame's values after t; `None` when the tracker lost it.
-    pub(super) values: Option<&'a [f64]>,
+    pub(crate) values: Option<&'a [f64]>,
     /// Frames missing from the file just before this row (from the time step).
-    pub(super) missing_before: usize,
+    pub(crate) missing_before: usize,
     /// Where the row came from (line or frame, 1-based), for messages.
-    pub(super) line: usize,
+    pub(crate) line: usize,
     /// The frame's modal coordinates and point spacing, when a parsing worker already
     /// projected it (or why it could not).
-    pub(super) projected: Option<Result<(&'a [f64], f64), FrameError>>,
+    pub(crate) projected: Option<Result<(&'a [f64], f64), FrameError>>,
 }
 
 /// The sampling clock: the first time step is the interval; later steps must be whole numbers
@@ -90,14 +90,14 @@ pub enum ClockError {
 }
 
 #[derive(Debug, Default)]
-pub(super) struct Clock {
+pub(crate) struct Clock {
     last_t: Option<f64>,
-    pub(super) dt: Option<f64>,
+    pub(crate) dt: Option<f64>,
 }
 
 impl Clock {
     /// Check the step to `t`; returns how many frames are missing before it.
-    pub(super) fn step(&mut self, t: f64) -> Result<usize, ClockError> {
+    pub(crate) fn step(&mut self, t: f64) -> Result<usize, ClockError> {
         let Some(last) = self.last_t.replace(t) else {
             return Ok(0);
         };
@@ -121,7 +121,7 @@ impl Clock {
 }
 
 /// A track in memory as a [`Source`].
-pub(super) struct TrackSource {
+pub(crate) struct TrackSource {
     frames: std::vec::IntoIter<Frame>,
     index: usize,
     clock: Clock,
@@ -130,7 +130,7 @@ pub(super) struct TrackSource {
 }
 
 impl TrackSource {
-    pub(super) fn new(track: Track) -> TrackSource {
+    pub(crate) fn new(track: Track) -> TrackSource {
         TrackSource {
             frames: track.frames.into_iter(),
             index: 0,
@@ -141,12 +141,12 @@ impl TrackSource {
 }
 
 impl Source for TrackSource {
-    fn next_row(&mut self) -> Result<Option<Row<'_>>, FitError> {
+    fn next_row(&mut self) -> Result<Option<Row<'_>>, RecordingError> {
         let Some(frame) = self.frames.next() else {
             return Ok(None);
         };
         self.index += 1;
-        let bad = |why: LineWhy| FitError::Line {
+        let bad = |why: LineWhy| RecordingError::Line {
             line: self.index,
             why,
         };
@@ -183,11 +183,11 @@ pub const MAX_WHOLE_FILE: u64 = 1 << 30;
 pub const MAX_LINE_BYTES: usize = 1 << 20;
 
 /// Streams frames out of text.
-pub(super) struct FrameReader<R> {
+pub(crate) struct FrameReader<R> {
     reader: R,
     buf: Vec<u8>,
     /// The line last read (1-based).
-    pub(super) line: usize,
+    pub(crate) line: usize,
     width: Option<usize>,
     /// The header line, if it names every column: its line number and how many it names.
     header: Option<(usize, usize)>,
@@ -205,13 +205,13 @@ pub(super) struct FrameReader<R> {
     /// DeepLabCut points below this likelihood are lost.
     min_likelihood: f64,
     /// The values of the row last read.
-    pub(super) values: Vec<f64>,
+    pub(crate) values: Vec<f64>,
     /// The track id of the row last read, with `track`.
-    pub(super) track_id: Option<String>,
+    pub(crate) track_id: Option<String>,
 }
 
 impl<R: BufRead> FrameReader<R> {
-    pub(super) fn new(reader: R, settings: &FitSettings) -> Self {
+    pub(crate) fn new(reader: R, settings: &RecordingSettings) -> Self {
         FrameReader {
             reader,
             buf: Vec::new(),
@@ -253,13 +253,13 @@ impl<R: BufRead> FrameReader<R> {
 
     /// The next line into `self.buf`, read at most [`MAX_LINE_BYTES`] + 1 bytes at a time;
     /// `false` at the end.
-    fn next_line(&mut self) -> Result<bool, FitError> {
+    fn next_line(&mut self) -> Result<bool, RecordingError> {
         use std::io::Read;
         self.buf.clear();
         let read = (&mut self.reader)
             .take(MAX_LINE_BYTES as u64 + 1)
             .read_until(b'\n', &mut self.buf)
-            .map_err(FitError::Io)?;
+            .map_err(RecordingError::Io)?;
         self.line += usize::from(read > 0);
         Ok(read > 0)
     }
@@ -267,13 +267,13 @@ impl<R: BufRead> FrameReader<R> {
     /// The next row: a frame, or a frame the tracker lost (a missing or non-finite value), with
     /// the frames the time step says are missing before it. The values are left in
     /// `self.values`, the track id in `self.track_id`.
-    pub(super) fn advance(&mut self) -> Result<Option<Parsed>, FitError> {
+    pub(crate) fn advance(&mut self) -> Result<Option<Parsed>, RecordingError> {
         loop {
             if !self.next_line()? {
                 return Ok(None);
             }
             let line = self.line;
-            let bad = |why: LineWhy| FitError::Line { line, why };
+            let bad = |why: LineWhy| RecordingError::Line { line, why };
             let row = match self.plain_width() {
                 // The common row, once the layout is known.
                 Some(width) => {
@@ -309,9 +309,9 @@ impl<R: BufRead> FrameReader<R> {
 
     /// A row read cell by cell: the header rows, DeepLabCut's layout, a track id. `None` for a
     /// header row.
-    fn first_rows(&mut self, text: &str) -> Result<Option<(f64, bool)>, FitError> {
+    fn first_rows(&mut self, text: &str) -> Result<Option<(f64, bool)>, RecordingError> {
         let line = self.line;
-        let bad = |why: LineWhy| FitError::Line { line, why };
+        let bad = |why: LineWhy| RecordingError::Line { line, why };
         let mut cells: Vec<&str> = cells(text).collect();
         // DeepLabCut's three header rows; otherwise only the first line may be a header.
         if !self.seen_data && cells[0] == "individuals" {
@@ -326,7 +326,7 @@ impl<R: BufRead> FrameReader<R> {
         // The first line of any other layout holds, or names, a column of time.
         if !self.seen_data && !self.dlc && self.fps.is_some() {
             let (column, cell) = (time + 1, clip(cells[time]));
-            return Err(FitError::Fps {
+            return Err(RecordingError::Fps {
                 has: if header {
                     format!("column {column}, headed {cell} (line {line})")
                 } else {
@@ -382,24 +382,24 @@ impl<R: BufRead> FrameReader<R> {
 
     /// The layout found in the first rows, once a data row has been read: the row width, and
     /// whether every later row is plain (no DeepLabCut conversion, no track id).
-    pub(super) fn plain_width(&self) -> Option<usize> {
+    pub(crate) fn plain_width(&self) -> Option<usize> {
         self.width.filter(|_| !self.dlc && !self.track)
     }
 
     /// The stream after the rows read so far, and the clock and line count to carry on with.
-    pub(super) fn into_rest(self) -> (R, Clock, usize) {
+    pub(crate) fn into_rest(self) -> (R, Clock, usize) {
         (self.reader, self.clock, self.line)
     }
 }
 
 /// What [`FrameReader::advance`] read besides the values.
 #[derive(Debug, Clone, Copy)]
-pub(super) struct Parsed {
-    pub(super) t: f64,
+pub(crate) struct Parsed {
+    pub(crate) t: f64,
     /// A value is missing or not finite: the tracker lost the frame.
-    pub(super) lost: bool,
+    pub(crate) lost: bool,
     /// Frames the time step says are missing before this one.
-    pub(super) missing_before: usize,
+    pub(crate) missing_before: usize,
 }
 
 /// A line's text (its bytes, the line end included), checked: not too long, UTF-8.
@@ -414,7 +414,7 @@ fn line_text(bytes: &[u8]) -> Result<&str, LineError> {
 /// `width` cells. `None` for a blank or comment line; else the row's time, values (appended to
 /// `values`: a parsing worker keeps a chunk's rows one after the other) and whether one is
 /// lost.
-pub(super) fn plain_line(
+pub(crate) fn plain_line(
     bytes: &[u8],
     width: usize,
     values: &mut Vec<f64>,
@@ -437,7 +437,7 @@ pub(super) fn plain_line(
 }
 
 /// A line's cells: split at commas (each trimmed) when it has one, else at white space.
-pub(super) fn cells(text: &str) -> impl Iterator<Item = &str> {
+pub(crate) fn cells(text: &str) -> impl Iterator<Item = &str> {
     if text.contains(',') {
         itertools::Either::Left(text.split(',').map(str::trim))
     } else {
@@ -448,7 +448,7 @@ pub(super) fn cells(text: &str) -> impl Iterator<Item = &str> {
 /// A data row of `width` cells (time first) into `values`: its time and whether a value is
 /// lost (an empty cell, NaN or ±inf). A wrong width is reported before a bad cell, a bad time
 /// before a bad value, the first bad value before later ones.
-pub(super) fn data_row<'t>(
+pub(crate) fn data_row<'t>(
     mut cells: impl Iterator<Item = &'t str>,
     width: usize,
     values: &mut Vec<f64>,
@@ -490,7 +490,7 @@ pub(super) fn data_row<'t>(
 }
 
 impl<R: BufRead> Source for FrameReader<R> {
-    fn next_row(&mut self) -> Result<Option<Row<'_>>, FitError> {
+    fn next_row(&mut self) -> Result<Option<Row<'_>>, RecordingError> {
         Ok(self.advance()?.map(|p| Row {
             t: p.t,
             values: (!p.lost).then_some(self.values.as_slice()),
@@ -507,11 +507,11 @@ impl<R: BufRead> Source for FrameReader<R> {
 
 /// The tracks of a file whose first column is a track id, each in time order (rows of one
 /// track may be interleaved with others'). Every value is held: the caller bounds the file.
-pub(super) fn read_tracks<R: BufRead>(
+pub(crate) fn read_tracks<R: BufRead>(
     reader: R,
     name: &str,
-    settings: &FitSettings,
-) -> Result<Vec<Track>, FitError> {
+    settings: &RecordingSettings,
+) -> Result<Vec<Track>, RecordingError> {
     let mut frames = FrameReader::new(reader, settings);
     let mut tracks: Vec<Track> = Vec::new();
     let mut index = std::collections::HashMap::new();
@@ -537,9 +537,11 @@ pub(super) fn read_tracks<R: BufRead>(
 
 /// The format of a stream from its first bytes: `{` opens WCON; DeepLabCut's header rows are
 /// recognised by the line reader; anything else is plain CSV.
-pub(super) fn sniff(reader: &mut Box<dyn BufRead + Send + '_>) -> Result<InputFormat, FitError> {
+pub(crate) fn sniff(
+    reader: &mut Box<dyn BufRead + Send + '_>,
+) -> Result<InputFormat, RecordingError> {
     loop {
-        let buf = reader.fill_buf().map_err(FitError::Io)?;
+        let buf = reader.fill_buf().map_err(RecordingError::Io)?;
         let Some(&first) = buf.iter().find(|b| !b.is_ascii_whitespace()) else {
             if buf.is_empty() {
                 return Ok(InputFormat::Csv);
@@ -560,14 +562,14 @@ pub(super) fn sniff(reader: &mut Box<dyn BufRead + Send + '_>) -> Result<InputFo
 const DLC_HEADERS: [&str; 3] = ["scorer", "bodyparts", "coords"];
 
 /// A whole stream as text, at most [`MAX_WHOLE_FILE`] bytes.
-pub(super) fn whole(reader: Box<dyn BufRead + Send + '_>) -> Result<String, FitError> {
+pub(crate) fn whole(reader: Box<dyn BufRead + Send + '_>) -> Result<String, RecordingError> {
     use std::io::Read as _;
     let mut text = String::new();
     std::io::Read::take(reader, MAX_WHOLE_FILE + 1)
         .read_to_string(&mut text)
-        .map_err(FitError::Io)?;
+        .map_err(RecordingError::Io)?;
     if text.len() as u64 > MAX_WHOLE_FILE {
-        return Err(FitError::Invalid(format!(
+        return Err(RecordingError::Invalid(format!(
             "a WCON file is read whole; this one is larger than {MAX_WHOLE_FILE} bytes (split it into chunks)"
         )));
     }

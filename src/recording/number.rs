@@ -98,7 +98,7 @@ fn decimal(text: &[u8]) -> Option<(f64, usize)> {
 /// the line has one, else by white space: its time, with the values appended to `values`. A
 /// plain row has no lost value. `None` leaves the row to the general reader (and `values` as it
 /// was).
-pub(super) fn plain_row(line: &[u8], width: usize, values: &mut Vec<f64>) -> Option<f64> {
+pub(crate) fn plain_row(line: &[u8], width: usize, values: &mut Vec<f64>) -> Option<f64> {
     let start = values.len();
     let row = plain_cells(line, values).filter(|_| values.len() - start + 1 == width);
     if row.is_none() {
@@ -148,7 +148,7 @@ fn plain_cells(line: &[u8], values: &mut Vec<f64>) -> Option<f64> {
 /// rows give the processor two such chains to run at once (7 % less wall time on the
 /// 10⁶-frame bench; four rows at once, no better). The values are those [`plain_row`] gives.
 /// `None` (and `values` as it was) for any other pair.
-pub(super) fn comma_rows(
+pub(crate) fn comma_rows(
     lines: [&[u8]; 2],
     width: usize,
     values: &mut Vec<f64>,
@@ -185,7 +185,7 @@ mod tests {
     /// Every plain decimal read fast is the double `str::parse` gives.
     #[test]
     fn decimals_match_the_standard_parser() {
-        let mut next = crate::fit::xorshift(0x9E37_79B9_7F4A_7C15u64);
+        let mut next = crate::recording::xorshift(0x9E37_79B9_7F4A_7C15u64);
         for _ in 0..200_000 {
             let digits = 1 + next() % 18;
             let text: String = (0..digits)
@@ -239,7 +239,7 @@ mod tests {
     /// declined, leaving the values as they were.
     #[test]
     fn rows_in_pairs_are_rows_alone() {
-        let mut next = crate::fit::xorshift(0x51_7CC1_B727_220Au64);
+        let mut next = crate::recording::xorshift(0x51_7CC1_B727_220Au64);
         let cell = |r: u64| {
             let v = (r % 2_000_000_000) as f64 / 1e6 - 1000.0;
             let digits = (r >> 40) as usize % 9;

@@ -12,13 +12,13 @@ use std::sync::mpsc::{self, Receiver, SyncSender};
 use std::sync::{Arc, Mutex};
 use std::thread::Scope;
 
-use super::accumulate::Work;
 use super::number::comma_rows;
+use super::project::Work;
 use super::read::{plain_line, Clock, FrameReader, LineError, Row, Source};
-use super::{FitError, FitSettings, FrameError, InputKind, Projector, MAX_LINE_BYTES};
+use super::{FrameError, InputKind, Projector, RecordingError, RecordingSettings, MAX_LINE_BYTES};
 
 /// Bytes of text a worker parses at once (whole lines: the last one is read to its end).
-pub(super) const CHUNK: usize = 256 << 10;
+pub(crate) const CHUNK: usize = 256 << 10;
 
 /// A chunk parsed by a worker.
 #[derive(Default)]
@@ -44,18 +44,18 @@ struct ParsedRow {
 }
 
 /// What the workers hand on, in order: a chunk being parsed, or why reading stopped.
-type Pending = Result<Receiver<Parsed>, FitError>;
+type Pending = Result<Receiver<Parsed>, RecordingError>;
 
 /// Builds the workers' projector for a frame of so many values (`None`: the rows go on
 /// unprojected, and the error, if any, comes from the caller's own projector).
-pub(super) type MakeProjector<'env> = Box<dyn Fn(usize) -> Option<Projector> + 'env>;
+pub(crate) type MakeProjector<'env> = Box<dyn Fn(usize) -> Option<Projector> + 'env>;
 
 /// The rows of one recording, the first ones from the line reader, the rest from chunks parsed
 /// on worker threads.
-pub(super) struct Chunked<'scope, 'env, R: BufRead + Send + 'env> {
+pub(crate) struct Chunked<'scope, 'env, R: BufRead + Send + 'env> {
     head: Option<FrameReader<R>>,
     scope: &'scope Scope<'scope, 'env>,
-    settings: &'env FitSettings,
+    settings: &'env RecordingSettings,
     make_projector: MakeProjector<'env>,
     /// The first frame's values, lent once the line reader is gone.
     first: Vec<f64>,
@@ -74,10 +74,10 @@ pub(super) struct Chunked<'scope, 'env, R: BufRead + Send + 'env> {
 
 impl<'scope, 'env, R: BufRead + Send + 'env> Chunked<'scope, 'env, R> {
     /// The rows of `reader`, chunks parsed on threads of `scope`.
-    pub(super) fn new(
+    pub(crate) fn new(
         reader: FrameReader<R>,
         scope: &'scope Scope<'scope, 'env>,
-        settings: &'env FitSettings,
+        settings: &'env RecordingSettings,
         make_projector: MakeProjector<'env>,
     ) -> Self {
         Chunked {
@@ -131,7 +131,7 @@ impl<'scope, 'env, R: BufRead + Send + 'env> Chunked<'scope, 'env, R> {
     }
 
     /// The next row of the line reader, handing over to the workers once the layout is known.
-    fn next_head(&mut self) -> Result<Option<Row<'_>>, FitError> {
+    fn next_head(&mut self) -> Result<Option<Row<'_>>, RecordingError> {
         let Some(head) = self.head.as_mut() else {
             return Ok(None);
         };
@@ -158,10 +158,10 @@ impl<'scope, 'env, R: BufRead + Send + 'env> Chunked<'scope, 'env, R> {
     }
 
     /// The next parsed chunk into `current`; `false` at the end.
-    fn next_chunk(&mut self) -> Result<bool, FitError> {
+    fn next_chunk(&mut self) -> Result<bool, RecordingError> {
         if let Some((line, why)) = self.current.error.take() {
             self.done = true;
-            return Err(FitError::Line {
+            return Err(RecordingError::Line {
                 line: self.base + line,
                 why: why.into(),
             });
@@ -174,7 +174,7 @@ impl<'scope, 'env, R: BufRead + Send + 'env> Chunked<'scope, 'env, R> {
         };
         let parsed = pending.and_then(|rx| {
             rx.recv()
-                .map_err(|_| FitError::Io(std::io::Error::other("a parsing thread stopped")))
+                .map_err(|_| RecordingError::Io(std::io::Error::other("a parsing thread stopped")))
         });
         self.done = parsed.is_err();
         let done = std::mem::replace(&mut self.current, parsed?);
@@ -185,7 +185,7 @@ impl<'scope, 'env, R: BufRead + Send + 'env> Chunked<'scope, 'env, R> {
 }
 
 impl<'env, R: BufRead + Send + 'env> Source for Chunked<'_, 'env, R> {
-    fn next_row(&mut self) -> Result<Option<Row<'_>>, FitError> {
+    fn next_row(&mut self) -> Result<Option<Row<'_>>, RecordingError> {
         if self.head.is_some() {
             return self.next_head();
         }
@@ -201,7 +201,7 @@ impl<'env, R: BufRead + Send + 'env> Source for Chunked<'_, 'env, R> {
         let (width, modes) = self.sizes;
         let row = &self.current.rows[r];
         let line = self.base + row.line;
-        let missing_before = self.clock.step(row.t).map_err(|e| FitError::Line {
+        let missing_before = self.clock.step(row.t).map_err(|e| RecordingError::Line {
             line,
             why: e.into(),
         })?;
@@ -256,7 +256,7 @@ impl<R: BufRead> Feed<R> {
         }
         let job = match read {
             Err(e) => {
-                let _ = order.send(Err(FitError::Io(e)));
+                let _ = order.send(Err(RecordingError::Io(e)));
                 None
             }
             Ok(_) if text.is_empty() => None,
@@ -316,7 +316,7 @@ fn parse(
     text: &[u8],
     width: usize,
     projector: Option<&Projector>,
-    settings: &FitSettings,
+    settings: &RecordingSettings,
     spares: &Spares,
 ) -> Parsed {
     let mut out = spares.parsed();

@@ -24,13 +24,13 @@ pub enum FrameError {
 
 /// The angle of (dot, cross): musl's atan2 (within an ulp), which a million frames feel less
 /// than the C library's correctly rounded one. Every angle of a frame is taken by it.
-pub(super) fn angle(cross: f64, dot: f64) -> f64 {
+pub(crate) fn angle(cross: f64, dot: f64) -> f64 {
     libm::atan2(cross, dot)
 }
 
 /// The length of (x, y) without overflow of the squares for coordinates up to ~1e308 (musl's
 /// hypot, as [`angle`]).
-pub(super) fn size(x: f64, y: f64) -> f64 {
+pub(crate) fn size(x: f64, y: f64) -> f64 {
     libm::hypot(x, y)
 }
 
@@ -70,7 +70,7 @@ fn atan_small(r: f64) -> f64 {
 /// [`angle`] of each (cross, dot), bit for bit, into `out`. A smooth body turns little: with
 /// dot > 0 and r = cross/dot below 7/16 in size, musl's atan2 is its atan polynomial of r
 /// alone, taken here for [`LANES`] pairs at once; any other pair is handed to [`angle`].
-pub(super) fn angles(pairs: impl Iterator<Item = (f64, f64)>, out: &mut Vec<f64>) {
+pub(crate) fn angles(pairs: impl Iterator<Item = (f64, f64)>, out: &mut Vec<f64>) {
     out.clear();
     let mut pairs = pairs.peekable();
     while pairs.peek().is_some() {
@@ -111,7 +111,7 @@ fn square(x: f64) -> (f64, f64) {
 /// [`LANES`] pairs at once, where both parts lie in [2⁻⁴⁵⁰, 2⁵¹¹) within 2⁶⁴ of each other
 /// (neither the squares nor their tails leave the doubles); any other pair is handed to
 /// [`size`].
-pub(super) fn sizes(pairs: impl Iterator<Item = (f64, f64)>, out: &mut Vec<f64>) {
+pub(crate) fn sizes(pairs: impl Iterator<Item = (f64, f64)>, out: &mut Vec<f64>) {
     out.clear();
     let mut pairs = pairs.peekable();
     while pairs.peek().is_some() {
@@ -200,7 +200,7 @@ pub fn turning_angles(points: &[(f64, f64)]) -> Result<Vec<f64>, FrameError> {
 /// The turning angles between consecutive segments (none of them zero) into `out`. Each
 /// segment is scaled to unit size first, in place: the angle is scale-free, and the cross and
 /// dot products of huge coordinates would overflow.
-pub(super) fn segment_angles(seg: &mut [(f64, f64)], out: &mut Vec<f64>) {
+pub(crate) fn segment_angles(seg: &mut [(f64, f64)], out: &mut Vec<f64>) {
     for s in seg.iter_mut() {
         let size = s.0.abs().max(s.1.abs());
         *s = (s.0 / size, s.1 / size);
@@ -216,7 +216,7 @@ pub(super) fn segment_angles(seg: &mut [(f64, f64)], out: &mut Vec<f64>) {
 }
 
 /// The observation o of one frame: turning angles (midline) or strains (lengths).
-pub(super) fn observe(
+pub(crate) fn observe(
     kind: InputKind,
     values: &[f64],
     n: usize,
@@ -250,7 +250,7 @@ mod tests {
     /// every quadrant, tiny and huge parts, zeros, infinities and NaN.
     #[test]
     fn batched_angles_and_sizes_are_musls() {
-        let mut next = crate::fit::xorshift(0x2545_F491_4F6C_DD1Du64);
+        let mut next = crate::recording::xorshift(0x2545_F491_4F6C_DD1Du64);
         let special = [
             0.0,
             -0.0,

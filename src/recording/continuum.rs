@@ -14,21 +14,21 @@ use super::InputKind;
 
 /// The amplitude (body lengths) of the continuum shapes put through the observation map: small
 /// enough that turning angles are linear in it to 1e-8.
-pub(super) const CONTINUUM_AMPLITUDE: f64 = 1e-4;
+pub(crate) const CONTINUUM_AMPLITUDE: f64 = 1e-4;
 
 /// What the observation map depends on: the input, the grid and the field's operator.
-pub(super) struct Grid {
-    pub(super) kind: InputKind,
-    pub(super) input_points: usize,
-    pub(super) points: usize,
-    pub(super) stencil: u32,
-    pub(super) boundary: crate::boundary::Boundary,
+pub(crate) struct Grid {
+    pub(crate) kind: InputKind,
+    pub(crate) input_points: usize,
+    pub(crate) points: usize,
+    pub(crate) stencil: u32,
+    pub(crate) boundary: crate::boundary::Boundary,
 }
 
 impl Grid {
     /// Continuum mode `j` (0-based) as a midline of the input's points, tail first, at
     /// [`CONTINUUM_AMPLITUDE`]; `None` for lengths or a field without continuum shapes.
-    pub(super) fn continuum_midline(&self, j: usize) -> Option<Vec<f64>> {
+    pub(crate) fn continuum_midline(&self, j: usize) -> Option<Vec<f64>> {
         if self.kind != InputKind::Midline || self.input_points < 3 {
             return None;
         }
@@ -51,7 +51,7 @@ impl Grid {
     /// The covariance (up to the noise's variance) that white, independent noise on every
     /// tracked coordinate gives the observations, J Jᵀ with J the observation map's Jacobian at
     /// a straight midline (central differences: the map is smooth there). `None` for lengths.
-    pub(super) fn noise_covariance(&self) -> Option<nalgebra::DMatrix<f64>> {
+    pub(crate) fn noise_covariance(&self) -> Option<nalgebra::DMatrix<f64>> {
         if self.kind != InputKind::Midline || self.input_points < 3 {
             return None;
         }
@@ -94,7 +94,7 @@ impl Grid {
     /// (as before the continuum projector existed); M = N − 2 wherever C⁺ is well behaved,
     /// which is the free–free beam at every N tested.
     #[allow(clippy::type_complexity)]
-    pub(super) fn continuum(
+    pub(crate) fn continuum(
         &self,
         rows: &[Vec<f64>],
         lattice: &[Vec<f64>],
@@ -153,11 +153,11 @@ impl Grid {
 }
 
 /// The most a projected coordinate's tracking noise may exceed the N-point projector's.
-pub(super) const NOISE_GAIN: f64 = 2.0;
+pub(crate) const NOISE_GAIN: f64 = 2.0;
 
 /// Each coordinate's white-noise standard deviation under `projector` over that under the
 /// N-point `rows`: √(pⱼ Σ pⱼᵀ / rⱼ Σ rⱼᵀ), Σ the observations' noise covariance.
-pub(super) fn noise_gains(
+pub(crate) fn noise_gains(
     noise: &nalgebra::DMatrix<f64>,
     projector: &[Vec<f64>],
     rows: &[Vec<f64>],
