@@ -626,25 +626,17 @@ fn fit_out<'py>(py: Python<'py>, r: FitReport, figures: Vec<String>) -> PyResult
     ))
 }
 
-/// Fit midlines given as an array (animals × frames × points × 2 flattened to frames ×
-/// points × 2 per animal): NaN marks a lost point (its frame is lost).
-#[pyfunction]
-#[pyo3(signature = (animals, times, model, options))]
-fn fit_arrays<'py>(
-    py: Python<'py>,
-    animals: Vec<PyReadonlyArray3<'py, f64>>,
-    times: Vec<PyReadonlyArray1<'py, f64>>,
-    model: Option<&str>,
-    options: Option<&Bound<'py, PyDict>>,
-) -> PyResult<FitOut<'py>> {
-    let model = model_of(model)?;
-    let page = figure_page(options)?;
-    let settings = settings_of(options)?;
+/// Animals' midlines (frames × points × 2, NaN where a point was lost: its frame is lost) and
+/// their frames' times as the library's tracks.
+fn tracks_of(
+    animals: &[PyReadonlyArray3<'_, f64>],
+    times: &[PyReadonlyArray1<'_, f64>],
+) -> PyResult<Vec<Track>> {
     if animals.len() != times.len() {
         return Err(usage("one time array per animal"));
     }
     let mut tracks = Vec::with_capacity(animals.len());
-    for (i, (a, t)) in animals.iter().zip(&times).enumerate() {
+    for (i, (a, t)) in animals.iter().zip(times).enumerate() {
         let a = a.as_array();
         let t = t.as_array();
         let (frames, points, two) = a.dim();
@@ -677,6 +669,24 @@ fn fit_arrays<'py>(
             frames,
         });
     }
+    Ok(tracks)
+}
+
+/// Fit midlines given as an array (animals × frames × points × 2 flattened to frames ×
+/// points × 2 per animal): NaN marks a lost point (its frame is lost).
+#[pyfunction]
+#[pyo3(signature = (animals, times, model, options))]
+fn fit_arrays<'py>(
+    py: Python<'py>,
+    animals: Vec<PyReadonlyArray3<'py, f64>>,
+    times: Vec<PyReadonlyArray1<'py, f64>>,
+    model: Option<&str>,
+    options: Option<&Bound<'py, PyDict>>,
+) -> PyResult<FitOut<'py>> {
+    let model = model_of(model)?;
+    let page = figure_page(options)?;
+    let settings = settings_of(options)?;
+    let tracks = tracks_of(&animals, &times)?;
     let report = py
         .detach(|| {
             fit_inputs(
@@ -716,6 +726,67 @@ fn fit_paths<'py>(
         .map_err(fit_error)?;
     let written = write_figures(&report, page)?;
     fit_out(py, report, written)
+}
+
+/// `discover` on recordings given as paths (files, directories, patterns) or as arrays (one
+/// animal each), through the library: the report's JSON (the command's `--format json`) and
+/// the figures written. `model_path` is the model file's path when the model came from one
+/// (named in the onward `simulate` line).
+#[pyfunction]
+#[pyo3(signature = (paths, animals, times, model, model_path, options))]
+fn discover_json<'py>(
+    py: Python<'py>,
+    paths: Vec<String>,
+    animals: Vec<PyReadonlyArray3<'py, f64>>,
+    times: Vec<PyReadonlyArray1<'py, f64>>,
+    model: Option<&str>,
+    model_path: Option<String>,
+    options: Option<&Bound<'py, PyDict>>,
+) -> PyResult<(String, Vec<String>)> {
+    use theory_search::discover::{discover, DiscoverSettings, Source};
+    use theory_search::report::Report;
+    let mut model = model_of(model)?;
+    let page = figure_page(options)?;
+    let mut pairs = pairs_of(options)?;
+    // The model's layers, as the command line's --beyond-leading sets them.
+    if let Some(i) = pairs.iter().position(|(k, _)| k == "beyond_leading") {
+        let (_, value) = pairs.remove(i);
+        let k = value
+            .count(
+                "beyond_leading",
+                theory_search::model::MAX_BEYOND_LEADING as usize,
+            )
+            .map_err(|e| usage(e.to_string()))?;
+        model.set_beyond_leading(k as u32);
+    }
+    let discover_error =
+        |e: theory_search::discover::DiscoverError| raised(e.failure(), one_line(&e.to_string()));
+    let mut settings =
+        DiscoverSettings::from_pairs(pairs.iter().map(|(k, v)| (k.as_str(), v.clone())))
+            .map_err(discover_error)?;
+    settings.replay = page.is_some();
+    let mut sources: Vec<Source<'_>> = Vec::new();
+    if !paths.is_empty() {
+        let paths: Vec<std::path::PathBuf> = paths.into_iter().map(Into::into).collect();
+        let found =
+            theory_search::recording::recordings(&paths).map_err(|e| fit_error(e.into()))?;
+        sources.extend(found.into_iter().map(Source::File));
+    }
+    sources.extend(tracks_of(&animals, &times)?.into_iter().map(Source::Track));
+    let mut report = py
+        .detach(|| discover(sources, &model, &settings))
+        .map_err(discover_error)?;
+    report.model_argument = model_path;
+    let mut written = Vec::new();
+    if let (Some((dir, page)), None) = (page, &report.onward_refused) {
+        let path = theory_search::figures::write_discover(&dir, &report, &page)
+            .map_err(|e| raised(e.failure(), one_line(&e.to_string())))?;
+        written.push(path.display().to_string());
+    }
+    report
+        .check()
+        .map_err(|e| raised(Failure::Numerical, one_line(&e.to_string())))?;
+    Ok((report.json().to_string(), written))
 }
 
 /// Run a command line of the `theory-search` CLI in this process (GIL released); its standard
@@ -765,5 +836,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(fit_arrays, m)?)?;
     m.add_function(wrap_pyfunction!(fit_paths, m)?)?;
+    m.add_function(wrap_pyfunction!(discover_json, m)?)?;
     Ok(())
 }

@@ -182,3 +182,29 @@ def test_discover_is_the_binarys_document_from_a_path_or_an_array():
     for a, b in zip(from_array["library"], want["library"]):
         assert a["name"] == b["name"]
         assert a["coefficient"] == pytest.approx(b["coefficient"], rel=1e-9)
+    # A DataFrame in the recording's layout is the same animal.
+    from_frame = ts.discover(frame, bootstrap=20)
+    assert from_frame["library"] == from_array["library"]
+
+
+@pytest.mark.skipif(not WORMPOSE.exists(), reason="the shared recordings are not here")
+def test_discover_takes_values_without_files(tmp_path, monkeypatch):
+    # Arrays and models go to the library as values: no temporary CSV or model file.
+    import tempfile
+
+    import pandas as pd
+
+    empty = tmp_path / "tmp"
+    empty.mkdir()
+    monkeypatch.setenv("TMPDIR", str(empty))
+    monkeypatch.setattr(tempfile, "tempdir", str(empty))
+    frame = pd.read_csv(WORMPOSE)
+    crawler = ts.Model.from_toml(str(ROOT / "tables" / "models" / "crawler.toml"))
+    got = ts.discover(frame, model=crawler, bootstrap=0, time_unit="s")
+    assert got["selected"], got.to_dict()
+    # The library's checks, in its words: an option discover does not take, a bad value.
+    with pytest.raises(ts.UsageError, match="no option"):
+        ts.discover(frame, window=64)
+    with pytest.raises(ts.UsageError, match="bootstrap"):
+        ts.discover(frame, bootstrap=-1)
+    assert list(empty.iterdir()) == []

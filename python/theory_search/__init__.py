@@ -27,7 +27,6 @@ from ._commands import (
     asymmetry,
     behave,
     count,
-    discover,
     figures,
     interactions,
     mathieu,
@@ -111,6 +110,7 @@ _native_call = {
         "simulate",
         "fit_arrays",
         "fit_paths",
+        "discover_json",
     )
 }
 
@@ -582,6 +582,24 @@ def _is_paths(x: Any) -> bool:
     )
 
 
+def _arrays(midlines: Any, t: Any, fps: Optional[float]) -> tuple:
+    """Animals' midlines (each frames × points × 2) and their frames' times, as float arrays:
+    ``t`` when given (one array per animal), else frames ``1/fps`` apart."""
+    animals = midlines if isinstance(midlines, (list, tuple)) else [midlines]
+    animals = [np.ascontiguousarray(a, dtype=float) for a in animals]
+    if any(a.ndim != 3 for a in animals):
+        raise UsageError("midlines must be an array of frames × points × 2")
+    if t is None:
+        step = 1.0 / fps if fps else 1.0
+        times = [np.arange(len(a), dtype=float) * step for a in animals]
+    else:
+        times = t if isinstance(t, (list, tuple)) else [t]
+        times = [np.ascontiguousarray(x, dtype=float) for x in times]
+        if any(x.ndim != 1 for x in times):
+            raise UsageError("t must be one array of times per animal (one time per frame)")
+    return animals, times
+
+
 @shared
 def fit(
     midlines: Any,
@@ -635,18 +653,75 @@ def fit(
             options["fps"] = fps
         out = _native_call["fit_paths"]([os.fspath(p) for p in paths], toml, options)
     else:
-        animals = midlines if isinstance(midlines, (list, tuple)) else [midlines]
-        animals = [np.ascontiguousarray(a, dtype=float) for a in animals]
-        if any(a.ndim != 3 for a in animals):
-            raise UsageError("midlines must be an array of frames × points × 2")
-        if t is None:
-            step = 1.0 / fps if fps else 1.0
-            times = [np.arange(len(a), dtype=float) * step for a in animals]
-        else:
-            times = t if isinstance(t, (list, tuple)) else [t]
-            times = [np.ascontiguousarray(x, dtype=float) for x in times]
-            if any(x.ndim != 1 for x in times):
-                raise UsageError("t must be one array of times per animal (one time per frame)")
+        animals, times = _arrays(midlines, t, fps)
         out = _native_call["fit_arrays"](animals, times, toml, options)
     report, frequencies, psd, components, shapes, written = out
     return FitResult(json.loads(report), frequencies, psd, components, shapes, written)
+
+
+@shared
+def discover(
+    recordings: Any,
+    model: Optional[Union[Model, str]] = None,
+    t: Optional[Any] = None,
+    fps: Optional[float] = None,
+    **options: Any,
+) -> Result:
+    """Which terms of the engine's library the recordings' field needs (``discover``).
+
+    Parameters
+    ----------
+    recordings : path, list of paths, array, list of arrays, or DataFrame
+        Files, directories or patterns as ``fit`` reads them; or midlines as arrays (frames ×
+        points × 2, head first, NaN where the tracker lost a point), one per animal; or a
+        DataFrame in a recording's layout (``t``, ``x1``, ``y1``, …).
+    @model
+    t : array or list of arrays, optional
+        The arrays' frame times (without it frames are ``1/fps`` apart).
+    fps : float, optional
+        Frames per second of the arrays (one time unit per frame without it or ``t``), or of
+        DeepLabCut files (refused for files with a time column).
+    options
+        ``fit``'s recording options (``points``, ``kind``, ``field``, ``fill_gaps``, ``head``,
+        ``min_likelihood``, ``track_column``, ``time_unit``, ``length_unit``, ``order``) and
+        ``active`` (True puts the model's active forces in the library), ``bootstrap``,
+        ``seed``, ``beyond_leading``; ``figures`` (a folder) with ``figure_format``,
+        ``figure_width`` and ``figure_dpi``.
+
+    Returns
+    -------
+    Result
+        ``equation``, ``selected`` and ``library`` (each term's ``term``, ``name``, ``kind``,
+        ``coefficient`` in body lengths, ``on_points``, ``interval``, ``inclusion``,
+        ``selected``), ``comparison`` (each theory's ``model``, ``terms``, ``cv_residual``,
+        ``criterion``), ``r2``, ``noise``, ``simulate`` (the onward command line),
+        ``not_estimated`` (kinetic coefficients named but not regressed); with ``figures`` (a
+        folder) also ``figures`` (the paths written) and ``replay`` (observed and simulated
+        spectra and variances).
+    """
+    # A model file is named as itself in the onward `simulate` line.
+    model_path = None
+    if isinstance(model, (str, os.PathLike)) and os.path.isfile(model):
+        model_path = os.fspath(model)
+    toml = _toml(model)
+    if hasattr(recordings, "columns") and hasattr(recordings, "to_numpy"):
+        recordings, t = _from_frame(recordings, t)
+    if "figures" in options and options["figures"] is not None:
+        options["figures"] = os.fspath(options["figures"])
+    paths: List[str] = []
+    animals: List[Any] = []
+    times: List[Any] = []
+    if _is_paths(recordings):
+        items = [recordings] if isinstance(recordings, (str, os.PathLike)) else recordings
+        paths = [os.fspath(p) for p in items]
+        if fps is not None:
+            options["fps"] = fps
+    else:
+        animals, times = _arrays(recordings, t, fps)
+    report, written = _native_call["discover_json"](
+        paths, animals, times, toml, model_path, options
+    )
+    doc = json.loads(report)
+    if options.get("figures") is not None:
+        doc["figures"] = written
+    return Result(doc)

@@ -87,3 +87,11 @@ def fit_arrays(
 def fit_paths(
     paths: Sequence[str], model: Optional[str], options: Optional[Mapping[str, Any]]
 ) -> _FitOut: ...
+def discover_json(
+    paths: Sequence[str],
+    animals: Sequence[NDArray[np.float64]],
+    times: Sequence[NDArray[np.float64]],
+    model: Optional[str],
+    model_path: Optional[str],
+    options: Optional[Mapping[str, Any]],
+) -> Tuple[str, List[str]]: ...

@@ -129,6 +129,8 @@ pub enum Source<'a> {
     File(PathBuf),
     /// A named stream.
     Reader(String, Box<dyn BufRead + Send + 'a>),
+    /// One animal's frames held in memory (Python's arrays).
+    Track(crate::recording::Track),
 }
 
 /// Why `discover` cannot answer.
@@ -298,6 +300,10 @@ pub fn discover(
                 },
                 name,
             ),
+            Source::Track(track) => {
+                let name = track.name.clone();
+                (Input::Tracks(vec![track]), name)
+            }
         };
         let r = data::read(input, name, &leading, &fit)?;
         if weak::used(&r).next().is_none() {
