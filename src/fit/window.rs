@@ -234,34 +234,14 @@ pub(super) fn fit_modes_spectra(
             },
         }
     };
-    // The pooled fit (every mode, three starts) spreads its modes over the cores; an animal's
-    // own fit runs where it is called (on a worker already).
+    // The pooled fit (every mode, three starts) spreads its modes over the cores (rayon keeps
+    // their order); an animal's own fit runs where it is called (on a worker already).
     let modes = spec.psd.len().min(cov.len());
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |n| n.get())
-        .min(modes);
-    if count < modes || threads < 2 {
+    if count < modes {
         return (0..modes).map(one).collect();
     }
-    let one = &one;
-    let mut fits: Vec<(usize, ModeSpectralFit)> = std::thread::scope(|scope| {
-        let handles: Vec<_> = (0..threads)
-            .map(|t| {
-                scope.spawn(move || {
-                    (t..modes)
-                        .step_by(threads)
-                        .map(|j| (j, one(j)))
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        handles
-            .into_iter()
-            .flat_map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
-            .collect()
-    });
-    fits.sort_by_key(|(j, _)| *j);
-    fits.into_iter().map(|(_, f)| f).collect()
+    use rayon::prelude::*;
+    (0..modes).into_par_iter().map(one).collect()
 }
 
 /// Peak (with parabolic refinement) and centroid of a one-sided spectrum, above zero frequency.
