@@ -24,6 +24,7 @@ __all__ = [
     "simulate",
     "fit_arrays",
     "fit_paths",
+    "discover_json",
 ]
 
 class TheorySearchError(Exception): ...
