@@ -108,7 +108,7 @@ fn clamped_coverage(points: usize, share: f64) -> usize {
 
 #[test]
 fn a_clamped_beam_with_tracking_noise_keeps_its_kappa() {
-    for (points, share) in [(12, 0.01), (19, 0.05), (41, 0.01)] {
+    for (points, share) in [(12, 0.01), (12, 0.05), (19, 0.05), (41, 0.01), (41, 0.05)] {
         let covered = clamped_coverage(points, share);
         assert!(
             covered >= 18,
@@ -122,6 +122,8 @@ fn a_clamped_beam_with_tracking_noise_keeps_its_kappa() {
 #[test]
 fn discover_answers_a_clamped_beam_with_tracking_noise() {
     use theory_search::discover::{discover, DiscoverSettings, Source};
+    // At 41 points discover answers "∂t² y = 0" in 1 of 4 seeds at 1 % noise: its selection,
+    // not the projection (fit covers κ there in 20 of 20); issue 50's.
     for (points, share) in [(12, 0.01), (12, 0.05), (19, 0.01), (19, 0.05)] {
         let body = clamped(points, share);
         let answers = common::beam::on_two_cores(4, |seed| {
