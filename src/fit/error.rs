@@ -26,6 +26,10 @@ pub enum FitError {
         /// Frames read.
         read: usize,
     },
+    /// Too few frames, or no run long enough, for variances and spectra: a problem of the
+    /// recording, as a recording with no frames is (one frame and nine exit alike).
+    #[error("{0}")]
+    TooShort(String),
     /// `--fps` given for a recording that keeps its own clock: only a DeepLabCut export's rows
     /// hold frame indices, which it turns into time.
     #[error("--fps applies to files without a time column; this file has one: {has}")]
@@ -71,7 +75,8 @@ impl FitError {
             FitError::Open(_)
             | FitError::Io(_)
             | FitError::Line { .. }
-            | FitError::NoFrames { .. } => Failure::Input,
+            | FitError::NoFrames { .. }
+            | FitError::TooShort(_) => Failure::Input,
             FitError::Output(_) => Failure::Output,
             FitError::Invalid(_)
             | FitError::Fps { .. }
