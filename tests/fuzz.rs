@@ -330,7 +330,8 @@ fn discover_line() -> impl Strategy<Value = (Vec<String>, String)> {
     )
         .prop_map(move |(frames, scale, cells, opts)| {
             let example = include_str!("../tables/examples/midlines.csv");
-            let mut lines: Vec<String> = example.lines().take(2 + frames).map(String::from).collect();
+            let mut lines: Vec<String> =
+                example.lines().take(2 + frames).map(String::from).collect();
             for line in lines.iter_mut().skip(2) {
                 if let Some((t, rest)) = line.split_once(',') {
                     let t: f64 = t.parse().unwrap_or(0.0);
@@ -356,10 +357,18 @@ fn discover_line() -> impl Strategy<Value = (Vec<String>, String)> {
                         concat!(env!("CARGO_MANIFEST_DIR"), "/tables/models/crawler.toml").into(),
                     ]),
                     "--kind" => args.extend([flag.into(), "lengths".into()]),
-                    "--field" => args.extend([flag.into(), ["x", "y", "θ", "\u{202e}"][v.len() % 4].into()]),
+                    "--field" => {
+                        args.extend([flag.into(), ["x", "y", "θ", "\u{202e}"][v.len() % 4].into()])
+                    }
                     // Bootstrap draws and orders within what a case can afford.
                     "--bootstrap" => args.extend([flag.into(), (v.len() % 60).to_string()]),
-                    "--order" => args.extend([flag.into(), ["2", "4", "6", v.as_str()][v.len() % 4].into()]),
+                    // Points: mostly what a run takes, sometimes the hostile value.
+                    "--points" if v.len() % 3 > 0 => {
+                        args.extend([flag.into(), (3 + v.len() % 40).to_string()])
+                    }
+                    "--order" => {
+                        args.extend([flag.into(), ["2", "4", "6", v.as_str()][v.len() % 4].into()])
+                    }
                     _ => args.extend([flag.into(), v]),
                 }
             }
@@ -372,53 +381,44 @@ fn discover_line() -> impl Strategy<Value = (Vec<String>, String)> {
 
 /// An `[active]` section: garbage, extreme and unicode bounds, columns, requirements and keys.
 fn active_section() -> impl Strategy<Value = String> {
+    // Mostly rule names (a section the model takes), sometimes garbage or unicode.
     let words = prop_oneof![
-        Just("OST"),
-        Just("TRAN"),
-        Just("REF"),
-        Just("GAL"),
-        Just("PAR"),
-        Just("ROT"),
-        Just("TREV"),
-        Just("KIN"),
-        Just("DIS"),
-        Just("SPIN"),
-        Just(""),
-        Just("ost"),
-        Just("O\u{202e}ST"),
-        Just("\u{200b}"),
-        Just("ÖST"),
+        12 => prop::sample::select(vec![
+            "OST", "TRAN", "REF", "GAL", "PAR", "ROT", "TREV", "KIN", "DIS", "SPIN",
+        ]),
+        1 => prop::sample::select(vec!["", "ost", "O\u{202e}ST", "\u{200b}", "ÖST"]),
     ];
     let bound = prop_oneof![
-        Just("\"tau-and-sigma\"".to_string()),
-        Just("\"tau-plus-sigma\"".to_string()),
-        Just("\"\u{202e}\"".to_string()),
-        Just("12".to_string()),
-        Just("\"x\"".to_string()),
+        6 => Just("\"tau-and-sigma\"".to_string()),
+        2 => Just("\"tau-plus-sigma\"".to_string()),
+        1 => Just("\"\u{202e}\"".to_string()),
+        1 => Just("12".to_string()),
+        1 => Just("\"x\"".to_string()),
     ];
     let extra = prop_oneof![
-        Just(""),
-        Just("dominance = [\"x\"]\n"),
-        Just("interaction = [\"OST\"]\n"),
-        Just("beyond_leading = 8\n"),
-        Just("nonsense = 1\n"),
-        Just("[active.requirements.y]\n"),
+        10 => Just(""),
+        1 => Just("dominance = [\"x\"]\n"),
+        1 => Just("interaction = [\"OST\"]\n"),
+        1 => Just("beyond_leading = 8\n"),
+        1 => Just("nonsense = 1\n"),
+        1 => Just("[active.requirements.y]\n"),
     ];
     (
         bound,
         prop::collection::vec(words.clone(), 0..8),
         prop::collection::vec(words, 0..6),
         extra,
-        any::<bool>(),
+        0u8..8,
     )
-        .prop_map(|(bound, columns, reqs, extra, field_named)| {
+        .prop_map(|(bound, columns, reqs, extra, field)| {
             let list = |w: &[&str]| {
                 w.iter()
                     .map(|x| format!("\"{x}\""))
                     .collect::<Vec<_>>()
                     .join(", ")
             };
-            let field = if field_named { "x" } else { "\u{202e}x" };
+            // Mostly the model's field; sometimes a quoted key with an override in it.
+            let field = if field > 0 { "x" } else { "\"\u{202e}x\"" };
             format!(
                 "\n[active]\nbound = {bound}\ncolumns = [{}]\n{extra}\n[active.requirements]\n{field} = [{}]\n",
                 list(&columns),
@@ -503,7 +503,7 @@ proptest! {
     ) {
         // The peristalsis ring without its own section, then the hostile one.
         let base = include_str!("../tables/models/peristalsis.toml");
-        let base = &base[..base.find("[active]").unwrap()];
+        let base = &base[..base.find("\n[active]\n").unwrap()];
         let dir_held = common::scratch("fuzz-active");
         let dir = dir_held.path();
         let path = dir.join("m.toml");
