@@ -3,7 +3,8 @@
 //! printing a non-finite number, and a body at rest stays at rest. Hostile input IV: a body
 //! moved by a gyroscopic force alone runs, words and numbers quoted in any error are bounded,
 //! `[active]` keys that forces cannot use are refused, invisible characters in a quoted TOML
-//! line are escaped, and emitted operators import only what they use.
+//! line are escaped, emitted operators import only what they use, and a recording too short
+//! for the spectra exits 1 whatever its length.
 
 use std::time::{Duration, Instant};
 
@@ -376,4 +377,39 @@ fn emitted_operators_import_only_what_they_use() {
         }
     }
     assert!(checked >= 8, "{checked}");
+}
+
+/// A recording too short for the spectra is a problem of the recording: one frame and nine
+/// exit alike (1), through `fit` and `discover`; a field the midlines cannot observe is named
+/// with its boundary in words, not Rust's debug text.
+#[test]
+fn a_short_recording_exits_as_input_whatever_its_length() {
+    let text = std::fs::read_to_string(MIDLINES).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    for frames in [1, 2, 7, 9] {
+        let mut f = tempfile::Builder::new().suffix(".csv").tempfile().unwrap();
+        let body = lines[..2 + frames].join("\n") + "\n";
+        std::io::Write::write_all(&mut f, body.as_bytes()).unwrap();
+        let path = f.path().to_str().unwrap();
+        for command in ["fit", "discover"] {
+            let (code, _, err) = run(&[command, path]);
+            if command == "fit" && frames >= 8 {
+                continue;
+            }
+            assert_eq!(code, 1, "{command} on {frames} frame(s): {err}");
+            assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        }
+    }
+    for model in ["worm", "zebrafish", "channel_worm"] {
+        let path = format!("{}/tables/models/{model}.toml", env!("CARGO_MANIFEST_DIR"));
+        let err = fails(
+            &["discover", MIDLINES, "--field", "x", "--model", &path],
+            2,
+            "field x (",
+        );
+        assert!(
+            !err.contains("Ends {") && !err.contains("tail:"),
+            "{model}: {err}"
+        );
+    }
 }

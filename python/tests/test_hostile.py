@@ -69,3 +69,128 @@ def test_hostile_values_raise_catchable_errors(name, tmp_path):
             assert len(str(e)) <= 1000, f"{name}: unbounded message of {len(str(e))} characters"
         except BaseException as e:  # a panic or anything else Python code would not catch
             pytest.fail(f"{name}({value!r}) raised {type(e).__name__}: {e}")
+
+
+# Hostile input IV: every error is a TheorySearchError (docs/python.md), a UsageError for a bad
+# argument, even where a conversion (Python's str of a huge integer, numpy's reshape or float
+# conversion, pyo3's unsigned extraction) refuses it before the library sees it.
+HUGE = 10**5000
+
+
+def _frame_with_text_time():
+    import pandas as pd
+
+    rng = np.random.default_rng(2)
+    df = pd.DataFrame(rng.normal(size=(40, 12)), columns=[f"{a}{i}" for i in range(1, 7) for a in "xy"])
+    df.insert(0, "t", ["t%d" % i for i in range(40)])
+    return df
+
+
+def _issue_calls(tmp):
+    csv = Path(tmp) / "f.csv"
+    rng = np.random.default_rng(1)
+    arr = rng.normal(size=(64, 6, 2))
+    lines = ["t," + ",".join(f"x{i},y{i}" for i in range(1, 7))]
+    lines += [",".join([str(k)] + [str(v) for v in arr[k].ravel() + np.tile([0.0, 0.0], 6)]) for k in range(64)]
+    csv.write_text("\n".join(lines) + "\n")
+    return {
+        "modes(huge)": lambda: ts.modes(HUGE),
+        "active(huge)": lambda: ts.active(order=HUGE, model=CRAWLER),
+        "simulate(huge)": lambda: ts.simulate(HUGE),
+        "simulate(steps=huge)": lambda: ts.simulate(6, steps=HUGE),
+        "discover(bootstrap=huge)": lambda: ts.discover(str(csv), bootstrap=HUGE),
+        "discover(params huge)": lambda: ts.run(["modes"], params={"omega_b": HUGE}, points=6),
+        "modes(params huge)": lambda: ts.modes(6, params={"omega_b": HUGE}),
+        "discover(empty)": lambda: ts.discover(np.zeros((0, 12, 2))),
+        "discover(text array)": lambda: ts.discover(np.array([["a", "b"]])),
+        "discover(text time column)": lambda: ts.discover(_frame_with_text_time()),
+        "discover(fps=0)": lambda: ts.discover(arr, fps=0),
+        "fit(bytes)": lambda: ts.fit(b"abc"),
+        "fit(dict)": lambda: ts.fit({"a": 1}),
+        "fit(figures=5)": lambda: ts.fit(str(csv), figures=5),
+        "fit(fps text)": lambda: ts.fit(arr, fps="thirty"),
+        "fit(fps=0)": lambda: ts.fit(arr, fps=0),
+        "fit(fps=-1)": lambda: ts.fit(arr, fps=-1),
+        "fit(window=-5)": lambda: ts.fit(str(csv), window=-5),
+        "fit(empty list)": lambda: ts.fit([]),
+        "fit(text time column)": lambda: ts.fit(_frame_with_text_time()),
+        "fit(t text)": lambda: ts.fit(arr, t=["a"] * 64),
+        "Model(bytes)": lambda: ts.Model(b"name = 'x'"),
+    }
+
+
+@pytest.mark.parametrize("name", sorted(_issue_calls(tempfile.gettempdir()).keys()))
+def test_every_error_is_a_theory_search_error(name, tmp_path):
+    call = _issue_calls(str(tmp_path))[name]
+    with pytest.raises(ts.TheorySearchError) as caught:
+        call()
+    text = str(caught.value)
+    assert text and "\n" not in text.strip() and len(text) <= 1000, f"{name}: {text!r}"
+    assert "Exceeds the limit" not in text, text
+    assert "can't convert" not in text, text
+
+
+def test_bad_arguments_are_usage_errors_in_words(tmp_path):
+    rng = np.random.default_rng(1)
+    arr = rng.normal(size=(64, 6, 2))
+    for call, needle in [
+        (lambda: ts.modes(HUGE), "digits"),
+        (lambda: ts.fit(arr, fps=0), "fps must be a finite number above 0"),
+        (lambda: ts.fit(arr, fps="thirty"), "fps must be a number"),
+        (lambda: ts.fit(str(tmp_path / "f.csv"), window=-5), "window must be between 0"),
+        (lambda: ts.fit(str(tmp_path / "f.csv"), figures=5), "figures must be a folder's path"),
+        (lambda: ts.fit(b"abc"), "midlines must be an array of numbers"),
+        (lambda: ts.discover(np.zeros((0, 12, 2))), "no frames"),
+    ]:
+        with pytest.raises(ts.TheorySearchError, match=needle):
+            call()
+
+
+def test_fuzz_python_calls_raise_only_theory_search_errors(tmp_path):
+    """The Python family of the fuzz suite: seeded random calls of every function with wrong
+    types, huge integers, empty and text arrays; each works or raises a TheorySearchError of
+    one bounded line."""
+    import os
+
+    # TS_FUZZ_SEED and TS_FUZZ_CASES run a longer campaign (docs/budgets.md).
+    rng = np.random.default_rng(int(os.environ.get("TS_FUZZ_SEED", "53")))
+    values = [0, -1, 2**64, HUGE, -HUGE, 1.5, float("nan"), float("inf"), "", "30", "x" * 5000,
+              b"abc", None, [], {}, {"a": 1}, (1, 2), object(), np.zeros((0, 12, 2)),
+              np.array([["a"]]), np.zeros((3, 0, 2)), np.full((20, 6, 2), np.nan), True]
+    calls = {
+        "modes": lambda v: ts.modes(v),
+        "modes.modes": lambda v: ts.modes(6, modes=v),
+        "modes.model": lambda v: ts.modes(6, model=v),
+        "modes.params": lambda v: ts.modes(6, params=v),
+        "active": lambda v: ts.active(order=v, model=CRAWLER),
+        "active.beyond": lambda v: ts.active(model=CRAWLER, beyond_leading=v),
+        "equations": lambda v: ts.equations(order=v),
+        "operators": lambda v: ts.operators(v),
+        "simulate.points": lambda v: ts.simulate(v, steps=2),
+        "simulate.dt": lambda v: ts.simulate(6, steps=2, dt=v),
+        "simulate.initial": lambda v: ts.simulate(6, steps=2, initial=v),
+        "fit": lambda v: ts.fit(v),
+        "fit.fps": lambda v: ts.fit(np.random.default_rng(1).normal(size=(64, 6, 2)), fps=v),
+        "fit.t": lambda v: ts.fit(np.random.default_rng(1).normal(size=(64, 6, 2)), t=v),
+        "fit.points": lambda v: ts.fit(np.random.default_rng(1).normal(size=(64, 6, 2)), points=v),
+        "discover": lambda v: ts.discover(v, bootstrap=0),
+        "discover.bootstrap": lambda v: ts.discover(np.random.default_rng(1).normal(size=(64, 6, 2)), bootstrap=v),
+        "discover.fps": lambda v: ts.discover(np.random.default_rng(1).normal(size=(64, 6, 2)), fps=v, bootstrap=0),
+        "behave": lambda v: ts.behave("rolling", momentum=v),
+        "count": lambda v: ts.count(max_order=v),
+        "run": lambda v: ts.run(v),
+        "model": lambda v: ts.Model(v),
+        "from_toml": lambda v: ts.Model.from_toml(v),
+    }
+    names = sorted(calls)
+    for _ in range(int(os.environ.get("TS_FUZZ_CASES", "150"))):
+        name = names[rng.integers(len(names))]
+        value = values[rng.integers(len(values))]
+        try:
+            calls[name](value)
+        except ts.TheorySearchError as e:
+            text = str(e)
+            assert text and "\n" not in text.strip(), f"{name}({value!r:.80}): {text!r:.300}"
+            assert len(text) <= 1000, f"{name}: {len(text)} characters"
+        except BaseException as e:
+            pytest.fail(f"{name}({value!r:.80}) raised {type(e).__name__}: {str(e)[:300]}")

@@ -43,8 +43,11 @@ from ._errors import (
     OutputError,
     TheorySearchError,
     UsageError,
+    array as _array,
     count as _count,
+    guarded as _guarded,
     number as _number,
+    positive as _positive,
     translated as _translated,
 )
 from ._results import FieldModes, Modes, Result, Simulation
@@ -119,6 +122,8 @@ class Model:
     """A body: its fields, roles, boundaries and symmetry requirements (a model file)."""
 
     def __init__(self, toml: str) -> None:
+        if not isinstance(toml, str):
+            raise UsageError(f"a model is TOML text, not {type(toml).__name__}")
         name, fields = _native_call["check_model"](toml)
         self.toml = toml
         self.name = name
@@ -562,7 +567,10 @@ class FitResult:
 def _from_frame(frame: Any, t: Any) -> tuple:
     """A DataFrame in a recording's own layout (``t``, then ``x1, y1, …, xK, yK``, as
     ``pandas.read_csv`` gives it) as midlines (frames × K × 2) and times."""
-    data = np.asarray(frame.to_numpy(dtype=float))
+    try:
+        data = np.asarray(frame.to_numpy(dtype=float))
+    except (TypeError, ValueError) as e:
+        raise UsageError(f"a DataFrame of midlines holds numbers only: {e}") from None
     first = str(frame.columns[0]).strip().lower() if len(frame.columns) else ""
     if first in ("t", "time"):
         t = data[:, 0] if t is None else t
@@ -586,7 +594,9 @@ def _arrays(midlines: Any, t: Any, fps: Optional[float]) -> tuple:
     """Animals' midlines (each frames × points × 2) and their frames' times, as float arrays:
     ``t`` when given (one array per animal), else frames ``1/fps`` apart."""
     animals = midlines if isinstance(midlines, (list, tuple)) else [midlines]
-    animals = [np.ascontiguousarray(a, dtype=float) for a in animals]
+    if not animals:
+        raise UsageError("midlines must be an array of frames × points × 2, not an empty list")
+    animals = [_array("midlines", a) for a in animals]
     if any(a.ndim != 3 for a in animals):
         raise UsageError("midlines must be an array of frames × points × 2")
     if t is None:
@@ -594,7 +604,7 @@ def _arrays(midlines: Any, t: Any, fps: Optional[float]) -> tuple:
         times = [np.arange(len(a), dtype=float) * step for a in animals]
     else:
         times = t if isinstance(t, (list, tuple)) else [t]
-        times = [np.ascontiguousarray(x, dtype=float) for x in times]
+        times = [_array("t", x) for x in times]
         if any(x.ndim != 1 for x in times):
             raise UsageError("t must be one array of times per animal (one time per frame)")
     return animals, times
@@ -646,7 +656,15 @@ def fit(
     if hasattr(midlines, "columns") and hasattr(midlines, "to_numpy"):
         midlines, t = _from_frame(midlines, t)
     if "figures" in options and options["figures"] is not None:
+        if not isinstance(options["figures"], (str, os.PathLike)):
+            raise UsageError(f"figures must be a folder's path, not {type(options['figures']).__name__}")
         options["figures"] = os.fspath(options["figures"])
+    # Whole-number options checked here, in words (pyo3 would say "can't convert negative int").
+    for name in ("points", "window", "fit_modes", "fill_gaps", "bootstrap", "seed", "order"):
+        if options.get(name) is not None:
+            options[name] = _count(name, options[name], 0)
+    if fps is not None:
+        fps = _positive("fps", fps)
     if _is_paths(midlines):
         paths = [midlines] if isinstance(midlines, (str, os.PathLike)) else list(midlines)
         if fps is not None:
@@ -704,6 +722,8 @@ def discover(
     if isinstance(model, (str, os.PathLike)) and os.path.isfile(model):
         model_path = os.fspath(model)
     toml = _toml(model)
+    if fps is not None:
+        fps = _positive("fps", fps)
     if hasattr(recordings, "columns") and hasattr(recordings, "to_numpy"):
         recordings, t = _from_frame(recordings, t)
     if "figures" in options and options["figures"] is not None:
@@ -725,3 +745,15 @@ def discover(
     if options.get("figures") is not None:
         doc["figures"] = written
     return Result(doc)
+
+
+# Every public function's errors are TheorySearchError (docs/python.md): an argument that a
+# conversion (numpy's, pyo3's, Python's) refuses before the library sees it is a UsageError.
+for _name in (
+    "table", "equations", "active", "operators", "modes", "simulate", "fit", "discover",
+    "run", "behave", "stats", "asymmetry", "mathieu", "interactions", "parts", "count",
+    "rules", "figures",
+):
+    globals()[_name] = _guarded(globals()[_name])
+del _name
+Model.from_toml = classmethod(_guarded(Model.from_toml.__func__))  # type: ignore[method-assign]

@@ -10,7 +10,7 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
 
 from . import _native
 from ._docs import shared
-from ._errors import UsageError, translated
+from ._errors import UsageError, shown, translated
 from ._results import Result
 
 _run = translated(_native.run_cli)
@@ -24,6 +24,14 @@ def _result(text: bytes) -> Result:
 
 def _flag(name: str) -> str:
     return "--" + name.replace("_", "-")
+
+
+def _word(name: str, value: Any) -> str:
+    """An option's value as the command line's word: an integer too long to print (Python's
+    ``str`` refuses one over 4300 digits; no option takes one over 80) is refused here."""
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 256:
+        raise UsageError(f"{name} must be a number the command line takes, not {shown(value)}")
+    return str(value)
 
 
 def _argv(
@@ -42,11 +50,11 @@ def _argv(
             argv.append(_flag(name))
         elif isinstance(value, (list, tuple)):
             for v in value:
-                argv += [_flag(name), str(v)]
+                argv += [_flag(name), _word(name, v)]
         else:
-            argv += [_flag(name), str(value)]
+            argv += [_flag(name), _word(name, value)]
     for name, value in (params or {}).items():
-        argv += ["--param", f"{name}={value}"]
+        argv += ["--param", f"{name}={_word(str(name), value)}"]
     return argv
 
 

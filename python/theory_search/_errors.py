@@ -73,6 +73,19 @@ def translated(fn: F) -> F:
     return call  # type: ignore[return-value]
 
 
+def shown(value: Any) -> str:
+    """``value`` as an error quotes it: at most 80 characters, and an integer too long to print
+    (Python refuses ``str`` of one over 4300 digits) by its number of digits."""
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 256:
+        return f"a whole number of about {int(value.bit_length() * 0.30103) + 1} digits"
+    try:
+        text = repr(value) if isinstance(value, (str, bytes)) else str(value)
+    except Exception:  # a str() that fails is no reason to fail differently
+        text = f"a {type(value).__name__}"
+    text = " ".join(text.split())  # an array's str spans lines
+    return text if len(text) <= 80 else text[:77] + "…"
+
+
 def count(name: str, value: Any, least: int = 0, most: int = 2**63 - 1) -> int:
     """A whole number argument, checked as the command line checks it."""
     if isinstance(value, bool):
@@ -80,9 +93,9 @@ def count(name: str, value: Any, least: int = 0, most: int = 2**63 - 1) -> int:
     try:
         value = operator.index(value)  # int, numpy integers
     except TypeError:
-        raise UsageError(f"{name} must be a whole number, not {str(value)[:80]!r}") from None
+        raise UsageError(f"{name} must be a whole number, not {shown(value)}") from None
     if not least <= value <= most:
-        raise UsageError(f"{name} must be between {least} and {most}, not {value}")
+        raise UsageError(f"{name} must be between {least} and {most}, not {shown(value)}")
     return value
 
 
@@ -93,6 +106,51 @@ def number(name: str, value: Any) -> float:
     try:
         return float(value)
     except (TypeError, ValueError, OverflowError):
-        shown = str(value)
-        shown = shown if len(shown) <= 80 else shown[:77] + "…"
-        raise UsageError(f"{name} must be a number, not {shown!r}") from None
+        raise UsageError(f"{name} must be a number, not {shown(value)}") from None
+
+
+def positive(name: str, value: Any) -> float:
+    """A finite number above zero (a rate, a step), or a ``UsageError``."""
+    x = number(name, value)
+    if not (x > 0 and x < float("inf")):
+        raise UsageError(f"{name} must be a finite number above 0, not {shown(value)}")
+    return x
+
+
+def array(name: str, value: Any) -> Any:
+    """``value`` as a numpy array of floats, or a ``UsageError`` saying what it holds."""
+    import numpy as np
+
+    if isinstance(value, (str, bytes, dict)) or value is None:
+        raise UsageError(f"{name} must be an array of numbers, not {type(value).__name__}")
+    try:
+        return np.ascontiguousarray(value, dtype=float)
+    except (TypeError, ValueError, OverflowError) as e:
+        raise UsageError(f"{name} must be an array of numbers: {shown_line(e)}") from None
+
+
+def guarded(fn: F) -> F:
+    """``fn`` whose every error is a ``TheorySearchError``: an argument of the wrong type or
+    value that a conversion (numpy's, pyo3's, Python's own) refuses before the library sees
+    it becomes a ``UsageError`` with its one-line message, bounded (docs/python.md)."""
+
+    @functools.wraps(fn)
+    def call(*args: Any, **kwargs: Any) -> Any:
+        try:
+            return fn(*args, **kwargs)
+        except TheorySearchError:
+            raise
+        except (TypeError, ValueError, OverflowError, IndexError, KeyError, AttributeError) as e:
+            raise UsageError(f"{fn.__name__}: {shown_line(e)}") from e
+
+    return call  # type: ignore[return-value]
+
+
+def shown_line(e: BaseException) -> str:
+    """An exception's message on one line of at most 300 characters."""
+    try:
+        text = str(e)
+    except Exception:
+        text = type(e).__name__
+    text = " ".join(text.split()) or type(e).__name__
+    return text if len(text) <= 300 else text[:297] + "…"

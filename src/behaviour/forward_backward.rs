@@ -221,7 +221,7 @@ pub fn forward_backward(
     let ring = Ring::of(theory)?;
     let passive = ring.body(0.0)?;
     let at = ring.system(&passive)?;
-    let lin = passive.fields[at].linearise(false).map_err(dynamics)?;
+    let lin = passive.fields[at].undamped(false).map_err(dynamics)?;
     let omega = lin
         .frequencies
         .iter()

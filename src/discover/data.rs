@@ -8,7 +8,8 @@ use crate::modal::Params;
 use crate::model::Model;
 use crate::recording::Projector;
 
-/// At most this many frames × points are held (postures are kept in memory).
+/// At most this many frames × points are held over every recording (postures are kept in
+/// memory).
 pub const MAX_VALUES: usize = 50_000_000;
 
 /// One animal's frames on the model's points.
@@ -31,12 +32,13 @@ pub(super) struct Recording {
     pub scale: f64,
 }
 
-/// Read one input.
+/// Read one input, `held` values already held by the recordings before it.
 pub(super) fn read(
     input: Input<'_>,
     name: String,
     model: &Model,
     settings: &FitSettings,
+    held: usize,
 ) -> Result<Recording, DiscoverError> {
     let mut frames: Vec<(f64, Vec<f64>)> = Vec::new();
     let mut shapes: Option<Vec<Vec<f64>>> = None;
@@ -52,7 +54,7 @@ pub(super) fn read(
         }
         restrain.add(q);
         match p.posture(q) {
-            Some(posture) if (frames.len() + 1) * posture.len() <= MAX_VALUES => {
+            Some(posture) if held + (frames.len() + 1) * posture.len() <= MAX_VALUES => {
                 frames.push((t, posture))
             }
             Some(_) => too_many = true,
@@ -97,6 +99,13 @@ pub(super) fn read(
         fit,
         scale,
     })
+}
+
+impl Recording {
+    /// Frames × points held.
+    pub fn values(&self) -> usize {
+        self.runs.iter().flatten().map(Vec::len).sum()
+    }
 }
 
 /// Lengths of a free chain are read as strains against the first frame's mean segment ℓ₀

@@ -52,6 +52,10 @@ use crate::recording::{InputKind, RecordingSettings, Setting};
 /// At most this many bootstrap draws.
 pub const MAX_DRAWS: usize = 10_000;
 
+/// At most this many recordings: each is fitted on its own (its modes' spectra, 0.05–0.3 s
+/// for a few thousand frames, about a second for 10⁶), before the weak form pools them.
+pub const MAX_RECORDINGS: usize = 32;
+
 /// Settings of `discover`.
 #[derive(Debug, Clone)]
 pub struct DiscoverSettings {
@@ -200,6 +204,20 @@ pub enum DiscoverError {
     /// The weak form's sums are not finite (the postures overflow them).
     #[error("the weak form's sums of the recording are not finite (the postures' values overflow them): rescale the recording")]
     NonFinite,
+    /// More recordings than [`MAX_RECORDINGS`].
+    #[error("{count} recordings: discover fits each one's spectra on its own (up to a second each), so it takes at most {MAX_RECORDINGS}; pool them in fewer files, or use fit for many animals")]
+    TooManyRecordings {
+        /// How many were given.
+        count: usize,
+    },
+    /// The weak form's sums over the library are over their budget.
+    #[error("the weak form's sums are {work:.1e} units of work (frames × points × modes used × {terms} library terms), over the budget of {:.0e} (about ten seconds): use fewer points, frames or recordings, a lower --order or fewer beyond_leading layers", weak::MAX_WORK)]
+    WeakBudget {
+        /// frames × points × modes × terms.
+        work: f64,
+        /// Library terms.
+        terms: usize,
+    },
     /// Too many bootstrap draws.
     #[error("--bootstrap takes at most {MAX_DRAWS} draws, not {0}")]
     Draws(usize),
@@ -217,6 +235,8 @@ impl DiscoverError {
             | DiscoverError::NoActive { .. }
             | DiscoverError::PartialRing
             | DiscoverError::Draws(_)
+            | DiscoverError::TooManyRecordings { .. }
+            | DiscoverError::WeakBudget { .. }
             | DiscoverError::EmptyLibrary { .. } => Failure::Usage,
             DiscoverError::TooLarge { .. }
             | DiscoverError::NoResolvedMode { .. }
@@ -241,31 +261,19 @@ struct Theory {
     rows: weak::Rows,
 }
 
-/// The observed field's candidates of `model` (with `active` forces or without), and its
-/// kinetic coefficients beyond ½(∂tφ)²: those renormalise the mass, which the weak form cannot
-/// tell from a rescaling of every other coefficient, so they are named (`not_estimated`) but
-/// not regressed.
-fn candidates(
-    model: &Model,
-    settings: &DiscoverSettings,
-    points: usize,
-    field: &str,
-    active: bool,
-) -> Result<(Vec<Candidate>, Vec<String>), DiscoverError> {
-    let all = library(model, settings.recording.order, points, field)?;
-    let entering: Vec<String> =
-        crate::dynamics::nonlinear::active_terms(model, settings.recording.order)?
-            .into_iter()
-            .flatten()
-            .map(|(_, n)| n)
-            .collect();
-    let (kinetic, rest): (Vec<Candidate>, Vec<Candidate>) =
-        all.into_iter().partition(|c| c.kinetic);
+/// The observed field's candidates of `library` (with the `[active]` section's forces or
+/// without), and its kinetic coefficients beyond ½(∂tφ)²: those renormalise the mass, which
+/// the weak form cannot tell from a rescaling of every other coefficient, so they are named
+/// (`not_estimated`) but not regressed.
+fn candidates(library: &[Candidate], active: bool) -> (Vec<Candidate>, Vec<String>) {
+    let (kinetic, rest): (Vec<&Candidate>, Vec<&Candidate>) =
+        library.iter().partition(|c| c.kinetic);
     let kept = rest
         .into_iter()
-        .filter(|c| active || !entering.contains(&c.name))
+        .filter(|c| active || !c.entering)
+        .cloned()
         .collect();
-    Ok((kept, kinetic.into_iter().map(|c| c.name).collect()))
+    (kept, kinetic.into_iter().map(|c| c.name.clone()).collect())
 }
 
 /// Discover the terms `sources` need.
@@ -286,7 +294,12 @@ pub fn discover(
     let mut leading = model.clone();
     leading.set_beyond_leading(0);
     let fit = settings.fit();
-    let mut recordings = Vec::new();
+    if sources.len() > MAX_RECORDINGS {
+        return Err(DiscoverError::TooManyRecordings {
+            count: sources.len(),
+        });
+    }
+    let mut recordings: Vec<data::Recording> = Vec::new();
     for source in sources {
         let (input, name) = match source {
             Source::File(p) => {
@@ -305,7 +318,8 @@ pub fn discover(
                 (Input::Tracks(vec![track]), name)
             }
         };
-        let r = data::read(input, name, &leading, &fit)?;
+        let held = recordings.iter().map(data::Recording::values).sum();
+        let r = data::read(input, name, &leading, &fit, held)?;
         if weak::used(&r).next().is_none() {
             return Err(DiscoverError::NoResolvedMode {
                 recording: crate::markup::clip(&r.name),
@@ -338,9 +352,17 @@ pub fn discover(
     }
     let mut theories = Vec::new();
     let mut not_estimated = Vec::new();
+    // One library per distinct model (the layers' and the active theory's are the same).
+    let mut built: Option<(Model, Vec<Candidate>)> = None;
     for (label, m, active) in nested {
+        let all = match &built {
+            Some((b, all)) if *b == m => all.clone(),
+            _ => library(&m, settings.recording.order, points, &field)?,
+        };
         // The last theory is the whole library: its kinetic terms are the ones named.
-        let (candidates, kinetic) = candidates(&m, settings, points, &field, active)?;
+        let (candidates, kinetic) = candidates(&all, active);
+        built = Some((m, all));
+        weak::check_work(&recordings, candidates.len())?;
         not_estimated = kinetic;
         let rows = weak::rows(&recordings, &candidates);
         theories.push(Theory {

@@ -28,6 +28,7 @@
 //! unit by the factor Δtᵖ ([`in_data_unit`]).
 
 use super::data::Recording;
+use super::DiscoverError;
 use crate::dynamics::Candidate;
 
 /// Rows of the weak form of one library.
@@ -167,6 +168,22 @@ fn project(run: &[Vec<f64>], dt: f64, shape: &[f64], library: &[Candidate]) -> P
         force,
         momentum,
     }
+}
+
+/// The budget of one library's rows: frames × points × modes used × library terms (each
+/// term's force at every frame, projected on every used mode); 3·10⁸ is about ten seconds.
+pub const MAX_WORK: f64 = 3e8;
+
+/// [`MAX_WORK`] checked for a library of `terms` terms before its rows are summed.
+pub(super) fn check_work(recordings: &[Recording], terms: usize) -> Result<(), DiscoverError> {
+    let work: f64 = recordings
+        .iter()
+        .map(|r| r.values() as f64 * used(r).count() as f64 * terms as f64)
+        .sum();
+    if work > MAX_WORK {
+        return Err(DiscoverError::WeakBudget { work, terms });
+    }
+    Ok(())
 }
 
 /// The time unit of the rows, in the data's: the first recording's sampling interval (a frame).

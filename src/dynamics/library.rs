@@ -13,7 +13,7 @@
 
 use std::collections::BTreeMap;
 
-use super::nonlinear::{active_terms, coefficient_names, FieldSystem, NonlinearBody};
+use super::nonlinear::{entering_terms, plan_names, FieldSystem, NonlinearBody};
 use super::NonlinearError;
 use crate::discretise::force_plan;
 use crate::equations::ForceKind;
@@ -35,6 +35,8 @@ pub struct Candidate {
     /// (∂t∂s²φ)²), so the coefficient in time unit τ₀ is the one in the unit τ₁ times
     /// (τ₀/τ₁)^p.
     pub time_power: i32,
+    /// A force of the `[active]` section (active or gyroscopic), not of the densities.
+    pub entering: bool,
     system: FieldSystem,
 }
 
@@ -85,23 +87,26 @@ pub fn library(
     points: usize,
     field: &str,
 ) -> Result<Vec<Candidate>, NonlinearError> {
-    let names = coefficient_names(model, order)?;
+    // The plan and the `[active]` forces are derived once: each is a whole enumeration, and a
+    // body per coefficient re-deriving them cost names × derivations (13 s at order 8).
     let plan = force_plan(model, order)?;
     let index = model.fields.iter().position(|f| f.id == field);
-    let active = active_terms(model, order)?;
-    let gyroscopic: Vec<String> = crate::active::active_forces(model, order)
+    let forces = crate::active::active_forces(model, order)
         .map_err(NonlinearError::Active)?
-        .unwrap_or_default()
+        .unwrap_or_default();
+    let active = entering_terms(&forces);
+    let gyroscopic: Vec<String> = forces
         .into_iter()
         .flat_map(|f| f.gyroscopic.into_iter().filter_map(|g| g.coefficient))
         .collect();
+    let names = plan_names(&plan, &active);
     let mut out = Vec::new();
     for name in &names {
         let values: BTreeMap<String, f64> = names
             .iter()
             .map(|n| (n.clone(), if n == name { 1.0 } else { 0.0 }))
             .collect();
-        let body = NonlinearBody::new(model, order, points, &values)?;
+        let body = NonlinearBody::planned(model, &plan, &active, points, &values)?;
         let Some(system) = body.fields.into_iter().find(|f| f.id == field) else {
             continue;
         };
@@ -153,6 +158,7 @@ pub fn library(
             (None, None) => continue,
         };
         out.push(Candidate {
+            entering: entering.is_some(),
             name: name.clone(),
             kind,
             kinetic,

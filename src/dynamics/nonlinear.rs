@@ -89,6 +89,16 @@ pub enum NonlinearError {
         /// Which matrix.
         what: &'static str,
     },
+    /// The quadratic eigenproblems of a linearisation are over their budget.
+    #[error("the damped roots of {fields} field(s) need companion eigen-solves of {work:.1e} units (Σ(2n)³ over fields of n unknowns), over the budget of {budget:.1e} (about two seconds): use fewer points")]
+    DampedBudget {
+        /// Fields whose damped roots are solved.
+        fields: usize,
+        /// Σ(2n)³.
+        work: f64,
+        /// The budget.
+        budget: f64,
+    },
     /// Newton's method did not converge.
     #[error("the implicit step at t = {} did not converge: take a smaller time step", crate::report::number(*t))]
     NoConvergence {
@@ -353,15 +363,39 @@ pub fn active_terms(
     order: u32,
 ) -> Result<Vec<Vec<(crate::term::Term, String)>>, NonlinearError> {
     let fields = crate::active::active_forces(model, order).map_err(NonlinearError::Active)?;
-    Ok(fields
-        .unwrap_or_default()
-        .into_iter()
+    Ok(entering_terms(&fields.unwrap_or_default()))
+}
+
+/// Each field's forces entering the equations (term, coefficient name), from `active_forces`.
+pub(super) fn entering_terms(
+    fields: &[crate::active::FieldForces],
+) -> Vec<Vec<(crate::term::Term, String)>> {
+    fields
+        .iter()
         .map(|f| {
             f.entering()
                 .map(|(x, name)| (x.shape.clone(), name.to_string()))
                 .collect()
         })
-        .collect())
+        .collect()
+}
+
+/// The coefficient names of a force plan and its active terms, as `equations` lists them:
+/// every Lagrangian coefficient, then the Rayleigh ones, then the active ones.
+pub(super) fn plan_names(
+    plan: &[crate::discretise::FieldForces],
+    active: &[Vec<(crate::term::Term, String)>],
+) -> Vec<String> {
+    let mut names: Vec<String> = [Density::Lagrangian, Density::Rayleigh]
+        .iter()
+        .flat_map(|d| {
+            plan.iter()
+                .flat_map(move |f| f.terms.iter().filter(move |t| t.density == *d))
+        })
+        .filter_map(|t| t.parameter.clone())
+        .collect();
+    names.extend(active.iter().flatten().map(|(_, n)| n.clone()));
+    names
 }
 
 /// The coefficient names of analysed densities, in order.
@@ -385,16 +419,19 @@ impl NonlinearBody {
     ) -> Result<NonlinearBody, NonlinearError> {
         let plan = force_plan(model, order).map_err(NonlinearError::from)?;
         let active = active_terms(model, order)?;
-        // As `equations` lists them: every Lagrangian coefficient, then the Rayleigh ones.
-        let mut names: Vec<String> = [Density::Lagrangian, Density::Rayleigh]
-            .iter()
-            .flat_map(|d| {
-                plan.iter()
-                    .flat_map(move |f| f.terms.iter().filter(move |t| t.density == *d))
-            })
-            .filter_map(|t| t.parameter.clone())
-            .collect();
-        names.extend(active.iter().flatten().map(|(_, n)| n.clone()));
+        Self::planned(model, &plan, &active, points, values)
+    }
+
+    /// [`Self::new`] from the model's force plan and active terms, derived once by a caller
+    /// that builds many bodies of one model (`library`: one per coefficient).
+    pub(super) fn planned(
+        model: &Model,
+        plan: &[crate::discretise::FieldForces],
+        active: &[Vec<(crate::term::Term, String)>],
+        points: usize,
+        values: &BTreeMap<String, f64>,
+    ) -> Result<NonlinearBody, NonlinearError> {
+        let names = plan_names(plan, active);
         let mut fields = Vec::new();
         for f in plan.iter().filter(|f| f.kinetic) {
             if points < f.min_points() {

@@ -142,7 +142,7 @@ impl NonlinearBody {
                 let lin = match linearised.entry(k) {
                     std::collections::btree_map::Entry::Occupied(e) => e.into_mut(),
                     std::collections::btree_map::Entry::Vacant(e) => {
-                        e.insert(self.fields[k].linearise(true)?)
+                        e.insert(self.fields[k].undamped(true)?)
                     }
                 };
                 let shapes = lin.shapes.as_deref().unwrap_or_default();

@@ -12,6 +12,10 @@ pub enum FitError {
     /// The per-frame sink of [`super::fit_each`] failed.
     #[error("{0}")]
     Output(#[source] Box<dyn std::error::Error + Send + Sync>),
+    /// Too few frames, or no run long enough, for variances and spectra: a problem of the
+    /// recording, as a recording with no frames is (one frame and nine exit alike).
+    #[error("{0}")]
+    TooShort(String),
     /// A fit setting or the data as a whole is unusable.
     #[error("{0}")]
     Invalid(String),
@@ -39,6 +43,7 @@ impl FitError {
         use crate::failure::Failure;
         match self {
             FitError::Recording(e) => e.failure(),
+            FitError::TooShort(_) => Failure::Input,
             FitError::Output(_) => Failure::Output,
             FitError::Invalid(_) | FitError::Pruned { .. } => Failure::Usage,
             FitError::In { why, .. } => why.failure(),

@@ -566,14 +566,14 @@ fn fit_stats(
     (scope, described): (Scope<'_>, Option<(Recording, Units)>),
 ) -> Result<FitReport, FitError> {
     if stats.count < 8.0 {
-        return Err(FitError::Invalid(format!(
+        return Err(FitError::TooShort(format!(
             "{} usable frames; at least 8 are needed for variances and spectra",
             stats.count
         )));
     }
     let spectra = stats.spectra(ctx.ladder(), 1.0 / interval);
     if spectra.is_empty() {
-        return Err(FitError::Invalid(format!(
+        return Err(FitError::TooShort(format!(
             "no run of 8 frames between gaps for the spectra (longest {}); bridge short gaps with --fill-gaps K",
             stats.short.len()
         )));

@@ -1,0 +1,158 @@
+//! Scenario: work that used to run for seconds or minutes (hostile input IV) is either fast or
+//! refused up front in one line, exit 2 (docs/budgets.md): the damped roots of an active body
+//! at 400 points, one `simulate` step of a gyroscopic body at 400 points, `discover --active`
+//! with eight layers beyond leading, and `discover` on hundreds of animals.
+
+use std::time::{Duration, Instant};
+
+mod common;
+use common::binary as run;
+
+const CRAWLER: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/models/crawler.toml");
+const CHANNEL: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/tables/models/channel_worm.toml"
+);
+const PERISTALSIS: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/tables/models/peristalsis.toml"
+);
+const MIDLINES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/examples/midlines.csv");
+
+/// `args` with its exit code, stderr and wall time.
+fn timed(args: &[&str]) -> (i32, String, Duration) {
+    let started = Instant::now();
+    let (code, _, err) = run(args);
+    (code, err, started.elapsed())
+}
+
+/// A model file of `text`.
+fn model(text: &str) -> tempfile::NamedTempFile {
+    let mut f = tempfile::Builder::new().suffix(".toml").tempfile().unwrap();
+    std::io::Write::write_all(&mut f, text.as_bytes()).unwrap();
+    f
+}
+
+/// The channel worm with an `[active]` section on every field, and `extra` more fields.
+fn active_channel(extra: usize) -> tempfile::NamedTempFile {
+    let base = std::fs::read_to_string(CHANNEL).unwrap();
+    let (fields, rest) = base.split_once("[lagrangian]").unwrap();
+    let mut text = fields.to_string();
+    let mut ids = vec!["x", "theta", "y", "z"];
+    let more: Vec<String> = (0..extra).map(|k| format!("w{k}")).collect();
+    for id in &more {
+        text += &format!(
+            "[[fields]]\nid = \"{id}\"\nsymbol = \"{id}\"\nmeaning = \"extra bending\"\nboundary = \"pinned\"\nscale = \"b\"\n\n"
+        );
+        ids.push(id);
+    }
+    text += "[lagrangian]";
+    // Every requirements table names the extra fields as it names y.
+    for line in rest.lines() {
+        text += line;
+        text += "\n";
+        if let Some(reqs) = line.strip_prefix("y = ") {
+            for id in &more {
+                text += &format!("{id} = {reqs}\n");
+            }
+        }
+    }
+    text += "\n[active]\nbound = \"tau-and-sigma\"\ncolumns = [\"OST\", \"TRAN\", \"REF\", \"ROT\", \"GAL\", \"PAR\", \"TREV\"]\n\n[active.requirements]\n";
+    for id in ids {
+        text += &format!("{id} = [\"OST\", \"TRAN\", \"REF\", \"ROT\", \"GAL\"]\n");
+    }
+    model(&text)
+}
+
+#[test]
+fn the_damped_roots_of_an_active_body_at_400_points_are_fast_or_refused_up_front() {
+    let four = active_channel(0);
+    let path = four.path().to_str().unwrap();
+    // Four fields of 400 unknowns: within the budget (8 s with nalgebra's Schur form).
+    let (code, err, took) = timed(&[
+        "modes", "-p", "400", "--model", path, "--param", "a_y=1e6", "--modes", "100",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(took < Duration::from_secs(6), "took {took:?}");
+    // Five: over it, refused before any eigen-solve.
+    let five = active_channel(1);
+    let (code, err, took) = timed(&[
+        "modes",
+        "-p",
+        "400",
+        "--model",
+        five.path().to_str().unwrap(),
+        "--param",
+        "a_y=1e6",
+        "--modes",
+        "100",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.contains("over the budget"), "{err}");
+    assert!(took < Duration::from_secs(2), "took {took:?}");
+}
+
+#[test]
+fn one_step_of_a_gyroscopic_body_at_400_points_does_not_solve_its_damped_roots() {
+    // The modal initial state needs the modes, not the quadratic eigenproblem (1.8 s before).
+    let started = Instant::now();
+    let (code, out, err) = run(&[
+        "simulate",
+        "--model",
+        PERISTALSIS,
+        "-p",
+        "400",
+        "--param",
+        "g_x=1",
+        "--steps",
+        "1",
+        "--initial",
+        "x:1=0.1",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out.lines().count(), 3, "{out}");
+    assert!(
+        started.elapsed() < Duration::from_millis(1000),
+        "took {:?}",
+        started.elapsed()
+    );
+}
+
+#[test]
+fn discover_on_hundreds_of_animals_is_refused_up_front() {
+    let mut args = vec!["discover"];
+    args.extend(std::iter::repeat_n(MIDLINES, 300));
+    let (code, err, took) = timed(&args);
+    assert_eq!(code, 2, "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.contains("300 recordings"), "{err}");
+    assert!(err.contains("at most 32"), "{err}");
+    assert!(took < Duration::from_secs(2), "took {took:?}");
+    // Within the limit it runs.
+    let (code, err, _) = timed(&["discover", MIDLINES, MIDLINES, "--bootstrap", "0"]);
+    assert_eq!(code, 0, "{err}");
+}
+
+#[test]
+fn discover_with_eight_layers_beyond_leading_builds_its_library_once() {
+    // Each coefficient's body re-derived the model and its [active] forces: 13 s of CPU.
+    let text = std::fs::read_to_string(CRAWLER)
+        .unwrap()
+        .replace("[lagrangian]\n", "[lagrangian]\nbeyond_leading = 8\n")
+        .replace("[rayleigh]\n", "[rayleigh]\nbeyond_leading = 8\n");
+    let m = model(&text);
+    let (code, err, took) = timed(&[
+        "discover",
+        MIDLINES,
+        "--model",
+        m.path().to_str().unwrap(),
+        "--active",
+        "--order",
+        "8",
+        "--bootstrap",
+        "0",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(took < Duration::from_secs(8), "took {took:?}");
+}
