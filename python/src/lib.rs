@@ -626,6 +626,20 @@ fn fit_out<'py>(py: Python<'py>, r: FitReport, figures: Vec<String>) -> PyResult
     ))
 }
 
+/// A folder to write figures into, and their page.
+type Page = Option<(std::path::PathBuf, theory_search::figures::Page)>;
+
+/// What a fit is asked: the model, the figure page (taken out of `options` first) and the
+/// settings from the rest.
+fn fit_asked(
+    model: Option<&str>,
+    options: Option<&Bound<'_, PyDict>>,
+) -> PyResult<(Model, Page, FitSettings)> {
+    let model = model_of(model)?;
+    let page = figure_page(options)?;
+    Ok((model, page, settings_of(options)?))
+}
+
 /// Animals' midlines (frames × points × 2, NaN where a point was lost: its frame is lost) and
 /// their frames' times as the library's tracks.
 fn tracks_of(
@@ -683,9 +697,7 @@ fn fit_arrays<'py>(
     model: Option<&str>,
     options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<FitOut<'py>> {
-    let model = model_of(model)?;
-    let page = figure_page(options)?;
-    let settings = settings_of(options)?;
+    let (model, page, settings) = fit_asked(model, options)?;
     let tracks = tracks_of(&animals, &times)?;
     let report = py
         .detach(|| {
@@ -711,9 +723,7 @@ fn fit_paths<'py>(
     model: Option<&str>,
     options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<FitOut<'py>> {
-    let model = model_of(model)?;
-    let page = figure_page(options)?;
-    let settings = settings_of(options)?;
+    let (model, page, settings) = fit_asked(model, options)?;
     // Files, directories and patterns, as the command line takes them.
     let paths: Vec<std::path::PathBuf> = paths.into_iter().map(Into::into).collect();
     let inputs = theory_search::recording::recordings(&paths)

@@ -104,13 +104,11 @@ impl DiscoverSettings {
         pairs: impl IntoIterator<Item = (&'a str, Setting)>,
     ) -> Result<DiscoverSettings, DiscoverError> {
         let mut settings = DiscoverSettings::new(InputKind::Midline);
-        for (name, value) in pairs {
-            if !settings.set(name, &value)? {
-                let name = crate::markup::clip(name);
-                let why = format!("discover has no option {name:?}");
-                return Err(DiscoverError::Fit(FitError::Invalid(why)));
-            }
-        }
+        let unknown = |name| {
+            let why = format!("discover has no option {name:?}");
+            DiscoverError::Fit(FitError::Invalid(why))
+        };
+        crate::recording::apply_pairs(pairs, |n, v| settings.set(n, v), unknown)?;
         settings
             .recording
             .check()

@@ -79,12 +79,8 @@ impl FitSettings {
         pairs: impl IntoIterator<Item = (&'a str, Setting)>,
     ) -> Result<FitSettings, FitError> {
         let mut settings = FitSettings::new(InputKind::Midline);
-        for (name, value) in pairs {
-            if !settings.set(name, &value)? {
-                let name = crate::markup::clip(name);
-                return Err(FitError::Invalid(format!("fit has no option {name:?}")));
-            }
-        }
+        let unknown = |name| FitError::Invalid(format!("fit has no option {name:?}"));
+        crate::recording::apply_pairs(pairs, |n, v| settings.set(n, v), unknown)?;
         check_settings(&settings)?;
         Ok(settings)
     }

@@ -310,3 +310,18 @@ impl RecordingSettings {
         Ok(true)
     }
 }
+
+/// Apply (name, value) pairs with `set` (a settings value's own setter); a name `set` does
+/// not know is `unknown`'s error, its name clipped.
+pub fn apply_pairs<'a, E>(
+    pairs: impl IntoIterator<Item = (&'a str, Setting)>,
+    mut set: impl FnMut(&str, &Setting) -> Result<bool, E>,
+    unknown: impl Fn(String) -> E,
+) -> Result<(), E> {
+    for (name, value) in pairs {
+        if !set(name, &value)? {
+            return Err(unknown(clip(name)));
+        }
+    }
+    Ok(())
+}
