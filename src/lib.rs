@@ -38,6 +38,7 @@ pub mod parts;
 pub mod reduce;
 pub mod report;
 pub mod rules;
+pub mod statespace;
 pub mod table;
 pub mod term;
 pub mod theory;
