@@ -86,6 +86,7 @@ mod settings;
 mod spectrum;
 mod stats;
 mod summary;
+mod timedomain;
 mod uncertainty;
 mod verdict;
 mod wcon;

@@ -3,6 +3,7 @@
 
 use super::project::Projector;
 use super::stats::Spectra;
+use super::timedomain::{refit, Series};
 use super::verdict::{self, ModeSpectralFit, TheoryTests};
 use super::window::{
     choose_window, fit_modes_spectra, lowest_frequency, spectral_peak_and_centroid,
@@ -18,8 +19,9 @@ use super::{
 /// pooled fit's window and per-mode parameters when there is one.
 #[derive(Clone, Copy)]
 pub(super) enum Scope<'a> {
-    /// Every mode fitted, every test made.
-    Full,
+    /// Every mode fitted, every test made; the modes `timedomain` names fitted again on the
+    /// animals' series.
+    Full(&'a [&'a Series]),
     /// Only the constants.
     Constants(Option<&'a FitReport>),
 }
@@ -207,7 +209,7 @@ pub(super) fn summarise(
         });
     }
     let count = match scope {
-        Scope::Full => cov.len(),
+        Scope::Full(_) => cov.len(),
         Scope::Constants(_) => settings.fit_modes.min(cov.len()),
     };
     let mut modes_fit = fit_modes_spectra(
@@ -217,6 +219,13 @@ pub(super) fn summarise(
         fs,
         (count, warm.map(|r| r.modes_fit.as_slice())),
     );
+    if let Scope::Full(series) = scope {
+        let df = fs / spec.window as f64;
+        refit(&mut modes_fit, series, (df, fs), |j, s| {
+            let (index, lambda) = (proj.first_mode + j, proj.eigenvalues[j]);
+            ModeSpectralFit::of(index, lambda, s, (df, fs), true)
+        });
+    }
     let Spectra {
         window: used_window,
         segments,

@@ -211,7 +211,7 @@ pub(super) fn fit_modes_spectra(
             }
         });
         match fitted {
-            Some(s) => ModeSpectralFit::of(index, lambda, &s, df, fs),
+            Some(s) => ModeSpectralFit::of(index, lambda, &s, (df, fs), false),
             None => ModeSpectralFit {
                 mode: index,
                 lambda,
@@ -231,6 +231,7 @@ pub(super) fn fit_modes_spectra(
                 } else {
                     super::ModeNote::NotFitted
                 }),
+                exact: None,
             },
         }
     };

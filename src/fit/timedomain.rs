@@ -1,0 +1,181 @@
+//! The modal coordinates kept in time order, lost frames as gaps, and the modes whose Welch fit
+//! cannot be trusted fitted again by their exact time-domain likelihood
+//! ([`crate::statespace`]: a Kalman filter on the sampled damped oscillator seen through white
+//! noise).
+//!
+//! **Where.** The Whittle fit of a Welch spectrum stays the estimator of a mode unless
+//! * its line reaches near Nyquist (f + 3ζf above [`NEAR_NYQUIST`] of it): there the taper's
+//!   leakage of the folded line and the aliased tails of the unresolved modes bias Ω and ζ
+//!   low by several standard errors (tests/coverage.rs), and the mode used not to vote;
+//! * its line is narrower than a frequency bin (ζΩ/2π < df): Whittle's Fisher error assumes a
+//!   line spread over many bins and is 1.5–2.3× too small for σ² there (issue 56);
+//! * frames were lost and not bridged: Welch's segments stay inside runs and drop the frames
+//!   of short ones, while the Kalman filter uses every frame and skips the lost ones.
+//!
+//! Such a mode (fitted, not over-damped, with a line above the white level) is fitted again
+//! from the Whittle estimate, over every animal's series at once (one likelihood, the sum of
+//! theirs). The report marks it (`exact`: why). Only the pooled fit does this; an animal's own
+//! fit and the bootstrap's resamples keep the Whittle fit. A recording longer than
+//! [`MAX_FRAMES`] frames keeps no series (its memory and the fit's time would grow with it):
+//! the Whittle fit then stands alone, as on the 10⁶-frame benchmark.
+
+use super::note::ModeNote;
+use super::spectrum::ModeSpectrum;
+use super::verdict::ModeSpectralFit;
+use crate::statespace::{fit_oscillator, Oscillator};
+
+/// The most frames (lost ones included) a recording keeps in time order.
+pub(super) const MAX_FRAMES: usize = 100_000;
+
+/// The share of Nyquist a line may reach (Ω(1 + 3ζ)) before the exact likelihood fits it.
+pub(super) const NEAR_NYQUIST: f64 = 0.6;
+
+/// One animal's modal coordinates in time order, NaN where a frame was lost; none past
+/// [`MAX_FRAMES`].
+#[derive(Debug, Clone, Default)]
+pub(super) struct Series {
+    modes: Vec<Vec<f64>>,
+    /// Lost frames left as gaps (not bridged) between usable ones.
+    lost: usize,
+    /// Past [`MAX_FRAMES`]: nothing kept.
+    dropped: bool,
+}
+
+impl Series {
+    /// One usable frame's coordinates `q`.
+    pub(super) fn push(&mut self, q: &[f64]) {
+        if self.dropped {
+            return;
+        }
+        if self.modes.is_empty() {
+            self.modes = vec![Vec::new(); q.len()];
+        }
+        if self.modes[0].len() >= MAX_FRAMES || self.modes.len() != q.len() {
+            self.dropped = true;
+            self.modes = Vec::new();
+            return;
+        }
+        for (s, v) in self.modes.iter_mut().zip(q) {
+            s.push(*v);
+        }
+    }
+
+    /// `n` frames lost between usable ones, left as a gap.
+    pub(super) fn gap(&mut self, n: usize) {
+        if self.dropped || self.modes.is_empty() {
+            return;
+        }
+        if self.modes[0].len() + n >= MAX_FRAMES {
+            self.dropped = true;
+            self.modes = Vec::new();
+            return;
+        }
+        self.lost += n;
+        for s in &mut self.modes {
+            s.extend(std::iter::repeat_n(f64::NAN, n));
+        }
+    }
+
+    /// Whether it holds the recording.
+    pub(super) fn kept(&self) -> bool {
+        !self.dropped && !self.modes.is_empty()
+    }
+}
+
+/// Why a mode is fitted by its exact likelihood, or `None` when its Whittle fit stands.
+fn wanted(m: &ModeSpectralFit, df: f64, fs: f64, lost: bool) -> Option<&'static str> {
+    let fittable = matches!(
+        m.note,
+        None | Some(ModeNote::AboveNyquist)
+            | Some(ModeNote::LinePastNyquist)
+            | Some(ModeNote::OmegaUncertain)
+    );
+    if !(fittable && m.omega > 0.0 && m.zeta < 1.0 && m.variance > 0.0) {
+        return None;
+    }
+    let f = m.omega / (2.0 * std::f64::consts::PI);
+    // Above Nyquist the mode is its alias: it does not vote, and its fit is left as it is.
+    if f > 0.5 * fs {
+        None
+    } else if f * (1.0 + 3.0 * m.zeta) > NEAR_NYQUIST * 0.5 * fs {
+        Some("line near Nyquist")
+    } else if m.zeta * f < df {
+        Some("line narrower than a bin")
+    } else if lost {
+        Some("lost frames")
+    } else {
+        None
+    }
+}
+
+/// Fit again, by the exact likelihood over `series` (every animal's), each mode of `fits` the
+/// module header names; `classify` makes the fit's entry from its [`ModeSpectrum`]. Modes are
+/// spread over the cores.
+pub(super) fn refit(
+    fits: &mut [ModeSpectralFit],
+    series: &[&Series],
+    (df, fs): (f64, f64),
+    classify: impl Fn(usize, &ModeSpectrum) -> ModeSpectralFit + Sync,
+) {
+    if series.is_empty() || !series.iter().all(|s| s.kept()) {
+        return;
+    }
+    let lost = series.iter().any(|s| s.lost > 0);
+    let jobs: Vec<(usize, &'static str)> = (fits.iter().enumerate())
+        .filter_map(|(j, m)| wanted(m, df, fs, lost).map(|why| (j, why)))
+        .filter(|&(j, _)| series.iter().all(|s| j < s.modes.len()))
+        .collect();
+    let one = |&(j, why): &(usize, &'static str)| -> Option<(usize, ModeSpectralFit)> {
+        let m = &fits[j];
+        let data: Vec<&[f64]> = series.iter().map(|s| s.modes[j].as_slice()).collect();
+        // Fitted in frames (Δt = 1), Ω back in the recording's time unit.
+        let start = Oscillator {
+            omega: m.omega / fs,
+            zeta: m.zeta,
+            variance: m.variance,
+            noise: m.noise.max(1e-6 * m.variance),
+        };
+        let done = fit_oscillator(&data, 1.0, start).ok()?;
+        let (e, se) = (done.estimate, done.errors);
+        let se = se.unwrap_or([f64::INFINITY; 4]);
+        let spectrum = ModeSpectrum {
+            omega: e.omega * fs,
+            omega_error: se[0] * fs,
+            zeta: e.zeta,
+            zeta_error: se[1],
+            variance: e.variance,
+            variance_error: se[2],
+            noise: e.noise,
+            converged: done.errors.is_some(),
+        };
+        let mut fit = classify(j, &spectrum);
+        fit.exact = Some(why);
+        Some((j, fit))
+    };
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(jobs.len());
+    let done: Vec<(usize, ModeSpectralFit)> = if threads < 2 {
+        jobs.iter().filter_map(one).collect()
+    } else {
+        let (one, jobs) = (&one, &jobs);
+        std::thread::scope(|scope| {
+            let handles: Vec<_> = (0..threads)
+                .map(|t| {
+                    scope.spawn(move || {
+                        (jobs.iter().skip(t).step_by(threads))
+                            .filter_map(one)
+                            .collect::<Vec<_>>()
+                    })
+                })
+                .collect();
+            handles
+                .into_iter()
+                .flat_map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+                .collect()
+        })
+    };
+    for (j, fit) in done {
+        fits[j] = fit;
+    }
+}
