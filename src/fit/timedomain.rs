@@ -4,7 +4,8 @@
 //! noise).
 //!
 //! **Where.** The Whittle fit of a Welch spectrum stays the estimator of a mode unless
-//! * its line reaches near Nyquist (f + 3ζf above [`NEAR_NYQUIST`] of it): there the taper's
+//! * its line reaches near Nyquist (f + 3ζf above [`NEAR_NYQUIST`] of it) and is not broad
+//!   (ζ < [`BROAD`]): there the taper's
 //!   leakage of the folded line and the aliased tails of the unresolved modes bias Ω and ζ
 //!   low by several standard errors (tests/coverage.rs), and the mode used not to vote;
 //! * its line is narrower than a frequency bin (ζΩ/2π < df): Whittle's Fisher error assumes a
@@ -29,6 +30,13 @@ pub(super) const MAX_FRAMES: usize = 100_000;
 
 /// The share of Nyquist a line may reach (Ω(1 + 3ζ)) before the exact likelihood fits it.
 pub(super) const NEAR_NYQUIST: f64 = 0.6;
+
+/// The damping ratio from which a line near Nyquist keeps its Whittle fit (and its note): so
+/// broad a line spreads over the whole band, where the leakage of the unresolved modes into its
+/// coordinate is not white, and one oscillator's exact likelihood, blind to that, gives its σ² an
+/// error far too small (a clamped–free beam's third mode, ζ = 0.55 at 0.8 × Nyquist: a true
+/// equipartition rejected in 9 of 20 recordings).
+pub(super) const BROAD: f64 = 0.4;
 
 /// One animal's modal coordinates in time order, NaN where a frame was lost; none past
 /// [`MAX_FRAMES`].
@@ -97,7 +105,7 @@ fn wanted(m: &ModeSpectralFit, df: f64, fs: f64, lost: bool) -> Option<&'static 
     // Above Nyquist the mode is its alias: it does not vote, and its fit is left as it is.
     if f > 0.5 * fs {
         None
-    } else if f * (1.0 + 3.0 * m.zeta) > NEAR_NYQUIST * 0.5 * fs {
+    } else if f * (1.0 + 3.0 * m.zeta) > NEAR_NYQUIST * 0.5 * fs && m.zeta < BROAD {
         Some("line near Nyquist")
     } else if m.zeta * f < df {
         Some("line narrower than a bin")
