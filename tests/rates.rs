@@ -40,10 +40,10 @@ fn lossy(text: &str, lost: f64, seed: u64) -> String {
     let mut out = String::with_capacity(text.len());
     let mut skip = 0usize;
     for (i, line) in text.lines().enumerate() {
-        if i > 1 && skip == 0 && rng.random::<f64>() < lost / 10.0 {
+        if i > 10 && skip == 0 && rng.random::<f64>() < lost / 10.0 {
             skip = rng.random_range(5..=15);
         }
-        if skip > 0 && i > 1 {
+        if skip > 0 {
             skip -= 1;
             continue;
         }
