@@ -117,7 +117,10 @@ fn study(name: &str, body: Body, lost: f64, seed0: u64) -> Figures {
                     )
                 })
                 .collect();
-            println!("  dispersion rejected: {:?} {z:?}", r.tests.dispersion.interval);
+            println!(
+                "  dispersion rejected: {:?} {z:?}",
+                r.tests.dispersion.interval
+            );
         }
         for m in &r.modes_fit {
             if let Some(why) = m.exact {
@@ -151,10 +154,22 @@ fn meets(f: &Figures) -> bool {
 /// (small) errors in those seeds (docs/fit.md).
 #[test]
 fn a_free_beam_at_14_frames_a_period_gets_verdicts() {
-    let f = study("free–free, 14 frames a period, 1 %", beam(false, 14.0, 0.01), 0.0, 51_000);
+    let f = study(
+        "free–free, 14 frames a period, 1 %",
+        beam(false, 14.0, 0.01),
+        0.0,
+        51_000,
+    );
     assert!(f.decided.iter().all(|&d| d >= 18), "undecided");
-    assert!(f.rejected[0] <= 2 && f.rejected[2] <= 2, "true laws rejected");
-    assert!(f.rejected[1] <= 3, "dispersion rejected in {}", f.rejected[1]);
+    assert!(
+        f.rejected[0] <= 2 && f.rejected[2] <= 2,
+        "true laws rejected"
+    );
+    assert!(
+        f.rejected[1] <= 3,
+        "dispersion rejected in {}",
+        f.rejected[1]
+    );
     assert!(f.covered >= 18, "κ covered in {} of {RUNS}", f.covered);
 }
 
@@ -164,8 +179,17 @@ fn a_free_beam_at_14_frames_a_period_gets_verdicts() {
 fn five_percent_lost_in_bursts_unbridged_keeps_kappa() {
     let body = beam(false, 14.0, 0.01);
     let complete = study("free–free, 14 frames a period, complete", body, 0.0, 52_000);
-    let lost = study("free–free, 14 frames a period, 5 % lost", body, 0.05, 52_000);
-    assert!(lost.covered >= 18, "κ covered in {} of {RUNS}", lost.covered);
+    let lost = study(
+        "free–free, 14 frames a period, 5 % lost",
+        body,
+        0.05,
+        52_000,
+    );
+    assert!(
+        lost.covered >= 18,
+        "κ covered in {} of {RUNS}",
+        lost.covered
+    );
     assert!(
         lost.width <= 1.5 * complete.width,
         "κ's interval {} against {}",
@@ -183,7 +207,11 @@ fn every_rate_end_and_noise() {
     for clamped in [false, true] {
         for per_period in [8.0, 14.0, 30.0] {
             for noise in [0.01, 0.05] {
-                let ends = if clamped { "clamped–free" } else { "free–free" };
+                let ends = if clamped {
+                    "clamped–free"
+                } else {
+                    "free–free"
+                };
                 let name = format!("{ends}, {per_period} frames a period, {} %", 100.0 * noise);
                 let f = study(&name, beam(clamped, per_period, noise), 0.0, 53_000);
                 met.push((name, meets(&f)));
@@ -191,7 +219,12 @@ fn every_rate_end_and_noise() {
         }
     }
     let body = beam(true, 14.0, 0.01);
-    let f = study("clamped–free, 14 frames a period, 5 % lost", body, 0.05, 54_000);
+    let f = study(
+        "clamped–free, 14 frames a period, 5 % lost",
+        body,
+        0.05,
+        54_000,
+    );
     met.push(("clamped 5 % lost".into(), meets(&f)));
     println!("meets issue 51's bounds: {met:?}");
 }

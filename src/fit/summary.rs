@@ -3,7 +3,7 @@
 
 use super::project::Projector;
 use super::stats::Spectra;
-use super::timedomain::{refit, Series};
+use super::timedomain::{mark_aliases, refit, Series};
 use super::verdict::{self, ModeSpectralFit, TheoryTests};
 use super::window::{
     choose_window, fit_modes_spectra, lowest_frequency, spectral_peak_and_centroid,
@@ -225,6 +225,7 @@ pub(super) fn summarise(
             let (index, lambda) = (proj.first_mode + j, proj.eigenvalues[j]);
             ModeSpectralFit::of(index, lambda, s, (df, fs), true)
         });
+        mark_aliases(&mut modes_fit, fs);
     }
     let Spectra {
         window: used_window,

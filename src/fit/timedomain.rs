@@ -212,3 +212,28 @@ pub(super) fn refit(
         fits[j] = fit;
     }
 }
+
+/// Take the vote from a resolved mode whose Ω lies below a lower resolved mode's in the upper
+/// half of the band (f above a quarter of the sampling rate): a passive body's frequencies rise
+/// with λ, so it is the alias of a mode above Nyquist (a free beam's third mode at 8 frames per
+/// period of its first voted at its alias and rejected the true dispersion in 15 of 20), which
+/// the exact likelihood, with aliasing in it, fits as well as the Whittle fit does.
+pub(super) fn mark_aliases(fits: &mut [ModeSpectralFit], fs: f64) {
+    let mut highest: Option<(usize, f64)> = None;
+    for m in fits.iter_mut() {
+        if !m.resolved {
+            continue;
+        }
+        match highest {
+            Some((below, omega))
+                if m.omega < omega && m.omega > 0.25 * 2.0 * std::f64::consts::PI * fs =>
+            {
+                m.resolved = false;
+                m.votes = false;
+                m.note = Some(ModeNote::Alias { below });
+            }
+            Some((_, omega)) if m.omega <= omega => {}
+            _ => highest = Some((m.mode, m.omega)),
+        }
+    }
+}
