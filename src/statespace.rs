@@ -130,11 +130,12 @@ pub struct Oscillator {
 
 impl Oscillator {
     fn from_log(t: &[f64; 4]) -> Oscillator {
+        let [omega, zeta, variance, noise] = t.map(f64::exp);
         Oscillator {
-            omega: t[0].exp(),
-            zeta: t[1].exp(),
-            variance: t[2].exp(),
-            noise: t[3].exp(),
+            omega,
+            zeta,
+            variance,
+            noise,
         }
     }
 

@@ -94,54 +94,36 @@ fn check(name: &str, covered: [usize; 4]) {
     assert!(all >= 72, "{name}: {all} of 80 intervals cover");
 }
 
+/// The study of one oscillator (Ω, ζ, ν; σ² = 1) at `lost` frames lost, checked.
+fn case(name: &str, (omega, zeta, noise): (f64, f64, f64), lost: f64, seed0: u64) {
+    let truth = Oscillator {
+        omega,
+        zeta,
+        variance: 1.0,
+        noise,
+    };
+    check(name, study(name, truth, 20_000, lost, seed0));
+}
+
 #[test]
 fn a_line_narrower_than_a_bin_is_covered() {
     // ζ = 0.005 at 12 frames a period: half-width 4e-4 cycles per frame, a 2048-frame window's
     // bin is 4.9e-4.
-    let truth = Oscillator {
-        omega: 0.5,
-        zeta: 0.005,
-        variance: 1.0,
-        noise: 0.05,
-    };
-    check("sharp line", study("sharp line", truth, 20_000, 0.0, 100));
+    case("sharp line", (0.5, 0.005, 0.05), 0.0, 100);
 }
 
 #[test]
 fn a_line_near_nyquist_is_covered() {
-    let truth = Oscillator {
-        omega: 0.8 * std::f64::consts::PI,
-        zeta: 0.08,
-        variance: 1.0,
-        noise: 0.2,
-    };
-    check(
-        "0.8 × Nyquist",
-        study("0.8 × Nyquist", truth, 20_000, 0.0, 200),
-    );
+    let omega = 0.8 * std::f64::consts::PI;
+    case("0.8 × Nyquist", (omega, 0.08, 0.2), 0.0, 200);
 }
 
 #[test]
 fn an_over_damped_mode_is_covered() {
-    let truth = Oscillator {
-        omega: 0.3,
-        zeta: 2.0,
-        variance: 1.0,
-        noise: 0.1,
-    };
-    check("over-damped", study("over-damped", truth, 20_000, 0.0, 300));
+    case("over-damped", (0.3, 2.0, 0.1), 0.0, 300);
 }
 
 #[test]
 fn five_percent_lost_in_bursts_is_covered_without_bridging() {
-    let truth = Oscillator {
-        omega: 0.7,
-        zeta: 0.05,
-        variance: 1.0,
-        noise: 0.05,
-    };
-    check(
-        "5 % lost",
-        study("5 % lost in bursts", truth, 20_000, 0.05, 400),
-    );
+    case("5 % lost in bursts", (0.7, 0.05, 0.05), 0.05, 400);
 }

@@ -63,6 +63,8 @@ pub enum ModeNote {
         /// The lower mode.
         below: usize,
     },
+    /// A time-domain fit above 0.8 × Nyquist, where it cannot be told from an alias.
+    NearAlias,
     /// Too few frequency bins or no variance to fit.
     Unfittable,
     /// Only the constants were asked for.
@@ -106,6 +108,9 @@ impl fmt::Display for ModeNote {
             ModeNote::Alias { below } => write!(
                 f,
                 "its frequency lies below mode {below}'s: the alias of a mode above Nyquist, identifiable only up to it"
+            ),
+            ModeNote::NearAlias => f.write_str(
+                "its frequency is above 0.8 × Nyquist, where its time-domain fit cannot be told from the alias of a mode above Nyquist",
             ),
             ModeNote::Unfittable => f.write_str("too few frequency bins or no variance to fit"),
             ModeNote::NotFitted => f.write_str("not fitted (only the constants were asked for)"),

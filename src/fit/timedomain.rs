@@ -24,6 +24,7 @@
 use super::note::ModeNote;
 use super::spectrum::ModeSpectrum;
 use super::verdict::ModeSpectralFit;
+use super::window::on_cores;
 use crate::statespace::{fit_oscillator, Oscillator};
 
 /// The most frames (lost ones included) a recording keeps in time order.
@@ -32,7 +33,7 @@ pub(super) const MAX_FRAMES: usize = 100_000;
 /// The share of Nyquist a line may reach (Ω(1 + 3ζ)) before the exact likelihood fits it.
 pub(super) const NEAR_NYQUIST: f64 = 0.6;
 
-/// The damping ratio from which a line near Nyquist keeps its Whittle fit (and its note): so
+/// The damping ratio from which a line keeps its Whittle fit (and its note): so
 /// broad a line spreads over the whole band, where the leakage of the unresolved modes into its
 /// coordinate is not white, and one oscillator's exact likelihood, blind to that, gives its σ² an
 /// error far too small (a clamped–free beam's third mode, ζ = 0.55 at 0.8 × Nyquist: a true
@@ -99,14 +100,14 @@ fn wanted(m: &ModeSpectralFit, df: f64, fs: f64, lost: bool) -> Option<&'static 
             | Some(ModeNote::LinePastNyquist)
             | Some(ModeNote::OmegaUncertain)
     );
-    if !(fittable && m.omega > 0.0 && m.zeta < 1.0 && m.variance > 0.0) {
+    if !(fittable && m.omega > 0.0 && m.zeta < BROAD && m.variance > 0.0) {
         return None;
     }
     let f = m.omega / (2.0 * std::f64::consts::PI);
     // Above Nyquist the mode is its alias: it does not vote, and its fit is left as it is.
     if f > 0.5 * fs {
         None
-    } else if f * (1.0 + 3.0 * m.zeta) > NEAR_NYQUIST * 0.5 * fs && m.zeta < BROAD {
+    } else if f * (1.0 + 3.0 * m.zeta) > NEAR_NYQUIST * 0.5 * fs {
         Some("line near Nyquist")
     } else if m.zeta * f < df {
         Some("line narrower than a bin")
@@ -185,30 +186,14 @@ pub(super) fn refit(
         fit.exact = Some(why);
         Some((j, fit))
     };
+    if jobs.is_empty() {
+        return;
+    }
     let threads = std::thread::available_parallelism()
         .map_or(1, |n| n.get())
         .min(jobs.len());
-    let done: Vec<(usize, ModeSpectralFit)> = if threads < 2 {
-        jobs.iter().filter_map(one).collect()
-    } else {
-        let (one, jobs) = (&one, &jobs);
-        std::thread::scope(|scope| {
-            let handles: Vec<_> = (0..threads)
-                .map(|t| {
-                    scope.spawn(move || {
-                        (jobs.iter().skip(t).step_by(threads))
-                            .filter_map(one)
-                            .collect::<Vec<_>>()
-                    })
-                })
-                .collect();
-            handles
-                .into_iter()
-                .flat_map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
-                .collect()
-        })
-    };
-    for (j, fit) in done {
+    let done = on_cores(jobs.len(), threads, |k| one(&jobs[k]));
+    for (j, fit) in done.into_iter().flatten() {
         fits[j] = fit;
     }
 }

@@ -244,12 +244,21 @@ pub(super) fn fit_modes_spectra(
     if count < modes || threads < 2 {
         return (0..modes).map(one).collect();
     }
+    on_cores(modes, threads, one)
+}
+
+/// `one(j)` for j = 0 … count − 1 on `threads` threads, in order.
+pub(super) fn on_cores<T: Send>(
+    count: usize,
+    threads: usize,
+    one: impl Fn(usize) -> T + Sync,
+) -> Vec<T> {
     let one = &one;
-    let mut fits: Vec<(usize, ModeSpectralFit)> = std::thread::scope(|scope| {
+    let mut out: Vec<(usize, T)> = std::thread::scope(|scope| {
         let handles: Vec<_> = (0..threads)
             .map(|t| {
                 scope.spawn(move || {
-                    (t..modes)
+                    (t..count)
                         .step_by(threads)
                         .map(|j| (j, one(j)))
                         .collect::<Vec<_>>()
@@ -261,8 +270,8 @@ pub(super) fn fit_modes_spectra(
             .flat_map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
             .collect()
     });
-    fits.sort_by_key(|(j, _)| *j);
-    fits.into_iter().map(|(_, f)| f).collect()
+    out.sort_by_key(|(j, _)| *j);
+    out.into_iter().map(|(_, f)| f).collect()
 }
 
 /// Peak (with parabolic refinement) and centroid of a one-sided spectrum, above zero frequency.
