@@ -9,10 +9,9 @@
 
 mod common;
 
-use common::beam::{model, on_two_cores, record, root, Body, FREE_BEAM};
+use common::beam::{fitted_with, on_two_cores, record, root, Body, FREE_BEAM};
 use rand::{RngExt, SeedableRng};
-use theory_search::fit::{fit, FitReport, FitSettings, InputKind, Verdict};
-use theory_search::modal::Params;
+use theory_search::fit::{FitReport, FitSettings, InputKind, Verdict};
 
 const RUNS: u64 = 20;
 
@@ -57,13 +56,7 @@ fn fitted(text: &str, clamped: bool) -> FitReport {
     let mut s = FitSettings::new(InputKind::Midline);
     s.points = 12;
     s.fill_gaps = 0;
-    fit(
-        std::io::Cursor::new(text.as_bytes()),
-        &model(clamped),
-        &Params::default(),
-        &s,
-    )
-    .expect("fits")
+    fitted_with(text, clamped, &s)
 }
 
 /// What a setting gave over the seeds.
