@@ -27,7 +27,8 @@
 //!
 //! **Estimate.** θ = (ln Ω, ln ζ, ln σ², ln ν) maximises ln L ([`fit_oscillator`]): Nelder–Mead
 //! from the given start with an evaluation budget fixed up front, restarted once from its best
-//! point, then Newton steps on the numeric Hessian. The errors are the observed Fisher
+//! point, then Newton steps on the numeric Hessian (its gradient at a finer step) until they
+//! move no parameter by 10⁻¹⁰. The errors are the observed Fisher
 //! information's: Cov θ = H⁻¹, H the Hessian of −ln L by central differences; a parameter at its
 //! bound (ν too small to see) is held out of it. Being the exact likelihood, its information
 //! holds for lines of any width, at any frame rate, with gaps: the Whittle–Fisher error of a
@@ -352,7 +353,7 @@ pub fn fit_oscillator(
             .filter(|&i| i != 3 || t[3] > t[2] + (1e-6f64).ln())
             .collect()
     };
-    for _ in 0..3 {
+    for _ in 0..8 {
         let idx = free(&t);
         let (g, h) = derivatives(&nll, &t, &idx);
         let Some(step) = h.clone().cholesky().map(|c| c.solve(&g)) else {
@@ -367,8 +368,9 @@ pub fn fit_oscillator(
             }
             let cand = clamp(cand);
             let w = nll(&cand);
-            if w < v {
-                moved = v - w > 1e-9;
+            if w <= v {
+                let size = (0..4).map(|i| (cand[i] - t[i]).abs()).fold(0.0, f64::max);
+                moved = size > 1e-10;
                 (t, v) = (cand, w);
                 break;
             }

@@ -5,6 +5,9 @@ use nalgebra::DMatrix;
 
 use super::{BUDGET, STEP};
 
+/// Step of the numeric gradient in ln θ.
+const GRADIENT_STEP: f64 = 1e-5;
+
 /// The gradient and Hessian of `f` at `t` over the parameters `idx`, by central differences.
 pub(super) fn derivatives(
     f: &dyn Fn(&[f64; 4]) -> f64,
@@ -24,7 +27,8 @@ pub(super) fn derivatives(
     let mut h = DMatrix::zeros(n, n);
     for (r, &i) in idx.iter().enumerate() {
         let (plus, minus) = (at(&[(i, STEP)]), at(&[(i, -STEP)]));
-        g[r] = (plus - minus) / (2.0 * STEP);
+        // The gradient at a finer step: the Newton steps' fixed point is its zero.
+        g[r] = (at(&[(i, GRADIENT_STEP)]) - at(&[(i, -GRADIENT_STEP)])) / (2.0 * GRADIENT_STEP);
         h[(r, r)] = (plus - 2.0 * centre + minus) / (STEP * STEP);
         for (c, &j) in idx.iter().enumerate().take(r) {
             let pp = at(&[(i, STEP), (j, STEP)]);
