@@ -4,11 +4,9 @@
 //! numbers do not depend on the number of threads. Memory holds the inputs in flight (one per
 //! worker) and, for the bootstrap only, every piece's statistics.
 //!
-//! The workers are hand-written, not rayon's: the main thread pools each animal as soon as
-//! every earlier one is in (a bounded channel, at most 2 × threads reads waiting), so reading
-//! overlaps fitting and memory holds a few animals; a rayon `collect` would hold every
-//! animal's statistics before the first is pooled. The per-mode fits of the pooled spectrum
-//! are rayon's (`window`): same output bit for bit, 0.99× the wall time on the 10⁶-frame file.
+//! The workers are hand-written, not rayon's: each animal is pooled once every earlier one is
+//! in (a bounded channel), so reading overlaps fitting and memory holds a few animals, where a
+//! rayon `collect` would hold them all first. The per-mode fits are rayon's (`window`).
 
 use crate::recording::Jitter;
 use crate::report::number;
