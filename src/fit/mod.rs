@@ -50,7 +50,6 @@ mod settings;
 mod spectrum;
 mod stats;
 mod summary;
-mod timedomain;
 mod uncertainty;
 mod verdict;
 mod welch;
