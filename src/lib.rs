@@ -39,6 +39,7 @@ pub mod recording;
 pub mod reduce;
 pub mod report;
 pub mod rules;
+pub mod statespace;
 pub mod table;
 pub mod term;
 pub mod theory;

@@ -3,6 +3,7 @@
 //! runs unless `--fill-gaps` bridges them.
 
 use super::stats::{Run, Stats};
+use super::timedomain::Series;
 use super::welch::Ladder;
 use super::{animal::Animal, FitError, FitSettings, Recording};
 use crate::modal::Params;
@@ -151,6 +152,7 @@ pub(super) fn accumulate(
         interval: None,
         own: None,
         jitter: None,
+        series: Default::default(),
     };
     let mut run: Option<Run> = None;
     // The last usable frame's time, and its values when gaps may be bridged.
@@ -200,11 +202,13 @@ pub(super) fn accumulate(
                             .map(|(a, b)| a + w * (b - a))
                             .collect();
                         counts.frames_filled += 1;
-                        feed(proj, ctx, (&mut run, &mut work), each, (t, &v, line), None)?;
+                        let kept = (&mut run, &mut work, &mut animal.series);
+                        feed(proj, ctx, kept, each, (t, &v, line), None)?;
                     }
                 }
                 Some(_) => {
                     counts.gaps += 1;
+                    animal.series.gap(pending);
                     close(&mut run, &mut animal, &mut counts, ctx);
                 }
                 // Lost before the animal's first usable frame: nothing to split.
@@ -215,7 +219,7 @@ pub(super) fn accumulate(
         feed(
             proj,
             ctx,
-            (&mut run, &mut work),
+            (&mut run, &mut work, &mut animal.series),
             each,
             (row.t, values, line),
             row.projected,
@@ -249,11 +253,11 @@ fn close(run: &mut Option<Run>, animal: &mut Animal, counts: &mut Recording, ctx
 }
 
 /// Project one frame (oriented head last) unless a parsing worker did, hand it to `each`, add
-/// it to the run.
+/// it to the run and the series.
 fn feed(
     proj: &Projector,
     ctx: &Context<'_>,
-    (run, work): (&mut Option<Run>, &mut Work),
+    (run, work, series): (&mut Option<Run>, &mut Work, &mut Series),
     each: &mut Option<Each<'_>>,
     (t, values, line): (f64, &[f64], usize),
     projected: Option<Result<(&[f64], f64), FrameError>>,
@@ -277,6 +281,7 @@ fn feed(
     if let Some(each) = each {
         each(proj, t, q).map_err(FitError::Output)?;
     }
+    series.push(q);
     run.get_or_insert_with(|| Run::new(q.len(), ctx.ladder(), ctx.settings.bootstrap > 0))
         .push(q, spacing);
     Ok(())

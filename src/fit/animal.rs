@@ -15,6 +15,8 @@ pub(super) struct Animal {
     pub(super) own: Option<super::AnimalFit>,
     /// Its tracked points' turning angles, for the tracking noise (midlines only).
     pub(super) jitter: Option<crate::recording::Jitter>,
+    /// Its modal coordinates in time order (`timedomain`).
+    pub(super) series: super::timedomain::Series,
 }
 
 /// The units a bootstrap draws: the animals, or the one animal's blocks of frames in time order

@@ -50,6 +50,7 @@ mod settings;
 mod spectrum;
 mod stats;
 mod summary;
+mod timedomain;
 mod uncertainty;
 mod verdict;
 mod welch;

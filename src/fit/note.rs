@@ -57,6 +57,14 @@ pub enum ModeNote {
         /// That mode.
         from: usize,
     },
+    /// Its frequency lies below a lower mode's, in the upper half of the band: the alias of a
+    /// mode above Nyquist.
+    Alias {
+        /// The lower mode.
+        below: usize,
+    },
+    /// A time-domain fit above 0.8 × Nyquist, where it cannot be told from an alias.
+    NearAlias,
     /// Too few frequency bins or no variance to fit.
     Unfittable,
     /// Only the constants were asked for.
@@ -96,6 +104,13 @@ impl fmt::Display for ModeNote {
             ModeNote::Leak { from } => write!(
                 f,
                 "its coordinate follows mode {from}'s at a small fraction of its variance: mode {from} showing through"
+            ),
+            ModeNote::Alias { below } => write!(
+                f,
+                "its frequency lies below mode {below}'s: the alias of a mode above Nyquist, identifiable only up to it"
+            ),
+            ModeNote::NearAlias => f.write_str(
+                "its frequency is above 0.8 × Nyquist, where its time-domain fit cannot be told from the alias of a mode above Nyquist",
             ),
             ModeNote::Unfittable => f.write_str("too few frequency bins or no variance to fit"),
             ModeNote::NotFitted => f.write_str("not fitted (only the constants were asked for)"),

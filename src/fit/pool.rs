@@ -323,6 +323,8 @@ struct Pool {
     /// The first animal's name, counts, statistics and interval, fitted alone only once a
     /// second arrives (alone, its own fit would be the pooled one).
     first: Option<(String, Recording, Stats, f64)>,
+    /// Each pooled animal's modal coordinates in time order (`timedomain`).
+    series: Vec<super::timedomain::Series>,
 }
 
 impl Pool {
@@ -415,6 +417,7 @@ impl Pool {
         self.stats
             .get_or_insert_with(|| Stats::new(animal.stats.mean.len(), ctx.ladder()))
             .absorb(&animal.stats, 1.0);
+        self.series.push(std::mem::take(&mut animal.series));
         if let Some(j) = animal.jitter.take() {
             match &mut self.jitter {
                 Some(pooled) => pooled.absorb(&j),
@@ -480,7 +483,9 @@ impl Pool {
             ..self.counts.clone()
         };
         let described = Some((counts, named));
-        let mut report = fit_stats(proj, ctx, stats, interval, (Scope::Full, described))?;
+        let series: Vec<_> = self.series.iter().collect();
+        let scope = (Scope::Full(&series), described);
+        let mut report = fit_stats(proj, ctx, stats, interval, scope)?;
         report.tracking_noise = self.jitter.as_ref().and_then(Jitter::estimate);
         report.warnings.extend(super::report::bridged(&report));
         if ctx.settings.bootstrap > 0 {

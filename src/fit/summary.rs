@@ -2,6 +2,7 @@
 //! β fits.
 
 use super::stats::Spectra;
+use super::timedomain::{mark_aliases, refit, Series};
 use super::verdict::{self, ModeSpectralFit, TheoryTests};
 use super::window::{
     choose_window, fit_modes_spectra, lowest_frequency, spectral_peak_and_centroid,
@@ -17,8 +18,9 @@ use crate::recording::Units;
 /// pooled fit's window and per-mode parameters when there is one.
 #[derive(Clone, Copy)]
 pub(super) enum Scope<'a> {
-    /// Every mode fitted, every test made.
-    Full,
+    /// Every mode fitted, every test made; the modes `timedomain` names fitted again on the
+    /// animals' series.
+    Full(&'a [&'a Series]),
     /// Only the constants.
     Constants(Option<&'a FitReport>),
 }
@@ -206,7 +208,7 @@ pub(super) fn summarise(
         });
     }
     let count = match scope {
-        Scope::Full => cov.len(),
+        Scope::Full(_) => cov.len(),
         Scope::Constants(_) => settings.fit_modes.min(cov.len()),
     };
     let mut modes_fit = fit_modes_spectra(
@@ -216,6 +218,14 @@ pub(super) fn summarise(
         fs,
         (count, warm.map(|r| r.modes_fit.as_slice())),
     );
+    if let Scope::Full(series) = scope {
+        let df = fs / spec.window as f64;
+        refit(&mut modes_fit, series, (df, fs), |j, s| {
+            let (index, lambda) = (proj.first_mode + j, proj.eigenvalues[j]);
+            ModeSpectralFit::of(index, lambda, s, (df, fs), true)
+        });
+        mark_aliases(&mut modes_fit, fs);
+    }
     let Spectra {
         window: used_window,
         segments,

@@ -42,6 +42,12 @@ use super::note::{ModeNote, TestNote};
 pub use super::note::{NYQUIST_HALF_WIDTHS, RESOLVED_BINS, WIDTH_BINS};
 use crate::report::fixed;
 
+/// The share of Nyquist above which a time-domain fit does not vote: a free beam's third mode
+/// above Nyquist at 8 frames per period of its first was fitted at its alias, 0.86 × Nyquist,
+/// and voted against the true dispersion in 15 of 20 recordings; the same mode below Nyquist at
+/// 14 frames per period, 0.77 × Nyquist, votes right.
+pub const EXACT_NYQUIST: f64 = 0.8;
+
 /// The normal distribution's 97.5 % point.
 const NORMAL_975: f64 = 1.959_963_984_540_054;
 
@@ -84,6 +90,10 @@ pub struct ModeSpectralFit {
     /// Why not resolved, or why it does not vote.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub note: Option<ModeNote>,
+    /// Why the exact time-domain likelihood fitted it instead of the Welch spectrum's Whittle
+    /// likelihood (`None`: the Whittle fit; see `timedomain`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub exact: Option<&'static str>,
 }
 
 /// What a test says of the theory.
@@ -167,14 +177,22 @@ fn line_over_floor(s: &super::spectrum::ModeSpectrum, df: f64, fs: f64) -> f64 {
 }
 
 impl ModeSpectralFit {
+    /// Whether it votes on dispersion only: a Whittle fit under [`WIDTH_BINS`] bins (the exact
+    /// likelihood's errors hold at any frequency).
+    pub fn dispersion_only(&self) -> bool {
+        self.bins < WIDTH_BINS && self.exact.is_none()
+    }
+
     /// Classify the fit `s` of mode `mode` (eigenvalue `lambda`) at frequency bin `df` and
-    /// sampling rate `fs`.
+    /// sampling rate `fs`; `exact` when it is the time-domain likelihood's, which has aliasing
+    /// in it and errors that hold for a line of any width: only a line above Nyquist (an
+    /// alias, identifiable only up to it) is then taken from the vote for its frequency.
     pub(super) fn of(
         mode: usize,
         lambda: f64,
         s: &super::spectrum::ModeSpectrum,
-        df: f64,
-        fs: f64,
+        (df, fs): (f64, f64),
+        exact: bool,
     ) -> ModeSpectralFit {
         let known = |e: f64| e.is_finite().then_some(e);
         let f = s.omega / (2.0 * std::f64::consts::PI);
@@ -182,11 +200,13 @@ impl ModeSpectralFit {
             Some(ModeNote::NotConverged)
         } else if s.zeta >= 1.0 {
             Some(ModeNote::OverDamped { zeta: s.zeta })
-        } else if f < RESOLVED_BINS * df {
+        } else if !exact && f < RESOLVED_BINS * df {
             Some(ModeNote::TooFewBins { bins: f / df })
+        } else if exact && f > 0.5 * EXACT_NYQUIST * fs {
+            Some(ModeNote::NearAlias)
         } else if f > 0.45 * fs {
             Some(ModeNote::AboveNyquist)
-        } else if f + NYQUIST_HALF_WIDTHS * s.zeta * f > 0.5 * fs {
+        } else if !exact && f + NYQUIST_HALF_WIDTHS * s.zeta * f > 0.5 * fs {
             // Its line folds back on itself: the fitted Ω and ζ of such lines run low by
             // several of their standard errors in simulations (tests/coverage.rs).
             Some(ModeNote::LinePastNyquist)
@@ -205,7 +225,7 @@ impl ModeSpectralFit {
             zeta: s.zeta,
             // A line narrower than half a bin: its width is the window's, not the mode's.
             zeta_error: known(s.zeta_error)
-                .filter(|_| s.zeta * s.omega / (2.0 * std::f64::consts::PI) >= 0.5 * df),
+                .filter(|_| exact || s.zeta * s.omega / (2.0 * std::f64::consts::PI) >= 0.5 * df),
             variance: s.variance,
             variance_error: known(s.variance_error),
             noise: s.noise,
@@ -215,6 +235,7 @@ impl ModeSpectralFit {
             votes: why.is_none(),
             bins: f / df,
             note: why,
+            exact: None,
         }
     }
 }
@@ -329,7 +350,7 @@ pub(super) fn tests(
             .iter()
             .zip(lambda)
             .zip(gains)
-            .filter(|((m, _), _)| m.votes && (near_zero || m.bins >= WIDTH_BINS))
+            .filter(|((m, _), _)| m.votes && (near_zero || !m.dispersion_only()))
             .filter_map(|((m, l), g)| {
                 let (v, e) = value(m, g.unwrap_or(1.0));
                 let e = e?;
@@ -341,7 +362,7 @@ pub(super) fn tests(
     // Modes that vote on the dispersion only: said where the other tests lack them.
     let dispersion_only: Vec<usize> = fits
         .iter()
-        .filter(|m| m.votes && m.bins < WIDTH_BINS)
+        .filter(|m| m.votes && m.dispersion_only())
         .map(|m| m.mode)
         .collect();
     let said = |mut t: TheoryTest| {
@@ -491,7 +512,7 @@ pub(super) fn text(
                 .unwrap_or_else(|| "—".into()),
             m.noise,
             if m.resolved { "yes" } else { "no" },
-            match (m.votes, m.bins < WIDTH_BINS) {
+            match (m.votes, m.dispersion_only()) {
                 (true, true) => "Ω only",
                 (true, false) => "yes",
                 (false, _) => "no",
@@ -499,7 +520,10 @@ pub(super) fn text(
             m.note
                 .as_ref()
                 .map(|n| format!("  {n}"))
-                .unwrap_or_default(),
+                .unwrap_or_default()
+                + &m.exact
+                    .map(|why| format!("  (time-domain likelihood: {why})"))
+                    .unwrap_or_default(),
         );
     }
     t += &match floor {

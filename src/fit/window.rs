@@ -211,7 +211,7 @@ pub(super) fn fit_modes_spectra(
             }
         });
         match fitted {
-            Some(s) => ModeSpectralFit::of(index, lambda, &s, df, fs),
+            Some(s) => ModeSpectralFit::of(index, lambda, &s, (df, fs), false),
             None => ModeSpectralFit {
                 mode: index,
                 lambda,
@@ -231,6 +231,7 @@ pub(super) fn fit_modes_spectra(
                 } else {
                     super::ModeNote::NotFitted
                 }),
+                exact: None,
             },
         }
     };
@@ -240,8 +241,13 @@ pub(super) fn fit_modes_spectra(
     if count < modes {
         return (0..modes).map(one).collect();
     }
+    on_cores(modes, one)
+}
+
+/// `one(j)` for j = 0 … count − 1 on rayon's pool, in order.
+pub(super) fn on_cores<T: Send>(count: usize, one: impl Fn(usize) -> T + Sync + Send) -> Vec<T> {
     use rayon::prelude::*;
-    (0..modes).into_par_iter().map(one).collect()
+    (0..count).into_par_iter().map(one).collect()
 }
 
 /// Peak (with parabolic refinement) and centroid of a one-sided spectrum, above zero frequency.

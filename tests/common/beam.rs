@@ -152,13 +152,18 @@ pub fn fitted(text: &str, clamped: bool, points: usize, window: Option<usize>) -
     let mut s = FitSettings::new(InputKind::Midline);
     s.recording.points = points;
     s.window = window;
+    fitted_with(text, clamped, &s)
+}
+
+/// The fit of `text` with settings `s`.
+pub fn fitted_with(text: &str, clamped: bool, s: &FitSettings) -> FitReport {
     // Point 1 (s = 0 here, the clamped end) is read as the head: the zebrafish model clamps
     // its head.
     fit(
         std::io::Cursor::new(text.as_bytes()),
         &model(clamped),
         &Params::default(),
-        &s,
+        s,
     )
     .expect("fits")
 }

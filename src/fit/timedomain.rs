@@ -1,0 +1,221 @@
+//! The modal coordinates kept in time order, lost frames as gaps, and the modes whose Welch fit
+//! cannot be trusted fitted again by their exact time-domain likelihood
+//! ([`crate::statespace`]: a Kalman filter on the sampled damped oscillator seen through white
+//! noise).
+//!
+//! **Where.** The Whittle fit of a Welch spectrum stays the estimator of a mode unless
+//! * its line reaches near Nyquist (f + 3ζf above [`NEAR_NYQUIST`] of it) and is not broad
+//!   (ζ < [`BROAD`]): there the taper's
+//!   leakage of the folded line and the aliased tails of the unresolved modes bias Ω and ζ
+//!   low by several standard errors (tests/coverage.rs), and the mode used not to vote;
+//! * its line is narrower than a frequency bin (ζΩ/2π < df): Whittle's Fisher error assumes a
+//!   line spread over many bins and is 1.5–2.3× too small for σ² there (issue 56);
+//! * frames were lost and not bridged: Welch's segments stay inside runs and drop the frames
+//!   of short ones, while the Kalman filter uses every frame and skips the lost ones.
+//!
+//! Such a mode (fitted, not over-damped, with a line above the white level) is fitted again
+//! from the Whittle estimate, over every animal's series at once (one likelihood, the sum of
+//! theirs), and the new fit replaces the Whittle one when both describe the same line
+//! ([`agrees`]). The report marks it (`exact`: why). Only the pooled fit does this; an animal's own
+//! fit and the bootstrap's resamples keep the Whittle fit. A recording longer than
+//! [`MAX_FRAMES`] frames keeps no series (its memory and the fit's time would grow with it):
+//! the Whittle fit then stands alone, as on the 10⁶-frame benchmark.
+
+use super::note::ModeNote;
+use super::spectrum::ModeSpectrum;
+use super::verdict::ModeSpectralFit;
+use super::window::on_cores;
+use crate::statespace::{fit_oscillator, Oscillator};
+
+/// The most frames (lost ones included) a recording keeps in time order.
+pub(super) const MAX_FRAMES: usize = 100_000;
+
+/// The share of Nyquist a line may reach (Ω(1 + 3ζ)) before the exact likelihood fits it.
+pub(super) const NEAR_NYQUIST: f64 = 0.6;
+
+/// The damping ratio from which a line keeps its Whittle fit (and its note): so
+/// broad a line spreads over the whole band, where the leakage of the unresolved modes into its
+/// coordinate is not white, and one oscillator's exact likelihood, blind to that, gives its σ² an
+/// error far too small (a clamped–free beam's third mode, ζ = 0.55 at 0.8 × Nyquist: a true
+/// equipartition rejected in 9 of 20 recordings).
+pub(super) const BROAD: f64 = 0.4;
+
+/// One animal's modal coordinates in time order, NaN where a frame was lost; none past
+/// [`MAX_FRAMES`].
+#[derive(Debug, Clone, Default)]
+pub(super) struct Series {
+    modes: Vec<Vec<f64>>,
+    /// Lost frames left as gaps (not bridged) between usable ones.
+    lost: usize,
+    /// Past [`MAX_FRAMES`]: nothing kept.
+    dropped: bool,
+}
+
+impl Series {
+    /// One usable frame's coordinates `q`.
+    pub(super) fn push(&mut self, q: &[f64]) {
+        if self.dropped {
+            return;
+        }
+        if self.modes.is_empty() {
+            self.modes = vec![Vec::new(); q.len()];
+        }
+        if self.modes[0].len() >= MAX_FRAMES || self.modes.len() != q.len() {
+            self.dropped = true;
+            self.modes = Vec::new();
+            return;
+        }
+        for (s, v) in self.modes.iter_mut().zip(q) {
+            s.push(*v);
+        }
+    }
+
+    /// `n` frames lost between usable ones, left as a gap.
+    pub(super) fn gap(&mut self, n: usize) {
+        if self.dropped || self.modes.is_empty() {
+            return;
+        }
+        if self.modes[0].len() + n >= MAX_FRAMES {
+            self.dropped = true;
+            self.modes = Vec::new();
+            return;
+        }
+        self.lost += n;
+        for s in &mut self.modes {
+            s.extend(std::iter::repeat_n(f64::NAN, n));
+        }
+    }
+
+    /// Whether it holds the recording.
+    pub(super) fn kept(&self) -> bool {
+        !self.dropped && !self.modes.is_empty()
+    }
+}
+
+/// Why a mode is fitted by its exact likelihood, or `None` when its Whittle fit stands.
+fn wanted(m: &ModeSpectralFit, df: f64, fs: f64, lost: bool) -> Option<&'static str> {
+    let fittable = matches!(
+        m.note,
+        None | Some(ModeNote::AboveNyquist)
+            | Some(ModeNote::LinePastNyquist)
+            | Some(ModeNote::OmegaUncertain)
+    );
+    if !(fittable && m.omega > 0.0 && m.zeta < BROAD && m.variance > 0.0) {
+        return None;
+    }
+    let f = m.omega / (2.0 * std::f64::consts::PI);
+    // Above Nyquist the mode is its alias: it does not vote, and its fit is left as it is.
+    if f > 0.5 * fs {
+        None
+    } else if f * (1.0 + 3.0 * m.zeta) > NEAR_NYQUIST * 0.5 * fs {
+        Some("line near Nyquist")
+    } else if m.zeta * f < df {
+        Some("line narrower than a bin")
+    } else if lost {
+        Some("lost frames")
+    } else {
+        None
+    }
+}
+
+/// Whether the time-domain fit `exact` describes the line the Welch spectrum shows in `whittle`:
+/// half-widths ζΩ within a factor [`WIDTH_RATIO`] of each other (both counted as at least a
+/// bin, the narrowest a window shows) and Ω within two of those half-widths. A coordinate that
+/// is not one oscillator over the whole band (slow drift, a neighbour's leakage) is fitted by
+/// the time-domain likelihood as a compromise — the shipped example's sharp mode 2 (ζ = 0.012)
+/// came out at ζ = 0.26 and Ω 7 % high — where the Whittle fit, over the line's own band,
+/// keeps the line: the Whittle fit then stands.
+fn agrees(whittle: &ModeSpectralFit, exact: &ModeSpectrum, df: f64) -> bool {
+    let tau = 2.0 * std::f64::consts::PI;
+    let half = |omega: f64, zeta: f64| (zeta * omega / tau).max(df);
+    let (a, b) = (
+        half(whittle.omega, whittle.zeta),
+        half(exact.omega, exact.zeta),
+    );
+    let near = (exact.omega - whittle.omega).abs() / tau <= 2.0 * a.max(b);
+    near && b <= WIDTH_RATIO * a && a <= WIDTH_RATIO * b
+}
+
+/// How far the two fits' half-widths may differ (see [`agrees`]).
+const WIDTH_RATIO: f64 = 2.0;
+
+/// Fit again, by the exact likelihood over `series` (every animal's), each mode of `fits` the
+/// module header names; `classify` makes the fit's entry from its [`ModeSpectrum`]. Modes are
+/// spread over the cores.
+pub(super) fn refit(
+    fits: &mut [ModeSpectralFit],
+    series: &[&Series],
+    (df, fs): (f64, f64),
+    classify: impl Fn(usize, &ModeSpectrum) -> ModeSpectralFit + Sync,
+) {
+    if series.is_empty() || !series.iter().all(|s| s.kept()) {
+        return;
+    }
+    let lost = series.iter().any(|s| s.lost > 0);
+    let jobs: Vec<(usize, &'static str)> = (fits.iter().enumerate())
+        .filter_map(|(j, m)| wanted(m, df, fs, lost).map(|why| (j, why)))
+        .filter(|&(j, _)| series.iter().all(|s| j < s.modes.len()))
+        .collect();
+    let one = |&(j, why): &(usize, &'static str)| -> Option<(usize, ModeSpectralFit)> {
+        let m = &fits[j];
+        let data: Vec<&[f64]> = series.iter().map(|s| s.modes[j].as_slice()).collect();
+        // Fitted in frames (Δt = 1), Ω back in the recording's time unit.
+        let start = Oscillator {
+            omega: m.omega / fs,
+            zeta: m.zeta,
+            variance: m.variance,
+            noise: m.noise.max(1e-6 * m.variance),
+        };
+        let done = fit_oscillator(&data, 1.0, start).ok()?;
+        let (e, se) = (done.estimate, done.errors);
+        let se = se.unwrap_or([f64::INFINITY; 4]);
+        let spectrum = ModeSpectrum {
+            omega: e.omega * fs,
+            omega_error: se[0] * fs,
+            zeta: e.zeta,
+            zeta_error: se[1],
+            variance: e.variance,
+            variance_error: se[2],
+            noise: e.noise,
+            converged: done.errors.is_some(),
+        };
+        if !agrees(m, &spectrum, df) {
+            return None;
+        }
+        let mut fit = classify(j, &spectrum);
+        fit.exact = Some(why);
+        Some((j, fit))
+    };
+    if jobs.is_empty() {
+        return;
+    }
+    let done = on_cores(jobs.len(), |k| one(&jobs[k]));
+    for (j, fit) in done.into_iter().flatten() {
+        fits[j] = fit;
+    }
+}
+
+/// Take the vote from a resolved mode whose Ω lies below a lower resolved mode's in the upper
+/// half of the band (f above a quarter of the sampling rate): a passive body's frequencies rise
+/// with λ, so it is the alias of a mode above Nyquist (a free beam's third mode at 8 frames per
+/// period of its first voted at its alias and rejected the true dispersion in 15 of 20), which
+/// the exact likelihood, with aliasing in it, fits as well as the Whittle fit does.
+pub(super) fn mark_aliases(fits: &mut [ModeSpectralFit], fs: f64) {
+    let mut highest: Option<(usize, f64)> = None;
+    for m in fits.iter_mut() {
+        if !m.resolved {
+            continue;
+        }
+        match highest {
+            Some((below, omega))
+                if m.omega < omega && m.omega > 0.25 * 2.0 * std::f64::consts::PI * fs =>
+            {
+                m.resolved = false;
+                m.votes = false;
+                m.note = Some(ModeNote::Alias { below });
+            }
+            Some((_, omega)) if m.omega <= omega => {}
+            _ => highest = Some((m.mode, m.omega)),
+        }
+    }
+}
