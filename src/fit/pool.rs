@@ -17,7 +17,9 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{mpsc, Mutex};
 
 use super::accumulate::{accumulate, Context, Each, PassLadder, ProjectorCache, Projectors};
+use super::animal::UnitFrames;
 use super::stats::Stats;
+use super::timedomain::{Series, Span};
 use super::welch::Ladder;
 use super::{
     animal::{units, Animal},
@@ -158,7 +160,7 @@ fn parallel(inputs: Vec<Input<'_>>, ctx: &Context<'_>, pool: &mut Pool) -> Resul
                         if let (true, Some(proj)) = (total > 1, r.projector.as_ref()) {
                             for a in r.animals.iter_mut().filter(|a| a.stats.count > 0.0) {
                                 let interval = a.interval.unwrap_or(1.0);
-                                let parts = (a.name.as_str(), &a.counts, &a.stats);
+                                let parts = (a.name.as_str(), &a.counts, &a.stats, &a.series);
                                 a.own = Some(own_fit(proj, ctx, parts, interval));
                             }
                         }
@@ -358,7 +360,9 @@ impl Pool {
         else {
             return;
         };
-        let fit = own_fit(proj, ctx, (&name, &counts, &stats), interval);
+        let none = Series::default();
+        let series = self.series.first().unwrap_or(&none);
+        let fit = own_fit(proj, ctx, (&name, &counts, &stats, series), interval);
         self.fits.push(fit);
     }
 
@@ -411,6 +415,7 @@ impl Pool {
             self.fit_first(ctx);
             if let Some(proj) = self.projector.as_ref() {
                 let parts = (animal.name.as_str(), &animal.counts, &animal.stats);
+                let parts = (parts.0, parts.1, parts.2, &animal.series);
                 self.fits.push(own_fit(proj, ctx, parts, interval));
             }
         }
@@ -441,6 +446,7 @@ impl Pool {
     fn apart(&mut self, ctx: &Context<'_>, animal: Animal, pooled: f64, own: f64) {
         self.fit_first(ctx);
         let parts = (animal.name.as_str(), &animal.counts, &animal.stats);
+        let parts = (parts.0, parts.1, parts.2, &animal.series);
         let mut fit = match (animal.own, self.projector.as_ref()) {
             (Some(fit), _) => fit,
             (None, Some(proj)) if animal.stats.count > 0.0 => own_fit(proj, ctx, parts, own),
@@ -483,18 +489,20 @@ impl Pool {
             ..self.counts.clone()
         };
         let described = Some((counts, named));
-        let series: Vec<_> = self.series.iter().collect();
-        let scope = (Scope::Full(&series), described);
+        let spans: Vec<Span> = self.series.iter().map(Series::whole).collect();
+        let scope = (Scope::Full(&spans), described);
         let mut report = fit_stats(proj, ctx, stats, interval, scope)?;
         report.tracking_noise = self.jitter.as_ref().and_then(Jitter::estimate);
         report.warnings.extend(super::report::bridged(&report));
         if ctx.settings.bootstrap > 0 {
             let units = units(&self.kept);
+            let frames = UnitFrames::of(&units, &self.series);
             let pooled = report.clone();
             // A resample that would choose a window a pilot kept partially: the pass is made again.
             let pruned = AtomicBool::new(false);
-            let fit = |s: &Stats| {
-                let scope = (Scope::Constants(Some(&pooled)), None);
+            let fit = |s: &Stats, draws: &[(usize, usize)]| {
+                let spans = frames.drawn(draws);
+                let scope = (Scope::Constants(Some(&pooled), &spans), None);
                 let fitted = fit_stats(proj, ctx, s, interval, scope);
                 pruned.fetch_or(
                     matches!(fitted, Err(FitError::Pruned { .. })),
@@ -550,10 +558,11 @@ impl Pool {
 fn own_fit(
     proj: &Projector,
     ctx: &Context<'_>,
-    (name, counts, stats): (&str, &Recording, &Stats),
+    (name, counts, stats, series): (&str, &Recording, &Stats, &Series),
     interval: f64,
 ) -> AnimalFit {
-    match fit_stats(proj, ctx, stats, interval, (Scope::Constants(None), None)) {
+    let spans = [series.whole()];
+    match fit_stats(proj, ctx, stats, interval, (Scope::Constants(None, &spans), None)) {
         Ok(r) => AnimalFit::of(name, counts, &r),
         Err(e) => AnimalFit::failed(name, stats, counts, &e.to_string()),
     }

@@ -2,7 +2,7 @@
 //! β fits.
 
 use super::stats::Spectra;
-use super::timedomain::{mark_aliases, refit, Series};
+use super::timedomain::{mark_aliases, refit, Span};
 use super::verdict::{self, ModeSpectralFit, TheoryTests};
 use super::window::{
     choose_window, fit_modes_spectra, lowest_frequency, spectral_peak_and_centroid,
@@ -15,14 +15,15 @@ use crate::recording::Units;
 
 /// How much of a fit to make: everything, or only the constants (ω, β, κ from the first
 /// `fit_modes` modes) for an animal alone or a bootstrap resample, warm-started from the
-/// pooled fit's window and per-mode parameters when there is one.
+/// pooled fit's window and per-mode parameters when there is one. Either way the modes
+/// `timedomain` names are fitted again on the series given (the animals' or the resample's):
+/// one estimator in every scope.
 #[derive(Clone, Copy)]
 pub(super) enum Scope<'a> {
-    /// Every mode fitted, every test made; the modes `timedomain` names fitted again on the
-    /// animals' series.
-    Full(&'a [&'a Series]),
+    /// Every mode fitted, every test made.
+    Full(&'a [Span<'a>]),
     /// Only the constants.
-    Constants(Option<&'a FitReport>),
+    Constants(Option<&'a FitReport>, &'a [Span<'a>]),
 }
 
 /// What the report says of where its moments came from.
@@ -186,8 +187,11 @@ pub(super) fn summarise(
     check_moments(&cov, &spectra)?;
     let fs = 1.0 / interval;
     let warm = match scope {
-        Scope::Constants(Some(r)) => Some(r),
+        Scope::Constants(Some(r), _) => Some(r),
         _ => None,
+    };
+    let series = match scope {
+        Scope::Full(s) | Scope::Constants(_, s) => s,
     };
     // A resample keeps the pooled fit's window, when it has it.
     let spectra = match warm.map(|r| r.window.frames) {
@@ -209,7 +213,7 @@ pub(super) fn summarise(
     }
     let count = match scope {
         Scope::Full(_) => cov.len(),
-        Scope::Constants(_) => settings.fit_modes.min(cov.len()),
+        Scope::Constants(..) => settings.fit_modes.min(cov.len()),
     };
     let mut modes_fit = fit_modes_spectra(
         proj,
@@ -218,14 +222,13 @@ pub(super) fn summarise(
         fs,
         (count, warm.map(|r| r.modes_fit.as_slice())),
     );
-    if let Scope::Full(series) = scope {
-        let df = fs / spec.window as f64;
-        refit(&mut modes_fit, series, (df, fs), |j, s| {
-            let (index, lambda) = (proj.first_mode + j, proj.eigenvalues[j]);
-            ModeSpectralFit::of(index, lambda, s, (df, fs), true)
-        });
-        mark_aliases(&mut modes_fit, fs);
-    }
+    let df = fs / spec.window as f64;
+    let chosen = warm.map(|r| r.modes_fit.as_slice());
+    refit(&mut modes_fit, (series, chosen), (df, fs), |j, s| {
+        let (index, lambda) = (proj.first_mode + j, proj.eigenvalues[j]);
+        ModeSpectralFit::of(index, lambda, s, (df, fs), true)
+    });
+    mark_aliases(&mut modes_fit, fs);
     let Spectra {
         window: used_window,
         segments,

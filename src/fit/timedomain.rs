@@ -16,8 +16,11 @@
 //! Such a mode (fitted, not over-damped, with a line above the white level) is fitted again
 //! from the Whittle estimate, over every animal's series at once (one likelihood, the sum of
 //! theirs), and the new fit replaces the Whittle one when both describe the same line
-//! ([`agrees`]). The report marks it (`exact`: why). Only the pooled fit does this; an animal's own
-//! fit and the bootstrap's resamples keep the Whittle fit. A recording longer than
+//! ([`agrees`]). The report marks it (`exact`: why). Every scope does this, so that one estimator
+//! stands behind every number: the pooled fit, each animal's own fit (on its own series, by
+//! the same rule: the same animal in a pool and alone is fitted alike), and each bootstrap
+//! resample (on the series of the animals it drew, or of its moving blocks of frames, for the
+//! modes the pooled fit refitted, started from its estimate). A recording longer than
 //! [`MAX_FRAMES`] frames keeps no series (its memory and the fit's time would grow with it):
 //! the Whittle fit then stands alone, as on the 10⁶-frame benchmark.
 
@@ -26,6 +29,7 @@ use super::spectrum::ModeSpectrum;
 use super::verdict::ModeSpectralFit;
 use super::window::on_cores;
 use crate::statespace::{fit_oscillator, Oscillator};
+use std::ops::Range;
 
 /// The most frames (lost ones included) a recording keeps in time order.
 pub(super) const MAX_FRAMES: usize = 100_000;
@@ -90,6 +94,40 @@ impl Series {
     pub(super) fn kept(&self) -> bool {
         !self.dropped && !self.modes.is_empty()
     }
+
+    /// All of it.
+    pub(super) fn whole(&self) -> Span<'_> {
+        Span {
+            series: self,
+            frames: 0..self.modes.first().map_or(0, Vec::len),
+        }
+    }
+
+    /// The frames (lost ones included) of consecutive blocks of `counts` usable frames each,
+    /// from the first usable frame on; `None` when the blocks hold more frames than it does.
+    pub(super) fn blocks(&self, counts: &[usize]) -> Option<Vec<Range<usize>>> {
+        let first = self.modes.first()?;
+        let mut usable = (first.iter().enumerate()).filter(|(_, v)| !v.is_nan());
+        let mut out = Vec::with_capacity(counts.len());
+        let mut end = 0;
+        for &c in counts {
+            let start = if c == 0 { end } else { usable.next()?.0 };
+            end = match c {
+                0 => end,
+                1 => start + 1,
+                _ => usable.nth(c - 2)?.0 + 1,
+            };
+            out.push(start..end);
+        }
+        Some(out)
+    }
+}
+
+/// Some consecutive frames of one animal's [`Series`]: what one likelihood term is made of.
+#[derive(Debug, Clone)]
+pub(super) struct Span<'a> {
+    pub(super) series: &'a Series,
+    pub(super) frames: Range<usize>,
 }
 
 /// Why a mode is fitted by its exact likelihood, or `None` when its Whittle fit stands.
@@ -139,32 +177,43 @@ fn agrees(whittle: &ModeSpectralFit, exact: &ModeSpectrum, df: f64) -> bool {
 /// How far the two fits' half-widths may differ (see [`agrees`]).
 const WIDTH_RATIO: f64 = 2.0;
 
-/// Fit again, by the exact likelihood over `series` (every animal's), each mode of `fits` the
-/// module header names; `classify` makes the fit's entry from its [`ModeSpectrum`]. Modes are
-/// spread over the cores.
+/// Fit again, by the exact likelihood over `series` (every animal's, or a resample's pieces),
+/// each mode of `fits` the module header names — or, for a resample or an animal fitted within
+/// a pool (`chosen`: the pooled fit's modes), each mode the pooled fit fitted so, started from
+/// its estimate; `classify` makes the fit's entry from its [`ModeSpectrum`]. Modes are spread
+/// over the cores.
 pub(super) fn refit(
     fits: &mut [ModeSpectralFit],
-    series: &[&Series],
+    (spans, chosen): (&[Span<'_>], Option<&[ModeSpectralFit]>),
     (df, fs): (f64, f64),
     classify: impl Fn(usize, &ModeSpectrum) -> ModeSpectralFit + Sync,
 ) {
-    if series.is_empty() || !series.iter().all(|s| s.kept()) {
+    if spans.is_empty() || !spans.iter().all(|s| s.series.kept()) {
         return;
     }
-    let lost = series.iter().any(|s| s.lost > 0);
-    let jobs: Vec<(usize, &'static str)> = (fits.iter().enumerate())
-        .filter_map(|(j, m)| wanted(m, df, fs, lost).map(|why| (j, why)))
-        .filter(|&(j, _)| series.iter().all(|s| j < s.modes.len()))
+    let lost = spans.iter().any(|s| s.series.lost > 0);
+    let jobs: Vec<(usize, &'static str, &ModeSpectralFit)> = match chosen {
+        Some(pooled) => (pooled.iter().enumerate())
+            .filter(|&(j, _)| j < fits.len())
+            .filter_map(|(j, m)| m.exact.map(|why| (j, why, m)))
+            .collect(),
+        None => (fits.iter().enumerate())
+            .filter_map(|(j, m)| wanted(m, df, fs, lost).map(|why| (j, why, m)))
+            .collect(),
+    };
+    let jobs: Vec<_> = (jobs.into_iter())
+        .filter(|&(j, ..)| spans.iter().all(|s| j < s.series.modes.len()))
         .collect();
-    let one = |&(j, why): &(usize, &'static str)| -> Option<(usize, ModeSpectralFit)> {
-        let m = &fits[j];
-        let data: Vec<&[f64]> = series.iter().map(|s| s.modes[j].as_slice()).collect();
+    let one = |&(j, why, from): &(usize, &'static str, &ModeSpectralFit)| {
+        let data: Vec<&[f64]> = (spans.iter())
+            .map(|s| &s.series.modes[j][s.frames.clone()])
+            .collect();
         // Fitted in frames (Δt = 1), Ω back in the recording's time unit.
         let start = Oscillator {
-            omega: m.omega / fs,
-            zeta: m.zeta,
-            variance: m.variance,
-            noise: m.noise.max(1e-6 * m.variance),
+            omega: from.omega / fs,
+            zeta: from.zeta,
+            variance: from.variance,
+            noise: from.noise.max(1e-6 * from.variance),
         };
         let done = fit_oscillator(&data, 1.0, start).ok()?;
         let (e, se) = (done.estimate, done.errors);
@@ -179,7 +228,7 @@ pub(super) fn refit(
             noise: e.noise,
             converged: done.errors.is_some(),
         };
-        if !agrees(m, &spectrum, df) {
+        if !agrees(&fits[j], &spectrum, df) {
             return None;
         }
         let mut fit = classify(j, &spectrum);
