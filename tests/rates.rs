@@ -167,6 +167,22 @@ fn a_free_beam_at_14_frames_a_period_gets_verdicts() {
     assert!(f.covered >= 18, "κ covered in {} of {RUNS}", f.covered);
 }
 
+/// At 8 frames a period only two elastic modes lie under Nyquist: the third (0.675 f_s, seen at
+/// its alias 0.325 f_s) votes once the λ law has chosen its branch (`alias::unfold`), so the
+/// tests are decided and the true laws hold.
+#[test]
+fn a_free_beam_at_8_frames_a_period_votes_its_unfolded_modes() {
+    let f = study(
+        "free–free, 8 frames a period, 1 %",
+        beam(false, 8.0, 0.01),
+        0.0,
+        55_000,
+    );
+    assert!(f.decided.iter().all(|&d| d >= 18), "undecided");
+    assert!(f.rejected.iter().all(|&r| r <= 2), "true laws rejected");
+    assert!(f.covered >= 18, "κ covered in {} of {RUNS}", f.covered);
+}
+
 /// 5 % of the frames lost in bursts, not bridged: κ covered, its interval within 1.5× the
 /// complete recording's.
 #[test]

@@ -35,8 +35,8 @@ pub(super) fn units(animals: &[Animal]) -> (Vec<&Stats>, &'static str) {
     }
 }
 
-/// The frames of its series each bootstrap unit of [`units`] covers (an animal's whole series,
-/// or one block's frames), and the spans of a resample's draws (first unit, how many).
+/// The frames of its series each bootstrap unit of [`units`] covers: an animal's whole series,
+/// or one block's frames.
 pub(super) struct UnitFrames<'a>(Vec<Span<'a>>);
 
 impl<'a> UnitFrames<'a> {
@@ -58,16 +58,8 @@ impl<'a> UnitFrames<'a> {
         UnitFrames(spans)
     }
 
-    /// The spans of `draws`; none when the units' frames are not known.
-    pub(super) fn drawn(&self, draws: &[(usize, usize)]) -> Vec<Span<'a>> {
-        (draws.iter())
-            .filter_map(|&(start, length)| {
-                let (first, last) = (self.0.get(start)?, self.0.get(start + length - 1)?);
-                Some(Span {
-                    series: first.series,
-                    frames: first.frames.start..last.frames.end,
-                })
-            })
-            .collect()
+    /// Each unit's span.
+    pub(super) fn spans(&self) -> &[Span<'a>] {
+        &self.0
     }
 }

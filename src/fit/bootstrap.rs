@@ -141,13 +141,13 @@ pub enum NoBootstrap {
 /// `units`; an explanation instead when they cannot be drawn.
 ///
 /// `span` is, for the blocks of one animal, the frames a draw must span: the draws are then moving
-/// blocks of consecutive units. `fit` is given the resample's pooled statistics and its draws,
-/// each the first unit drawn and how many consecutive ones.
+/// blocks of consecutive units. `fit` is given the resample's pooled statistics and how many
+/// times it holds each unit.
 pub(super) fn intervals(
     (units, resampled): &(Vec<&Stats>, &'static str),
     settings: &FitSettings,
     (ladder, span): (&Ladder, usize),
-    fit: impl Fn(&Stats, &[(usize, usize)]) -> Option<FitReport>,
+    fit: impl Fn(&Stats, &[usize]) -> Option<FitReport>,
 ) -> Result<Intervals, NoBootstrap> {
     let n = units.len();
     let moving = *resampled == "blocks";
@@ -178,22 +178,19 @@ pub(super) fn intervals(
     let m = units[0].mean.len();
     let mut reports = Vec::with_capacity(replicates);
     let mut times = vec![0usize; n];
-    let mut drawn = Vec::with_capacity(draws);
     for _ in 0..replicates {
         times.iter_mut().for_each(|c| *c = 0);
-        drawn.clear();
         for _ in 0..draws {
             let start = rng.random_range(0..=n - length);
             for c in &mut times[start..start + length] {
                 *c += 1;
             }
-            drawn.push((start, length));
         }
         let mut pooled = Stats::new(m, ladder);
         for (s, &c) in units.iter().zip(&times) {
             pooled.absorb(s, c as f64);
         }
-        if let Some(r) = fit(&pooled, &drawn) {
+        if let Some(r) = fit(&pooled, &times) {
             reports.push(r);
         }
     }

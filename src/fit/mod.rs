@@ -39,6 +39,7 @@
 use std::io::BufRead;
 
 mod accumulate;
+mod alias;
 mod animal;
 mod bootstrap;
 mod error;

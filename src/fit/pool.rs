@@ -19,7 +19,7 @@ use std::sync::{mpsc, Mutex};
 use super::accumulate::{accumulate, Context, Each, PassLadder, ProjectorCache, Projectors};
 use super::animal::UnitFrames;
 use super::stats::Stats;
-use super::timedomain::{Series, Span};
+use super::timedomain::{Exact, OneStep, Series, Span};
 use super::welch::Ladder;
 use super::{
     animal::{units, Animal},
@@ -497,12 +497,13 @@ impl Pool {
         if ctx.settings.bootstrap > 0 {
             let units = units(&self.kept);
             let frames = UnitFrames::of(&units, &self.series);
+            let one = OneStep::of(&report.modes_fit, frames.spans(), 1.0 / interval);
             let pooled = report.clone();
             // A resample that would choose a window a pilot kept partially: the pass is made again.
             let pruned = AtomicBool::new(false);
-            let fit = |s: &Stats, draws: &[(usize, usize)]| {
-                let spans = frames.drawn(draws);
-                let scope = (Scope::Constants(Some(&pooled), &spans), None);
+            let fit = |s: &Stats, times: &[usize]| {
+                let exact = Exact::Resample(&one, times);
+                let scope = (Scope::Constants(Some(&pooled), exact), None);
                 let fitted = fit_stats(proj, ctx, s, interval, scope);
                 pruned.fetch_or(
                     matches!(fitted, Err(FitError::Pruned { .. })),
@@ -562,7 +563,8 @@ fn own_fit(
     interval: f64,
 ) -> AnimalFit {
     let spans = [series.whole()];
-    match fit_stats(proj, ctx, stats, interval, (Scope::Constants(None, &spans), None)) {
+    let scope = Scope::Constants(None, Exact::Spans(&spans));
+    match fit_stats(proj, ctx, stats, interval, (scope, None)) {
         Ok(r) => AnimalFit::of(name, counts, &r),
         Err(e) => AnimalFit::failed(name, stats, counts, &e.to_string()),
     }

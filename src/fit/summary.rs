@@ -2,8 +2,9 @@
 //! β fits.
 
 use super::stats::Spectra;
-use super::timedomain::{mark_aliases, refit, Span};
-use super::verdict::{self, ModeSpectralFit, TheoryTests};
+use super::alias::{mark_aliases, unfold, UNFOLDED};
+use super::timedomain::{refit, Exact, Span};
+use super::verdict::{self, FittedBy, ModeSpectralFit, TheoryTests};
 use super::window::{
     choose_window, fit_modes_spectra, lowest_frequency, spectral_peak_and_centroid,
 };
@@ -23,7 +24,7 @@ pub(super) enum Scope<'a> {
     /// Every mode fitted, every test made.
     Full(&'a [Span<'a>]),
     /// Only the constants.
-    Constants(Option<&'a FitReport>, &'a [Span<'a>]),
+    Constants(Option<&'a FitReport>, Exact<'a>),
 }
 
 /// What the report says of where its moments came from.
@@ -190,8 +191,9 @@ pub(super) fn summarise(
         Scope::Constants(Some(r), _) => Some(r),
         _ => None,
     };
-    let series = match scope {
-        Scope::Full(s) | Scope::Constants(_, s) => s,
+    let exact = match scope {
+        Scope::Full(s) => Exact::Spans(s),
+        Scope::Constants(_, e) => e,
     };
     // A resample keeps the pooled fit's window, when it has it.
     let spectra = match warm.map(|r| r.window.frames) {
@@ -224,11 +226,17 @@ pub(super) fn summarise(
     );
     let df = fs / spec.window as f64;
     let chosen = warm.map(|r| r.modes_fit.as_slice());
-    refit(&mut modes_fit, (series, chosen), (df, fs), |j, s| {
+    let classify = |j: usize, s: &_, why: &str| {
         let (index, lambda) = (proj.first_mode + j, proj.eigenvalues[j]);
-        ModeSpectralFit::of(index, lambda, s, (df, fs), true)
-    });
+        let by = match why {
+            UNFOLDED => FittedBy::Unfolded,
+            _ => FittedBy::Exact,
+        };
+        ModeSpectralFit::of(index, lambda, s, (df, fs), by)
+    };
+    refit(&mut modes_fit, (exact, chosen), (df, fs), &classify);
     mark_aliases(&mut modes_fit, fs);
+    unfold(&mut modes_fit, exact.spans(), (&regressor(proj), fs), &classify);
     let Spectra {
         window: used_window,
         segments,
@@ -362,20 +370,26 @@ fn vote(
     cov: &[Vec<f64>],
     modes_fit: &mut [ModeSpectralFit],
 ) -> (Option<f64>, TheoryTests) {
-    let lambdas = &proj.eigenvalues;
-    let m = lambdas.len();
     let noise_floor = verdict::noise_floor(modes_fit);
-    let k = proj.stencil as i32;
-    let continuum_lambda: Vec<Option<f64>> = (0..m)
-        .map(|j| continuum_root(proj, j + 1).map(|b| b.powi(2 * k)))
-        .collect();
-    verdict::disqualify(modes_fit, noise_floor, &continuum_lambda);
+    verdict::disqualify(modes_fit, noise_floor, &continuum_lambda(proj));
     verdict::drop_leaks(modes_fit, cov);
-    let regressor: Vec<f64> = (0..m)
-        .map(|j| continuum_lambda[j].unwrap_or(lambdas[j]))
-        .collect();
-    let tests = verdict::tests(modes_fit, &regressor, &proj.continuum_gains());
+    let tests = verdict::tests(modes_fit, &regressor(proj), &proj.continuum_gains());
     (noise_floor, tests)
+}
+
+/// Each mode's continuum eigenvalue, where the body has one.
+fn continuum_lambda(proj: &Projector) -> Vec<Option<f64>> {
+    let k = proj.stencil as i32;
+    (0..proj.eigenvalues.len())
+        .map(|j| continuum_root(proj, j + 1).map(|b| b.powi(2 * k)))
+        .collect()
+}
+
+/// The λ each mode is regressed on: the continuum's, else the grid's.
+fn regressor(proj: &Projector) -> Vec<f64> {
+    (continuum_lambda(proj).iter().zip(&proj.eigenvalues))
+        .map(|(c, l)| c.unwrap_or(*l))
+        .collect()
 }
 
 /// ω, β and the continuum constant from the voting modes (from the spectral peaks when none

@@ -28,7 +28,12 @@ use super::note::ModeNote;
 use super::spectrum::ModeSpectrum;
 use super::verdict::ModeSpectralFit;
 use super::window::on_cores;
-use crate::statespace::{fit_oscillator, Oscillator};
+use super::alias::{branch_band, UNFOLDED};
+use crate::statespace::{
+    fit_oscillator, fit_oscillator_in, free_parameters, newton_step, score_and_information,
+    Oscillator, OscillatorFit,
+};
+use nalgebra::{DMatrix, DVector};
 use std::ops::Range;
 
 /// The most frames (lost ones included) a recording keeps in time order.
@@ -177,94 +182,188 @@ fn agrees(whittle: &ModeSpectralFit, exact: &ModeSpectrum, df: f64) -> bool {
 /// How far the two fits' half-widths may differ (see [`agrees`]).
 const WIDTH_RATIO: f64 = 2.0;
 
-/// Fit again, by the exact likelihood over `series` (every animal's, or a resample's pieces),
-/// each mode of `fits` the module header names — or, for a resample or an animal fitted within
-/// a pool (`chosen`: the pooled fit's modes), each mode the pooled fit fitted so, started from
-/// its estimate; `classify` makes the fit's entry from its [`ModeSpectrum`]. Modes are spread
-/// over the cores.
-pub(super) fn refit(
-    fits: &mut [ModeSpectralFit],
-    (spans, chosen): (&[Span<'_>], Option<&[ModeSpectralFit]>),
-    (df, fs): (f64, f64),
-    classify: impl Fn(usize, &ModeSpectrum) -> ModeSpectralFit + Sync,
-) {
-    if spans.is_empty() || !spans.iter().all(|s| s.series.kept()) {
-        return;
-    }
-    let lost = spans.iter().any(|s| s.series.lost > 0);
-    let jobs: Vec<(usize, &'static str, &ModeSpectralFit)> = match chosen {
-        Some(pooled) => (pooled.iter().enumerate())
-            .filter(|&(j, _)| j < fits.len())
-            .filter_map(|(j, m)| m.exact.map(|why| (j, why, m)))
-            .collect(),
-        None => (fits.iter().enumerate())
-            .filter_map(|(j, m)| wanted(m, df, fs, lost).map(|why| (j, why, m)))
-            .collect(),
-    };
-    let jobs: Vec<_> = (jobs.into_iter())
-        .filter(|&(j, ..)| spans.iter().all(|s| j < s.series.modes.len()))
-        .collect();
-    let one = |&(j, why, from): &(usize, &'static str, &ModeSpectralFit)| {
-        let data: Vec<&[f64]> = (spans.iter())
-            .map(|s| &s.series.modes[j][s.frames.clone()])
-            .collect();
-        // Fitted in frames (Δt = 1), Ω back in the recording's time unit.
-        let start = Oscillator {
-            omega: from.omega / fs,
-            zeta: from.zeta,
-            variance: from.variance,
-            noise: from.noise.max(1e-6 * from.variance),
-        };
-        let done = fit_oscillator(&data, 1.0, start).ok()?;
-        let (e, se) = (done.estimate, done.errors);
-        let se = se.unwrap_or([f64::INFINITY; 4]);
-        let spectrum = ModeSpectrum {
-            omega: e.omega * fs,
-            omega_error: se[0] * fs,
-            zeta: e.zeta,
-            zeta_error: se[1],
-            variance: e.variance,
-            variance_error: se[2],
-            noise: e.noise,
-            converged: done.errors.is_some(),
-        };
-        if !agrees(&fits[j], &spectrum, df) {
-            return None;
+/// The data a scope's exact likelihood is maximised on.
+#[derive(Clone, Copy)]
+pub(super) enum Exact<'a> {
+    /// These spans' coordinates, fitted afresh.
+    Spans(&'a [Span<'a>]),
+    /// A bootstrap resample: `times[u]` copies of each unit of the [`OneStep`].
+    Resample(&'a OneStep, &'a [usize]),
+}
+
+impl<'a> Exact<'a> {
+    /// The spans fitted afresh (none for a resample).
+    pub(super) fn spans(self) -> &'a [Span<'a>] {
+        match self {
+            Exact::Spans(s) => s,
+            Exact::Resample(..) => &[],
         }
-        let mut fit = classify(j, &spectrum);
-        fit.exact = Some(why);
-        Some((j, fit))
-    };
-    if jobs.is_empty() {
-        return;
-    }
-    let done = on_cores(jobs.len(), |k| one(&jobs[k]));
-    for (j, fit) in done.into_iter().flatten() {
-        fits[j] = fit;
     }
 }
 
-/// Take the vote from a resolved mode whose Ω lies below a lower resolved mode's in the upper
-/// half of the band (f above a quarter of the sampling rate): a passive body's frequencies rise
-/// with λ, so it is the alias of a mode above Nyquist (a free beam's third mode at 8 frames per
-/// period of its first voted at its alias and rejected the true dispersion in 15 of 20), which
-/// the exact likelihood, with aliasing in it, fits as well as the Whittle fit does.
-pub(super) fn mark_aliases(fits: &mut [ModeSpectralFit], fs: f64) {
-    let mut highest: Option<(usize, f64)> = None;
-    for m in fits.iter_mut() {
-        if !m.resolved {
-            continue;
-        }
-        match highest {
-            Some((below, omega))
-                if m.omega < omega && m.omega > 0.25 * 2.0 * std::f64::consts::PI * fs =>
-            {
-                m.resolved = false;
-                m.votes = false;
-                m.note = Some(ModeNote::Alias { below });
+/// Makes a mode's entry from its exact fit: its index among the fits, the fit, and why it was
+/// fitted so.
+pub(super) type Classify<'c> = dyn Fn(usize, &ModeSpectrum, &'static str) -> ModeSpectralFit + Sync + 'c;
+
+/// For a bootstrap: each unit's score and observed information at the pooled estimate, for each
+/// mode the pooled fit fitted by the exact likelihood. A resample's estimate is one Newton step
+/// from the pooled one on the sum of its units' (the linearised, one-step bootstrap: to first
+/// order the resample's own maximum, at the cost of one more fit in all instead of one per
+/// resample — 200 resamples of 16 animals refitted afresh took minutes).
+pub(super) struct OneStep {
+    modes: Vec<OneMode>,
+}
+
+/// One mode of a [`OneStep`].
+struct OneMode {
+    j: usize,
+    why: &'static str,
+    /// The pooled estimate, in frames.
+    at: Oscillator,
+    free: Vec<usize>,
+    /// Each unit's score and information.
+    units: Vec<(DVector<f64>, DMatrix<f64>)>,
+}
+
+impl OneStep {
+    /// Of the pooled fit's modes `pooled` over the bootstrap's `units`, sampled at `fs`.
+    pub(super) fn of(pooled: &[ModeSpectralFit], units: &[Span<'_>], fs: f64) -> OneStep {
+        let jobs: Vec<(usize, &'static str, Oscillator)> = (pooled.iter().enumerate())
+            .filter_map(|(j, m)| {
+                let why = m.exact?;
+                let at = Oscillator {
+                    omega: m.omega / fs,
+                    zeta: m.zeta,
+                    variance: m.variance,
+                    noise: m.noise.max(1e-12 * m.variance),
+                };
+                let finite = [at.omega, at.zeta, at.variance, at.noise]
+                    .iter()
+                    .all(|v| v.is_finite() && *v > 0.0);
+                (finite && holds(units, j)).then_some((j, why, at))
+            })
+            .collect();
+        let modes = on_cores(jobs.len(), |k| {
+            let (j, why, at) = jobs[k];
+            let free = free_parameters(&at);
+            let units = (units.iter())
+                .map(|u| {
+                    let data = coordinate(std::slice::from_ref(u), j);
+                    score_and_information(&data, 1.0, &at, &free)
+                })
+                .collect();
+            OneMode {
+                j,
+                why,
+                at,
+                free,
+                units,
             }
-            Some((_, omega)) if m.omega <= omega => {}
-            _ => highest = Some((m.mode, m.omega)),
+        });
+        OneStep { modes }
+    }
+
+    /// The resample of `times[u]` copies of each unit: each mode's one-step fit, with why.
+    fn resample(&self, times: &[usize], fs: f64) -> Vec<(usize, &'static str, ModeSpectrum)> {
+        (self.modes.iter())
+            .filter_map(|m| {
+                let n = m.free.len();
+                let (mut g, mut h) = (DVector::zeros(n), DMatrix::zeros(n, n));
+                for ((ug, uh), &c) in m.units.iter().zip(times) {
+                    g += ug * c as f64;
+                    h += uh * c as f64;
+                }
+                let done = newton_step(&m.at, &m.free, (&g, &h))?;
+                Some((m.j, m.why, in_time_unit(&done, fs)))
+            })
+            .collect()
+    }
+}
+
+/// Fit again by the exact likelihood each mode of `fits` the module header names (over
+/// `exact`'s spans) — or, within a pool (`chosen`: the pooled fit's modes), each mode the
+/// pooled fit fitted so, started from its estimate (a resample: by its one step). A fit
+/// replaces the Whittle one when both describe the same line ([`agrees`]; an alias unfolded
+/// by the λ law has no Whittle line to agree with). Modes are spread over the cores.
+pub(super) fn refit(
+    fits: &mut [ModeSpectralFit],
+    (exact, chosen): (Exact<'_>, Option<&[ModeSpectralFit]>),
+    (df, fs): (f64, f64),
+    classify: &Classify<'_>,
+) {
+    let done: Vec<(usize, &'static str, ModeSpectrum)> = match exact {
+        Exact::Resample(one, times) => one.resample(times, fs),
+        Exact::Spans(spans) => {
+            if spans.is_empty() || !spans.iter().all(|s| s.series.kept()) {
+                return;
+            }
+            let lost = spans.iter().any(|s| s.series.lost > 0);
+            let jobs: Vec<(usize, &'static str, &ModeSpectralFit)> = match chosen {
+                Some(pooled) => (pooled.iter().enumerate())
+                    .filter_map(|(j, m)| m.exact.map(|why| (j, why, m)))
+                    .collect(),
+                None => (fits.iter().enumerate())
+                    .filter_map(|(j, m)| wanted(m, df, fs, lost).map(|why| (j, why, m)))
+                    .collect(),
+            };
+            let jobs: Vec<_> = (jobs.into_iter())
+                .filter(|&(j, ..)| j < fits.len() && holds(spans, j))
+                .collect();
+            let one = |&(j, why, from): &(usize, &'static str, &ModeSpectralFit)| {
+                // Fitted in frames (Δt = 1), Ω back in the recording's time unit.
+                let start = Oscillator {
+                    omega: from.omega / fs,
+                    zeta: from.zeta,
+                    variance: from.variance,
+                    noise: from.noise.max(1e-6 * from.variance),
+                };
+                let data = coordinate(spans, j);
+                let fit = match why {
+                    UNFOLDED => fit_oscillator_in(&data, 1.0, start, branch_band(start.omega)),
+                    _ => fit_oscillator(&data, 1.0, start),
+                };
+                Some((j, why, in_time_unit(&fit.ok()?, fs)))
+            };
+            on_cores(jobs.len(), |k| one(&jobs[k]))
+                .into_iter()
+                .flatten()
+                .collect()
         }
+    };
+    for (j, why, spectrum) in done {
+        if j < fits.len() && (why == UNFOLDED || agrees(&fits[j], &spectrum, df)) {
+            let mut fit = classify(j, &spectrum, why);
+            fit.exact = Some(why);
+            fits[j] = fit;
+        }
+    }
+}
+
+/// Mode `j`'s coordinate over each span.
+pub(super) fn coordinate<'a>(spans: &'a [Span<'a>], j: usize) -> Vec<&'a [f64]> {
+    (spans.iter())
+        .map(|s| &s.series.modes[j][s.frames.clone()])
+        .collect()
+}
+
+/// Whether every span holds mode `j`'s coordinate.
+pub(super) fn holds(spans: &[Span<'_>], j: usize) -> bool {
+    !spans.is_empty() && spans.iter().all(|s| s.series.kept() && j < s.series.modes.len())
+}
+
+/// A fit made in frames (Δt = 1) as a [`ModeSpectrum`] in the recording's time unit (`fs`
+/// frames per unit).
+pub(super) fn in_time_unit(done: &OscillatorFit, fs: f64) -> ModeSpectrum {
+    let (e, se) = (done.estimate, done.errors);
+    let se = se.unwrap_or([f64::INFINITY; 4]);
+    ModeSpectrum {
+        omega: e.omega * fs,
+        omega_error: se[0] * fs,
+        zeta: e.zeta,
+        zeta_error: se[1],
+        variance: e.variance,
+        variance_error: se[2],
+        noise: e.noise,
+        converged: done.errors.is_some(),
     }
 }

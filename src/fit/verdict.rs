@@ -96,6 +96,17 @@ pub struct ModeSpectralFit {
     pub exact: Option<&'static str>,
 }
 
+/// Which likelihood fitted a mode.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum FittedBy {
+    /// The Whittle likelihood of its Welch spectrum.
+    Whittle,
+    /// The exact time-domain likelihood.
+    Exact,
+    /// The exact likelihood on the branch above Nyquist the λ law chose (`alias`).
+    Unfolded,
+}
+
 /// What a test says of the theory.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
@@ -184,16 +195,18 @@ impl ModeSpectralFit {
     }
 
     /// Classify the fit `s` of mode `mode` (eigenvalue `lambda`) at frequency bin `df` and
-    /// sampling rate `fs`; `exact` when it is the time-domain likelihood's, which has aliasing
-    /// in it and errors that hold for a line of any width: only a line above Nyquist (an
-    /// alias, identifiable only up to it) is then taken from the vote for its frequency.
+    /// sampling rate `fs`, made `by` one likelihood: the time-domain one has aliasing in it and
+    /// errors that hold for a line of any width, so only a line near or above Nyquist (an
+    /// alias, identifiable only up to it) is then taken from the vote for its frequency — unless
+    /// the λ law chose its branch (`alias`).
     pub(super) fn of(
         mode: usize,
         lambda: f64,
         s: &super::spectrum::ModeSpectrum,
         (df, fs): (f64, f64),
-        exact: bool,
+        by: FittedBy,
     ) -> ModeSpectralFit {
+        let exact = by != FittedBy::Whittle;
         let known = |e: f64| e.is_finite().then_some(e);
         let f = s.omega / (2.0 * std::f64::consts::PI);
         let why = if !s.converged {
@@ -202,9 +215,9 @@ impl ModeSpectralFit {
             Some(ModeNote::OverDamped { zeta: s.zeta })
         } else if !exact && f < RESOLVED_BINS * df {
             Some(ModeNote::TooFewBins { bins: f / df })
-        } else if exact && f > 0.5 * EXACT_NYQUIST * fs {
+        } else if by == FittedBy::Exact && f > 0.5 * EXACT_NYQUIST * fs {
             Some(ModeNote::NearAlias)
-        } else if f > 0.45 * fs {
+        } else if by != FittedBy::Unfolded && f > 0.45 * fs {
             Some(ModeNote::AboveNyquist)
         } else if !exact && f + NYQUIST_HALF_WIDTHS * s.zeta * f > 0.5 * fs {
             // Its line folds back on itself: the fitted Ω and ζ of such lines run low by

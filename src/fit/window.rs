@@ -3,7 +3,7 @@
 
 use super::spectrum::{fit_mode, Taper};
 use super::stats::Spectra;
-use super::verdict::{ModeSpectralFit, WindowChoice};
+use super::verdict::{FittedBy, ModeSpectralFit, WindowChoice};
 use super::welch::LEAD;
 use crate::recording::Projector;
 use crate::report::fixed;
@@ -211,7 +211,7 @@ pub(super) fn fit_modes_spectra(
             }
         });
         match fitted {
-            Some(s) => ModeSpectralFit::of(index, lambda, &s, (df, fs), false),
+            Some(s) => ModeSpectralFit::of(index, lambda, &s, (df, fs), FittedBy::Whittle),
             None => ModeSpectralFit {
                 mode: index,
                 lambda,
