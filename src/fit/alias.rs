@@ -5,16 +5,15 @@
 //!
 //! * [`mark_aliases`]: a resolved mode whose Ω lies below a lower mode's in the upper half of
 //!   the band is an alias, and does not vote.
-//! * [`unfold`]: where the theory's λ law (Ω ∝ √λ, scaled by the resolved mode below it: the
-//!   law the dispersion test checks) puts a mode at f_law ≥ [`LAW_NEAR`] × f_s, the branch
-//!   k·f_s ± f_b nearest f_law is taken when it is unambiguous — within [`TOLERANCE`] × f_law
-//!   of it, every other branch beyond twice that — and the mode is fitted again by the exact
-//!   likelihood with Ω held to that branch (between the multiples of f_s/2 around it). It then
-//!   votes like any mode, marked `exact: "alias unfolded by the λ law"`. The law only picks
-//!   the branch: within it Ω is the data's, known as well as its alias, so a mode off the law
-//!   by more than its error still rejects it (a branch a random frequency would land near the law's
-//!   by chance is off it by several per cent, far beyond such errors). Where no branch is
-//!   unambiguous (an alias near 0 or f_s/2) the mode is left as it was, out of the vote.
+//! * [`unfold`]: where the theory's λ law (Ω ∝ √λ, scaled by the highest resolved mode under
+//!   [`LAW_NEAR`] × f_s: the law the dispersion test checks) puts a mode that does not vote at
+//!   f_law between [`LAW_NEAR`] and [`LAW_FAR`] × f_s, the branch of aliases holding it (the
+//!   half-band between the multiples of f_s/2 around f_law, when f_law lies [`TOLERANCE`] of
+//!   itself inside it) is taken, and the mode fitted again by the exact likelihood with Ω held
+//!   to that branch, started at f_law. It then votes like any mode, marked `exact: "alias
+//!   unfolded by the λ law"`. The law only picks the branch: within it Ω is the data's, known
+//!   as well as its alias is, so a mode off the law by more than its error still rejects it.
+//!   Near a multiple of f_s/2 the branch cannot be told, and the mode is left out of the vote.
 
 use super::note::ModeNote;
 use super::timedomain::{coordinate, holds, in_time_unit, Classify, Span};
@@ -27,8 +26,13 @@ use std::f64::consts::PI;
 /// (0.4 f_s = 0.8 × Nyquist, where a time-domain fit stops voting on its own).
 pub(super) const LAW_NEAR: f64 = 0.4;
 
-/// How far from the λ law's frequency (a share of it) the chosen branch may lie.
-pub(super) const TOLERANCE: f64 = 0.12;
+/// How far from the edges of its branch (a share of its frequency) the λ law's frequency must
+/// lie for the branch to be taken.
+pub(super) const TOLERANCE: f64 = 0.05;
+
+/// The highest share of the sampling rate at which the λ law's frequency is used (beyond, the
+/// modes are small, broad, and many).
+pub(super) const LAW_FAR: f64 = 2.0;
 
 /// What a mode unfolded by the λ law is marked with.
 pub(super) const UNFOLDED: &str = "alias unfolded by the λ law";
@@ -55,30 +59,27 @@ pub(super) fn mark_aliases(fits: &mut [ModeSpectralFit], fs: f64) {
     }
 }
 
-/// The branch k·f_s ± f_b of alias `fb` nearest `law`, when unambiguous (module header).
-fn branch(fb: f64, law: f64, fs: f64) -> Option<f64> {
-    let k = (law / fs).round();
-    let mut candidates: Vec<f64> = [k - 1.0, k, k + 1.0]
-        .iter()
-        .flat_map(|&k| [k * fs - fb, k * fs + fb])
-        .filter(|&f| f > 0.0)
-        .collect();
-    candidates.sort_by(|a, b| (a - law).abs().total_cmp(&(b - law).abs()));
-    let (best, next) = (*candidates.first()?, *candidates.get(1)?);
-    let tol = TOLERANCE * law;
-    ((best - law).abs() <= tol && (next - law).abs() > 2.0 * tol).then_some(best)
-}
-
-/// The band of Ω (radians per frame) between the multiples of π around `omega`: one branch.
-pub(super) fn branch_band(omega: f64) -> (f64, f64) {
-    let half = (omega / PI).floor();
+/// The half-band of frequencies [m·f_s/2, (m + 1)·f_s/2] (one branch of the aliases) that holds
+/// `law` within [`TOLERANCE`], as Ω in radians per frame; none when `law` lies too near a
+/// multiple of f_s/2 for the branch to be told.
+fn half_band(law: f64, fs: f64) -> Option<(f64, f64)> {
+    let m = (law / (0.5 * fs)).floor();
+    let (lo, hi) = (m * 0.5 * fs, (m + 1.0) * 0.5 * fs);
+    let inside = law * (1.0 - TOLERANCE) >= lo && law * (1.0 + TOLERANCE) <= hi;
     let edge = 1e-3;
-    ((PI * (half + edge)).max(edge), PI * (half + 1.0 - edge))
+    inside.then(|| ((PI * (m + edge)).max(edge), PI * (m + 1.0 - edge)))
 }
 
-/// Fit again on the branch the λ law picks (module header) each mode of `fits` that is fitted
-/// but does not vote and that the law puts near or above Nyquist; `regressor[j]` is the λ the
-/// dispersion test regresses mode j on, `classify` makes the fit's entry from its spectrum.
+/// The branch (radians per frame, between the multiples of π) that holds `omega`.
+pub(super) fn branch_band(omega: f64) -> (f64, f64) {
+    let m = (omega / PI).floor();
+    let edge = 1e-3;
+    ((PI * (m + edge)).max(edge), PI * (m + 1.0 - edge))
+}
+
+/// Fit again within the branch the λ law picks (module header) each mode of `fits` that does
+/// not vote and that the law puts between [`LAW_NEAR`] and [`LAW_FAR`] × f_s; `regressor[j]`
+/// is the λ the dispersion test regresses mode j on, `classify` makes the fit's entry.
 pub(super) fn unfold(
     fits: &mut [ModeSpectralFit],
     spans: &[Span<'_>],
@@ -88,42 +89,46 @@ pub(super) fn unfold(
     if spans.is_empty() {
         return;
     }
-    // (mode index, the branch's frequency) to fit.
+    // The highest resolved mode below LAW_NEAR × f_s: (f, λ, ζ).
+    let mut reference: Option<(f64, f64, f64)> = None;
+    // (mode index, the start, the branch).
     let mut jobs = Vec::new();
-    let mut reference: Option<(f64, f64)> = None;
     for (j, m) in fits.iter().enumerate() {
         let Some(&lambda) = regressor.get(j).filter(|l| **l > 0.0) else {
             continue;
         };
         let f = m.omega / (2.0 * PI);
-        let law = reference.map(|(f0, l0)| f0 * (lambda / l0).sqrt());
-        match law {
-            Some(law) if law >= LAW_NEAR * fs && !m.resolved => {
-                let fitted = m.omega > 0.0 && m.variance > 0.0 && m.zeta < 1.0;
-                let fb = (f % fs).min(fs - f % fs);
-                if let Some(fc) = branch(fb, law, fs).filter(|_| fitted && holds(spans, j)) {
-                    jobs.push((j, fc, fb));
-                    reference = Some((fc, lambda));
-                }
-            }
-            _ if m.resolved && f < LAW_NEAR * fs => reference = Some((f, lambda)),
-            _ => {}
+        if m.resolved && f < LAW_NEAR * fs {
+            reference = Some((f, lambda, m.zeta));
+            continue;
+        }
+        let Some((f0, l0, z0)) = reference.filter(|_| !m.resolved && holds(spans, j)) else {
+            continue;
+        };
+        let law = f0 * (lambda / l0).sqrt();
+        let Some(band) = half_band(law, fs).filter(|_| (LAW_NEAR..=LAW_FAR).contains(&(law / fs)))
+        else {
+            continue;
+        };
+        // Started at the law's frequency and a damping ratio growing as it does (ζ ∝ √λ, the
+        // damping test's law), with the coordinate's variance.
+        let data = coordinate(spans, j);
+        let (sum2, n) = (data.iter().flat_map(|y| y.iter()).filter(|v| v.is_finite()))
+            .fold((0.0, 0usize), |(s, n), v| (s + v * v, n + 1));
+        let variance = sum2 / n.max(1) as f64;
+        let start = Oscillator {
+            omega: (2.0 * PI * law / fs).clamp(band.0, band.1),
+            zeta: (z0 * law / f0).clamp(0.01, 0.9),
+            variance: 0.9 * variance,
+            noise: 0.1 * variance,
+        };
+        if variance > 0.0 && variance.is_finite() {
+            jobs.push((j, start, band));
         }
     }
-    let one = |&(j, fc, fb): &(usize, f64, f64)| -> Option<(usize, ModeSpectralFit)> {
-        let m = &fits[j];
-        let omega = 2.0 * PI * fc / fs;
-        let band = branch_band(omega);
-        let start = Oscillator {
-            omega: omega.clamp(band.0, band.1),
-            // The same decay rate ζΩ as the alias's.
-            zeta: (m.zeta * fb / fc).clamp(1e-3, 0.9),
-            variance: m.variance,
-            noise: m.noise.max(1e-6 * m.variance),
-        };
+    let one = |&(j, start, band): &(usize, Oscillator, (f64, f64))| {
         let done = fit_oscillator_in(&coordinate(spans, j), 1.0, start, band).ok()?;
-        let spectrum = in_time_unit(&done, fs);
-        let mut fit = classify(j, &spectrum, UNFOLDED);
+        let mut fit = classify(j, &in_time_unit(&done, fs), UNFOLDED);
         fit.exact = Some(UNFOLDED);
         Some((j, fit))
     };
@@ -135,19 +140,22 @@ pub(super) fn unfold(
 
 #[cfg(test)]
 mod tests {
-    use super::branch;
+    use super::half_band;
+    use std::f64::consts::PI;
 
     #[test]
-    fn the_law_picks_a_branch_only_when_it_is_unambiguous() {
-        // A free beam's third mode at 8 frames per period of the first: 0.675 f_s, seen at 0.325.
-        assert_eq!(branch(0.325, 0.66, 1.0), Some(0.675));
-        // Its fourth, at 1.117 f_s, seen at 0.117.
-        assert_eq!(branch(0.117, 1.1, 1.0), Some(1.117));
-        // An alias near Nyquist: 0.48 and 0.52 are both near the law.
-        assert_eq!(branch(0.48, 0.5, 1.0), None);
-        // Far from the law: no branch.
-        assert_eq!(branch(0.3, 0.5, 1.0), None);
-        // Below Nyquist the law may pick the alias itself.
-        assert_eq!(branch(0.41, 0.42, 1.0), Some(0.41));
+    fn the_law_picks_a_branch_only_away_from_its_edges() {
+        // A free beam's third mode at 8 frames per period of the first: 0.675 f_s, the branch
+        // from f_s/2 to f_s.
+        let (lo, hi) = half_band(0.675, 1.0).unwrap();
+        assert!((lo / PI - 1.0).abs() < 0.01 && (hi / PI - 2.0).abs() < 0.01);
+        // Its fourth, at 1.117 f_s: from f_s to 3f_s/2.
+        let (lo, _) = half_band(1.117, 1.0).unwrap();
+        assert!((lo / PI - 2.0).abs() < 0.01);
+        // Near Nyquist or near f_s the branch cannot be told.
+        assert_eq!(half_band(0.49, 1.0), None);
+        assert_eq!(half_band(1.02, 1.0), None);
+        // Below Nyquist the law may pick the first branch itself.
+        assert!(half_band(0.42, 1.0).is_some());
     }
 }
