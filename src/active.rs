@@ -30,6 +30,17 @@ use crate::term::{Deriv, Orders, Term};
 /// The most candidate forces one field's enumeration may build.
 pub const MAX_FORCE_CANDIDATES: usize = 200_000;
 
+/// The budget of classifying the covariant forces of every field: Σ 1.5^(τ+σ) over them (an
+/// Euler–Lagrange expansion grows about 1.5× with each derivative a force carries; about a
+/// microsecond a unit measured, so about three seconds). The symmetry filter before it is cheap.
+pub const MAX_CLASSIFY_WORK: f64 = 3e6;
+
+/// The classification work of one force (see [`MAX_CLASSIFY_WORK`]).
+fn classify_work(t: &Term) -> f64 {
+    let o = t.orders();
+    1.5f64.powi((o.tau + o.sigma) as i32)
+}
+
 /// Why active forces cannot be enumerated.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum ActiveError {
@@ -41,6 +52,16 @@ pub enum ActiveError {
     TooMany {
         /// The order asked for.
         order: u32,
+    },
+    /// Classifying the covariant candidates is over its budget.
+    #[error("order {order} leaves {count} covariant candidate forces to classify, {:.1e} units of work (Σ 1.5^(τ+σ) over them), over the budget of {:.0e} (about three seconds): use a lower order or more requirements in [active]", *.work as f64, MAX_CLASSIFY_WORK)]
+    TooMuchWork {
+        /// The order asked for.
+        order: u32,
+        /// Covariant candidates over every field.
+        count: usize,
+        /// Their classification work, in whole units.
+        work: u64,
     },
     /// The model has no `[active]` section.
     #[error("the {} model has no [active] section: add one (bound, columns, requirements per field, as [rayleigh]) to enumerate active forces", crate::markup::clip(.model))]
@@ -133,16 +154,36 @@ pub fn active_forces(model: &Model, order: u32) -> Result<Option<Vec<FieldForces
         return Err(ActiveError::TooMany { order });
     }
     let candidates = monomials(&bounds);
+    // Every field's covariant candidates (a cheap filter), then their classification budgeted
+    // before any is classified.
+    let covariant: Vec<Vec<&Term>> = model
+        .fields
+        .iter()
+        .map(|f| covariant_of(spec, &f.id, &candidates))
+        .collect();
+    let (count, work) = covariant
+        .iter()
+        .flatten()
+        .fold((0, 0.0), |(n, w), t| (n + 1, w + classify_work(t)));
+    if work > MAX_CLASSIFY_WORK {
+        return Err(ActiveError::TooMuchWork {
+            order,
+            count,
+            work: work as u64,
+        });
+    }
     Ok(Some(
         model
             .fields
             .iter()
-            .map(|f| field_forces(spec, &f.id, &f.symbol, &candidates))
+            .zip(&covariant)
+            .map(|(f, cov)| field_forces(spec, &f.id, &f.symbol, candidates.len(), cov))
             .collect(),
     ))
 }
 
-fn field_forces(spec: &DensitySpec, id: &str, symbol: &str, candidates: &[Term]) -> FieldForces {
+/// The candidates every rule `spec` requires of field `id` allows.
+fn covariant_of<'a>(spec: &DensitySpec, id: &str, candidates: &'a [Term]) -> Vec<&'a Term> {
     // The model refuses KIN and DIS here (rules about densities).
     let rules: Vec<&'static Rule> = spec
         .requirements
@@ -151,14 +192,23 @@ fn field_forces(spec: &DensitySpec, id: &str, symbol: &str, candidates: &[Term])
         .flatten()
         .filter_map(|c| crate::rules::rule(c))
         .collect();
-    let covariant: Vec<&Term> = candidates
+    candidates
         .iter()
         .filter(|t| rules.iter().all(|r| allows(r, t)))
-        .collect();
+        .collect()
+}
+
+fn field_forces(
+    spec: &DensitySpec,
+    id: &str,
+    symbol: &str,
+    candidates: usize,
+    covariant: &[&Term],
+) -> FieldForces {
     let name = |_: u8| symbol.to_string();
     let mut counts = [0; 4];
     let mut by_class: Vec<(Term, Force)> = Vec::new();
-    for t in &covariant {
+    for t in covariant {
         let f = classify(t, &name);
         counts[f.kind as usize] += 1;
         by_class.push(((*t).clone(), f));
@@ -169,7 +219,10 @@ fn field_forces(spec: &DensitySpec, id: &str, symbol: &str, candidates: &[Term])
             .filter(|(_, f)| f.kind == kind)
             .map(|(t, _)| t.clone())
             .collect();
-        let kept = crate::reduce::layers(&terms, spec.beyond_leading);
+        let kept: std::collections::HashSet<Term> =
+            crate::reduce::layers(&terms, spec.beyond_leading)
+                .into_iter()
+                .collect();
         by_class
             .iter()
             .filter(|(t, _)| kept.contains(t))
@@ -188,7 +241,7 @@ fn field_forces(spec: &DensitySpec, id: &str, symbol: &str, candidates: &[Term])
     };
     FieldForces {
         field: id.to_string(),
-        candidates: candidates.len(),
+        candidates,
         covariant: covariant.len(),
         counts,
         active: named("a", lowest(ForceClass::Active)),

@@ -1,7 +1,8 @@
 //! Scenario: work that used to run for seconds or minutes (hostile input IV) is either fast or
 //! refused up front in one line, exit 2 (docs/budgets.md): the damped roots of an active body
 //! at 400 points, one `simulate` step of a gyroscopic body at 400 points, `discover --active`
-//! with eight layers beyond leading, and `discover` on hundreds of animals.
+//! with eight layers beyond leading, `discover` on hundreds of animals, a weak form over its
+//! budget, and the classification of a loose `[active]` section's forces.
 
 use std::time::{Duration, Instant};
 
@@ -155,4 +156,109 @@ fn discover_with_eight_layers_beyond_leading_builds_its_library_once() {
     ]);
     assert_eq!(code, 0, "{err}");
     assert!(took < Duration::from_secs(8), "took {took:?}");
+}
+
+/// `base` (a shipped model) with an `[active]` section of `bound` requiring `rules` of every
+/// field in `fields` (its own section, if any, dropped).
+fn with_active(base: &str, bound: &str, rules: &str, fields: &[&str]) -> tempfile::NamedTempFile {
+    let text = std::fs::read_to_string(format!(
+        "{}/tables/models/{base}.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    let mut text = match text.find("\n[active]\n") {
+        Some(at) => text[..at].to_string(),
+        None => text,
+    };
+    text +=
+        &format!("\n[active]\nbound = \"{bound}\"\ncolumns = [\"OST\"]\n\n[active.requirements]\n");
+    for f in fields {
+        text += &format!("{f} = [{rules}]\n");
+    }
+    model(&text)
+}
+
+/// One line, exit 2, naming the classification budget.
+fn refused_by_the_classification_budget(args: &[&str]) {
+    let (code, err, _) = timed(args);
+    assert_eq!(code, 2, "{args:?}: {err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.contains("covariant candidate forces"), "{err}");
+    assert!(err.contains("over the budget of 3e6"), "{err}");
+}
+
+#[test]
+fn classifying_the_forces_of_a_loose_active_section_is_refused_up_front() {
+    // Issue 53 item 2: an [active] section requiring only OST (or nothing) leaves tens of
+    // thousands of candidates to classify, each an Euler–Lagrange expansion: 16 s of CPU for
+    // `equations --order 12` on the worm, over a minute for the other two.
+    let all = ["x", "theta", "y", "z"];
+    let worm = with_active("worm", "tau-plus-sigma", "\"OST\"", &all);
+    let w = worm.path().to_str().unwrap();
+    refused_by_the_classification_budget(&["equations", "--model", w, "--order", "12"]);
+    refused_by_the_classification_budget(&["active", "--model", w, "--order", "12"]);
+    let fish = with_active("zebrafish", "tau-plus-sigma", "\"OST\"", &all);
+    let f = fish.path().to_str().unwrap();
+    refused_by_the_classification_budget(&["modes", "--model", f, "-p", "12", "--order", "12"]);
+    let ring = with_active("peristalsis", "tau-and-sigma", "", &["x"]);
+    let r = ring.path().to_str().unwrap();
+    refused_by_the_classification_budget(&["active", "--model", r, "--order", "8"]);
+    // Within the budget they run: lower orders of the same sections, and the shipped models'
+    // own sections at order 8 (a few hundred covariant candidates of 141,381).
+    for (m, order) in [(w, "8"), (r, "6")] {
+        let (code, err, _) = timed(&["active", "--model", m, "--order", order]);
+        assert_eq!(code, 0, "{m} at {order}: {err}");
+    }
+    for m in [CRAWLER, PERISTALSIS] {
+        let (code, err, _) = timed(&["active", "--model", m, "--order", "8"]);
+        assert_eq!(code, 0, "{m}: {err}");
+    }
+}
+
+#[test]
+fn discover_refuses_a_weak_form_over_its_budget_before_its_sums() {
+    // 30 copies of the example end to end (90,000 frames) at 50 points, against the crawler's
+    // 77-term library at order 8 with eight layers beyond leading: 90,000 × 50 × 1 mode × 77 =
+    // 3.5e8 units, over the weak form's 3e8.
+    let text = std::fs::read_to_string(MIDLINES).unwrap();
+    let header = text.lines().find(|l| l.starts_with("t,")).unwrap();
+    let rows: Vec<&str> = text
+        .lines()
+        .filter(|l| l.starts_with(|c: char| c.is_ascii_digit()))
+        .collect();
+    let mut long = format!("{header}\n");
+    for copy in 0..30 {
+        for row in &rows {
+            let (t, rest) = row.split_once(',').unwrap();
+            let t: f64 = t.parse().unwrap();
+            long += &format!("{},{rest}\n", t + (copy * rows.len()) as f64);
+        }
+    }
+    let data = common::scratch_file("weak-budget", ".csv");
+    std::fs::write(data.path(), long).unwrap();
+    let crawler = std::fs::read_to_string(CRAWLER)
+        .unwrap()
+        .replace("[active]\n", "[active]\nbeyond_leading = 8\n");
+    let m = model(&crawler);
+    let (code, err, _) = timed(&[
+        "discover",
+        data.path().to_str().unwrap(),
+        "--model",
+        m.path().to_str().unwrap(),
+        "--active",
+        "--order",
+        "8",
+        "--bootstrap",
+        "0",
+        "-p",
+        "50",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("the weak form's sums are 3.5e8 units"),
+        "{err}"
+    );
+    assert!(err.contains("77 library terms"), "{err}");
+    assert!(err.contains("over the budget of 3e8"), "{err}");
 }

@@ -66,6 +66,11 @@ pub enum DlcError {
     Frame(String),
 }
 
+/// The shortest sampling interval a time column may have: below it the squares of the
+/// frequencies it samples overflow (so does Nyquist's π/Δt itself near 10⁻³⁰⁸, where the
+/// spectra came out flat). Between it and about 10⁻¹⁵⁴ the fit says its ω is out of range.
+pub const MIN_TIME_STEP: f64 = 1e-300;
+
 /// A time column that is not a uniform clock.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ClockError {
@@ -87,6 +92,12 @@ pub enum ClockError {
         /// The sampling interval (the first step).
         dt: f64,
     },
+    /// A sampling interval below [`MIN_TIME_STEP`].
+    #[error("time step {} is out of range (below {MIN_TIME_STEP:e}): the squares of the frequencies it samples (up to π/Δt) overflow f64; rescale the time column", number(*.dt))]
+    TooFine {
+        /// The sampling interval (the first step).
+        dt: f64,
+    },
 }
 
 #[derive(Debug, Default)]
@@ -104,6 +115,9 @@ impl Clock {
         let gap = t - last;
         if gap <= 0.0 {
             return Err(ClockError::NotIncreasing { t, last });
+        }
+        if self.dt.is_none() && gap < MIN_TIME_STEP {
+            return Err(ClockError::TooFine { dt: gap });
         }
         let dt = *self.dt.get_or_insert(gap);
         // The common step, one interval: what the rule below gives, without its division.

@@ -368,7 +368,8 @@ fn survivors(admitted: &[Term], dominance: Dominance, beyond: u32, density: Dens
 /// The terms of the first 1 + `beyond` layers of `terms`, in the given order: layer 1 is the
 /// lowest order ([`lowest_order`]), layer k + 1 the lowest order of what layers 1 … k leave.
 pub fn layers(terms: &[Term], beyond: u32) -> Vec<Term> {
-    let mut kept: Vec<Term> = Vec::new();
+    // A set: tens of thousands of [active] candidates meet thousands kept.
+    let mut kept: std::collections::HashSet<Term> = std::collections::HashSet::new();
     for _ in 0..=beyond {
         let left: Vec<Term> = terms
             .iter()
