@@ -1,8 +1,8 @@
 //! From accumulated moments to a report: PCA, overlaps, shares, spectral peaks, and the ω and
 //! β fits.
 
-use super::stats::Spectra;
 use super::alias::{mark_aliases, unfold, UNFOLDED};
+use super::stats::Spectra;
 use super::timedomain::{refit, Exact, Span};
 use super::verdict::{self, FittedBy, ModeSpectralFit, TheoryTests};
 use super::window::{
@@ -236,7 +236,12 @@ pub(super) fn summarise(
     };
     refit(&mut modes_fit, (exact, chosen), (df, fs), &classify);
     mark_aliases(&mut modes_fit, fs);
-    unfold(&mut modes_fit, exact.spans(), (&regressor(proj), fs), &classify);
+    unfold(
+        &mut modes_fit,
+        exact.spans(),
+        (&regressor(proj), fs),
+        &classify,
+    );
     let Spectra {
         window: used_window,
         segments,

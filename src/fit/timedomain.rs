@@ -24,11 +24,11 @@
 //! [`MAX_FRAMES`] frames keeps no series (its memory and the fit's time would grow with it):
 //! the Whittle fit then stands alone, as on the 10⁶-frame benchmark.
 
+use super::alias::{branch_band, UNFOLDED};
 use super::note::ModeNote;
 use super::spectrum::ModeSpectrum;
 use super::verdict::ModeSpectralFit;
 use super::window::on_cores;
-use super::alias::{branch_band, UNFOLDED};
 use crate::statespace::{
     fit_oscillator, fit_oscillator_in, free_parameters, newton_step, score_and_information,
     Oscillator, OscillatorFit,
@@ -203,7 +203,8 @@ impl<'a> Exact<'a> {
 
 /// Makes a mode's entry from its exact fit: its index among the fits, the fit, and why it was
 /// fitted so.
-pub(super) type Classify<'c> = dyn Fn(usize, &ModeSpectrum, &'static str) -> ModeSpectralFit + Sync + 'c;
+pub(super) type Classify<'c> =
+    dyn Fn(usize, &ModeSpectrum, &'static str) -> ModeSpectralFit + Sync + 'c;
 
 /// For a bootstrap: each unit's score and observed information at the pooled estimate, for each
 /// mode the pooled fit fitted by the exact likelihood. A resample's estimate is one Newton step
@@ -348,7 +349,10 @@ pub(super) fn coordinate<'a>(spans: &'a [Span<'a>], j: usize) -> Vec<&'a [f64]> 
 
 /// Whether every span holds mode `j`'s coordinate.
 pub(super) fn holds(spans: &[Span<'_>], j: usize) -> bool {
-    !spans.is_empty() && spans.iter().all(|s| s.series.kept() && j < s.series.modes.len())
+    !spans.is_empty()
+        && spans
+            .iter()
+            .all(|s| s.series.kept() && j < s.series.modes.len())
 }
 
 /// A fit made in frames (Δt = 1) as a [`ModeSpectrum`] in the recording's time unit (`fs`
