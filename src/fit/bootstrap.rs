@@ -227,6 +227,39 @@ pub(super) fn intervals(
     })
 }
 
+/// The frames a draw of one animal's blocks spans: five correlation times of the slowest voting
+/// mode of `report` (sampled every `interval`), and its window. (A line narrower than half a bin
+/// has no known width; its correlation time is at least W/π frames, which stands for it.)
+pub(super) fn span(report: &FitReport, interval: f64) -> usize {
+    let slowest = (report.modes_fit.iter())
+        .filter(|m| m.votes)
+        .map(|m| match m.zeta_error {
+            Some(_) => 1.0 / (m.zeta * m.omega * interval),
+            None => report.window.frames as f64 / std::f64::consts::PI,
+        })
+        .fold(0.0, f64::max);
+    (5.0 * slowest).max(report.window.frames as f64).ceil() as usize
+}
+
+/// The bootstrap's intervals (or why there are none) into `report`.
+pub(super) fn attach(report: &mut FitReport, drawn: Result<Intervals, NoBootstrap>) {
+    match drawn {
+        Ok(i) => {
+            // The modes' errors give κ's interval when they can (their coverage is checked,
+            // docs/fit.md); the bootstrap's stands in for the peaks' κ.
+            if let Some(c) = report.continuum.as_mut().filter(|c| c.interval.is_none()) {
+                c.interval = i.continuum;
+                c.interval_from = i.continuum.map(|_| "bootstrap");
+            }
+            if let Some(why) = degenerate(report, &i) {
+                report.warnings.push(why);
+            }
+            report.intervals = Some(i)
+        }
+        Err(why) => report.warnings.push(why.to_string()),
+    }
+}
+
 /// Why ω's bootstrap interval has an end on the estimate itself (within 1 % of its width),
 /// when it has: from spectral peaks (no mode resolved) the resamples' peaks fall on the same
 /// few frequency bins.

@@ -511,35 +511,9 @@ impl Pool {
                 );
                 fitted.ok()
             };
-            // A draw of one animal's blocks spans five correlation times of the slowest voting
-            // mode, and the window.
-            // (A line narrower than half a bin has no known width; its correlation time is at
-            // least W/π frames, which stands for it.)
-            let slowest = report
-                .modes_fit
-                .iter()
-                .filter(|m| m.votes)
-                .map(|m| match m.zeta_error {
-                    Some(_) => 1.0 / (m.zeta * m.omega * interval),
-                    None => report.window.frames as f64 / std::f64::consts::PI,
-                })
-                .fold(0.0, f64::max);
-            let span = (5.0 * slowest).max(report.window.frames as f64).ceil() as usize;
-            match bootstrap::intervals(&units, ctx.settings, (ctx.ladder(), span), fit) {
-                Ok(i) => {
-                    // The modes' errors give κ's interval when they can (their coverage is
-                    // checked, docs/fit.md); the bootstrap's stands in for the peaks' κ.
-                    if let Some(c) = report.continuum.as_mut().filter(|c| c.interval.is_none()) {
-                        c.interval = i.continuum;
-                        c.interval_from = i.continuum.map(|_| "bootstrap");
-                    }
-                    if let Some(why) = bootstrap::degenerate(&report, &i) {
-                        report.warnings.push(why);
-                    }
-                    report.intervals = Some(i)
-                }
-                Err(why) => report.warnings.push(why.to_string()),
-            }
+            let span = bootstrap::span(&report, interval);
+            let drawn = bootstrap::intervals(&units, ctx.settings, (ctx.ladder(), span), fit);
+            bootstrap::attach(&mut report, drawn);
             if pruned.load(Ordering::Relaxed) {
                 return Err(FitError::Pruned {
                     window: report.window.frames,
