@@ -39,7 +39,9 @@ const WEAK: Wave = Wave {
 };
 
 fn warned(r: &FitReport) -> bool {
-    r.warnings.iter().any(|w| w.contains("driven travelling wave"))
+    r.warnings
+        .iter()
+        .any(|w| w.contains("driven travelling wave"))
 }
 
 fn rejected(r: &FitReport) -> bool {
@@ -74,12 +76,20 @@ fn a_weak_wave_over_thermal_modes_is_rejected_on_the_dispersion() {
 
 #[test]
 fn a_thermal_beam_draws_no_driven_wave_warning() {
-    let fits = on_two_cores(RUNS, |r| {
-        fitted(&record(&THERMAL, 5800 + r), false, 12, None)
-    });
-    let alarms = fits.iter().filter(|r| warned(r)).count();
-    let rejected = fits.iter().filter(|r| rejected(r)).count();
-    eprintln!("thermal beam: warning in {alarms} of {RUNS}, dispersion rejected in {rejected}");
-    assert!(alarms <= 1, "{alarms} of {RUNS}");
-    assert!(rejected <= 2, "{rejected} of {RUNS}");
+    // At the coverage studies' 20 000 frames, and at the waves' 6000.
+    for (body, seed0) in [(FREE_BEAM, 5800), (THERMAL, 5900)] {
+        let fits = on_two_cores(RUNS, |r| {
+            fitted(&record(&body, seed0 + r), false, 12, None)
+        });
+        let alarms = fits.iter().filter(|r| warned(r)).count();
+        let rejected = fits.iter().filter(|r| rejected(r)).count();
+        eprintln!(
+            "thermal beam, {} frames: warning in {alarms} of {RUNS}, dispersion rejected in {rejected}",
+            body.frames
+        );
+        assert!(alarms <= 1, "{alarms} of {RUNS}");
+        if body.frames == FREE_BEAM.frames {
+            assert!(rejected <= 2, "{rejected} of {RUNS}");
+        }
+    }
 }

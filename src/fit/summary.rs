@@ -251,10 +251,20 @@ pub(super) fn summarise(
     let mode_overlap = pair_overlaps(lambdas, &components);
     let subspace = subspaces(&cov, &pca_share, &components);
     let mut modes = mode_table(proj, settings, &cov, &frequencies, &psd);
-    let (noise_floor, tests) = vote(proj, &cov, &mut modes_fit);
+    // A driven wave (`wave`), looked for on the series in the full fit only.
+    let wave = match scope {
+        Scope::Full(s) => super::wave::driven_wave(s, used_window, fs, m),
+        Scope::Constants(..) => None,
+    };
+    let locked = wave.as_ref().map_or(&[][..], |w| &w.coordinates[..]);
+    let (noise_floor, mut tests) = vote(proj, &cov, &mut modes_fit, locked);
+    let mut warnings = Vec::new();
+    if let Some(w) = &wave {
+        w.reject(&mut tests.dispersion, proj.first_mode);
+        warnings.push(w.warning(proj.first_mode));
+    }
 
     let used = settings.fit_modes.min(m);
-    let mut warnings = Vec::new();
     let (omega, beta, continuum) = scales(
         proj,
         settings,
@@ -361,6 +371,7 @@ fn vote(
     proj: &Projector,
     cov: &[Vec<f64>],
     modes_fit: &mut [ModeSpectralFit],
+    locked: &[usize],
 ) -> (Option<f64>, TheoryTests) {
     let lambdas = &proj.eigenvalues;
     let m = lambdas.len();
@@ -370,7 +381,7 @@ fn vote(
         .map(|j| continuum_root(proj, j + 1).map(|b| b.powi(2 * k)))
         .collect();
     verdict::disqualify(modes_fit, noise_floor, &continuum_lambda);
-    verdict::drop_leaks(modes_fit, cov);
+    verdict::drop_leaks(modes_fit, cov, locked);
     let regressor: Vec<f64> = (0..m)
         .map(|j| continuum_lambda[j].unwrap_or(lambdas[j]))
         .collect();
