@@ -78,9 +78,7 @@ fn a_weak_wave_over_thermal_modes_is_rejected_on_the_dispersion() {
 fn a_thermal_beam_draws_no_driven_wave_warning() {
     // At the coverage studies' 20 000 frames, and at the waves' 6000.
     for (body, seed0) in [(FREE_BEAM, 5800), (THERMAL, 5900)] {
-        let fits = on_two_cores(RUNS, |r| {
-            fitted(&record(&body, seed0 + r), false, 12, None)
-        });
+        let fits = on_two_cores(RUNS, |r| fitted(&record(&body, seed0 + r), false, 12, None));
         let alarms = fits.iter().filter(|r| warned(r)).count();
         let rejected = fits.iter().filter(|r| rejected(r)).count();
         eprintln!(

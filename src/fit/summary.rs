@@ -68,6 +68,12 @@ impl Origin {
                 welch.1, welch.0
             ));
         }
+        if proj.kind == crate::recording::InputKind::Midline && proj.input_points < proj.points {
+            out.push(format!(
+                "the model's {} points are more than the {} tracked: the midlines are interpolated onto them (`--points {}` fits the tracked points alone)",
+                proj.points, proj.input_points, proj.input_points
+            ));
+        }
         if let Some(r) = ring.filter(|&r| r > proj.input_points) {
             out.push(format!(
                 "only {} of {r} ring segments were measured: under equipartition every mode carries the same strain variance, so the unresolved modes alias into the fitted ones; ω and β are reliable for a dominant rhythm, not for thermal data",
