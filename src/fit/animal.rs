@@ -50,10 +50,7 @@ impl<'a> UnitFrames<'a> {
             ("blocks", [one]) => {
                 let counts: Vec<usize> = units.0.iter().map(|u| u.count as usize).collect();
                 (one.blocks(&counts).unwrap_or_default().into_iter())
-                    .map(|frames| Span {
-                        series: one,
-                        frames,
-                    })
+                    .map(|frames| Span { series: one, frames })
                     .collect()
             }
             _ => Vec::new(),

@@ -562,13 +562,7 @@ fn own_fit(
     interval: f64,
 ) -> AnimalFit {
     let spans = [series.whole()];
-    match fit_stats(
-        proj,
-        ctx,
-        stats,
-        interval,
-        (Scope::Constants(None, &spans), None),
-    ) {
+    match fit_stats(proj, ctx, stats, interval, (Scope::Constants(None, &spans), None)) {
         Ok(r) => AnimalFit::of(name, counts, &r),
         Err(e) => AnimalFit::failed(name, stats, counts, &e.to_string()),
     }

@@ -153,8 +153,12 @@ impl DrivenWave {
     }
 
     /// The dispersion `rejected`, whatever the voting modes said: a driven wave puts its modes
-    /// at its own frequency, not at the body's.
+    /// at its own frequency, not at the body's. A dispersion the modes already reject keeps its
+    /// own reason (the warning says the rest).
     pub(super) fn reject(&self, test: &mut super::TheoryTest, first_mode: usize) {
+        if test.verdict == super::Verdict::Rejected {
+            return;
+        }
         test.verdict = super::Verdict::Rejected;
         test.note = Some(super::TestNote::DrivenWave {
             modes: self.modes(first_mode),
