@@ -54,6 +54,7 @@ mod summary;
 mod timedomain;
 mod uncertainty;
 mod verdict;
+mod wave;
 mod welch;
 mod window;
 pub use accumulate::{Each, SinkError};

@@ -154,6 +154,13 @@ pub enum TestNote {
     },
     /// The interval cannot tell the expected exponent from zero.
     TooWide,
+    /// Modes phase-locked at one frequency with a lag between them (`wave`).
+    DrivenWave {
+        /// Those modes.
+        modes: Vec<usize>,
+        /// The shared frequency (cycles per time unit).
+        frequency: f64,
+    },
     /// Modes that vote on the dispersion only, after what else there is to say.
     DispersionOnly {
         /// Those modes.
@@ -196,6 +203,15 @@ impl fmt::Display for TestNote {
             TestNote::TooWide => f.write_str(
                 "the interval's half-width exceeds the expected exponent's size: it could not tell that exponent from zero",
             ),
+            TestNote::DrivenWave { modes, frequency } => {
+                let list: Vec<String> = modes.iter().map(|m| m.to_string()).collect();
+                write!(
+                    f,
+                    "modes {} are phase-locked at f = {} per time unit with a lag between them: a driven travelling wave, not a passive body",
+                    list.join(", "),
+                    crate::report::number(*frequency)
+                )
+            }
             TestNote::DispersionOnly { modes, after } => {
                 if let Some(a) = after {
                     write!(f, "{a}; ")?;

@@ -69,6 +69,12 @@ impl Origin {
                 welch.1, welch.0
             ));
         }
+        if proj.kind == crate::recording::InputKind::Midline && proj.input_points < proj.points {
+            out.push(format!(
+                "the model's {} points are more than the {} tracked: the midlines are interpolated onto them (`--points {}` fits the tracked points alone)",
+                proj.points, proj.input_points, proj.input_points
+            ));
+        }
         if let Some(r) = ring.filter(|&r| r > proj.input_points) {
             out.push(format!(
                 "only {} of {r} ring segments were measured: under equipartition every mode carries the same strain variance, so the unresolved modes alias into the fitted ones; ω and β are reliable for a dominant rhythm, not for thermal data",
@@ -264,10 +270,20 @@ pub(super) fn summarise(
     let mode_overlap = pair_overlaps(lambdas, &components);
     let subspace = subspaces(&cov, &pca_share, &components);
     let mut modes = mode_table(proj, settings, &cov, &frequencies, &psd);
-    let (noise_floor, tests) = vote(proj, &cov, &mut modes_fit);
+    // A driven wave (`wave`), looked for on the series in the full fit only.
+    let wave = match scope {
+        Scope::Full(s) => super::wave::driven_wave(s, used_window, fs, m),
+        Scope::Constants(..) => None,
+    };
+    let locked = wave.as_ref().map_or(&[][..], |w| &w.coordinates[..]);
+    let (noise_floor, mut tests) = vote(proj, &cov, &mut modes_fit, locked);
+    let mut warnings = Vec::new();
+    if let Some(w) = &wave {
+        w.reject(&mut tests.dispersion, proj.first_mode);
+        warnings.push(w.warning(proj.first_mode));
+    }
 
     let used = settings.fit_modes.min(m);
-    let mut warnings = Vec::new();
     let (omega, beta, continuum) = scales(
         proj,
         settings,
@@ -374,10 +390,11 @@ fn vote(
     proj: &Projector,
     cov: &[Vec<f64>],
     modes_fit: &mut [ModeSpectralFit],
+    locked: &[usize],
 ) -> (Option<f64>, TheoryTests) {
     let noise_floor = verdict::noise_floor(modes_fit);
     verdict::disqualify(modes_fit, noise_floor, &continuum_lambda(proj));
-    verdict::drop_leaks(modes_fit, cov);
+    verdict::drop_leaks(modes_fit, cov, locked);
     let tests = verdict::tests(modes_fit, &regressor(proj), &proj.continuum_gains());
     (noise_floor, tests)
 }

@@ -135,6 +135,13 @@ pub(super) struct Span<'a> {
     pub(super) frames: Range<usize>,
 }
 
+impl Span<'_> {
+    /// Coordinate `j` over its frames (NaN where lost), when the series holds it.
+    pub(super) fn coordinate(&self, j: usize) -> Option<&[f64]> {
+        (self.series.modes.get(j)).map(|m| &m[self.frames.clone()])
+    }
+}
+
 /// Why a mode is fitted by its exact likelihood, or `None` when its Whittle fit stands.
 fn wanted(m: &ModeSpectralFit, df: f64, fs: f64, lost: bool) -> Option<&'static str> {
     let fittable = matches!(

@@ -314,9 +314,10 @@ pub(super) fn disqualify(
 /// are independent; one mode showing through another (the N-point modes are not quite the
 /// body's, or the midline was resampled to more points than were tracked) carries the other's
 /// frequency at a small fraction of its variance. Two strong modes moving together are a
-/// driven rhythm, which keeps its vote (and is warned of).
-pub(super) fn drop_leaks(fits: &mut [ModeSpectralFit], cov: &[Vec<f64>]) {
-    for j in 0..fits.len() {
+/// driven rhythm, which keeps its vote (and is warned of), and so is a coordinate of a driven
+/// wave (`locked`, see `wave`): phase-locked with a lag, it is no instantaneous leak.
+pub(super) fn drop_leaks(fits: &mut [ModeSpectralFit], cov: &[Vec<f64>], locked: &[usize]) {
+    for j in (0..fits.len()).filter(|j| !locked.contains(j)) {
         let source = (0..j).find(|&i| {
             let r2 = cov[i][j] * cov[i][j] / (cov[i][i] * cov[j][j]);
             fits[i].votes && r2 > MAX_SHARED && fits[j].variance < LEAK_SHARE * fits[i].variance

@@ -99,8 +99,25 @@ pub fn oscillator(omega: f64, zeta: f64, var: f64, n: usize, rng: &mut impl rand
         .collect()
 }
 
+/// A travelling wave y = A sin(k s − Ω t) over the body (s ∈ [0, 1], t in frames), as a
+/// crawling animal's driven rhythm: every mode at the one frequency Ω, phase-locked.
+#[derive(Clone, Copy)]
+pub struct Wave {
+    pub amplitude: f64,
+    /// Wavenumber k (radians per body length).
+    pub k: f64,
+    /// Angular frequency Ω (radians per frame).
+    pub omega: f64,
+}
+
 /// The recording as the CSV `fit` reads: `t, x₁, y₁, …`, body length 100 length units.
 pub fn record(body: &Body, seed: u64) -> String {
+    record_with(body, None, seed)
+}
+
+/// [`record`] with a travelling wave added to the thermal modes (none with `body.modes` 0).
+/// The wave draws nothing from the generator, so a seed's thermal part is [`record`]'s.
+pub fn record_with(body: &Body, wave: Option<Wave>, seed: u64) -> String {
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
     let r1 = root(body.clamped, 1);
     let s: Vec<f64> = (0..body.points)
@@ -118,6 +135,13 @@ pub fn record(body: &Body, seed: u64) -> String {
         for (row, a) in y.iter_mut().zip(&a) {
             for (v, p) in row.iter_mut().zip(&phi) {
                 *v += a * p;
+            }
+        }
+    }
+    if let Some(w) = wave {
+        for (t, row) in y.iter_mut().enumerate() {
+            for (v, &s) in row.iter_mut().zip(&s) {
+                *v += w.amplitude * (w.k * s - w.omega * t as f64).sin();
             }
         }
     }
