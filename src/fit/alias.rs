@@ -130,6 +130,7 @@ pub(super) fn unfold(
         let done = fit_oscillator_in(&coordinate(spans, j), 1.0, start, band).ok()?;
         let mut fit = classify(j, &in_time_unit(&done, fs), UNFOLDED);
         fit.exact = Some(UNFOLDED);
+
         Some((j, fit))
     };
     let done = on_cores(jobs.len(), |k| one(&jobs[k]));

@@ -65,6 +65,12 @@ pub enum ModeNote {
     },
     /// A time-domain fit above 0.8 × Nyquist, where it cannot be told from an alias.
     NearAlias,
+    /// Unfolded above Nyquist by the λ law, but broad (ζ ≥ 0.4): its σ²'s error is too small
+    /// there.
+    BroadAlias {
+        /// Its damping ratio.
+        zeta: f64,
+    },
     /// Too few frequency bins or no variance to fit.
     Unfittable,
     /// Only the constants were asked for.
@@ -108,6 +114,11 @@ impl fmt::Display for ModeNote {
             ModeNote::Alias { below } => write!(
                 f,
                 "its frequency lies below mode {below}'s: the alias of a mode above Nyquist, identifiable only up to it"
+            ),
+            ModeNote::BroadAlias { zeta } => write!(
+                f,
+                "unfolded above Nyquist by the λ law, its line is broad (ζ = {}), where the leakage of the modes above it is not white: it does not vote",
+                crate::report::fixed(*zeta, 2)
             ),
             ModeNote::NearAlias => f.write_str(
                 "its frequency is above 0.8 × Nyquist, where its time-domain fit cannot be told from the alias of a mode above Nyquist",
