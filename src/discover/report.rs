@@ -106,6 +106,10 @@ pub struct DiscoverReport {
     /// The discovered equation simulated and read back (when asked).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub replay: Option<super::Replay>,
+    /// How the onward `simulate` line replays the recording (set by `discover` when
+    /// `simulate` takes the discovered equation).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub onward: Option<super::onward::Onward>,
     /// Why `simulate` would refuse the discovered equation (no onward line is printed then).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub onward_refused: Option<String>,
@@ -287,6 +291,7 @@ pub(super) fn assemble(
         model_argument: None,
         not_estimated: Vec::new(),
         replay: None,
+        onward: None,
         onward_refused: None,
     })
 }
@@ -324,52 +329,14 @@ fn noise(rows: &super::weak::Rows, set: &[usize], beta: &[f64]) -> f64 {
     e2 / rows.norm.iter().sum::<f64>().max(f64::MIN_POSITIVE)
 }
 
-/// A word the shell reads as itself.
-fn shell_word(s: &str) -> String {
-    if s.chars().any(char::is_control) {
-        return crate::markup::clip(s);
-    }
-    if !s.is_empty()
-        && s.chars()
-            .all(|c| c.is_ascii_alphanumeric() || "_./-+=:,".contains(c))
-    {
-        s.to_string()
-    } else {
-        format!("'{}'", s.replace('\'', "'\\''"))
-    }
-}
-
 fn interval_text(i: Option<[f64; 2]>) -> String {
     i.map_or("—".into(), |[a, b]| {
         format!("[{}, {}]", short(a), short(b))
     })
 }
 
-fn short(v: f64) -> String {
+pub(super) fn short(v: f64) -> String {
     number(format!("{v:.4e}").parse().unwrap_or(v))
-}
-
-impl DiscoverReport {
-    /// The onward `simulate` line: every library coefficient set (0 where not selected).
-    pub fn simulate_line(&self) -> String {
-        let mut line = String::from("theory-search simulate");
-        if let Some(m) = &self.model_argument {
-            line += &format!(" --model {}", shell_word(m));
-        }
-        line += &format!(" --order {}", self.order);
-        if self.beyond_leading > 0 {
-            line += &format!(" --beyond-leading {}", self.beyond_leading);
-        }
-        line += &format!(" --points {} --dt {}", self.points, number(self.dt));
-        for t in &self.library {
-            let v = if t.selected { t.on_points } else { 0.0 };
-            line += &format!(
-                " --param {}",
-                shell_word(&format!("{}={}", t.name, short(v)))
-            );
-        }
-        line
-    }
 }
 
 impl Report for DiscoverReport {
@@ -455,10 +422,13 @@ impl Report for DiscoverReport {
             short(self.noise)
         );
         out += &match &self.onward_refused {
-            None => format!("Onward: {}\n", self.simulate_line()),
-            Some(why) => format!(
-                "Onward: none: simulate refuses the discovered equation ({why}), so there is nothing to replay or draw\n"
+            None => format!(
+                "Onward: {}\n{}",
+                self.simulate_line(),
+                self.onward_words()
+                    .map_or(String::new(), |w| format!("  {w}\n"))
             ),
+            Some(why) => format!("Onward: none: {why}, so there is nothing to replay or draw\n"),
         };
         out
     }
