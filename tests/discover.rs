@@ -315,12 +315,23 @@ fn the_json_contract_the_onward_simulate_line_and_the_figure() {
     // The figure: the discovered equation simulated and read back beside the recording.
     let figures = dir.join("figures");
     let figures = figures.to_str().unwrap();
-    common::cli(&[&args[..], &["--figures", figures, "--bootstrap", "0"]].concat()).unwrap();
+    // In seconds when the data say so: the report's and the figure's units.
+    let seconds = ["--figures", figures, "--bootstrap", "0", "--time-unit", "s"];
+    let printed = common::cli(&[&args[..], &seconds].concat()).unwrap();
+    for said in [
+        "Δt = 0.05 s)",
+        "body lengths and s;",
+        "body lengths²/s³",
+        "0.05 s apart",
+    ] {
+        assert!(printed.contains(said), "{said} not in\n{printed}");
+    }
     let svg = std::fs::read_to_string(dir.join("figures/discover_spectra.svg")).unwrap();
     for title in [
         "mode 2",
         "modal variances",
         "discovered equation, simulated",
+        "cycles per s",
     ] {
         assert!(svg.contains(title), "the figure shows {title}");
     }

@@ -163,7 +163,7 @@ fn arguments(command: &str, scratch: &Path) -> (Vec<String>, Vec<(String, String
 fn every_block_says_what_it_is_and_shown_output_is_printed() {
     let scratch_held = common::scratch("docs");
     let scratch = scratch_held.path();
-    let (mut commands, mut outputs) = (0, 0);
+    let (mut commands, mut outputs, mut onward) = (0, 0, 0);
     let mut problems = Vec::new();
     for (path, text) in pages() {
         let page = path.strip_prefix(root()).unwrap().display().to_string();
@@ -174,7 +174,7 @@ fn every_block_says_what_it_is_and_shown_output_is_printed() {
                     for line in joined.lines() {
                         let line = line.split(" #").next().unwrap().trim();
                         if let Some(rest) = line.strip_prefix("cargo run --release -- ") {
-                            run(&arguments(rest, scratch).0);
+                            onward += onward_lines_run(&run(&arguments(rest, scratch).0));
                             commands += 1;
                         }
                     }
@@ -187,6 +187,7 @@ fn every_block_says_what_it_is_and_shown_output_is_printed() {
                     };
                     let (args, back) = arguments(command, scratch);
                     let mut printed = run(&args);
+                    onward += onward_lines_run(&printed);
                     for (moved, shown_as) in back {
                         printed = printed.replace(&moved, &shown_as);
                     }
@@ -207,6 +208,23 @@ fn every_block_says_what_it_is_and_shown_output_is_printed() {
     assert!(problems.is_empty(), "{}", problems.join("\n"));
     assert!(commands >= 7, "{commands} commands");
     assert!(outputs >= 15, "{outputs} outputs checked");
+    assert!(onward >= 1, "{onward} onward lines run");
+}
+
+/// Every onward line a command printed (`Onward: theory-search simulate …`), run as printed
+/// (no shell quoting: the words are the arguments); how many ran.
+fn onward_lines_run(printed: &str) -> usize {
+    let mut ran = 0;
+    for line in printed.lines() {
+        let Some(command) = line.trim().strip_prefix("Onward: theory-search ") else {
+            continue;
+        };
+        assert!(!command.contains('\''), "a quoted onward line: {command}");
+        let args: Vec<String> = command.split_whitespace().map(String::from).collect();
+        run(&args);
+        ran += 1;
+    }
+    ran
 }
 
 /// Every command written inline in running text (`` `theory-search rules` ``, `` `cargo run

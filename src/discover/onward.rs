@@ -202,8 +202,11 @@ impl DiscoverReport {
             format!("the first {rows} of the recording's {} frames", o.frames)
         };
         Some(format!(
-            "(replays {which}: rows Δt = {} apart, kT = {} from equipartition over modes {}, mode {mode} started at its rms amplitude; ωh ≤ {MAX_PHASE_STEP} for the fastest mode)",
-            number(o.dt * o.every as f64),
+            "(replays {which}: rows Δt = {}{} apart, kT = {} from equipartition over modes {}, mode {mode} started at its rms amplitude; ωh ≤ {MAX_PHASE_STEP} for the fastest mode)",
+            number(self.dt),
+            self.time_unit
+                .as_ref()
+                .map_or(String::new(), |u| format!(" {u}")),
             short(o.temperature),
             self.modes
                 .iter()

@@ -97,6 +97,9 @@ pub struct DiscoverReport {
     pub median_model: bool,
     /// The sampling interval.
     pub dt: f64,
+    /// The data's time unit when it was given (`--time-unit`, or a WCON file's own).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time_unit: Option<String>,
     /// The model as the onward `simulate` line names it (set by the caller).
     pub model_argument: Option<String>,
     /// Kinetic coefficients beyond ½(∂tφ)²: in the library, not estimated (they renormalise
@@ -288,6 +291,7 @@ pub(super) fn assemble(
         seed: settings.seed,
         median_model,
         dt: first.dt,
+        time_unit: first.fit.units.time.clone(),
         model_argument: None,
         not_estimated: Vec::new(),
         replay: None,
@@ -339,6 +343,15 @@ pub(super) fn short(v: f64) -> String {
     number(format!("{v:.4e}").parse().unwrap_or(v))
 }
 
+impl DiscoverReport {
+    /// The data's time unit in words: `s`, or "the data's time unit" when none was given.
+    pub fn time_words(&self) -> String {
+        self.time_unit
+            .as_ref()
+            .map_or("the data's time unit".to_string(), |u| u.clone())
+    }
+}
+
 impl Report for DiscoverReport {
     fn text(&self) -> String {
         let names: Vec<String> = self
@@ -347,12 +360,15 @@ impl Report for DiscoverReport {
             .map(|r| crate::markup::clip(r))
             .collect();
         let mut out = format!(
-            "Discovered equation of field {} from {} ({} frames on {} points, Δt = {}):\n  {}\n",
+            "Discovered equation of field {} from {} ({} frames on {} points, Δt = {}{}):\n  {}\n",
             self.field,
             names.join(", "),
             self.frames,
             self.points,
             number(self.dt),
+            self.time_unit
+                .as_ref()
+                .map_or(String::new(), |u| format!(" {u}")),
             self.equation
         );
         out += &format!(
@@ -392,7 +408,10 @@ impl Report for DiscoverReport {
                 self.field
             );
         }
-        out += "(coefficients in body lengths and the data's time unit; intervals from ";
+        out += &format!(
+            "(coefficients in body lengths and {}; intervals from ",
+            self.time_words()
+        );
         out += &if self.median_model {
             format!(
                 "{} moving-block draws, seed {}; the selection is the terms kept in more than half of them)\n",
@@ -417,9 +436,12 @@ impl Report for DiscoverReport {
             );
         }
         out += &format!(
-            "R² = {:.4}; residual force noise q = {} (body lengths²/time³ per point)\n",
+            "R² = {:.4}; residual force noise q = {} (body lengths²/{}³ per point)\n",
             self.r2,
-            short(self.noise)
+            short(self.noise),
+            self.time_unit
+                .as_ref()
+                .map_or("time".to_string(), |u| u.clone())
         );
         out += &match &self.onward_refused {
             None => format!(
