@@ -413,6 +413,7 @@ pub fn discover(
             &fit,
             &report.library,
             &modes,
+            report.onward.as_ref(),
         )?);
     }
     Ok(report)
