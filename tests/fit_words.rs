@@ -44,6 +44,11 @@ fn the_omega_line_names_the_voting_modes_and_the_columns_their_units() {
     let seconds = common::cli(&["fit", EXAMPLE, "--time-unit", "s"]).unwrap();
     assert!(seconds.contains("f in cycles/s, ω in rad/s"), "{seconds}");
     assert!(long_lines(&text).is_empty(), "{:#?}", long_lines(&text));
+    let given = common::cli(&["fit", EXAMPLE, "--omega", "1"]).unwrap();
+    assert!(
+        given.contains("rad/time unit (given by --omega)"),
+        "{given}"
+    );
 }
 
 #[test]

@@ -61,6 +61,9 @@ pub struct FitReport {
     pub overlap: Vec<Vec<f64>>,
     /// The fitted (or fixed) frequency scale.
     pub omega: f64,
+    /// ω was given (`--omega`), not fitted.
+    #[serde(skip)]
+    pub omega_given: bool,
     /// The fitted inverse temperature, lengths in units of the spacing.
     pub beta: f64,
     /// The theory's constant in body units, independent of the number of model points: the
@@ -445,7 +448,9 @@ fn omega_from(r: &FitReport) -> String {
             ),
         }
     };
-    if voting.is_empty() {
+    if r.omega_given {
+        "given by --omega".to_string()
+    } else if voting.is_empty() {
         let all: Vec<usize> = r
             .modes
             .iter()

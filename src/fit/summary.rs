@@ -277,6 +277,7 @@ pub(super) fn summarise(
         theory_variance_share: theory_share,
         overlap,
         omega,
+        omega_given: settings.omega.is_some(),
         beta,
         kind: settings.recording.kind,
         field: proj.field.clone(),
