@@ -339,3 +339,31 @@ fn the_json_contract_the_onward_simulate_line_and_the_figure() {
     let csv = common::cli(&[&args[..], &["--format", "csv", "--bootstrap", "0"]].concat()).unwrap();
     assert_eq!(csv.lines().count(), 5, "{csv}");
 }
+
+/// A selection with no restoring force on the modes used (WT2 with bridged gaps on the crawler:
+/// g_y alone) gets no onward line, and says why in words, rather than a line whose run drifts.
+#[test]
+fn a_selection_without_a_restoring_force_gets_no_onward_line() {
+    let wt2 = "../shared/data/celegans_wt2_crawling_30fps_49pts.csv";
+    let args = [
+        "discover",
+        wt2,
+        "--model",
+        CRAWLER,
+        "--active",
+        "--fill-gaps",
+        "10",
+    ];
+    let text = common::cli(&args).expect("discover runs");
+    assert!(
+        text.contains("Onward: none: the discovered equation has no restoring force"),
+        "{text}"
+    );
+    assert!(!text.contains("Onward: theory-search"), "{text}");
+    let json = common::cli(&[&args[..], &["--format", "json"]].concat()).unwrap();
+    let doc: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert!(
+        doc["simulate"].is_null() && doc["onward_refused"].is_string(),
+        "{doc}"
+    );
+}

@@ -103,7 +103,7 @@ pub(super) fn onward(
         .collect();
     let Some(&(lowest, omega_low, _)) = pairs.first() else {
         return Err(format!(
-            "the discovered equation has no restoring force on the modes used ({}; none has a real frequency), so no temperature can be measured and a replay would drift",
+            "the discovered equation has no restoring force on the modes used ({}; none has a real frequency): no temperature can be measured and a replay would drift",
             used.iter().map(usize::to_string).collect::<Vec<_>>().join(", ")
         ));
     };
