@@ -261,6 +261,7 @@ fn read_input(
         )?;
         return read_tracks_of(tracks, ctx, projs, each, Units::default());
     }
+    let units = crate::recording::layout_units(&mut reader, &settings.recording)?;
     let source = FrameReader::new(reader, &settings.recording);
     let animal = if chunked {
         std::thread::scope(|scope| {
@@ -273,7 +274,7 @@ fn read_input(
     };
     Ok(Read {
         animals: vec![animal],
-        units: Units::default(),
+        units,
         projector: projs.first(),
     })
 }
@@ -482,7 +483,9 @@ impl Pool {
         let described = Some((counts, named));
         let mut report = fit_stats(proj, ctx, stats, interval, (Scope::Full, described))?;
         report.tracking_noise = self.jitter.as_ref().and_then(Jitter::estimate);
-        report.warnings.extend(super::report::bridged(&report));
+        report
+            .warnings
+            .extend(super::report::recording_notes(&report));
         if ctx.settings.bootstrap > 0 {
             let units = units(&self.kept);
             let pooled = report.clone();

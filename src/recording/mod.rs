@@ -58,8 +58,8 @@ pub use jitter::TrackingNoise;
 pub use paths::recordings;
 pub(crate) use project::Work;
 pub use project::{turning_angles, FrameError, Projector};
-pub(crate) use read::{read_tracks, sniff, whole, FrameReader, Source, TrackSource};
-pub use read::{Frame, Track, MAX_LINE_BYTES, MAX_WHOLE_FILE, MIN_TIME_STEP};
+pub(crate) use read::{layout_units, read_tracks, sniff, whole, FrameReader, Source, TrackSource};
+pub use read::{Frame, Track, FRAME_UNIT, MAX_LINE_BYTES, MAX_WHOLE_FILE, MIN_TIME_STEP};
 pub use settings::*;
 pub(crate) use wcon::parse as parse_wcon;
 

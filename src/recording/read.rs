@@ -575,6 +575,25 @@ pub(crate) fn sniff(
 /// The first cells of DeepLabCut's three header rows; an export opens with the first.
 const DLC_HEADERS: [&str; 3] = ["scorer", "bodyparts", "coords"];
 
+/// The time unit of a DeepLabCut export read without `--fps`: its rows hold frame indices.
+pub const FRAME_UNIT: &str = "frame";
+
+/// The units a CSV stream's own layout implies: [`FRAME_UNIT`] for a DeepLabCut export (it
+/// opens with `scorer`) read without `--fps`, none otherwise. Only peeks.
+pub(crate) fn layout_units(
+    reader: &mut Box<dyn BufRead + Send + '_>,
+    settings: &super::RecordingSettings,
+) -> Result<super::Units, RecordingError> {
+    let buf = reader.fill_buf().map_err(RecordingError::Io)?;
+    let text = String::from_utf8_lossy(&buf[..buf.len().min(64)]);
+    let first = text.trim_start().split([',', '\t', ' ', '\n']).next();
+    let frames = settings.fps.is_none() && first.is_some_and(|c| c.trim() == DLC_HEADERS[0]);
+    Ok(super::Units {
+        time: frames.then(|| FRAME_UNIT.to_string()),
+        length: None,
+    })
+}
+
 /// A whole stream as text, at most [`MAX_WHOLE_FILE`] bytes.
 pub(crate) fn whole(reader: Box<dyn BufRead + Send + '_>) -> Result<String, RecordingError> {
     use std::io::Read as _;
