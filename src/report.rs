@@ -129,6 +129,63 @@ pub fn csv_numbers<H: AsRef<str>>(
     )
 }
 
+/// The longest line a text report prints before it wraps ([`wrap_long`]).
+pub const MAX_LINE: usize = 160;
+
+/// Each line of `text` longer than `width` characters broken at spaces, the continuation lines
+/// indented four spaces past the line's own indent. A line holding a command to copy
+/// (`theory-search …`) is left whole.
+pub fn wrap_long(text: &str, width: usize) -> String {
+    let mut out = String::with_capacity(text.len());
+    for line in text.split_inclusive('\n') {
+        let body = line.trim_end_matches('\n');
+        if body.chars().count() <= width || body.contains("theory-search ") {
+            out.push_str(line);
+            continue;
+        }
+        let indent = body.len() - body.trim_start().len();
+        let pad = " ".repeat(indent + 4);
+        let mut rest = body;
+        let mut first = true;
+        loop {
+            let room = if first { width } else { width - pad.len() };
+            let prefix = if first { "" } else { pad.as_str() };
+            if rest.chars().count() <= room {
+                out.push_str(prefix);
+                out.push_str(rest);
+                break;
+            }
+            // The last space within `room` characters (past the indent), else the first after.
+            let cut = rest
+                .char_indices()
+                .take(room + 1)
+                .filter(|&(i, c)| c == ' ' && i > indent)
+                .map(|(i, _)| i)
+                .last()
+                .or_else(|| {
+                    rest.char_indices()
+                        .skip(room)
+                        .find(|&(_, c)| c == ' ')
+                        .map(|(i, _)| i)
+                });
+            let Some(cut) = cut else {
+                out.push_str(prefix);
+                out.push_str(rest);
+                break;
+            };
+            out.push_str(prefix);
+            out.push_str(rest[..cut].trim_end());
+            out.push('\n');
+            rest = rest[cut..].trim_start();
+            first = false;
+        }
+        if line.ends_with('\n') {
+            out.push('\n');
+        }
+    }
+    out
+}
+
 /// `v` with `digits` decimals (`{:.6}`) for ordinary magnitudes, and in exponent form with as
 /// many significant decimals where that would print hundreds of digits or only zeros.
 pub fn fixed(v: f64, digits: usize) -> String {
@@ -466,3 +523,23 @@ macro_rules! fields {
 }
 
 fields!(SerializeStruct, SerializeStructVariant);
+
+#[cfg(test)]
+mod wrap_tests {
+    use super::*;
+
+    #[test]
+    fn long_lines_wrap_at_spaces_and_commands_stay_whole() {
+        let long = format!("  {}\n", "word ".repeat(50).trim_end());
+        let wrapped = wrap_long(&long, 40);
+        assert!(
+            wrapped.lines().all(|l| l.chars().count() <= 40),
+            "{wrapped}"
+        );
+        assert!(wrapped.lines().skip(1).all(|l| l.starts_with("      word")));
+        assert_eq!(wrapped.split_whitespace().count(), 50);
+        let command = format!("  onward: theory-search simulate {}\n", "--x 1 ".repeat(40));
+        assert_eq!(wrap_long(&command, 40), command);
+        assert_eq!(wrap_long("short\n", 40), "short\n");
+    }
+}

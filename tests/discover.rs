@@ -19,7 +19,40 @@ const WORM: &str = "tables/models/worm.toml";
 fn run(text: String, model: &str, points: usize, active: bool) -> DiscoverReport {
     let mut fit = FitSettings::new(InputKind::Midline);
     fit.recording.points = points;
-    run_with(text, load(model), fit, active)
+    let mut report = run_with(text, load(model), fit, active);
+    replays(&mut report, model);
+    report
+}
+
+/// The onward line `discover` prints, run as printed with the model named as a user names it:
+/// it is printed, needs no shell quoting (ASCII names), runs, and its last row is not a body at
+/// rest; it replays the recording's frame interval. Returns the line.
+fn replays(report: &mut DiscoverReport, model: &str) -> String {
+    report.model_argument = Some(model.into());
+    let printed = text(report);
+    let line = printed
+        .lines()
+        .find_map(|l| l.strip_prefix("Onward: theory-search "))
+        .unwrap_or_else(|| panic!("an onward line\n{printed}"))
+        .to_string();
+    assert!(!line.contains('\''), "quoted words in {line}");
+    let words: Vec<&str> = line.split_whitespace().collect();
+    let csv = common::cli(&words).unwrap_or_else(|e| panic!("{line}: {e}"));
+    let rows: Vec<Vec<f64>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert!(rows.len() > 2, "{line}: {} rows", rows.len());
+    let last = rows.last().unwrap();
+    assert!(last[3..].iter().any(|v| *v != 0.0), "{line}: rows of zeros");
+    let interval = rows[1][0] - rows[0][0];
+    assert!(
+        (interval - report.dt).abs() <= 1e-4 * report.dt,
+        "{line}: rows {interval} apart, frames {}",
+        report.dt
+    );
+    line
 }
 
 fn load(model: &str) -> Model {
@@ -143,7 +176,9 @@ fn worm_axial(
     model.set_beyond_leading(1);
     let mut fit = FitSettings::new(InputKind::Lengths);
     fit.recording.points = 25;
-    run_with(lengths(&spec, initial), model, fit, false)
+    let mut report = run_with(lengths(&spec, initial), model, fit, false);
+    replays(&mut report, WORM);
+    report
 }
 
 /// Released from a stretched posture (modes 1–4 displaced, strains up to 0.46, no thermal
@@ -264,33 +299,71 @@ fn the_json_contract_the_onward_simulate_line_and_the_figure() {
         }
     }
     assert!(doc["r2"].as_f64().unwrap() > 0.0 && doc["noise"].as_f64().unwrap() > 0.0);
-    // The onward line runs, and names every coefficient.
+    // The onward line runs as printed, names every coefficient (c'_y by its ASCII alias) and
+    // replays the recording at its temperature: simulated at kT = 1 in grid units.
     let line = doc["simulate"].as_str().unwrap();
-    let words: Vec<String> = line
-        .split_whitespace()
-        .skip(1)
-        .map(|w| w.trim_matches('\'').replace("'\\''", "'"))
-        .collect();
-    let mut run: Vec<&str> = words.iter().map(String::as_str).collect();
-    run.extend(["--steps", "10"]);
-    common::cli(&run).expect("the onward simulate line runs");
-    for name in ["c_y", "c'_y", "a_y", "g_y"] {
+    assert!(!line.contains('\''), "no shell quoting: {line}");
+    let words: Vec<&str> = line.split_whitespace().skip(1).collect();
+    common::cli(&words).expect("the onward simulate line runs");
+    for name in ["c_y", "cp_y", "a_y", "g_y"] {
         let set = words.iter().any(|w| w.starts_with(&format!("{name}=")));
         assert!(set, "{name} not in {line}");
     }
+    let kt = doc["onward"]["temperature"].as_f64().unwrap();
+    assert!((kt - 1.0).abs() < 0.25, "kT = {kt}, simulated at 1: {line}");
+    assert!(doc["onward"]["every"].as_u64().unwrap() >= 1);
     // The figure: the discovered equation simulated and read back beside the recording.
     let figures = dir.join("figures");
     let figures = figures.to_str().unwrap();
-    common::cli(&[&args[..], &["--figures", figures, "--bootstrap", "0"]].concat()).unwrap();
+    // In seconds when the data say so: the report's and the figure's units.
+    let seconds = ["--figures", figures, "--bootstrap", "0", "--time-unit", "s"];
+    let printed = common::cli(&[&args[..], &seconds].concat()).unwrap();
+    for said in [
+        "Δt = 0.05 s)",
+        "body lengths and s;",
+        "body lengths²/s³",
+        "0.05 s apart",
+    ] {
+        assert!(printed.contains(said), "{said} not in\n{printed}");
+    }
     let svg = std::fs::read_to_string(dir.join("figures/discover_spectra.svg")).unwrap();
     for title in [
         "mode 2",
         "modal variances",
         "discovered equation, simulated",
+        "cycles per s",
     ] {
         assert!(svg.contains(title), "the figure shows {title}");
     }
     // CSV: one row per candidate; text names the selected equation.
     let csv = common::cli(&[&args[..], &["--format", "csv", "--bootstrap", "0"]].concat()).unwrap();
     assert_eq!(csv.lines().count(), 5, "{csv}");
+}
+
+/// A selection with no restoring force on the modes used (WT2 with bridged gaps on the crawler:
+/// g_y alone) gets no onward line, and says why in words, rather than a line whose run drifts.
+#[test]
+fn a_selection_without_a_restoring_force_gets_no_onward_line() {
+    let wt2 = "../shared/data/celegans_wt2_crawling_30fps_49pts.csv";
+    let args = [
+        "discover",
+        wt2,
+        "--model",
+        CRAWLER,
+        "--active",
+        "--fill-gaps",
+        "10",
+    ];
+    let text = common::cli(&args).expect("discover runs");
+    assert!(
+        text.contains("Onward: none: the discovered equation has no restoring force"),
+        "{text}"
+    );
+    assert!(!text.contains("Onward: theory-search"), "{text}");
+    let json = common::cli(&[&args[..], &["--format", "json"]].concat()).unwrap();
+    let doc: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert!(
+        doc["simulate"].is_null() && doc["onward_refused"].is_string(),
+        "{doc}"
+    );
 }

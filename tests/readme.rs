@@ -163,7 +163,7 @@ fn arguments(command: &str, scratch: &Path) -> (Vec<String>, Vec<(String, String
 fn every_block_says_what_it_is_and_shown_output_is_printed() {
     let scratch_held = common::scratch("docs");
     let scratch = scratch_held.path();
-    let (mut commands, mut outputs) = (0, 0);
+    let (mut commands, mut outputs, mut onward) = (0, 0, 0);
     let mut problems = Vec::new();
     for (path, text) in pages() {
         let page = path.strip_prefix(root()).unwrap().display().to_string();
@@ -174,7 +174,7 @@ fn every_block_says_what_it_is_and_shown_output_is_printed() {
                     for line in joined.lines() {
                         let line = line.split(" #").next().unwrap().trim();
                         if let Some(rest) = line.strip_prefix("cargo run --release -- ") {
-                            run(&arguments(rest, scratch).0);
+                            onward += onward_lines_run(&run(&arguments(rest, scratch).0));
                             commands += 1;
                         }
                     }
@@ -187,6 +187,7 @@ fn every_block_says_what_it_is_and_shown_output_is_printed() {
                     };
                     let (args, back) = arguments(command, scratch);
                     let mut printed = run(&args);
+                    onward += onward_lines_run(&printed);
                     for (moved, shown_as) in back {
                         printed = printed.replace(&moved, &shown_as);
                     }
@@ -207,6 +208,23 @@ fn every_block_says_what_it_is_and_shown_output_is_printed() {
     assert!(problems.is_empty(), "{}", problems.join("\n"));
     assert!(commands >= 7, "{commands} commands");
     assert!(outputs >= 15, "{outputs} outputs checked");
+    assert!(onward >= 1, "{onward} onward lines run");
+}
+
+/// Every onward line a command printed (`Onward: theory-search simulate …`), run as printed
+/// (no shell quoting: the words are the arguments); how many ran.
+fn onward_lines_run(printed: &str) -> usize {
+    let mut ran = 0;
+    for line in printed.lines() {
+        let Some(command) = line.trim().strip_prefix("Onward: theory-search ") else {
+            continue;
+        };
+        assert!(!command.contains('\''), "a quoted onward line: {command}");
+        let args: Vec<String> = command.split_whitespace().map(String::from).collect();
+        run(&args);
+        ran += 1;
+    }
+    ran
 }
 
 /// Every command written inline in running text (`` `theory-search rules` ``, `` `cargo run
@@ -261,4 +279,74 @@ fn every_inline_command_in_the_readme_and_docs_runs() {
         }
     }
     assert!(ran >= 10, "{ran} inline commands");
+}
+
+/// The README's count of shipped example models is the number of files in tables/models/.
+#[test]
+fn the_readme_counts_the_shipped_examples_truly() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let words = [
+        "Zero", "One", "Two", "Three", "Four", "Five", "Six", "Seven", "Eight", "Nine", "Ten",
+        "Eleven", "Twelve", "Thirteen", "Fourteen", "Fifteen",
+    ];
+    let said = readme
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .windows(3)
+        .find(|w| w[1] == "examples" && w[2] == "ship")
+        .map(|w| w[0].to_string())
+        .expect("README says how many examples ship");
+    let shipped = std::fs::read_dir(root().join("tables/models"))
+        .unwrap()
+        .filter(|e| {
+            let p = e.as_ref().unwrap().path();
+            p.extension().is_some_and(|x| x == "toml")
+        })
+        .count();
+    assert_eq!(said, words[shipped], "README says {said}, {shipped} ship");
+}
+
+/// What the README's and docs' own commands write (`--figures D`, `--out F`, `python -m venv
+/// D`) is git-ignored, so following them leaves `git status` clean.
+#[test]
+fn what_the_shown_commands_write_is_git_ignored() {
+    let ignore = std::fs::read_to_string(root().join(".gitignore")).unwrap();
+    let ignored: Vec<&str> = ignore
+        .lines()
+        .map(|l| l.trim().trim_start_matches('/').trim_end_matches('/'))
+        .collect();
+    let mut missing = Vec::new();
+    for (path, text) in pages() {
+        for (info, body) in blocks(&text) {
+            if !matches!(info.as_str(), "sh" | "console") {
+                continue;
+            }
+            let joined = body.replace("\\\n", " ");
+            let words: Vec<&str> = joined.split_whitespace().collect();
+            for w in words.windows(2) {
+                let written = match w[0] {
+                    "--figures" | "--out" => w[1],
+                    "venv" => w[1],
+                    _ => continue,
+                };
+                let placeholder = written.chars().all(|c| !c.is_ascii_lowercase());
+                if !placeholder && !ignored.contains(&written) {
+                    missing.push(format!("{}: {written}", path.display()));
+                }
+            }
+        }
+    }
+    assert!(missing.is_empty(), "not in .gitignore: {missing:?}");
+}
+
+/// The README uses the binary's name (`theory-search rules`, the onward lines the tools print)
+/// and says how to put it on PATH.
+#[test]
+fn the_readme_says_how_to_install_the_binary() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    assert!(readme.contains("`theory-search "));
+    assert!(
+        readme.contains("`cargo install --path .`"),
+        "no install line"
+    );
 }

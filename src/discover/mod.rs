@@ -31,6 +31,7 @@
 //! coefficient is taken back to that unit at the end.
 
 mod data;
+mod onward;
 mod regress;
 mod replay;
 mod report;
@@ -39,6 +40,7 @@ mod weak;
 use std::io::BufRead;
 use std::path::PathBuf;
 
+pub use onward::{Onward, MAX_PHASE_STEP};
 pub use replay::{Replay, STEPS_PER_FRAME};
 pub use report::{Comparison, DiscoverReport, DiscoveredTerm};
 
@@ -388,10 +390,19 @@ pub fn discover(
     }
     let mut report = report::assemble(&recordings, model, settings, &theories, &field)?;
     report.not_estimated = not_estimated;
-    report.onward_refused =
-        replay::discovered_body(model, settings.recording.order, &report.library)
-            .err()
-            .map(|e| crate::markup::one_line(&e.to_string()));
+    // What simulate refuses is never printed: the body the line makes, then its replay.
+    let onward = replay::discovered_body(model, settings.recording.order, &report.library)
+        .map_err(|e| {
+            format!(
+                "simulate refuses the discovered equation ({})",
+                crate::markup::one_line(&e.to_string())
+            )
+        })
+        .and_then(|body| onward::onward(&report, &recordings[0], model, &body));
+    match onward {
+        Ok(o) => report.onward = Some(o),
+        Err(why) => report.onward_refused = Some(why),
+    }
     if settings.replay && report.onward_refused.is_none() {
         let modes: Vec<usize> = report.modes.iter().map(|m| m.0).collect();
         let rec = &recordings[0];
@@ -402,6 +413,7 @@ pub fn discover(
             &fit,
             &report.library,
             &modes,
+            report.onward.as_ref(),
         )?);
     }
     Ok(report)

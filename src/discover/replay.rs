@@ -2,9 +2,11 @@
 //! library) and read back as the recording was, so its modal spectra and variances sit beside
 //! the observed ones.
 //!
-//! The run has the recording's frames, sampling interval and grid, five steps per frame, and
-//! Langevin noise at the temperature that gives the lowest used mode the observed variance:
-//! one run at kT = 1, then kT ← kT·σ²_observed/σ²_simulated (exact in one step for a linear
+//! The run has the recording's frames, sampling interval and grid, five steps per frame, the
+//! onward line's start (the lowest used mode at its rms amplitude, so an undamped body, which
+//! the Langevin noise cannot move, still moves), and Langevin noise at the temperature that
+//! gives the lowest used mode the observed variance: one run at the onward line's kT (or 1),
+//! then kT ← kT·σ²_observed/σ²_simulated (exact in one step for a linear
 //! body; a fixed point for a nonlinear one, at most [`MATCH_RUNS`] runs, to
 //! [`MATCH_TOLERANCE`]). Each frame's field becomes the tracker's
 //! midlines (or segment lengths) with no tracking noise, and `fit` projects it as it did the
@@ -94,6 +96,7 @@ pub(super) fn replay(
     settings: &FitSettings,
     library: &[DiscoveredTerm],
     modes: &[usize],
+    onward: Option<&super::Onward>,
 ) -> Result<Replay, DiscoverError> {
     let body = discovered_body(model, settings.recording.order, library)?;
     let points = rec.fit.model_points;
@@ -103,6 +106,20 @@ pub(super) fn replay(
     let frames = observed_frames
         .min((MAX_WORK / per_frame / 4.0) as usize)
         .max(2);
+    let start = Start {
+        initial: onward
+            .map(|o| {
+                let (field, mode, displacement) = o.initial.clone();
+                vec![crate::dynamics::Initial {
+                    field,
+                    mode,
+                    displacement,
+                    velocity: 0.0,
+                }]
+            })
+            .unwrap_or_default(),
+        ..Start::default()
+    };
     let run = |temperature: f64| -> Result<FitReport, DiscoverError> {
         let config = Config {
             points,
@@ -120,7 +137,7 @@ pub(super) fn replay(
             frames: Vec::with_capacity(frames),
         };
         let field = rec.fit.field.clone();
-        body.simulate(&config, &Start::default(), |ids: &[String], s: &Sample| {
+        body.simulate(&config, &start, |ids: &[String], s: &Sample| {
             let Some(i) = ids.iter().position(|id| *id == field) else {
                 return Err(Halt::Stop);
             };
@@ -145,7 +162,7 @@ pub(super) fn replay(
     }
     // kT ← kT·σ²_observed/σ²_simulated until the lowest mode's variance matches: one step for
     // a linear body (the variance is kT times a constant), a few for a stiffening one.
-    let mut temperature = 1.0;
+    let mut temperature = onward.map_or(1.0, |o| o.temperature);
     let mut last = run(temperature)?;
     for _ in 1..MATCH_RUNS {
         let (_, trial) = picked(&last, modes);

@@ -97,6 +97,9 @@ pub struct DiscoverReport {
     pub median_model: bool,
     /// The sampling interval.
     pub dt: f64,
+    /// The data's time unit when it was given (`--time-unit`, or a WCON file's own).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time_unit: Option<String>,
     /// The model as the onward `simulate` line names it (set by the caller).
     pub model_argument: Option<String>,
     /// Kinetic coefficients beyond ½(∂tφ)²: in the library, not estimated (they renormalise
@@ -106,6 +109,10 @@ pub struct DiscoverReport {
     /// The discovered equation simulated and read back (when asked).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub replay: Option<super::Replay>,
+    /// How the onward `simulate` line replays the recording (set by `discover` when
+    /// `simulate` takes the discovered equation).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub onward: Option<super::onward::Onward>,
     /// Why `simulate` would refuse the discovered equation (no onward line is printed then).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub onward_refused: Option<String>,
@@ -284,9 +291,11 @@ pub(super) fn assemble(
         seed: settings.seed,
         median_model,
         dt: first.dt,
+        time_unit: first.fit.units.time.clone(),
         model_argument: None,
         not_estimated: Vec::new(),
         replay: None,
+        onward: None,
         onward_refused: None,
     })
 }
@@ -324,51 +333,22 @@ fn noise(rows: &super::weak::Rows, set: &[usize], beta: &[f64]) -> f64 {
     e2 / rows.norm.iter().sum::<f64>().max(f64::MIN_POSITIVE)
 }
 
-/// A word the shell reads as itself.
-fn shell_word(s: &str) -> String {
-    if s.chars().any(char::is_control) {
-        return crate::markup::clip(s);
-    }
-    if !s.is_empty()
-        && s.chars()
-            .all(|c| c.is_ascii_alphanumeric() || "_./-+=:,".contains(c))
-    {
-        s.to_string()
-    } else {
-        format!("'{}'", s.replace('\'', "'\\''"))
-    }
-}
-
 fn interval_text(i: Option<[f64; 2]>) -> String {
     i.map_or("—".into(), |[a, b]| {
         format!("[{}, {}]", short(a), short(b))
     })
 }
 
-fn short(v: f64) -> String {
+pub(super) fn short(v: f64) -> String {
     number(format!("{v:.4e}").parse().unwrap_or(v))
 }
 
 impl DiscoverReport {
-    /// The onward `simulate` line: every library coefficient set (0 where not selected).
-    pub fn simulate_line(&self) -> String {
-        let mut line = String::from("theory-search simulate");
-        if let Some(m) = &self.model_argument {
-            line += &format!(" --model {}", shell_word(m));
-        }
-        line += &format!(" --order {}", self.order);
-        if self.beyond_leading > 0 {
-            line += &format!(" --beyond-leading {}", self.beyond_leading);
-        }
-        line += &format!(" --points {} --dt {}", self.points, number(self.dt));
-        for t in &self.library {
-            let v = if t.selected { t.on_points } else { 0.0 };
-            line += &format!(
-                " --param {}",
-                shell_word(&format!("{}={}", t.name, short(v)))
-            );
-        }
-        line
+    /// The data's time unit in words: `s`, or "the data's time unit" when none was given.
+    pub fn time_words(&self) -> String {
+        self.time_unit
+            .as_ref()
+            .map_or("the data's time unit".to_string(), |u| u.clone())
     }
 }
 
@@ -380,12 +360,15 @@ impl Report for DiscoverReport {
             .map(|r| crate::markup::clip(r))
             .collect();
         let mut out = format!(
-            "Discovered equation of field {} from {} ({} frames on {} points, Δt = {}):\n  {}\n",
+            "Discovered equation of field {} from {} ({} frames on {} points, Δt = {}{}):\n  {}\n",
             self.field,
             names.join(", "),
             self.frames,
             self.points,
             number(self.dt),
+            self.time_unit
+                .as_ref()
+                .map_or(String::new(), |u| format!(" {u}")),
             self.equation
         );
         out += &format!(
@@ -425,7 +408,10 @@ impl Report for DiscoverReport {
                 self.field
             );
         }
-        out += "(coefficients in body lengths and the data's time unit; intervals from ";
+        out += &format!(
+            "(coefficients in body lengths and {}; intervals from ",
+            self.time_words()
+        );
         out += &if self.median_model {
             format!(
                 "{} moving-block draws, seed {}; the selection is the terms kept in more than half of them)\n",
@@ -450,15 +436,21 @@ impl Report for DiscoverReport {
             );
         }
         out += &format!(
-            "R² = {:.4}; residual force noise q = {} (body lengths²/time³ per point)\n",
+            "R² = {:.4}; residual force noise q = {} (body lengths²/{}³ per point)\n",
             self.r2,
-            short(self.noise)
+            short(self.noise),
+            self.time_unit
+                .as_ref()
+                .map_or("time".to_string(), |u| u.clone())
         );
         out += &match &self.onward_refused {
-            None => format!("Onward: {}\n", self.simulate_line()),
-            Some(why) => format!(
-                "Onward: none: simulate refuses the discovered equation ({why}), so there is nothing to replay or draw\n"
+            None => format!(
+                "Onward: {}\n{}",
+                self.simulate_line(),
+                self.onward_words()
+                    .map_or(String::new(), |w| format!("  {w}\n"))
             ),
+            Some(why) => format!("Onward: none: {why}, so there is nothing to replay or draw\n"),
         };
         out
     }

@@ -12,6 +12,9 @@ pub(super) fn discover_spectra(
     width: u32,
 ) -> Result<String, FigureError> {
     let titles: Vec<String> = p.modes.iter().map(|m| format!("mode {m}")).collect();
+    let unit = r.time_unit.as_deref().unwrap_or("time unit");
+    let frequency = format!("frequency (cycles per {unit})");
+    let density = format!("log₁₀ PSD (Q² per cycle per {unit})");
     let mut panels: Vec<Panel> = p
         .modes
         .iter()
@@ -20,8 +23,8 @@ pub(super) fn discover_spectra(
         .map(|(k, _)| {
             panel(
                 &titles[k],
-                "frequency (cycles per time unit)",
-                "log₁₀ PSD (Q² per cycle per time unit)",
+                &frequency,
+                &density,
                 vec![
                     series(
                         "recording",

@@ -263,6 +263,7 @@ fn read_input(
         )?;
         return read_tracks_of(tracks, ctx, projs, each, Units::default());
     }
+    let units = crate::recording::layout_units(&mut reader, &settings.recording)?;
     let source = FrameReader::new(reader, &settings.recording);
     let animal = if chunked {
         std::thread::scope(|scope| {
@@ -275,7 +276,7 @@ fn read_input(
     };
     Ok(Read {
         animals: vec![animal],
-        units: Units::default(),
+        units,
         projector: projs.first(),
     })
 }
@@ -493,7 +494,9 @@ impl Pool {
         let scope = (Scope::Full(&spans), described);
         let mut report = fit_stats(proj, ctx, stats, interval, scope)?;
         report.tracking_noise = self.jitter.as_ref().and_then(Jitter::estimate);
-        report.warnings.extend(super::report::bridged(&report));
+        report
+            .warnings
+            .extend(super::report::recording_notes(&report));
         if ctx.settings.bootstrap > 0 {
             let units = units(&self.kept);
             let frames = UnitFrames::of(&units, &self.series);

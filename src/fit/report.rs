@@ -61,6 +61,9 @@ pub struct FitReport {
     pub overlap: Vec<Vec<f64>>,
     /// The fitted (or fixed) frequency scale.
     pub omega: f64,
+    /// ω was given (`--omega`), not fitted.
+    #[serde(skip)]
+    pub omega_given: bool,
     /// The fitted inverse temperature, lengths in units of the spacing.
     pub beta: f64,
     /// The theory's constant in body units, independent of the number of model points: the
@@ -229,8 +232,18 @@ impl AnimalFit {
 /// Above this share of synthesised frames, bridging is a warning: the spectra lean on it.
 const BRIDGED_SHARE: f64 = 0.05;
 
+/// The recording's own warnings: bridging ([`bridged`]), and a DeepLabCut export read without
+/// `--fps`, whose time unit is a frame.
+pub(super) fn recording_notes(report: &FitReport) -> Vec<String> {
+    let mut notes: Vec<String> = bridged(report).into_iter().collect();
+    if report.units.time.as_deref() == Some(crate::recording::FRAME_UNIT) {
+        notes.push("a DeepLabCut export without --fps: times are in frames (ω in rad/frame, β in frame²); --fps F gives them in seconds".into());
+    }
+    notes
+}
+
 /// The warning that more than [`BRIDGED_SHARE`] of the frames used were bridged, with the share.
-pub(super) fn bridged(report: &FitReport) -> Option<String> {
+fn bridged(report: &FitReport) -> Option<String> {
     let r = &report.recording;
     let share = r.frames_filled as f64 / report.frames.max(1) as f64;
     (share > BRIDGED_SHARE).then(|| {
@@ -295,14 +308,13 @@ impl Report for FitReport {
         let length = r.units.length.as_deref().unwrap_or("length unit");
         let mut t = format!(
             "Fit of {} frames of {what} (sampling interval {} {time}) to field {} on N = {}\n\
-             \x20 ω = {} rad/{time} (least squares over modes {}–{}), β = {} {time}² (amplitudes in point spacings h = {} {length}; β/h² = {} {time}²/{length}²)\n",
+             \x20 ω = {} rad/{time} ({}), β = {} {time}² (amplitudes in point spacings h = {} {length}; β/h² = {} {time}²/{length}²)\n",
             r.frames,
             number((r.sample_interval * 1e9).round() / 1e9),
             r.field,
             r.model_points,
             fixed(r.omega, 6),
-            r.modes[0].index,
-            r.modes[r.fitted_modes - 1].index,
+            omega_from(r),
             fixed(r.beta, 6),
             fixed(r.spacing, 6),
             {
@@ -364,7 +376,7 @@ impl Report for FitReport {
             rec.recordings, rec.frames_read, rec.frames_lost, rec.frames_filled, rec.fill_gaps, rec.gaps, rec.runs, rec.longest_run
         );
         t += &format!(
-            "  Welch: window {} frames, {} segments\n  mode        λ   PCA share  equipartition  overlap with mode   peak f  centroid f   measured ω  theory ω√λ\n",
+            "  Welch: window {} frames, {} segments; f in cycles/{time}, ω in rad/{time} (peak f: the spectrum's highest bin, centroid f: its mean; measured ω = 2π × one of them, theory ω√λ: the fitted line)\n  mode        λ   PCA share  equipartition  overlap with mode   peak f  centroid f   measured ω  theory ω√λ\n",
             r.welch.0, r.welch.1
         );
         for (k, m) in r.modes.iter().enumerate() {
@@ -407,7 +419,47 @@ impl Report for FitReport {
             r.model_points,
             r.onward.join(" ")
         );
-        t
+        crate::report::wrap_long(&t, crate::report::MAX_LINE)
+    }
+}
+
+/// Where ω comes from: the least squares over the modes that vote (named, as they may skip
+/// some), or the spectral estimates of every mode fitted when none votes.
+fn omega_from(r: &FitReport) -> String {
+    let voting: Vec<usize> = r
+        .modes_fit
+        .iter()
+        .take(r.fitted_modes)
+        .filter(|f| f.votes && f.omega_error.is_some())
+        .map(|f| f.mode)
+        .collect();
+    let modes = |m: &[usize]| -> String {
+        let contiguous = m.windows(2).all(|w| w[1] == w[0] + 1);
+        match m {
+            [] => String::new(),
+            [one] => format!("mode {one}"),
+            [first, .., last] if contiguous => format!("modes {first}–{last}"),
+            _ => format!(
+                "modes {}",
+                m.iter()
+                    .map(usize::to_string)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        }
+    };
+    if r.omega_given {
+        "given by --omega".to_string()
+    } else if voting.is_empty() {
+        let all: Vec<usize> = r
+            .modes
+            .iter()
+            .take(r.fitted_modes)
+            .map(|m| m.index)
+            .collect();
+        format!("spectral estimates of {}: none votes", modes(&all))
+    } else {
+        format!("least squares over the voting {}", modes(&voting))
     }
 }
 

@@ -319,6 +319,7 @@ pub(super) fn summarise(
         theory_variance_share: theory_share,
         overlap,
         omega,
+        omega_given: settings.omega.is_some(),
         beta,
         kind: settings.recording.kind,
         field: proj.field.clone(),
@@ -522,7 +523,7 @@ fn warn_of(
     }
     if tests.dispersion.verdict == verdict::Verdict::Rejected {
         warnings.push(
-            "the dispersion Ωᵢ ∝ √λᵢ is rejected: the modes do not oscillate as a passive body's would (a driven rhythm?), so ω and κ are not constants of the body".into(),
+            "the dispersion Ωᵢ ∝ √λᵢ is rejected: the modes do not oscillate as a passive body's would, so ω and κ are not constants of the body: `discover FILE --model M --active` says which terms the recording needs (an active force, a driven rhythm)".into(),
         );
     }
 }

@@ -18,9 +18,10 @@ use std::sync::mpsc::{self, Receiver, SyncSender};
 use std::sync::{Arc, Mutex};
 use std::thread::Scope;
 
+use super::clock::Clock;
 use super::number::comma_rows;
 use super::project::Work;
-use super::read::{plain_line, Clock, FrameReader, LineError, Row, Source};
+use super::read::{plain_line, FrameReader, LineError, Row, Source};
 use super::{FrameError, InputKind, Projector, RecordingError, RecordingSettings, MAX_LINE_BYTES};
 
 /// Bytes of text a worker parses at once (whole lines: the last one is read to its end).

@@ -95,7 +95,7 @@ pub enum LineWhy {
     Line(#[from] LineError),
     /// The line's time against the frames before it.
     #[error(transparent)]
-    Clock(#[from] super::read::ClockError),
+    Clock(#[from] super::clock::ClockError),
     /// A DeepLabCut row.
     #[error(transparent)]
     Dlc(#[from] super::read::DlcError),

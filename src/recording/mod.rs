@@ -40,6 +40,7 @@
 //!
 
 mod chunks;
+mod clock;
 mod continuum;
 mod error;
 mod jitter;
@@ -52,14 +53,15 @@ mod settings;
 mod wcon;
 
 pub(crate) use chunks::Chunked;
+pub use clock::{ClockError, MIN_TIME_STEP};
 pub use error::{LineError, LineWhy, RecordingError};
 pub(crate) use jitter::Jitter;
 pub use jitter::TrackingNoise;
 pub use paths::recordings;
 pub(crate) use project::Work;
 pub use project::{turning_angles, FrameError, Projector};
-pub(crate) use read::{read_tracks, sniff, whole, FrameReader, Source, TrackSource};
-pub use read::{Frame, Track, MAX_LINE_BYTES, MAX_WHOLE_FILE, MIN_TIME_STEP};
+pub(crate) use read::{layout_units, read_tracks, sniff, whole, FrameReader, Source, TrackSource};
+pub use read::{Frame, Track, FRAME_UNIT, MAX_LINE_BYTES, MAX_WHOLE_FILE};
 pub use settings::*;
 pub(crate) use wcon::parse as parse_wcon;
 

@@ -5,11 +5,11 @@
 
 use std::io::BufRead;
 
+use super::clock::Clock;
 pub use super::error::LineError;
 use super::number::plain_row;
 use super::{FrameError, InputFormat, InputKind, LineWhy, RecordingError, RecordingSettings};
 use crate::markup::clip;
-use crate::report::number;
 
 /// One frame of a track held in memory: time and values, `None` when the tracker lost it.
 #[derive(Debug, Clone, PartialEq)]
@@ -51,8 +51,6 @@ pub(crate) struct Row<'a> {
     pub(crate) projected: Option<Result<(&'a [f64], f64), FrameError>>,
 }
 
-/// The sampling clock: the first time step is the interval; later steps must be whole numbers
-/// of it (within 1 %), the surplus being frames missing from the file.
 /// A DeepLabCut row that cannot be read.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum DlcError {
@@ -64,74 +62,6 @@ pub enum DlcError {
     /// The frame index is not a number.
     #[error("frame index {} is not a number", clip(.0))]
     Frame(String),
-}
-
-/// The shortest sampling interval a time column may have: below it the squares of the
-/// frequencies it samples overflow (so does Nyquist's π/Δt itself near 10⁻³⁰⁸, where the
-/// spectra came out flat). Between it and about 10⁻¹⁵⁴ the fit says its ω is out of range.
-pub const MIN_TIME_STEP: f64 = 1e-300;
-
-/// A time column that is not a uniform clock.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum ClockError {
-    /// Time went backwards or stood still.
-    #[error("time {} does not increase (previous {})", number(*.t), number(*.last))]
-    NotIncreasing {
-        /// This frame's time.
-        t: f64,
-        /// The previous frame's time.
-        last: f64,
-    },
-    /// A step that is not a whole number of sampling intervals.
-    #[error("time step {} after t = {} is not a whole number of sampling intervals {}", number(*.gap), number(*.last), number(*.dt))]
-    Uneven {
-        /// The step.
-        gap: f64,
-        /// The previous frame's time.
-        last: f64,
-        /// The sampling interval (the first step).
-        dt: f64,
-    },
-    /// A sampling interval below [`MIN_TIME_STEP`].
-    #[error("time step {} is out of range (below {MIN_TIME_STEP:e}): the squares of the frequencies it samples (up to π/Δt) overflow f64; rescale the time column", number(*.dt))]
-    TooFine {
-        /// The sampling interval (the first step).
-        dt: f64,
-    },
-}
-
-#[derive(Debug, Default)]
-pub(crate) struct Clock {
-    last_t: Option<f64>,
-    pub(crate) dt: Option<f64>,
-}
-
-impl Clock {
-    /// Check the step to `t`; returns how many frames are missing before it.
-    pub(crate) fn step(&mut self, t: f64) -> Result<usize, ClockError> {
-        let Some(last) = self.last_t.replace(t) else {
-            return Ok(0);
-        };
-        let gap = t - last;
-        if gap <= 0.0 {
-            return Err(ClockError::NotIncreasing { t, last });
-        }
-        if self.dt.is_none() && gap < MIN_TIME_STEP {
-            return Err(ClockError::TooFine { dt: gap });
-        }
-        let dt = *self.dt.get_or_insert(gap);
-        // The common step, one interval: what the rule below gives, without its division.
-        if (gap - dt).abs() <= 0.01 * dt {
-            return Ok(0);
-        }
-        let steps = (gap / dt).round();
-        if steps >= 1.0 && (gap - steps * dt).abs() <= 0.01 * dt * steps.max(1.0) {
-            // Frames missing before this one; a step of absurd length is one long gap.
-            Ok((steps as usize).saturating_sub(1))
-        } else {
-            Err(ClockError::Uneven { gap, last, dt })
-        }
-    }
 }
 
 /// A track in memory as a [`Source`].
@@ -574,6 +504,25 @@ pub(crate) fn sniff(
 
 /// The first cells of DeepLabCut's three header rows; an export opens with the first.
 const DLC_HEADERS: [&str; 3] = ["scorer", "bodyparts", "coords"];
+
+/// The time unit of a DeepLabCut export read without `--fps`: its rows hold frame indices.
+pub const FRAME_UNIT: &str = "frame";
+
+/// The units a CSV stream's own layout implies: [`FRAME_UNIT`] for a DeepLabCut export (it
+/// opens with `scorer`) read without `--fps`, none otherwise. Only peeks.
+pub(crate) fn layout_units(
+    reader: &mut Box<dyn BufRead + Send + '_>,
+    settings: &super::RecordingSettings,
+) -> Result<super::Units, RecordingError> {
+    let buf = reader.fill_buf().map_err(RecordingError::Io)?;
+    let text = String::from_utf8_lossy(&buf[..buf.len().min(64)]);
+    let first = text.trim_start().split([',', '\t', ' ', '\n']).next();
+    let frames = settings.fps.is_none() && first.is_some_and(|c| c.trim() == DLC_HEADERS[0]);
+    Ok(super::Units {
+        time: frames.then(|| FRAME_UNIT.to_string()),
+        length: None,
+    })
+}
 
 /// A whole stream as text, at most [`MAX_WHOLE_FILE`] bytes.
 pub(crate) fn whole(reader: Box<dyn BufRead + Send + '_>) -> Result<String, RecordingError> {

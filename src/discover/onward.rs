@@ -1,0 +1,231 @@
+//! The onward `simulate` line: the discovered equation run as the recording was taken.
+//!
+//! The line sets every library coefficient (0 where not selected, by the model's ASCII alias,
+//! `cp_y` for `c'_y`, where there is one) and replays the recording: its frames (within
+//! `simulate`'s work budget) at its frame interval (`--every K` steps of `--dt` each, K the
+//! fewest that keep ωh ≤ [`MAX_PHASE_STEP`] for the fastest mode the regression used), at the
+//! equipartition temperature of the modes used (kT = mean of ωᵢ²σᵢ², the discovered body's ωᵢ
+//! and the recording's modal variances σᵢ², as `fit`'s β), and with the lowest mode used
+//! started at its thermal rms amplitude √kT/ωᵢ, so the first rows are not a body at rest. What
+//! `simulate` would refuse is never printed: the report says why instead.
+
+use serde::Serialize;
+
+use super::data::Recording;
+use super::report::{short, DiscoverReport};
+use crate::body::{Body, BodyModes};
+use crate::dynamics::MAX_WORK;
+use crate::model::Model;
+use crate::report::number;
+
+/// The largest ωh of a step for the fastest mode used.
+pub const MAX_PHASE_STEP: f64 = 0.2;
+
+/// At most this many rows (frames) in the replay: a longer recording is replayed in its first
+/// ones (the line's CSV stays under about 50 MB).
+pub const MAX_ROWS: usize = 10_000;
+
+/// How the onward line replays the recording.
+#[derive(Debug, Clone, Serialize)]
+pub struct Onward {
+    /// Each library coefficient's name as `--param` takes it (the library's order).
+    pub names: Vec<String>,
+    /// The step, the recording's frame interval over `every`.
+    pub dt: f64,
+    /// Steps between written rows: one row per frame of the recording.
+    pub every: u64,
+    /// Steps: the recording's frames (at most [`MAX_ROWS`], within the work budget) less one,
+    /// times `every`.
+    pub steps: u64,
+    /// The recording's frames.
+    pub frames: usize,
+    /// kT, the equipartition temperature of the modes used.
+    pub temperature: f64,
+    /// The lowest mode used, started at √kT/ωᵢ: (field, mode, displacement).
+    pub initial: (String, usize, f64),
+}
+
+/// The name `--param` takes without quoting: the ASCII alias (`cp_y`, `cp1_x`) of a name with a
+/// prime, where the model's fields give one; the name itself otherwise.
+fn ascii_name(name: &str, model: &Model) -> String {
+    let alias = name.rsplit_once('_').and_then(|(letter, symbol)| {
+        let field = model.fields.iter().find(|f| f.symbol == symbol)?;
+        let alias = format!("{}_{}", letter.replace('\'', "p"), field.id);
+        alias
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_')
+            .then_some(alias)
+    });
+    alias.unwrap_or_else(|| name.to_string())
+}
+
+/// The replay of `rec` by `body` (the discovered equation), or why `simulate` cannot give one.
+pub(super) fn onward(
+    report: &DiscoverReport,
+    rec: &Recording,
+    model: &Model,
+    body: &Body,
+) -> Result<Onward, String> {
+    let used: Vec<usize> = report.modes.iter().map(|m| m.0).collect();
+    let Some(&highest) = used.iter().max() else {
+        return Err("no mode was used, so no temperature can be measured".into());
+    };
+    let field = &report.field;
+    let modes = body
+        .modes(report.points, Some(highest + 1), false)
+        .map_err(|e| {
+            format!(
+                "its modes cannot be computed ({})",
+                crate::markup::one_line(&e.to_string())
+            )
+        })?;
+    let frequencies: Vec<Option<f64>> = match modes {
+        BodyModes::Exact(fields) => fields
+            .into_iter()
+            .find(|f| f.field.id == *field)
+            .map(|f| f.modes.iter().map(|m| Some(m.frequency)).collect()),
+        BodyModes::Linearised(fields) => fields
+            .into_iter()
+            .find(|f| f.field == *field)
+            .map(|f| f.frequencies),
+    }
+    .unwrap_or_default();
+    // (ωᵢ, σᵢ²) of each mode used with a real frequency and a measured variance.
+    let pairs: Vec<(usize, f64, f64)> = used
+        .iter()
+        .filter_map(|&m| {
+            let omega = frequencies.get(m).copied().flatten()?;
+            let fitted = rec.fit.modes.iter().find(|x| x.index == m)?;
+            let variance = fitted.variance * rec.scale * rec.scale;
+            (omega > 0.0 && omega.is_finite() && variance > 0.0 && variance.is_finite())
+                .then_some((m, omega, variance))
+        })
+        .collect();
+    let Some(&(lowest, omega_low, _)) = pairs.first() else {
+        return Err(format!(
+            "the discovered equation has no restoring force on the modes used ({}; none has a real frequency): no temperature can be measured and a replay would drift",
+            used.iter().map(usize::to_string).collect::<Vec<_>>().join(", ")
+        ));
+    };
+    let temperature = pairs.iter().map(|&(_, w, v)| w * w * v).sum::<f64>() / pairs.len() as f64;
+    let fastest = pairs.iter().map(|p| p.1).fold(0.0, f64::max);
+    let every = (fastest * rec.dt / MAX_PHASE_STEP).ceil().max(1.0);
+    if !(temperature.is_finite() && every.is_finite() && every < 1e6) {
+        return Err("the recording's modal variances give no finite temperature".into());
+    }
+    let every = every as u64;
+    // As many frames as the recording had, within half of simulate's budget (its work is
+    // steps × modes + rows × values, about (every + 3) × fields × points a frame).
+    let recorded: usize = rec.runs.iter().map(Vec::len).sum();
+    let per_frame = ((every + 3) as usize * model.fields.len() * report.points).max(1) as f64;
+    let frames = recorded
+        .min(MAX_ROWS)
+        .min((MAX_WORK / 2.0 / per_frame) as usize)
+        .max(2);
+    Ok(Onward {
+        names: report
+            .library
+            .iter()
+            .map(|t| ascii_name(&t.name, model))
+            .collect(),
+        dt: rec.dt / every as f64,
+        every,
+        steps: (frames as u64 - 1) * every,
+        frames: recorded,
+        temperature,
+        initial: (field.clone(), lowest, temperature.sqrt() / omega_low),
+    })
+}
+
+/// A word the shell reads as itself.
+fn shell_word(s: &str) -> String {
+    if s.chars().any(char::is_control) {
+        return crate::markup::clip(s);
+    }
+    if !s.is_empty()
+        && s.chars()
+            .all(|c| c.is_ascii_alphanumeric() || "_./-+=:,".contains(c))
+    {
+        s.to_string()
+    } else {
+        format!("'{}'", s.replace('\'', "'\\''"))
+    }
+}
+
+impl DiscoverReport {
+    /// The onward `simulate` line: every library coefficient set (0 where not selected), and
+    /// with [`Onward`] (set by `discover`) the recording's replay.
+    pub fn simulate_line(&self) -> String {
+        let mut line = String::from("theory-search simulate");
+        if let Some(m) = &self.model_argument {
+            line += &format!(" --model {}", shell_word(m));
+        }
+        line += &format!(" --order {}", self.order);
+        if self.beyond_leading > 0 {
+            line += &format!(" --beyond-leading {}", self.beyond_leading);
+        }
+        line += &format!(" --points {}", self.points);
+        match &self.onward {
+            Some(o) => {
+                let (field, mode, q) = &o.initial;
+                line += &format!(
+                    " --dt {} --every {} --steps {} --temperature {} --initial {}",
+                    number(o.dt),
+                    o.every,
+                    o.steps,
+                    short(o.temperature),
+                    shell_word(&format!("{field}:{mode}={}", short(*q)))
+                );
+            }
+            None => line += &format!(" --dt {}", number(self.dt)),
+        }
+        for (i, t) in self.library.iter().enumerate() {
+            let v = if t.selected { t.on_points } else { 0.0 };
+            let name = self
+                .onward
+                .as_ref()
+                .and_then(|o| o.names.get(i))
+                .unwrap_or(&t.name);
+            line += &format!(" --param {}", shell_word(&format!("{name}={}", short(v))));
+        }
+        line
+    }
+
+    /// What the onward line replays, in words.
+    pub(super) fn onward_words(&self) -> Option<String> {
+        let o = self.onward.as_ref()?;
+        let (_, mode, _) = &o.initial;
+        let rows = o.steps / o.every + 1;
+        let which = if rows as usize >= o.frames {
+            "the recording".to_string()
+        } else {
+            format!("the first {rows} of the recording's {} frames", o.frames)
+        };
+        Some(format!(
+            "(replays {which}: rows Δt = {}{} apart, kT = {} from equipartition over modes {}, mode {mode} started at its rms amplitude; ωh ≤ {MAX_PHASE_STEP} for the fastest mode)",
+            number(self.dt),
+            self.time_unit
+                .as_ref()
+                .map_or(String::new(), |u| format!(" {u}")),
+            short(o.temperature),
+            self.modes
+                .iter()
+                .map(|m| m.0.to_string())
+                .collect::<Vec<_>>()
+                .join(", "),
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_primed_name_is_given_by_its_ascii_alias() {
+        let larva = Model::larva();
+        assert_eq!(ascii_name("c'_y", &larva), "cp_y");
+        assert_eq!(ascii_name("c_y", &larva), "c_y");
+        assert_eq!(ascii_name("unknown'", &larva), "unknown'");
+    }
+}
