@@ -231,7 +231,7 @@ fn discover_binary(text: &str, unit: f64) -> (i32, String, String) {
 fn an_absurd_time_unit_is_answered_or_refused_in_one_line() {
     let text = recording();
     // 1e-308 and 1e-320: below the time step's range (they said "flat spectra: give --omega").
-    for unit in [1e100, 1e150, 1e-200, 1e-308, 1e-320] {
+    for unit in [1e100, 1e150, 1e-200, 6.6667e-201, 6.6667e98, 1e-308, 1e-320] {
         let (code, out, err) = discover_binary(&text, unit);
         let what = format!("× {unit}: exit {code}\n{out}\n{err}");
         assert!(code == 0 || code == 1 || code == 2, "{what}");
@@ -245,6 +245,13 @@ fn an_absurd_time_unit_is_answered_or_refused_in_one_line() {
             assert_eq!(err.trim().lines().count(), 1, "{what}");
             assert!(!err.contains("do not vary"), "{what}");
             assert!(err.contains("rescale the time column"), "{what}");
+            // Numbers in short form (issue 53: `Δt = 6.666700000000001e98`): no run of more
+            // than eight digits.
+            let longest = (err.split(|c: char| !c.is_ascii_digit()))
+                .map(str::len)
+                .max()
+                .unwrap_or(0);
+            assert!(longest <= 8, "{what}");
         }
     }
 }

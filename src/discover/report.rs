@@ -262,7 +262,9 @@ pub(super) fn assemble(
         .chain([noise])
         .any(|x| !x.is_finite());
     if beyond {
-        return Err(DiscoverError::OutOfRange { dt: number(unit) });
+        return Err(DiscoverError::OutOfRange {
+            dt: crate::report::fixed(unit, 4),
+        });
     }
     let first = &recordings[0];
     Ok(DiscoverReport {

@@ -9,7 +9,7 @@ use super::window::{
     choose_window, fit_modes_spectra, lowest_frequency, spectral_peak_and_centroid,
 };
 use crate::recording::Projector;
-use crate::report::{fixed, number};
+use crate::report::fixed;
 
 use super::{Continuum, Estimator, FitError, FitReport, FitSettings, ModeFit, Recording, Subspace};
 use crate::recording::Units;
@@ -493,8 +493,8 @@ fn scales(
     if !(beta.is_finite() && (beta * omega * omega).is_finite() && (omega * omega).is_finite()) {
         return Err(invalid(format!(
             "the fitted scales are out of range (ω = {}, β = {}): rescale the time column or --fps",
-            number(omega),
-            number(beta)
+            fixed(omega, 4),
+            fixed(beta, 4)
         )));
     }
     Ok((omega, beta, continuum))
