@@ -19,7 +19,7 @@ use std::sync::{mpsc, Mutex};
 use super::accumulate::{accumulate, Context, Each, PassLadder, ProjectorCache, Projectors};
 use super::animal::UnitFrames;
 use super::stats::Stats;
-use super::timedomain::{Exact, OneStep, Series, Span};
+use super::timedomain::{Exact, OneStep, Series, Span, MAX_POOLED};
 use super::welch::Ladder;
 use super::{
     animal::{units, Animal},
@@ -424,6 +424,9 @@ impl Pool {
             .get_or_insert_with(|| Stats::new(animal.stats.mean.len(), ctx.ladder()))
             .absorb(&animal.stats, 1.0);
         self.series.push(std::mem::take(&mut animal.series));
+        if self.series.iter().map(Series::values).sum::<usize>() > MAX_POOLED {
+            self.series.iter_mut().for_each(Series::drop_frames);
+        }
         if let Some(j) = animal.jitter.take() {
             match &mut self.jitter {
                 Some(pooled) => pooled.absorb(&j),

@@ -22,7 +22,8 @@
 //! resample (on the series of the animals it drew, or of its moving blocks of frames, for the
 //! modes the pooled fit refitted, started from its estimate). A recording longer than
 //! [`MAX_FRAMES`] frames keeps no series (its memory and the fit's time would grow with it):
-//! the Whittle fit then stands alone, as on the 10⁶-frame benchmark.
+//! the Whittle fit then stands alone, as on the 10⁶-frame benchmark; so does a pool whose
+//! animals' series together pass [`MAX_POOLED`] values.
 
 use super::alias::{branch_band, UNFOLDED};
 use super::note::ModeNote;
@@ -38,6 +39,11 @@ use std::ops::Range;
 
 /// The most frames (lost ones included) a recording keeps in time order.
 pub(super) const MAX_FRAMES: usize = 100_000;
+
+/// The most values (frames × modes) a pool keeps in time order over all its animals: past it no
+/// series is kept (the pooled fit keeps the Whittle fits): 2·10⁷ values are 160 MB, where a
+/// directory of 300 animals × 10⁵ frames × 12 modes would hold 2.9 GB.
+pub(super) const MAX_POOLED: usize = 20_000_000;
 
 /// The share of Nyquist a line may reach (Ω(1 + 3ζ)) before the exact likelihood fits it.
 pub(super) const NEAR_NYQUIST: f64 = 0.6;
@@ -93,6 +99,16 @@ impl Series {
         for s in &mut self.modes {
             s.extend(std::iter::repeat_n(f64::NAN, n));
         }
+    }
+
+    /// The values it holds.
+    pub(super) fn values(&self) -> usize {
+        self.modes.iter().map(Vec::len).sum()
+    }
+
+    /// Let go of its frames (a pool past [`MAX_POOLED`]).
+    pub(super) fn drop_frames(&mut self) {
+        (self.modes, self.dropped) = (Vec::new(), true);
     }
 
     /// Whether it holds the recording.
