@@ -724,7 +724,10 @@ fn a_partial_ring_of_segments() {
         whole.warnings
     );
     assert!(
-        whole.warnings.iter().any(|w| w.contains("a driven travelling wave")),
+        whole
+            .warnings
+            .iter()
+            .any(|w| w.contains("a driven travelling wave")),
         "{:?}",
         whole.warnings
     );

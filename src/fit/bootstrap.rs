@@ -9,7 +9,9 @@
 //! 2015): with n units the plain percentile interval is too narrow (the bootstrap variance is
 //! (n − 1)/n of the plug-in one, and z replaces Student's t), so the quantiles taken are at
 //! α′/2 = Φ(−√(n/(n − 1))·t₀.₉₇₅,ₙ₋₁) instead of 2.5 %; for large n this is the plain 95 %
-//! percentile interval.
+//! percentile interval. For ω, β and κ those quantiles are bias-corrected (Efron's BC, z₀ from
+//! the share of replicates below the pooled estimate): the time-domain refits of sharp lines
+//! left the replicates skewed about it.
 
 use rand::{RngExt, SeedableRng};
 
@@ -88,6 +90,32 @@ fn interval(mut v: Vec<f64>, tail: f64) -> [f64; 2] {
     [q(tail), q(1.0 - tail)]
 }
 
+/// The bias-corrected percentile interval (Efron 1981) of replicates `v` about the estimate
+/// `at`: where the replicates' median lies off the estimate (z₀ = Φ⁻¹ of the share below it),
+/// the quantiles taken move to Φ(2z₀ ± z): pooled exact fits of sharp lines left the replicates
+/// skewed above the estimate, and the plain percentile interval missed low truths (ω covered in
+/// 89 of 100 directories of 16 animals, tests/animals.rs).
+fn corrected(v: Vec<f64>, at: f64, tail: f64) -> [f64; 2] {
+    use statrs::distribution::{ContinuousCDF, Normal};
+    let Ok(normal) = Normal::new(0.0, 1.0) else {
+        return interval(v, tail);
+    };
+    let n = v.len() as f64;
+    let below = v.iter().filter(|x| **x < at).count() as f64;
+    let ties = v.iter().filter(|x| **x == at).count() as f64;
+    let share = ((below + 0.5 * ties) / n).clamp(0.5 / n, 1.0 - 0.5 / n);
+    let (z0, z) = (normal.inverse_cdf(share), normal.inverse_cdf(tail));
+    let (lo, hi) = (normal.cdf(2.0 * z0 + z), normal.cdf(2.0 * z0 - z));
+    let mut v = v;
+    v.sort_by(f64::total_cmp);
+    let q = |p: f64| {
+        let x = p.clamp(0.0, 1.0) * (v.len() - 1) as f64;
+        let (i, f) = (x.floor() as usize, x - x.floor());
+        v[i] + f * (v[(i + 1).min(v.len() - 1)] - v[i])
+    };
+    [q(lo), q(hi)]
+}
+
 /// Per-coordinate intervals of vectors of replicates.
 fn intervals_of(rows: &[Vec<f64>], tail: f64) -> Vec<[f64; 2]> {
     let len = rows.iter().map(Vec::len).min().unwrap_or(0);
@@ -140,6 +168,7 @@ pub enum NoBootstrap {
 /// B replicates (`settings.bootstrap`, seeded by `settings.seed`) of `fit` on resampled
 /// `units`; an explanation instead when they cannot be drawn.
 ///
+/// ω, β and κ's intervals are bias-corrected about the pooled fit's (`centre`).
 /// `span` is, for the blocks of one animal, the frames a draw must span: the draws are then moving
 /// blocks of consecutive units. `fit` is given the resample's pooled statistics and how many
 /// times it holds each unit.
@@ -148,6 +177,7 @@ pub(super) fn intervals(
     settings: &FitSettings,
     (ladder, span): (&Ladder, usize),
     fit: impl Fn(&Stats, &[usize]) -> Option<FitReport>,
+    centre: (f64, f64, Option<f64>),
 ) -> Result<Intervals, NoBootstrap> {
     let n = units.len();
     let moving = *resampled == "blocks";
@@ -211,13 +241,16 @@ pub(super) fn intervals(
         moving: moving.then(|| (length, block.round() as usize)),
         replicates,
         fitted: reports.len(),
-        omega: interval(reports.iter().map(|r| r.omega).collect(), tail),
-        beta: interval(reports.iter().map(|r| r.beta).collect(), tail),
+        omega: corrected(reports.iter().map(|r| r.omega).collect(), centre.0, tail),
+        beta: corrected(reports.iter().map(|r| r.beta).collect(), centre.1, tail),
         continuum: reports
             .iter()
             .map(|r| r.continuum.as_ref().map(|c| c.constant))
             .collect::<Option<Vec<f64>>>()
-            .map(|v| interval(v, tail)),
+            .map(|v| match centre.2 {
+                Some(k) => corrected(v, k, tail),
+                None => interval(v, tail),
+            }),
         pca_variance_share: intervals_of(&column(&|r| r.pca_variance_share.clone()), tail),
         mode_overlap: intervals_of(&column(&|r| r.mode_overlap.clone()), tail),
         subspace_cosine: intervals_of(

@@ -518,7 +518,10 @@ impl Pool {
                 fitted.ok()
             };
             let span = bootstrap::span(&report, interval);
-            let drawn = bootstrap::intervals(&units, ctx.settings, (ctx.ladder(), span), fit);
+            let kappa = report.continuum.as_ref().map(|c| c.constant);
+            let centre = (report.omega, report.beta, kappa);
+            let ladder = (ctx.ladder(), span);
+            let drawn = bootstrap::intervals(&units, ctx.settings, ladder, fit, centre);
             bootstrap::attach(&mut report, drawn);
             if pruned.load(Ordering::Relaxed) {
                 return Err(FitError::Pruned {
