@@ -31,6 +31,7 @@
 //! coefficient is taken back to that unit at the end.
 
 mod data;
+mod galerkin;
 mod onward;
 mod regress;
 mod replay;

@@ -37,6 +37,8 @@
 use nalgebra::{DMatrix, Matrix2};
 
 mod search;
+mod system;
+pub use system::System;
 use search::{derivatives, nelder_mead};
 
 /// Why an estimate could not be made.
