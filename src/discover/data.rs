@@ -30,6 +30,25 @@ pub(super) struct Recording {
     /// The strains' factor from `fit`'s reference length to the recording's mean one
     /// ([`Restrain`]; 1 for midlines): the fit's modal amplitudes times this are the postures'.
     pub scale: f64,
+    /// Each frame's time and modal coordinates as the projector gives them, in time order.
+    pub modal: Vec<(f64, Vec<f64>)>,
+    /// How the coordinates read the body's modes ([`Basis`]).
+    pub basis: Basis,
+}
+
+/// What the modal coordinates measure.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) enum Basis {
+    /// The leading `gains.len()` coordinates are the body's continuum modes, coordinate j
+    /// reading its continuum amplitude (body lengths, unit-mean-square shapes) times
+    /// `gains[j]`; the field's stencil and boundary give the shapes.
+    Continuum {
+        gains: Vec<f64>,
+        stencil: u32,
+        boundary: crate::boundary::Boundary,
+    },
+    /// The grid's unit-norm modes.
+    Grid,
 }
 
 /// Read one input, `held` values already held by the recordings before it.
@@ -46,12 +65,16 @@ pub(super) fn read(
     let mut partial = false;
     let mut too_many = false;
     let mut restrain = Restrain::default();
+    let mut modal: Vec<(f64, Vec<f64>)> = Vec::new();
+    let mut basis = Basis::Grid;
     let mut each = |p: &Projector, t: f64, q: &[f64]| -> Result<(), SinkError> {
         if shapes.is_none() {
             shapes = Some(p.shapes.clone());
             first_mode = p.first_mode;
             restrain = Restrain::of(p);
+            basis = basis_of(p);
         }
+        modal.push((t, q.to_vec()));
         restrain.add(q);
         match p.posture(q) {
             Some(posture) if held + (frames.len() + 1) * posture.len() <= MAX_VALUES => {
@@ -98,7 +121,28 @@ pub(super) fn read(
         first_mode,
         fit,
         scale,
+        modal,
+        basis,
     })
+}
+
+/// The basis of `p`'s coordinates: its leading continuum ones with their gains, or the grid's.
+fn basis_of(p: &Projector) -> Basis {
+    let gains: Vec<f64> = p
+        .continuum_gains()
+        .into_iter()
+        .take(p.continuum_modes)
+        .map_while(|g| g)
+        .collect();
+    if gains.is_empty() {
+        Basis::Grid
+    } else {
+        Basis::Continuum {
+            gains,
+            stencil: p.stencil,
+            boundary: p.boundary,
+        }
+    }
 }
 
 impl Recording {

@@ -31,7 +31,9 @@
 //! coefficient is taken back to that unit at the end.
 
 mod data;
+mod exact;
 mod galerkin;
+mod linear;
 mod onward;
 mod regress;
 mod replay;
@@ -43,7 +45,7 @@ use std::path::PathBuf;
 
 pub use onward::{Onward, MAX_PHASE_STEP};
 pub use replay::{Replay, STEPS_PER_FRAME};
-pub use report::{Comparison, DiscoverReport, DiscoveredTerm};
+pub use report::{Comparison, DiscoverReport, DiscoveredTerm, Method};
 
 use crate::dynamics::nonlinear::NonlinearError;
 use crate::dynamics::{library, Candidate};
@@ -72,6 +74,20 @@ pub struct DiscoverSettings {
     pub seed: u64,
     /// Simulate the discovered equation and read it back (`replay`), for the figure.
     pub replay: bool,
+    /// Which estimator (`auto`: the exact likelihood where the library allows it).
+    pub estimator: Estimator,
+}
+
+/// `discover`'s estimator.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Estimator {
+    /// The exact likelihood where every candidate is linear and diagonal on the modes, else
+    /// the weak form.
+    Auto,
+    /// The weak form in time on the grid's modes (coefficients the grid's).
+    Weak,
+    /// The exact likelihood, or a refusal saying why it does not apply.
+    Exact,
 }
 
 impl DiscoverSettings {
@@ -84,6 +100,7 @@ impl DiscoverSettings {
             bootstrap: 200,
             seed: 1,
             replay: false,
+            estimator: Estimator::Auto,
         }
     }
 
@@ -96,6 +113,14 @@ impl DiscoverSettings {
             "active" => self.active = value.switch(name).map_err(fit)?,
             "bootstrap" => self.bootstrap = value.count(name, MAX_DRAWS).map_err(fit)?,
             "seed" => self.seed = value.count(name, usize::MAX).map_err(fit)? as u64,
+            "estimator" => {
+                let choices = [
+                    ("auto", Estimator::Auto),
+                    ("weak", Estimator::Weak),
+                    ("exact", Estimator::Exact),
+                ];
+                self.estimator = value.choice(name, &choices).map_err(fit)?
+            }
             _ => return self.recording.set(name, value).map_err(fit),
         }
         Ok(true)
@@ -219,6 +244,12 @@ pub enum DiscoverError {
         /// Library terms.
         terms: usize,
     },
+    /// `--estimator exact` where the exact likelihood does not apply.
+    #[error("--estimator exact: {why}, so only the weak form applies (--estimator weak)")]
+    ExactUnavailable {
+        /// Why.
+        why: String,
+    },
     /// Too many bootstrap draws.
     #[error("--bootstrap takes at most {MAX_DRAWS} draws, not {0}")]
     Draws(usize),
@@ -238,6 +269,7 @@ impl DiscoverError {
             | DiscoverError::Draws(_)
             | DiscoverError::TooManyRecordings { .. }
             | DiscoverError::WeakBudget { .. }
+            | DiscoverError::ExactUnavailable { .. }
             | DiscoverError::EmptyLibrary { .. } => Failure::Usage,
             DiscoverError::TooLarge { .. }
             | DiscoverError::NoResolvedMode { .. }
@@ -320,13 +352,7 @@ pub fn discover(
             }
         };
         let held = recordings.iter().map(data::Recording::values).sum();
-        let r = data::read(input, name, &leading, &fit, held)?;
-        if weak::used(&r).next().is_none() {
-            return Err(DiscoverError::NoResolvedMode {
-                recording: crate::markup::clip(&r.name),
-            });
-        }
-        recordings.push(r);
+        recordings.push(data::read(input, name, &leading, &fit, held)?);
     }
     let Some(first) = recordings.first() else {
         return Err(DiscoverError::Fit(FitError::Invalid(
@@ -351,7 +377,7 @@ pub fn discover(
     if settings.active {
         nested.push(("+ active forces".to_string(), model.clone(), true));
     }
-    let mut theories = Vec::new();
+    let mut libraries: Vec<(String, Vec<Candidate>)> = Vec::new();
     let mut not_estimated = Vec::new();
     // One library per distinct model (the layers' and the active theory's are the same).
     let mut built: Option<(Model, Vec<Candidate>)> = None;
@@ -363,8 +389,41 @@ pub fn discover(
         // The last theory is the whole library: its kinetic terms are the ones named.
         let (candidates, kinetic) = candidates(&all, active);
         built = Some((m, all));
-        weak::check_work(&recordings, candidates.len())?;
         not_estimated = kinetic;
+        libraries.push((label, candidates));
+    }
+    let Some((_, whole)) = libraries.last() else {
+        return Err(DiscoverError::EmptyLibrary { field });
+    };
+    if whole.is_empty() {
+        return Err(DiscoverError::EmptyLibrary { field });
+    }
+    let why = match settings.estimator {
+        Estimator::Weak => "--estimator weak".to_string(),
+        _ => {
+            let names: linear::Nested = libraries
+                .iter()
+                .map(|(l, c)| (l.clone(), c.iter().map(|c| c.name.clone()).collect()))
+                .collect();
+            match linear::estimate(&recordings, model, settings, whole, &names, &field)? {
+                Ok(report) => return finish(report, &recordings, model, settings, not_estimated),
+                Err(why) if settings.estimator == Estimator::Exact => {
+                    return Err(DiscoverError::ExactUnavailable { why })
+                }
+                Err(why) => why,
+            }
+        }
+    };
+    for r in &recordings {
+        if weak::used(r).next().is_none() {
+            return Err(DiscoverError::NoResolvedMode {
+                recording: crate::markup::clip(&r.name),
+            });
+        }
+    }
+    let mut theories = Vec::new();
+    for (label, candidates) in libraries {
+        weak::check_work(&recordings, candidates.len())?;
         let rows = weak::rows(&recordings, &candidates);
         theories.push(Theory {
             label,
@@ -375,9 +434,6 @@ pub fn discover(
     let Some((full, nested)) = theories.split_last_mut() else {
         return Err(DiscoverError::EmptyLibrary { field });
     };
-    if full.candidates.is_empty() {
-        return Err(DiscoverError::EmptyLibrary { field });
-    }
     // Every theory is scored on the whole library's instruments and weights (the rows are
     // the same windows), so their criteria compare.
     let all: Vec<usize> = (0..full.candidates.len()).collect();
@@ -390,6 +446,21 @@ pub fn discover(
         t.rows.weight.clone_from(&full.rows.weight);
     }
     let mut report = report::assemble(&recordings, model, settings, &theories, &field)?;
+    report.method = Method::WeakForm { why };
+    finish(report, &recordings, model, settings, not_estimated)
+}
+
+/// The onward line and the replay of a report.
+fn finish(
+    mut report: DiscoverReport,
+    recordings: &[data::Recording],
+    model: &Model,
+    settings: &DiscoverSettings,
+    not_estimated: Vec<String>,
+) -> Result<DiscoverReport, DiscoverError> {
+    let mut leading = model.clone();
+    leading.set_beyond_leading(0);
+    let fit = settings.fit();
     report.not_estimated = not_estimated;
     // What simulate refuses is never printed: the body the line makes, then its replay.
     let onward = replay::discovered_body(model, settings.recording.order, &report.library)

@@ -73,7 +73,9 @@ pub struct DiscoverReport {
     /// Rows of the weak form.
     pub rows: usize,
     /// The estimator, in one line.
-    pub estimator: &'static str,
+    pub estimator: String,
+    /// Which estimator ran, and why that one.
+    pub method: Method,
     /// The discovered equation in the notation of `equations`.
     pub equation: String,
     /// The selected terms.
@@ -118,6 +120,19 @@ pub struct DiscoverReport {
     pub onward_refused: Option<String>,
 }
 
+/// Which estimator ran.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Method {
+    /// The exact likelihood (`exact`): every candidate linear and diagonal on the modes.
+    Exact,
+    /// The weak form (`weak`), and why not the exact likelihood.
+    WeakForm {
+        /// Why the exact likelihood did not run.
+        why: String,
+    },
+}
+
 const ESTIMATOR: &str = "weak form in time on the grid's modes, bumps (1 − τ²)⁸, two-stage least squares with the two previous windows and the state just before as instruments";
 
 /// The fewest bootstrap draws whose inclusion frequencies choose the model.
@@ -128,7 +143,7 @@ pub const MEDIAN_DRAWS: usize = 20;
 /// its criterion, which most resamples drop, is noise the criterion's scale did not expect
 /// (on nearly noise-free recordings a tracking-noise bias is "significant"). `None` with fewer
 /// than [`MEDIAN_DRAWS`] draws, or when no term reaches half.
-fn median_model(included: &[usize], draws: usize) -> Option<Vec<usize>> {
+pub(super) fn median_model(included: &[usize], draws: usize) -> Option<Vec<usize>> {
     if draws < MEDIAN_DRAWS {
         return None;
     }
@@ -282,7 +297,8 @@ pub(super) fn assemble(
             .map(|m| (m.mode, super::weak::half_width(m.omega, first.dt)))
             .collect(),
         rows: rows.len(),
-        estimator: ESTIMATOR,
+        estimator: ESTIMATOR.to_string(),
+        method: Method::WeakForm { why: String::new() },
         equation: notation.equation(&keep),
         selected: library.iter().filter(|t| t.selected).cloned().collect(),
         library,
@@ -317,7 +333,7 @@ fn score(label: &str, theory: &Theory, set: &[usize], sigma2: f64) -> Comparison
 }
 
 /// The 2.5 and 97.5 % percentiles of `draws`, each through `convert`.
-fn percentiles(draws: &mut [f64], convert: impl Fn(f64) -> f64) -> Option<[f64; 2]> {
+pub(super) fn percentiles(draws: &mut [f64], convert: impl Fn(f64) -> f64) -> Option<[f64; 2]> {
     if draws.len() < 20 {
         return None;
     }
@@ -380,16 +396,29 @@ impl Report for DiscoverReport {
             if self.active { "in" } else { "out" },
             self.library.len()
         );
-        out += &format!(
-            "Estimator: {}; {} rows on modes {}.\n",
-            self.estimator,
-            self.rows,
-            self.modes
-                .iter()
-                .map(|(m, h)| format!("{m} (±{h} frames)"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
+        out += &match &self.method {
+            Method::Exact => format!(
+                "Estimator: {}; {} frames on modes {}.\n",
+                self.estimator,
+                self.rows,
+                self.modes
+                    .iter()
+                    .map(|(m, _)| m.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+            Method::WeakForm { why } => format!(
+                "Estimator: {}{}; {} rows on modes {}.\n",
+                self.estimator,
+                if why.is_empty() { String::new() } else { format!(" ({why})") },
+                self.rows,
+                self.modes
+                    .iter()
+                    .map(|(m, h)| format!("{m} (±{h} frames)"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        };
         out += "\n  term                          kind          coefficient    95 % interval                 inclusion  selected\n";
         for t in &self.library {
             out += &format!(

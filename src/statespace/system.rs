@@ -83,10 +83,10 @@ impl System {
     pub fn negative_log_likelihoods(&self, series: &[&[Vec<f64>]]) -> Option<Vec<f64>> {
         let p0 = self.stationary()?;
         let gains = Gains::new(self, &p0)?;
-        series.iter().map(|s| self.run(s, &p0, &gains)).collect()
+        series.iter().map(|s| self.run(s, &gains)).collect()
     }
 
-    fn run(&self, frames: &[Vec<f64>], p0: &DMatrix<f64>, gains: &Gains) -> Option<f64> {
+    fn run(&self, frames: &[Vec<f64>], gains: &Gains) -> Option<f64> {
         let n = self.phi.nrows();
         let m = n / 2;
         let mut x = DVector::zeros(n);
