@@ -213,10 +213,18 @@ fn active_current() {
         };
         let d = discretise(&active);
         println!(
-            "clamped {clamped}: a = {}, margin {:.4e}, slowest {:?}",
+            "clamped {clamped}: a = {}, margin {:.4e}, Δt {:.4}, slowest {:.4?}",
             active.a,
             d.margin(),
-            d.eigenvalues.iter().max_by(|x, y| x.0.total_cmp(&y.0))
+            d.dt,
+            {
+                let mut e = d.eigenvalues.clone();
+                e.sort_by(|x, y| y.0.total_cmp(&x.0));
+                e.into_iter()
+                    .filter(|z| z.1 >= 0.0)
+                    .take(3)
+                    .collect::<Vec<_>>()
+            }
         );
         // P solves the continuous Lyapunov equation F P + P Fᵀ + G Gᵀ = 0: Φ and Q are the
         // exact discretisation.

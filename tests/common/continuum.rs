@@ -109,6 +109,21 @@ impl Beam {
         (self.cp * root(self.clamped, n).powi(4) + self.gamma) / (2.0 * self.omega(n))
     }
 
+    /// The coefficients in a length unit of `length` per body length (the CSV's: 100), time
+    /// unchanged: (c, c′, γ, a, T, κ) × (L⁴, L⁴, 1, L³, L³, L²), from the equation with s and y
+    /// scaled by L (T from ⟨∫Y² dS⟩ = L³ ⟨∫y² ds⟩ per mode at the same cλ).
+    pub fn in_units(&self, length: f64) -> [f64; 6] {
+        let l = length;
+        [
+            self.c * l.powi(4),
+            self.cp * l.powi(4),
+            self.gamma,
+            self.a * l.powi(3),
+            self.temperature * l.powi(3),
+            self.kappa() * l * l,
+        ]
+    }
+
     /// The frame interval Δt = 2π/(ω₁·fpp), ω₁ = √(c λ₁).
     pub fn dt(&self) -> f64 {
         2.0 * std::f64::consts::PI / (self.omega(1) * self.fpp)
