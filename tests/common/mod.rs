@@ -48,6 +48,7 @@ pub fn matrix(v: &serde_json::Value) -> Vec<Vec<f64>> {
         .collect()
 }
 pub mod beam;
+pub mod continuum;
 
 /// A scratch directory (`ts-{tag}-…` in the system's temporary directory), removed when
 /// dropped, also when the test fails.
