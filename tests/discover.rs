@@ -67,6 +67,8 @@ fn run_with(text: String, model: Model, fit: FitSettings, active: bool) -> Disco
         bootstrap: 100,
         seed: 1,
         replay: false,
+        // Recordings of the N-point lattice: their truth is the grid's coefficients, the weak form's.
+        estimator: theory_search::discover::Estimator::Weak,
     };
     let source = Source::Reader("simulated".into(), Box::new(std::io::Cursor::new(text)));
     discover(vec![source], &model, &settings).expect("discover runs")

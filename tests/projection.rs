@@ -135,6 +135,7 @@ fn discover_answers_a_clamped_beam_with_tracking_noise() {
                 bootstrap: 0,
                 seed: 1,
                 replay: false,
+                estimator: theory_search::discover::Estimator::Auto,
             };
             let text = record(&body, 41_000 + seed);
             let source = Source::Reader("beam".into(), Box::new(std::io::Cursor::new(text)));

@@ -66,6 +66,7 @@ fn discovered(text: String) -> DiscoverReport {
         bootstrap: 40,
         seed: 1,
         replay: false,
+        estimator: theory_search::discover::Estimator::Auto,
     };
     let source = Source::Reader("units".into(), Box::new(std::io::Cursor::new(text)));
     discover(vec![source], &load(CRAWLER), &settings).expect("discover runs")

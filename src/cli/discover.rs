@@ -25,6 +25,12 @@ pub struct Args {
     /// Seed of the bootstrap draws (same seed, same intervals).
     #[arg(long, value_name = "S", default_value_t = 1)]
     seed: u64,
+    /// auto: the exact likelihood on the body's continuum modes where every candidate is
+    /// linear and diagonal on the modes (continuum coefficients, any frame rate, gaps), else the
+    /// weak form; weak: the weak form on the grid's modes (the grid's coefficients); exact: the
+    /// exact likelihood or a refusal saying why not.
+    #[arg(long, value_name = "E", default_value = "auto", value_parser = ["auto", "weak", "exact"])]
+    estimator: String,
     /// Also simulate the discovered equation and write the figure comparing its modal spectra
     /// and variances with the recording's into this directory.
     #[arg(long, value_name = "DIR")]
@@ -47,6 +53,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
         ("active", Setting::Bool(args.active)),
         ("bootstrap", super::recording::count(args.bootstrap)),
         ("seed", Setting::Int(args.seed.into())),
+        ("estimator", Setting::Text(args.estimator.clone())),
     ]);
     let mut settings = DiscoverSettings::from_pairs(pairs)?;
     settings.replay = args.figures.is_some();

@@ -26,7 +26,7 @@ use nalgebra::{DMatrix, DVector, Matrix2};
 use super::data::{Basis, Recording};
 use super::galerkin::ModalForce;
 use crate::statespace::{
-    fit_oscillator, newton_step, score_and_information, Oscillator, OscillatorFit,
+    fit_oscillator_with, newton_step, score_and_information_with, Oscillator, OscillatorFit,
 };
 
 /// At most this many modes are used.
@@ -46,7 +46,8 @@ pub(super) struct ModeData {
 }
 
 /// The modal series of `recordings` in blocks: mode j's coordinate divided by its continuum
-/// gain, NaN for lost frames, each recording cut into blocks (time in frames).
+/// gain, less the recording's mean, each recording cut into blocks and each block into its
+/// runs between lost frames (time in frames).
 pub(super) fn mode_data(recordings: &[Recording], modes: &[usize]) -> Vec<ModeData> {
     let per = BLOCKS.div_ceil(recordings.len()).max(1);
     let several = recordings.len() > 1;
@@ -70,6 +71,11 @@ pub(super) fn mode_data(recordings: &[Recording], modes: &[usize]) -> Vec<ModeDa
                         *slot = v / gain;
                     }
                 }
+                // One mean per recording: a run's own mean would take its slow part away.
+                let (sum, count) = (y.iter().filter(|v| v.is_finite()))
+                    .fold((0.0, 0.0), |(s, n), v| (s + v, n + 1.0));
+                let mean = if count > 0.0 { sum / count } else { 0.0 };
+                y.iter_mut().for_each(|v| *v -= mean);
                 let size = frames.div_ceil(per).max(1);
                 // Each run between lost frames is its own series (from the stationary state):
                 // with the lost frames inside one series as predictions without update,
@@ -103,11 +109,12 @@ pub(super) struct ModeFit {
 /// Fit mode `data` from `start` (time in frames); `None` when the fit or its information fails.
 pub(super) fn fit_mode(data: &ModeData, start: Oscillator) -> Option<ModeFit> {
     let refs: Vec<&[f64]> = data.blocks.iter().map(Vec::as_slice).collect();
-    let fit = fit_oscillator(&refs, 1.0, start).ok()?;
+    let band = (start.omega * 1e-3, 2.0 * std::f64::consts::PI);
+    let fit = fit_oscillator_with(&refs, 1.0, start, band, false).ok()?;
     let free = crate::statespace::free_parameters(&fit.estimate);
     let blocks: Vec<(DVector<f64>, DMatrix<f64>)> = refs
         .iter()
-        .map(|b| score_and_information(&[b], 1.0, &fit.estimate, &free))
+        .map(|b| score_and_information_with(&[b], 1.0, &fit.estimate, &free, false))
         .collect();
     let h = blocks
         .iter()
@@ -160,7 +167,9 @@ impl Distance {
         let k = set.len();
         let mut a = DMatrix::zeros(k, k);
         let mut b = DVector::zeros(k);
-        let col = |m: usize, j: usize| nalgebra::Vector2::new(self.columns[m][j][0], self.columns[m][j][1]);
+        let col = |m: usize, j: usize| {
+            nalgebra::Vector2::new(self.columns[m][j][0], self.columns[m][j][1])
+        };
         for (j, (y, w)) in self.y.iter().zip(&self.weight).enumerate() {
             let y = nalgebra::Vector2::new(y[0], y[1]);
             for (r, &m) in set.iter().enumerate() {

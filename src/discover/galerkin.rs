@@ -46,11 +46,15 @@ pub(super) fn is_linear(c: &Candidate) -> bool {
             .collect()
     };
     let (u1, v1, u2, v2) = (wave(0.7), wave(1.3), wave(2.1), wave(0.4));
-    let mix = |a: &[f64], b: &[f64]| -> Vec<f64> { a.iter().zip(b).map(|(x, y)| x + 2.0 * y).collect() };
+    let mix =
+        |a: &[f64], b: &[f64]| -> Vec<f64> { a.iter().zip(b).map(|(x, y)| x + 2.0 * y).collect() };
     let whole = c.force(&mix(&u1, &u2), &mix(&v1, &v2));
     let parts = mix(&c.force(&u1, &v1), &c.force(&u2, &v2));
     let zero = c.force(&vec![0.0; n], &vec![0.0; n]);
-    let size = parts.iter().chain(&whole).fold(0.0f64, |m, x| m.max(x.abs()));
+    let size = parts
+        .iter()
+        .chain(&whole)
+        .fold(0.0f64, |m, x| m.max(x.abs()));
     let gap = whole
         .iter()
         .zip(&parts)
@@ -147,7 +151,11 @@ pub(super) fn continuum(
 
 /// The grid's matrices of `candidates` on its unit-norm `shapes` (on the body's points):
 /// h^{−p}·vᵢ·f(vⱼ), `None` for a candidate that is not linear.
-pub(super) fn grid(candidates: &[Candidate], shapes: &[Vec<f64>], points: usize) -> Vec<Option<ModalForce>> {
+pub(super) fn grid(
+    candidates: &[Candidate],
+    shapes: &[Vec<f64>],
+    points: usize,
+) -> Vec<Option<ModalForce>> {
     let h = 1.0 / (points as f64 - 1.0);
     candidates
         .iter()

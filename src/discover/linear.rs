@@ -4,7 +4,9 @@
 
 use super::data::{Basis, Recording};
 use super::exact::{columns, drawn, fit_mode, mode_data, moments, Distance, ModeFit, MAX_MODES};
-use super::report::{median_model, percentiles, Comparison, DiscoverReport, DiscoveredTerm, Method};
+use super::report::{
+    median_model, percentiles, Comparison, DiscoverReport, DiscoveredTerm, Method,
+};
 use super::weak::in_data_unit;
 use super::{galerkin, DiscoverError, DiscoverSettings, Notation};
 use crate::dynamics::Candidate;
@@ -31,7 +33,9 @@ pub(super) fn estimate(
         .iter()
         .any(|r| (r.dt - first.dt).abs() > 1e-6 * first.dt || r.basis != first.basis)
     {
-        return Ok(Err("the recordings differ in frame interval or projection".into()));
+        return Ok(Err(
+            "the recordings differ in frame interval or projection".into()
+        ));
     }
     let available = match &first.basis {
         Basis::Continuum { gains, .. } => gains.len(),
@@ -63,10 +67,16 @@ pub(super) fn estimate(
             )?;
             match found {
                 Some(f) => (f, true),
-                None => (galerkin::grid(library, &first.shapes[..modes.len()], points), false),
+                None => (
+                    galerkin::grid(library, &first.shapes[..modes.len()], points),
+                    false,
+                ),
             }
         }
-        Basis::Grid => (galerkin::grid(library, &first.shapes[..modes.len()], points), false),
+        Basis::Grid => (
+            galerkin::grid(library, &first.shapes[..modes.len()], points),
+            false,
+        ),
     };
     let (cols, diagonal) = columns(&forces);
     if cols.iter().any(Option::is_none) {
@@ -115,7 +125,11 @@ pub(super) fn estimate(
         distance.weight.push(w);
     }
     let all: Vec<usize> = (0..library.len())
-        .filter(|&m| distance.columns[m].iter().any(|e| e[0] != 0.0 || e[1] != 0.0))
+        .filter(|&m| {
+            distance.columns[m]
+                .iter()
+                .any(|e| e[0] != 0.0 || e[1] != 0.0)
+        })
         .collect();
     let frames: f64 = data[0]
         .blocks
@@ -157,8 +171,10 @@ pub(super) fn estimate(
             }
         }
     }
-    let Some((beta, _, j_selected)) = distance.fit(&selected) else {
-        return Err(DiscoverError::Degenerate { terms: selected.len() });
+    let Some((beta, covariance, j_selected)) = distance.fit(&selected) else {
+        return Err(DiscoverError::Degenerate {
+            terms: selected.len(),
+        });
     };
     let unit = first.dt;
     let notation = Notation::new(model, settings.recording.order, field)?;
@@ -167,12 +183,22 @@ pub(super) fn estimate(
         .enumerate()
         .map(|(i, c)| {
             let at = selected.iter().position(|&s| s == i);
-            let fitted = at.map(|k| beta[k]).or_else(|| {
-                all.iter().position(|&a| a == i).map(|k| whole[k])
-            });
+            let fitted = at
+                .map(|k| beta[k])
+                .or_else(|| all.iter().position(|&a| a == i).map(|k| whole[k]));
             let body = in_data_unit(fitted.unwrap_or(0.0), unit, c.time_power);
+            // The wider of the one-step draws' percentiles and the information's ±1.96 se:
+            // at 8 frames per period the draws alone covered c′_y in 2 of 4 recordings.
             let interval = at.and_then(|k| {
-                percentiles(&mut draws[k].clone(), |x| in_data_unit(x, unit, c.time_power))
+                let se = 1.96 * covariance[(k, k)].max(0.0).sqrt();
+                let wald = [beta[k] - se, beta[k] + se];
+                let drawn = percentiles(&mut draws[k].clone(), |x| x).unwrap_or(wald);
+                let (a, b) = (drawn[0].min(wald[0]), drawn[1].max(wald[1]));
+                let (a, b) = (
+                    in_data_unit(a, unit, c.time_power),
+                    in_data_unit(b, unit, c.time_power),
+                );
+                (draws_made > 0).then_some([a.min(b), a.max(b)])
             });
             DiscoveredTerm {
                 term: notation.term(&c.name),
@@ -186,12 +212,20 @@ pub(super) fn estimate(
             }
         })
         .collect();
-    let keep: Vec<&str> = terms.iter().filter(|t| t.selected).map(|t| t.name.as_str()).collect();
+    let keep: Vec<&str> = terms
+        .iter()
+        .filter(|t| t.selected)
+        .map(|t| t.name.as_str())
+        .collect();
     let index = |n: &String| names.iter().position(|x| x == n);
     let mut comparison: Vec<Comparison> = nested
         .iter()
         .map(|(label, members)| {
-            let set: Vec<usize> = members.iter().filter_map(index).filter(|i| all.contains(i)).collect();
+            let set: Vec<usize> = members
+                .iter()
+                .filter_map(index)
+                .filter(|i| all.contains(i))
+                .collect();
             Comparison {
                 model: label.clone(),
                 terms: set.iter().map(|&i| names[i].clone()).collect(),
@@ -219,7 +253,11 @@ pub(super) fn estimate(
     let noise = in_data_unit(noise, unit, -3);
     if terms
         .iter()
-        .flat_map(|t| [t.coefficient, t.on_points].into_iter().chain(t.interval.into_iter().flatten()))
+        .flat_map(|t| {
+            [t.coefficient, t.on_points]
+                .into_iter()
+                .chain(t.interval.into_iter().flatten())
+        })
         .chain([noise])
         .any(|x| !x.is_finite())
     {
@@ -238,7 +276,10 @@ pub(super) fn estimate(
         points,
         frames: recordings.iter().map(|r| r.modal.len()).sum(),
         order: settings.recording.order,
-        beyond_leading: model.lagrangian.beyond_leading.max(model.rayleigh.beyond_leading),
+        beyond_leading: model
+            .lagrangian
+            .beyond_leading
+            .max(model.rayleigh.beyond_leading),
         active: settings.active,
         modes: fits
             .iter()

@@ -410,7 +410,11 @@ impl Report for DiscoverReport {
             Method::WeakForm { why } => format!(
                 "Estimator: {}{}; {} rows on modes {}.\n",
                 self.estimator,
-                if why.is_empty() { String::new() } else { format!(" ({why})") },
+                if why.is_empty() {
+                    String::new()
+                } else {
+                    format!(" ({why})")
+                },
                 self.rows,
                 self.modes
                     .iter()

@@ -38,8 +38,8 @@ use nalgebra::{DMatrix, Matrix2};
 
 mod search;
 mod system;
-pub use system::System;
 use search::{derivatives, nelder_mead};
+pub use system::System;
 
 /// Why an estimate could not be made.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -278,7 +278,10 @@ pub struct OscillatorFit {
 }
 
 /// Each series less its mean (over its observed frames).
-fn centred(series: &[&[f64]]) -> Vec<Vec<f64>> {
+fn centred(series: &[&[f64]], centre: bool) -> Vec<Vec<f64>> {
+    if !centre {
+        return series.iter().map(|y| y.to_vec()).collect();
+    }
     (series.iter())
         .map(|y| {
             let (sum, n) = (y.iter().filter(|v| v.is_finite()))
@@ -299,7 +302,19 @@ pub fn score_and_information(
     at: &Oscillator,
     free: &[usize],
 ) -> (nalgebra::DVector<f64>, DMatrix<f64>) {
-    let centred = centred(series);
+    score_and_information_with(series, dt, at, free, true)
+}
+
+/// [`score_and_information`], each series' mean removed only when `centre` (a caller that
+/// removed one mean over several pieces of a recording keeps it).
+pub fn score_and_information_with(
+    series: &[&[f64]],
+    dt: f64,
+    at: &Oscillator,
+    free: &[usize],
+    centre: bool,
+) -> (nalgebra::DVector<f64>, DMatrix<f64>) {
+    let centred = centred(series, centre);
     let data: Vec<&[f64]> = centred.iter().map(|y| y.as_slice()).collect();
     let nll = |t: &[f64; 4]| -log_likelihood(&Oscillator::from_log(t), &data, dt).0;
     derivatives(&nll, &at.to_log(), free)
@@ -373,6 +388,17 @@ pub fn fit_oscillator_in(
     start: Oscillator,
     band: (f64, f64),
 ) -> Result<OscillatorFit, StateSpaceError> {
+    fit_oscillator_with(series, dt, start, band, true)
+}
+
+/// [`fit_oscillator_in`], each series' mean removed only when `centre`.
+pub fn fit_oscillator_with(
+    series: &[&[f64]],
+    dt: f64,
+    start: Oscillator,
+    band: (f64, f64),
+    centre: bool,
+) -> Result<OscillatorFit, StateSpaceError> {
     if !(dt.is_finite() && dt > 0.0) {
         return Err(StateSpaceError::Interval(dt));
     }
@@ -386,7 +412,7 @@ pub fn fit_oscillator_in(
             return Err(StateSpaceError::Parameter { name, value });
         }
     }
-    let centred = centred(series);
+    let centred = centred(series, centre);
     let data: Vec<&[f64]> = centred.iter().map(|y| y.as_slice()).collect();
     let (sum2, frames) = (data.iter().flat_map(|y| y.iter()).filter(|v| v.is_finite()))
         .fold((0.0, 0usize), |(s, n), v| (s + v * v, n + 1));
@@ -499,94 +525,4 @@ pub fn fit_oscillator_in(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_closed_form_transition_is_van_loans() {
-        for (omega, zeta, dt) in [
-            (1.3, 0.05, 0.7),
-            (2.9, 0.4, 1.0),
-            (0.5, 3.0, 0.3),
-            (1.0, 1.0, 0.5),
-        ] {
-            let p = Oscillator {
-                omega,
-                zeta,
-                variance: 2.0,
-                noise: 0.1,
-            };
-            let (phi, q) = p.transition(dt);
-            let (phi2, q2) = discretise(&p.drift(), &p.diffusion(), dt).expect("discretised");
-            for i in 0..2 {
-                for j in 0..2 {
-                    assert!(
-                        (phi[(i, j)] - phi2[(i, j)]).abs() < 1e-10,
-                        "Φ {omega} {zeta}"
-                    );
-                    assert!(
-                        (q[(i, j)] - q2[(i, j)]).abs() < 1e-9 * (1.0 + q2[(i, j)].abs()),
-                        "Q {omega} {zeta}: {q} {q2}"
-                    );
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn the_filter_equals_the_gaussian_density_of_a_short_series() {
-        // The exact −2 ln L of y ~ N(0, C + νI), C the sampled autocovariance, against the filter.
-        let p = Oscillator {
-            omega: 1.1,
-            zeta: 0.2,
-            variance: 1.5,
-            noise: 0.3,
-        };
-        let y = [0.3, -1.2, f64::NAN, 0.8, 1.9, -0.4, f64::NAN, f64::NAN, 0.1];
-        let kept: Vec<usize> = (0..y.len()).filter(|&i| y[i].is_finite()).collect();
-        let (phi, _) = p.transition(1.0);
-        let mut power: Matrix2<f64> = Matrix2::identity();
-        let mut lags = Vec::new();
-        for _ in 0..y.len() {
-            lags.push((power * p.stationary())[(0, 0)]);
-            power *= phi;
-        }
-        let n = kept.len();
-        let cov = DMatrix::from_fn(n, n, |a, b| {
-            lags[kept[a].abs_diff(kept[b])] + if a == b { p.noise } else { 0.0 }
-        });
-        let v = nalgebra::DVector::from_iterator(n, kept.iter().map(|&i| y[i]));
-        let chol = cov.cholesky().expect("positive");
-        let logdet: f64 = 2.0 * chol.l().diagonal().iter().map(|d| d.ln()).sum::<f64>();
-        let exact =
-            -0.5 * (n as f64 * (2.0 * std::f64::consts::PI).ln() + logdet + v.dot(&chol.solve(&v)));
-        let (filtered, seen) = log_likelihood(&p, &[&y], 1.0);
-        assert_eq!(seen, n);
-        assert!((filtered - exact).abs() < 1e-10, "{filtered} {exact}");
-    }
-
-    #[test]
-    fn bad_input_is_refused() {
-        let p = Oscillator {
-            omega: 1.0,
-            zeta: 0.1,
-            variance: 1.0,
-            noise: 0.1,
-        };
-        assert!(matches!(
-            fit_oscillator(&[&[1.0; 40]], 0.0, p),
-            Err(StateSpaceError::Interval(_))
-        ));
-        assert!(matches!(
-            fit_oscillator(&[&[1.0; 10]], 1.0, p),
-            Err(StateSpaceError::TooFewFrames(10))
-        ));
-        let bad = Oscillator {
-            zeta: f64::NAN,
-            ..p
-        };
-        assert!(fit_oscillator(&[&[1.0; 40]], 1.0, bad).is_err());
-        let f = DMatrix::zeros(2, 3);
-        assert!(discretise(&f, &DMatrix::zeros(2, 2), 1.0).is_err());
-    }
-}
+mod tests;
