@@ -392,4 +392,47 @@ impl crate::report::Report for ActiveReport {
     fn json(&self) -> serde_json::Value {
         serde_json::to_value(self).unwrap_or(serde_json::Value::Null)
     }
+
+    /// One row per listed force (the lowest active, then the lowest gyroscopic, of each field),
+    /// the text's columns; the counts per class are the JSON's.
+    fn csv(&self) -> Option<String> {
+        let rows = self.fields.iter().flat_map(|f| {
+            [("active", &f.active), ("gyroscopic", &f.gyroscopic)]
+                .into_iter()
+                .flat_map(move |(class, list)| {
+                    list.iter().map(move |x| {
+                        let o = x.orders;
+                        vec![
+                            f.field.clone(),
+                            class.to_string(),
+                            x.term.clone(),
+                            x.coefficient.clone().unwrap_or_default(),
+                            o.delta.to_string(),
+                            o.epsilon.to_string(),
+                            o.tau.to_string(),
+                            o.sigma.to_string(),
+                            x.time_parity.to_string(),
+                            x.space_parity.to_string(),
+                            x.why.clone(),
+                        ]
+                    })
+                })
+        });
+        Some(crate::report::csv_table(
+            &[
+                "field",
+                "class",
+                "term",
+                "coefficient",
+                "delta",
+                "epsilon",
+                "tau",
+                "sigma",
+                "time_parity",
+                "space_parity",
+                "why",
+            ],
+            rows,
+        ))
+    }
 }

@@ -301,14 +301,30 @@ fn peristalsis_with(from: &str, to: &str) -> tempfile::NamedTempFile {
 }
 
 /// `[active]` keys that forces cannot use are refused naming the key, as `[rayleigh]`
-/// refuses `dominance`.
+/// refuses `dominance`, even at the value that would change nothing (a reader would think
+/// it was read).
 #[test]
 fn active_keys_forces_cannot_use_are_refused_naming_the_key() {
-    for (key, line) in [
-        ("[active] dominance", "dominance = \"by-part\"\n"),
-        ("[active] interaction", "interaction = [\"OST\"]\n"),
+    for (section, key, line) in [
+        (
+            "[active]",
+            "[active] dominance",
+            "dominance = \"by-part\"\n",
+        ),
+        ("[active]", "[active] dominance", "dominance = \"joint\"\n"),
+        (
+            "[active]",
+            "[active] interaction",
+            "interaction = [\"OST\"]\n",
+        ),
+        ("[active]", "[active] interaction", "interaction = []\n"),
+        (
+            "[rayleigh]",
+            "[rayleigh] dominance",
+            "dominance = \"joint\"\n",
+        ),
     ] {
-        let model = peristalsis_with("[active]\n", &format!("[active]\n{line}"));
+        let model = peristalsis_with(&format!("{section}\n"), &format!("{section}\n{line}"));
         fails(
             &[
                 "modes",
