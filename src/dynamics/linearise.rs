@@ -254,11 +254,20 @@ impl FieldSystem {
             None => (stiffness.clone(), damping),
             Some(chol) => (chol.solve(stiffness), chol.solve(&damping)),
         };
+        // λ = sμ with s a power of two near the roots' size (√‖M⁻¹K‖, ‖M⁻¹C‖): the companion
+        // of μ²M + μC/s + K/s² has entries of order one, where [[0, I], [−M⁻¹K, −M⁻¹C]]
+        // mixes 1 with ‖K‖ and its QR iteration loses the decay rates to ε‖K‖ (exact scaling).
+        let size = mk.amax().sqrt().max(mc.amax());
+        let s = if size.is_finite() && size > 0.0 {
+            2f64.powi(size.log2().round() as i32)
+        } else {
+            1.0
+        };
         let a = faer::Mat::<f64>::from_fn(2 * n, 2 * n, |i, j| match (i < n, j < n) {
             (true, true) => 0.0,
             (true, false) => f64::from(u8::from(j - n == i)),
-            (false, true) => -mk[(i - n, j)],
-            (false, false) => -mc[(i - n, j - n)],
+            (false, true) => -mk[(i - n, j)] / s / s,
+            (false, false) => -mc[(i - n, j - n)] / s,
         });
         if !a.col_iter().all(|c| c.iter().all(|x| x.is_finite())) {
             return Err(NonlinearError::Overflow {
@@ -267,23 +276,53 @@ impl FieldSystem {
             });
         }
         // faer's blocked Hessenberg–QR (nalgebra's unblocked Schur took 8 s at n = 400).
-        let eigenvalues = a.eigenvalues().map_err(|_| NonlinearError::Overflow {
+        let scaled = a.eigenvalues().map_err(|_| NonlinearError::Overflow {
             field: self.id.clone(),
             what: "the quadratic eigenproblem's QR iteration (it did not converge)",
         })?;
-        let scale = stiffness.amax().max(1.0);
-        // A root within rounding of an axis is on it; of a conjugate pair the upper one is kept,
-        // and every real root (a double root at 0 may come as a pair ±ε·i).
-        // (a double root splits by about √ε·‖A‖, 1.5·10⁻⁸√‖A‖).
-        let tol = 1e-7 * scale.sqrt();
-        let mut roots: Vec<DampedMode> = eigenvalues
+        let eigenvalues: Vec<_> = scaled.iter().map(|l| (l.re * s, l.im * s)).collect();
+        // A root within rounding of the origin is on it (a double root at 0 splits by about
+        // √ε·‖A‖, 1.5·10⁻⁸ of the roots' size s); of a conjugate pair the upper one is kept, and
+        // every real root (a double root may come as a pair ±ε·i). A real part within 10⁻¹⁰·s
+        // is 0 (a simple root's rounding is ε·s times its condition).
+        let tol = 1e-7 * s;
+        let roots: Vec<DampedMode> = eigenvalues
             .iter()
-            .filter(|l| l.im > -tol)
-            .map(|l| DampedMode {
-                decay_rate: if l.re.abs() <= tol { 0.0 } else { -l.re },
-                frequency: if l.im <= tol { 0.0 } else { l.im },
+            .filter(|l| l.1 > -tol)
+            .map(|&(re, im)| DampedMode {
+                decay_rate: if re.abs() <= tol && im.abs() <= tol || re.abs() <= 1e-10 * s {
+                    0.0
+                } else {
+                    -re
+                },
+                frequency: if im <= tol { 0.0 } else { im },
             })
             .collect();
+        self.trusted(roots, -(0..n).map(|i| mc[(i, i)]).sum::<f64>(), s)
+    }
+
+    /// `roots` if their real parts (a conjugate pair's twice) add up to the companion matrix's
+    /// trace −tr(M⁻¹C) within 10⁻³ of it and 10⁻⁶ per root (the printed precision): where
+    /// the coefficients dwarf the damping, the decay rates are lost to rounding in ε·s.
+    fn trusted(
+        &self,
+        mut roots: Vec<DampedMode>,
+        trace: f64,
+        size: f64,
+    ) -> Result<Vec<DampedMode>, NonlinearError> {
+        let sum: f64 = roots
+            .iter()
+            .map(|r| -r.decay_rate * if r.frequency > 0.0 { 2.0 } else { 1.0 })
+            .sum();
+        let allowed = 1e-3 * trace.abs() + 1e-6 * 2.0 * self.unknowns as f64;
+        if (sum - trace).abs() > allowed || !sum.is_finite() {
+            return Err(NonlinearError::Untrusted {
+                field: self.id.clone(),
+                sum,
+                trace,
+                size,
+            });
+        }
         roots.sort_by(|a, b| {
             a.decay_rate
                 .hypot(a.frequency)
