@@ -128,6 +128,17 @@ pub struct FieldForces {
     pub gyroscopic: Vec<Force>,
 }
 
+/// Why a force term with a factor of two time derivatives or more is not a force any command
+/// moves: `equations` says it under the equation, and `simulate`, `modes` and `emit` refuse it.
+pub const NOT_A_FORCE: &str = "a factor with two time derivatives or more is inertia, not a force: it raises the equation's order in time (a position and a velocity no longer fix the motion), so no integrator moves it (OST keeps it out)";
+
+impl Force {
+    /// Whether a factor has two time derivatives or more ([`NOT_A_FORCE`]).
+    pub fn is_inertia(&self) -> bool {
+        self.shape.factors().iter().any(|f| f.deriv.t > 1)
+    }
+}
+
 impl FieldForces {
     /// The forces that enter the field's equation, each with its coefficient: the lowest
     /// active ones, then the lowest gyroscopic ones (the other classes the admitted densities

@@ -477,8 +477,7 @@ impl NonlinearBody {
                     field: f.field.symbol.clone(),
                     term: term.render(&|_| f.field.symbol.clone()),
                     density: "active",
-                    why: "a factor with two time derivatives or more is inertia, not a force"
-                        .into(),
+                    why: crate::active::NOT_A_FORCE.into(),
                 })?;
                 system.active.push(force);
             }
