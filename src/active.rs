@@ -128,6 +128,17 @@ pub struct FieldForces {
     pub gyroscopic: Vec<Force>,
 }
 
+/// Why a force term with a factor of two time derivatives or more is not a force any command
+/// moves: `equations` says it under the equation, and `simulate`, `modes` and `emit` refuse it.
+pub const NOT_A_FORCE: &str = "a factor with two time derivatives or more is inertia, not a force: it raises the equation's order in time (a position and a velocity no longer fix the motion), so no integrator moves it (OST keeps it out)";
+
+impl Force {
+    /// Whether a factor has two time derivatives or more ([`NOT_A_FORCE`]).
+    pub fn is_inertia(&self) -> bool {
+        self.shape.factors().iter().any(|f| f.deriv.t > 1)
+    }
+}
+
 impl FieldForces {
     /// The forces that enter the field's equation, each with its coefficient: the lowest
     /// active ones, then the lowest gyroscopic ones (the other classes the admitted densities
@@ -391,5 +402,48 @@ impl crate::report::Report for ActiveReport {
 
     fn json(&self) -> serde_json::Value {
         serde_json::to_value(self).unwrap_or(serde_json::Value::Null)
+    }
+
+    /// One row per listed force (the lowest active, then the lowest gyroscopic, of each field),
+    /// the text's columns; the counts per class are the JSON's.
+    fn csv(&self) -> Option<String> {
+        let rows = self.fields.iter().flat_map(|f| {
+            [("active", &f.active), ("gyroscopic", &f.gyroscopic)]
+                .into_iter()
+                .flat_map(move |(class, list)| {
+                    list.iter().map(move |x| {
+                        let o = x.orders;
+                        vec![
+                            f.field.clone(),
+                            class.to_string(),
+                            x.term.clone(),
+                            x.coefficient.clone().unwrap_or_default(),
+                            o.delta.to_string(),
+                            o.epsilon.to_string(),
+                            o.tau.to_string(),
+                            o.sigma.to_string(),
+                            x.time_parity.to_string(),
+                            x.space_parity.to_string(),
+                            x.why.clone(),
+                        ]
+                    })
+                })
+        });
+        Some(crate::report::csv_table(
+            &[
+                "field",
+                "class",
+                "term",
+                "coefficient",
+                "delta",
+                "epsilon",
+                "tau",
+                "sigma",
+                "time_parity",
+                "space_parity",
+                "why",
+            ],
+            rows,
+        ))
     }
 }

@@ -324,7 +324,7 @@ pub fn forces_source(model: &Model, order: u32) -> Result<String, CodegenError> 
                         field: f.field.symbol.clone(),
                         term: x.term.clone(),
                         density: "active",
-                        why: "a factor with two time derivatives or more is inertia (add OST to the section's requirements)".into(),
+                        why: crate::active::NOT_A_FORCE.into(),
                     });
                 }
                 names.push(name.to_string());

@@ -256,6 +256,18 @@ impl Model {
         let model: Model =
             toml::from_str(text).map_err(|e| ModelError::Syntax(one_line(&e.to_string())))?;
         model.validate()?;
+        // A key a section cannot use is refused even at its default value (`dominance =
+        // "joint"`, `interaction = []`): a reader would think it was read.
+        let table: toml::Table = toml::from_str(text).unwrap_or_default();
+        for (section, key, why) in UNUSED_KEYS {
+            if table
+                .get(section)
+                .and_then(|t| t.as_table())
+                .is_some_and(|t| t.contains_key(key))
+            {
+                return Err(model.invalid(why.to_string()));
+            }
+        }
         Ok(model)
     }
 
@@ -325,8 +337,9 @@ impl Model {
             .collect()
     }
 
-    fn validate(&self) -> Result<(), ModelError> {
-        let invalid = |why: String| ModelError::Invalid {
+    /// A model error naming this model (its name clipped, control characters dropped).
+    fn invalid(&self, why: String) -> ModelError {
+        ModelError::Invalid {
             model: self
                 .name
                 .chars()
@@ -334,24 +347,22 @@ impl Model {
                 .take(64)
                 .collect(),
             why,
-        };
+        }
+    }
+
+    fn validate(&self) -> Result<(), ModelError> {
+        let invalid = |why: String| self.invalid(why);
         if self.rayleigh.dominance != Dominance::Joint {
-            return Err(invalid(
-                "[rayleigh] dominance: a Rayleigh density has one part (all of it enters through δR/δ(∂tφ)), so only [lagrangian] takes dominance = \"by-part\"".into(),
-            ));
+            return Err(invalid(UNUSED_KEYS[0].2.into()));
         }
         // Forces are not densities: no parts compete and no interaction table is built for
         // them, so these keys would be read and ignored.
         if let Some(active) = &self.active {
             if active.dominance != Dominance::Joint {
-                return Err(invalid(
-                    "[active] dominance: forces are not a density with parts; only [lagrangian] takes dominance".into(),
-                ));
+                return Err(invalid(UNUSED_KEYS[1].2.into()));
             }
             if !active.interaction.is_empty() {
-                return Err(invalid(
-                    "[active] interaction: no interaction table is built for forces; only [lagrangian] and [rayleigh] take interaction rules".into(),
-                ));
+                return Err(invalid(UNUSED_KEYS[2].2.into()));
             }
         }
         for (name, spec) in [
@@ -474,6 +485,26 @@ impl Model {
         Ok(())
     }
 }
+
+/// Keys a section parses (it shares the densities' shape) but cannot use: (section, key, the
+/// one line that refuses it).
+const UNUSED_KEYS: [(&str, &str, &str); 3] = [
+    (
+        "rayleigh",
+        "dominance",
+        "[rayleigh] dominance: a Rayleigh density has one part (all of it enters through δR/δ(∂tφ)), so only [lagrangian] takes dominance = \"by-part\"",
+    ),
+    (
+        "active",
+        "dominance",
+        "[active] dominance: forces are not a density with parts; only [lagrangian] takes dominance",
+    ),
+    (
+        "active",
+        "interaction",
+        "[active] interaction: no interaction table is built for forces; only [lagrangian] and [rayleigh] take interaction rules",
+    ),
+];
 
 /// The most fields a model may declare (interactions grow as 2^fields).
 pub const MAX_FIELDS: usize = 8;

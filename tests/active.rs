@@ -190,3 +190,183 @@ fn the_crawler_has_active_forces_and_the_larva_none() {
     assert_eq!(code, 2);
     assert!(err.contains("candidate forces"), "{err}");
 }
+
+/// `active --format csv` (offered by `--help`) gives one row per listed force, the JSON's
+/// forces in order; the reasons hold commas and colons, so the cells must be quoted to read back.
+#[test]
+fn the_active_report_has_a_csv_form_with_the_jsons_rows() {
+    let run = |format: &str| {
+        let (code, out, err) = common::binary(&[
+            "active",
+            "--model",
+            "tables/models/crawler.toml",
+            "--format",
+            format,
+        ]);
+        assert_eq!(code, 0, "{err}");
+        out
+    };
+    let v: serde_json::Value = serde_json::from_str(&run("json")).unwrap();
+    let mut expected = Vec::new();
+    for f in v["fields"].as_array().unwrap() {
+        for class in ["active", "gyroscopic"] {
+            for x in f[class].as_array().unwrap() {
+                expected.push(vec![
+                    f["field"].as_str().unwrap().to_string(),
+                    class.to_string(),
+                    x["term"].as_str().unwrap().to_string(),
+                    x["coefficient"].as_str().unwrap_or("").to_string(),
+                    x["time_parity"].to_string(),
+                    x["space_parity"].to_string(),
+                    x["why"].as_str().unwrap().to_string(),
+                ]);
+            }
+        }
+    }
+    assert!(!expected.is_empty());
+    let csv = run("csv");
+    let mut reader = csv::Reader::from_reader(csv.as_bytes());
+    let header: Vec<String> = reader.headers().unwrap().iter().map(String::from).collect();
+    assert_eq!(
+        header,
+        [
+            "field",
+            "class",
+            "term",
+            "coefficient",
+            "delta",
+            "epsilon",
+            "tau",
+            "sigma",
+            "time_parity",
+            "space_parity",
+            "why"
+        ]
+    );
+    let rows: Vec<Vec<String>> = reader
+        .records()
+        .map(|r| {
+            let r = r.unwrap();
+            [0, 1, 2, 3, 8, 9, 10]
+                .iter()
+                .map(|&i| r[i].to_string())
+                .collect()
+        })
+        .collect();
+    assert_eq!(rows, expected);
+    assert!(
+        expected.iter().any(|r| r[6].contains(',')),
+        "no reason to quote"
+    );
+    // The help offers exactly the formats the command gives.
+    let (_, help, _) = common::binary(&["active", "--help"]);
+    assert!(help.contains("csv"), "{help}");
+}
+
+/// One axial field whose `[active]` section lacks OST: `∂ttt x` enters its equation.
+const ROD_WITHOUT_OST: &str = r#"
+name = "rod"
+description = "one axial field, forces without OST"
+
+[[fields]]
+id = "x"
+symbol = "x"
+meaning = "axial displacement"
+boundary = "free"
+
+[lagrangian]
+bound = "tau-plus-sigma"
+columns = ["OST", "TRAN", "REF"]
+
+[lagrangian.requirements]
+x = ["OST", "TRAN", "REF"]
+
+[rayleigh]
+bound = "tau-and-sigma"
+columns = ["DIS", "TRAN", "GAL", "REF"]
+
+[rayleigh.requirements]
+x = ["DIS", "TRAN", "GAL", "REF"]
+
+[active]
+bound = "tau-and-sigma"
+columns = ["TRAN", "REF", "GAL"]
+
+[active.requirements]
+x = ["TRAN", "REF", "GAL"]
+"#;
+
+/// Issue 52 item 6: without OST, `equations` prints ∂t³x with its coefficient but says under
+/// the equation, and in its JSON, that it is inertia and not a force (the integrator refuses
+/// it); with OST nothing is said. The coefficient it names is the one `simulate` refuses.
+#[test]
+fn equations_say_which_terms_are_inertia_and_not_forces() {
+    let file = common::scratch_file("noost", ".toml");
+    std::fs::write(file.path(), ROD_WITHOUT_OST).unwrap();
+    let m = file.path().to_str().unwrap();
+    let (code, text, err) = common::binary(&["equations", "--model", m]);
+    assert_eq!(code, 0, "{err}");
+    let lines: Vec<&str> = text.lines().collect();
+    let at = lines
+        .iter()
+        .position(|l| l.trim_start().starts_with("∂t² x ="))
+        .unwrap_or_else(|| panic!("{text}"));
+    assert!(lines[at].contains("∂t³ x"), "{text}");
+    let note = lines[at + 1];
+    assert!(
+        note.trim_start().starts_with("not forces: ") && note.contains("∂ttt x"),
+        "{text}"
+    );
+    assert!(note.contains("inertia, not a force") && note.contains("order in time"));
+    // Only the ∂t³ term is named, with the coefficient it has in the equation.
+    let coefficient = note
+        .trim_start()
+        .strip_prefix("not forces: ")
+        .and_then(|r| r.split_whitespace().next())
+        .unwrap()
+        .to_string();
+    assert!(
+        lines[at].contains(&format!("{coefficient} ∂t³ x")),
+        "{text}"
+    );
+    assert!(!note.contains("∂s"), "{note}");
+    let (code, json, _) = common::binary(&["equations", "--model", m, "--format", "json"]);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let listed = v["equations"][0]["not_forces"].as_array().unwrap();
+    assert_eq!(listed.len(), 1, "{json}");
+    assert_eq!(listed[0]["coefficient"], coefficient.as_str());
+    assert_eq!(listed[0]["term"], "∂ttt x");
+    assert!(listed[0]["why"].as_str().unwrap().contains("inertia"));
+    // simulate refuses that term while it is on, and runs once it is off.
+    let run = |value: &str| {
+        let set = format!("{coefficient}={value}");
+        common::binary(&[
+            "simulate", "-p", "8", "--steps", "2", "--model", m, "--param", &set,
+        ])
+    };
+    let (code, _, err) = run("0.5");
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("∂ttt x") && err.contains("inertia"), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    let (code, _, err) = run("0");
+    assert_eq!(code, 0, "{err}");
+    // With OST in the section there is no such term and no such note.
+    let with_ost = ROD_WITHOUT_OST
+        .replace(
+            "[active.requirements]\nx = [\"TRAN\"",
+            "[active.requirements]\nx = [\"OST\", \"TRAN\"",
+        )
+        .replace("columns = [\"TRAN\"", "columns = [\"OST\", \"TRAN\"");
+    assert_ne!(with_ost, ROD_WITHOUT_OST);
+    std::fs::write(file.path(), with_ost).unwrap();
+    let (code, text, err) = common::binary(&["equations", "--model", m]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        !text.contains("not forces") && !text.contains("∂t³"),
+        "{text}"
+    );
+    let (_, json, _) = common::binary(&["equations", "--model", m, "--format", "json"]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(v["equations"][0]["not_forces"], serde_json::json!([]));
+}

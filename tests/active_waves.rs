@@ -2,7 +2,9 @@
 //! force a∂s³y (a body with a head) against the continuum dispersion relation ω² = ck⁴ + iak³
 //! (docs/derivation.md), its direction of travel from the sign of a, the discrete energy
 //! balance E₁ − E₀ = −dissipated + injected at every step (linear and nonlinear active forces),
-//! and the linearisation's complex roots against the discrete dispersion relation.
+//! and the linearisation's complex roots against the discrete dispersion relation; on a
+//! free-ended body, growth that is the grid's (past the grid Péclet number, or moving with N)
+//! is said to be.
 
 mod common;
 
@@ -282,4 +284,100 @@ fn a_section_without_ost_keeps_inertia_out_of_every_numerical_command() {
         );
         assert_eq!(err.trim_end().lines().count(), 1, "{err}");
     }
+}
+
+/// `modes` of the crawler's axial field with a∂s x against c∂s²x and no damping, as JSON.
+fn crawler_axial(a: &str, points: &str) -> (String, serde_json::Value) {
+    let mut args = vec![
+        "modes",
+        "-p",
+        points,
+        "--model",
+        "tables/models/crawler.toml",
+        "--param",
+        a,
+        "--param",
+        "c_x=1",
+        "--param",
+        "cp_x=0",
+    ];
+    let (code, text, err) = common::binary(&args);
+    assert_eq!(code, 0, "{err}");
+    args.extend(["--format", "json"]);
+    let (code, json, err) = common::binary(&args);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(v["fields"][0]["field"], "x");
+    (text, v["fields"][0].clone())
+}
+
+/// Issue 52 item 7: on a free-ended body a∂s x + c∂s²x has a real spectrum (weight e^{as/c}),
+/// and so does its centred stencil while |a| < 2c (lattice units). Past that, the roots grow at
+/// every N, and `modes` says the growth is the grid's; below it nothing grows at 12 points and
+/// nothing is said. A growth that moves by more than 20 % from N to 2N, or vanishes, is said to
+/// be unconverged.
+#[test]
+fn growth_that_is_the_grids_is_said_to_be() {
+    let (text, x) = crawler_axial("a_x=2.1", "12");
+    let growth = &x["growth"];
+    assert_eq!(growth["points"], 24, "{x}");
+    assert_eq!(growth["grid_peclet"], true, "{x}");
+    let g = growth["growth"].as_f64().unwrap();
+    assert!(g > 0.1, "{x}");
+    // σ < 0 is growth: the fastest growing root is the one reported.
+    let fastest = x["damped"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| -r["decay_rate"].as_f64().unwrap())
+        .fold(f64::NEG_INFINITY, f64::max);
+    assert_eq!(fastest, g);
+    assert!(text.contains("past its grid Péclet number"), "{text}");
+    assert!(text.contains("the growth is the grid's"), "{text}");
+    let (text, x) = crawler_axial("a_x=1.9", "12");
+    assert!(x.get("growth").is_none(), "{x}");
+    assert!(
+        !text.contains("growth −σ") && !text.contains("Péclet"),
+        "{text}"
+    );
+    // The comparison itself: within 20 % of the larger, or not (a vanishing growth included).
+    use theory_search::dynamics::{check_growth, DampedMode, LinearisedField};
+    let field = |rates: &[f64]| LinearisedField {
+        field: "x".into(),
+        equilibrium: vec![0.0],
+        residual: 0.0,
+        eigenvalues: vec![1.0],
+        frequencies: vec![Some(1.0)],
+        shapes: None,
+        damped: rates
+            .iter()
+            .map(|&r| DampedMode {
+                decay_rate: r,
+                frequency: 1.0,
+            })
+            .collect(),
+        active: true,
+        growth: None,
+        peclet: false,
+    };
+    for (at_n, at_2n, converged) in [
+        (-0.2, -0.22, true),
+        (-0.2, -0.26, false),
+        (-0.2, 0.1, false),
+        (-0.2, -0.1, false),
+    ] {
+        let mut fields = vec![field(&[0.5, at_n])];
+        check_growth(&mut fields, 24, Some(&[field(&[at_2n, 0.3])]));
+        let check = fields[0].growth.unwrap();
+        assert_eq!(check.growth, -at_n);
+        assert_eq!(check.doubled, Some((-at_2n).max(0.0)));
+        assert_eq!(check.converged, converged, "{at_n} against {at_2n}");
+    }
+    // No growth, no check; 2N not solved, not converged.
+    let mut fields = vec![field(&[0.5])];
+    check_growth(&mut fields, 24, None);
+    assert!(fields[0].growth.is_none());
+    let mut fields = vec![field(&[-0.2])];
+    check_growth(&mut fields, 24, None);
+    assert!(!fields[0].growth.unwrap().converged);
 }

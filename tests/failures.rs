@@ -301,14 +301,30 @@ fn peristalsis_with(from: &str, to: &str) -> tempfile::NamedTempFile {
 }
 
 /// `[active]` keys that forces cannot use are refused naming the key, as `[rayleigh]`
-/// refuses `dominance`.
+/// refuses `dominance`, even at the value that would change nothing (a reader would think
+/// it was read).
 #[test]
 fn active_keys_forces_cannot_use_are_refused_naming_the_key() {
-    for (key, line) in [
-        ("[active] dominance", "dominance = \"by-part\"\n"),
-        ("[active] interaction", "interaction = [\"OST\"]\n"),
+    for (section, key, line) in [
+        (
+            "[active]",
+            "[active] dominance",
+            "dominance = \"by-part\"\n",
+        ),
+        ("[active]", "[active] dominance", "dominance = \"joint\"\n"),
+        (
+            "[active]",
+            "[active] interaction",
+            "interaction = [\"OST\"]\n",
+        ),
+        ("[active]", "[active] interaction", "interaction = []\n"),
+        (
+            "[rayleigh]",
+            "[rayleigh] dominance",
+            "dominance = \"joint\"\n",
+        ),
     ] {
-        let model = peristalsis_with("[active]\n", &format!("[active]\n{line}"));
+        let model = peristalsis_with(&format!("{section}\n"), &format!("{section}\n{line}"));
         fails(
             &[
                 "modes",
@@ -411,5 +427,88 @@ fn a_short_recording_exits_as_input_whatever_its_length() {
             !err.contains("Ends {") && !err.contains("tail:"),
             "{model}: {err}"
         );
+    }
+}
+
+const CRAWLER: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/models/crawler.toml");
+
+/// The bending field's damped roots with `a_y`, against the trace of the companion matrix
+/// [[0, I], [−M⁻¹K, −M⁻¹C]] read from `operators`: Σ Re λ (a conjugate pair twice) and
+/// −tr(M⁻¹(C − ∂f/∂v)). `None` when `modes` refuses, with its exit code and line.
+fn roots_against_trace(a: &str) -> Result<(f64, f64, f64), (i32, String, String)> {
+    let args = [
+        "-p", "12", "--model", CRAWLER, "--param", a, "--format", "json",
+    ];
+    let (code, out, err) = run(&[&["modes"], &args[..]].concat());
+    if code != 0 {
+        return Err((code, out, err));
+    }
+    let modes: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let (code, ops, err) = run(&[&["operators"], &args[..]].concat());
+    assert_eq!(code, 0, "{err}");
+    let ops: serde_json::Value = serde_json::from_str(&ops).unwrap();
+    let y = &ops["fields"][1];
+    assert_eq!(y["field"], "y");
+    let m = |name: &str, i: usize, j: usize| y[name][i][j].as_f64().unwrap();
+    let dv = |i: usize| y["active"][1][i][i].as_f64().unwrap();
+    let n = y["size"].as_u64().unwrap() as usize;
+    let mut trace = 0.0;
+    for i in 0..n {
+        for j in 0..n {
+            // A diagonal mass: tr(M⁻¹C) is Σ C_ii / M_ii.
+            assert!(i == j || m("mass", i, j) == 0.0);
+        }
+        trace -= (m("damping", i, i) - dv(i)) / m("mass", i, i);
+    }
+    let (mut sum, mut size) = (0.0, 0.0f64);
+    for r in modes["fields"][1]["damped"].as_array().unwrap() {
+        let (sigma, omega) = (
+            r["decay_rate"].as_f64().unwrap(),
+            r["frequency"].as_f64().unwrap(),
+        );
+        sum -= sigma * if omega > 0.0 { 2.0 } else { 1.0 };
+        size = size.max(sigma.hypot(omega));
+    }
+    Ok((sum, trace, size))
+}
+
+/// Huge coefficients (issue 52 item 8): the damped roots' real parts add up to the trace where
+/// they are printed (the companion matrix scaled to the roots' size before its QR iteration);
+/// where the coefficients would lose the decay rates to rounding, `modes` refuses in one line
+/// with exit 3 (numerical), nothing non-finite printed.
+#[test]
+fn huge_coefficients_give_roots_that_match_the_trace_or_exit_3() {
+    for a in ["a_y=1", "a_y=1e8", "a_y=1e12"] {
+        let (sum, trace, size) = roots_against_trace(a).unwrap_or_else(|e| panic!("{a}: {e:?}"));
+        assert!(trace < -1.0, "{a}: damped: {trace}");
+        assert!(
+            (sum - trace).abs() < 1e-6 * trace.abs(),
+            "{a}: Σ Re λ {sum} against {trace}"
+        );
+        // The roots do grow with the coefficient (√a for a stiffness term).
+        if a == "a_y=1e12" {
+            assert!(size > 1e5, "{a}: {size}");
+        }
+    }
+    // At 1e16 the slowest roots sit within rounding of the zero modes' double roots.
+    match roots_against_trace("a_y=1e16") {
+        Ok((sum, trace, _)) => assert!((sum - trace).abs() < 1e-3 * trace.abs(), "{sum} {trace}"),
+        Err((code, _, err)) => {
+            assert_eq!(code, 3, "{err}");
+            assert!(err.contains("cannot be trusted"), "{err}");
+        }
+    }
+    for a in ["a_y=1e16", "a_y=1e100", "a_y=1e308", "a_y=-1e308"] {
+        for format in ["text", "json"] {
+            let args = [
+                "modes", "-p", "12", "--model", CRAWLER, "--param", a, "--format", format,
+            ];
+            if a == "a_y=1e16" {
+                // Either (checked above); here only: never a non-finite number.
+                no_non_finite(&run(&args).1, &args);
+                continue;
+            }
+            fails(&args, 3, "field y");
+        }
     }
 }

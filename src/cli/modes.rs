@@ -49,7 +49,16 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
             };
             emit(out, &r, args.format)
         }
-        BodyModes::Linearised(fields) => {
+        BodyModes::Linearised(mut fields) => {
+            // A growing root is compared with the same body on 2N points: the grid's growth
+            // changes with N (an error there leaves it uncompared, and says so).
+            if fields.iter().any(|f| f.fastest_growth().is_some()) {
+                let doubled = match body.modes(2 * points, None, false) {
+                    Ok(BodyModes::Linearised(d)) => Some(d),
+                    _ => None,
+                };
+                crate::dynamics::check_growth(&mut fields, 2 * points, doubled.as_deref());
+            }
             let report = crate::dynamics::LinearisedReport {
                 model: body.model().name.clone(),
                 order: body.order(),

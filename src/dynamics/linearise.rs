@@ -26,6 +26,102 @@ pub struct LinearisedField {
     pub damped: Vec<DampedMode>,
     /// Whether active forces act on the field (then `damped` holds them).
     pub active: bool,
+    /// When a root grows: its fastest growth on N points against 2N ([`check_growth`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub growth: Option<GrowthCheck>,
+    /// Whether the stiffness with the active forces is a centred stencil past its grid Péclet
+    /// number ([`sign_changing_stencil`]).
+    #[serde(skip)]
+    pub peclet: bool,
+}
+
+/// A field's fastest growth rate −σ on N points against the same body on 2N: past a grid
+/// Péclet number a centred stencil makes growth the continuum does not have (a ∂s x + c ∂s² x
+/// on a free-ended body: a Sturm–Liouville problem with weight e^{as/c}, a real spectrum), and
+/// that growth changes with N.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct GrowthCheck {
+    /// The points compared against (2N).
+    pub points: usize,
+    /// The fastest growth rate on N points (> 0).
+    pub growth: f64,
+    /// On 2N points (0 when no root grows there); `None` when 2N could not be solved (over
+    /// the points or the eigen-solves' budget).
+    pub doubled: Option<f64>,
+    /// Whether the two agree within 20 % of the larger.
+    pub converged: bool,
+    /// Whether the field's stencil is past its grid Péclet number: then the growth is the
+    /// stencil's at every N (lattice units keep |a|h/2c as N doubles).
+    pub grid_peclet: bool,
+}
+
+impl LinearisedField {
+    /// The fastest growth rate −σ of the damped roots, if a root grows faster than the printed
+    /// precision (5·10⁻⁷).
+    pub fn fastest_growth(&self) -> Option<f64> {
+        self.damped
+            .iter()
+            .map(|d| -d.decay_rate)
+            .filter(|&g| g >= 5e-7)
+            .max_by(f64::total_cmp)
+    }
+}
+
+/// Set each growing field's [`GrowthCheck`] of `fields` (on N points) against `doubled`, the
+/// same body's fields on `points` = 2N (`None`: not solved).
+pub fn check_growth(
+    fields: &mut [LinearisedField],
+    points: usize,
+    doubled: Option<&[LinearisedField]>,
+) {
+    for f in fields.iter_mut() {
+        let Some(growth) = f.fastest_growth() else {
+            continue;
+        };
+        let doubled = doubled.map(|d| {
+            d.iter()
+                .find(|g| g.field == f.field)
+                .and_then(LinearisedField::fastest_growth)
+                .unwrap_or(0.0)
+        });
+        f.growth = Some(GrowthCheck {
+            points,
+            growth,
+            doubled,
+            converged: doubled.is_some_and(|g| (g - growth).abs() <= 0.2 * g.max(growth)),
+            grid_peclet: f.peclet,
+        });
+    }
+}
+
+impl GrowthCheck {
+    /// One line under the roots: converged, or the grid's (compare at 2N); then whether the
+    /// stencil is past its grid Péclet number.
+    fn text(&self, points: usize) -> String {
+        let line = self.convergence(points);
+        if self.grid_peclet {
+            return format!("{line}\n  the stencil is past its grid Péclet number (off-diagonals of opposite signs: |a|h/2c > 1): a centred ∂s this strong against ∂s² grows where the continuum (weight e^{{as/c}}, a real spectrum on a free-ended body) does not, at every N: the growth is the grid's");
+        }
+        line
+    }
+
+    fn convergence(&self, points: usize) -> String {
+        let n = self.points;
+        match self.doubled {
+            None => format!(
+                "fastest growth −σ = {:.6} on {points} points, not compared on {n} (over the limits): it may be the grid's",
+                self.growth
+            ),
+            Some(g) if self.converged => format!(
+                "fastest growth −σ = {:.6} on {points} points, {g:.6} on {n}: the same within 20 %",
+                self.growth
+            ),
+            Some(g) => format!(
+                "fastest growth −σ = {:.6} on {points} points, {g:.6} on {n}: not converged in N: compare --points {n} (growth that moves with N is the grid's or rounding's, not the body's)",
+                self.growth
+            ),
+        }
+    }
 }
 
 /// One root of the quadratic eigenproblem (λ²M + λC + K)x = 0, λ = −σ ± iω.
@@ -153,10 +249,10 @@ impl FieldSystem {
                     })?,
             )
         };
-        let damped = if damped {
+        let (damped, peclet) = if damped {
             self.damped_modes(&stiffness, &equilibrium, factor.as_ref())?
         } else {
-            Vec::new()
+            (Vec::new(), false)
         };
         let cholesky = factor.map(|c| c.l());
         let (reduced, back) = match &cholesky {
@@ -202,6 +298,8 @@ impl FieldSystem {
             residual,
             damped,
             active: !self.active.is_empty(),
+            growth: None,
+            peclet,
             frequencies: eigenvalues
                 .iter()
                 .map(|&l| (l >= 0.0).then(|| l.sqrt()))
@@ -232,10 +330,10 @@ impl FieldSystem {
         stiffness: &nalgebra::DMatrix<f64>,
         equilibrium: &[f64],
         mass: Option<&nalgebra::linalg::Cholesky<f64, nalgebra::Dyn>>,
-    ) -> Result<Vec<DampedMode>, NonlinearError> {
+    ) -> Result<(Vec<DampedMode>, bool), NonlinearError> {
         let n = self.unknowns;
         if self.damped_work() == 0.0 {
-            return Ok(Vec::new());
+            return Ok((Vec::new(), false));
         }
         let mut damping = self.damping_at(&vec![0.0; n]);
         let mut stiffness = stiffness.clone();
@@ -254,11 +352,20 @@ impl FieldSystem {
             None => (stiffness.clone(), damping),
             Some(chol) => (chol.solve(stiffness), chol.solve(&damping)),
         };
+        // λ = sμ with s a power of two near the roots' size (√‖M⁻¹K‖, ‖M⁻¹C‖): the companion
+        // of μ²M + μC/s + K/s² has entries of order one, where [[0, I], [−M⁻¹K, −M⁻¹C]]
+        // mixes 1 with ‖K‖ and its QR iteration loses the decay rates to ε‖K‖ (exact scaling).
+        let size = mk.amax().sqrt().max(mc.amax());
+        let s = if size.is_finite() && size > 0.0 {
+            2f64.powi(size.log2().round() as i32)
+        } else {
+            1.0
+        };
         let a = faer::Mat::<f64>::from_fn(2 * n, 2 * n, |i, j| match (i < n, j < n) {
             (true, true) => 0.0,
             (true, false) => f64::from(u8::from(j - n == i)),
-            (false, true) => -mk[(i - n, j)],
-            (false, false) => -mc[(i - n, j - n)],
+            (false, true) => -mk[(i - n, j)] / s / s,
+            (false, false) => -mc[(i - n, j - n)] / s,
         });
         if !a.col_iter().all(|c| c.iter().all(|x| x.is_finite())) {
             return Err(NonlinearError::Overflow {
@@ -267,23 +374,54 @@ impl FieldSystem {
             });
         }
         // faer's blocked Hessenberg–QR (nalgebra's unblocked Schur took 8 s at n = 400).
-        let eigenvalues = a.eigenvalues().map_err(|_| NonlinearError::Overflow {
+        let scaled = a.eigenvalues().map_err(|_| NonlinearError::Overflow {
             field: self.id.clone(),
             what: "the quadratic eigenproblem's QR iteration (it did not converge)",
         })?;
-        let scale = stiffness.amax().max(1.0);
-        // A root within rounding of an axis is on it; of a conjugate pair the upper one is kept,
-        // and every real root (a double root at 0 may come as a pair ±ε·i).
-        // (a double root splits by about √ε·‖A‖, 1.5·10⁻⁸√‖A‖).
-        let tol = 1e-7 * scale.sqrt();
-        let mut roots: Vec<DampedMode> = eigenvalues
+        let eigenvalues: Vec<_> = scaled.iter().map(|l| (l.re * s, l.im * s)).collect();
+        // A root within rounding of the origin is on it (a double root at 0 splits by about
+        // √ε·‖A‖, 1.5·10⁻⁸ of the roots' size s); of a conjugate pair the upper one is kept, and
+        // every real root (a double root may come as a pair ±ε·i). A real part within 10⁻¹⁰·s
+        // is 0 (a simple root's rounding is ε·s times its condition).
+        let tol = 1e-7 * s;
+        let roots: Vec<DampedMode> = eigenvalues
             .iter()
-            .filter(|l| l.im > -tol)
-            .map(|l| DampedMode {
-                decay_rate: if l.re.abs() <= tol { 0.0 } else { -l.re },
-                frequency: if l.im <= tol { 0.0 } else { l.im },
+            .filter(|l| l.1 > -tol)
+            .map(|&(re, im)| DampedMode {
+                decay_rate: if re.abs() <= tol && im.abs() <= tol || re.abs() <= 1e-10 * s {
+                    0.0
+                } else {
+                    -re
+                },
+                frequency: if im <= tol { 0.0 } else { im },
             })
             .collect();
+        let roots = self.trusted(roots, -(0..n).map(|i| mc[(i, i)]).sum::<f64>(), s)?;
+        Ok((roots, sign_changing_stencil(&mk)))
+    }
+
+    /// `roots` if their real parts (a conjugate pair's twice) add up to the companion matrix's
+    /// trace −tr(M⁻¹C) within 10⁻³ of it and 10⁻⁶ per root (the printed precision): where
+    /// the coefficients dwarf the damping, the decay rates are lost to rounding in ε·s.
+    fn trusted(
+        &self,
+        mut roots: Vec<DampedMode>,
+        trace: f64,
+        size: f64,
+    ) -> Result<Vec<DampedMode>, NonlinearError> {
+        let sum: f64 = roots
+            .iter()
+            .map(|r| -r.decay_rate * if r.frequency > 0.0 { 2.0 } else { 1.0 })
+            .sum();
+        let allowed = 1e-3 * trace.abs() + 1e-6 * 2.0 * self.unknowns as f64;
+        if (sum - trace).abs() > allowed || !sum.is_finite() {
+            return Err(NonlinearError::Untrusted {
+                field: self.id.clone(),
+                sum,
+                trace,
+                size,
+            });
+        }
         roots.sort_by(|a, b| {
             a.decay_rate
                 .hypot(a.frequency)
@@ -318,6 +456,17 @@ impl NonlinearBody {
         }
         self.fields.iter().map(|f| f.linearise(shapes)).collect()
     }
+}
+
+/// Whether `k` is tridiagonal with a pair of off-diagonals of opposite signs: a centred ∂s
+/// stencil a∂s against c∂s² past the grid Péclet number |a|h/2c = 1 (lattice units: |a| > 2c).
+/// A tridiagonal matrix whose pairs have one sign is similar to a symmetric one (real
+/// spectrum, as the continuum's Sturm–Liouville problem with weight e^{as/c}); past it, it is
+/// not, and its complex roots grow where the continuum does not.
+fn sign_changing_stencil(k: &nalgebra::DMatrix<f64>) -> bool {
+    let n = k.nrows();
+    let tridiagonal = (0..n).all(|i| (0..n).all(|j| i.abs_diff(j) <= 1 || k[(i, j)] == 0.0));
+    tridiagonal && (1..n).any(|i| k[(i - 1, i)] * k[(i, i - 1)] < 0.0)
 }
 
 /// `modes` of a nonlinear body: each field's linearisation about its equilibrium.
@@ -383,6 +532,9 @@ impl crate::report::Report for LinearisedReport {
                 let _ = writeln!(s, "  root  decay rate σ   frequency ω");
                 for (i, d) in f.damped.iter().enumerate() {
                     let _ = writeln!(s, "  {i:>4}  {:<13.6}  {:.6}", d.decay_rate, d.frequency);
+                }
+                if let Some(g) = &f.growth {
+                    let _ = writeln!(s, "  {}", g.text(self.points));
                 }
             }
             if let Some(shapes) = &f.shapes {

@@ -28,7 +28,7 @@ mod sample;
 pub use active::ActiveForce;
 pub use implicit::Integrator;
 pub use library::{library, Candidate};
-pub use linearise::{DampedMode, LinearisedField, LinearisedReport};
+pub use linearise::{check_growth, DampedMode, GrowthCheck, LinearisedField, LinearisedReport};
 pub use linearised_operators::{LinearisedOperator, LinearisedOperatorsReport};
 pub use nonlinear_run::{default_coefficients, is_quadratic, MAX_NONLINEAR_WORK};
 pub use sample::{checked, sample_header, sample_row, sample_values, Sample};

@@ -89,6 +89,18 @@ pub enum NonlinearError {
         /// Which matrix.
         what: &'static str,
     },
+    /// Damped roots whose real parts miss the trace: the decay rates were lost to rounding.
+    #[error("field {field}: the damped roots cannot be trusted: their real parts sum to {} where the trace of the linearised matrix gives {} (roots of size {size:.1e} lose the decay rates to rounding): use smaller coefficients", crate::report::number(*sum), crate::report::number(*trace))]
+    Untrusted {
+        /// Field id.
+        field: String,
+        /// Σ Re λ of the roots found.
+        sum: f64,
+        /// −tr(M⁻¹C).
+        trace: f64,
+        /// The roots' size s.
+        size: f64,
+    },
     /// The quadratic eigenproblems of a linearisation are over their budget.
     #[error("the damped roots of {fields} field(s) need companion eigen-solves of {work:.1e} units (Σ(2n)³ over fields of n unknowns), over the budget of {budget:.1e} (about two seconds): use fewer points")]
     DampedBudget {
@@ -465,8 +477,7 @@ impl NonlinearBody {
                     field: f.field.symbol.clone(),
                     term: term.render(&|_| f.field.symbol.clone()),
                     density: "active",
-                    why: "a factor with two time derivatives or more is inertia, not a force"
-                        .into(),
+                    why: crate::active::NOT_A_FORCE.into(),
                 })?;
                 system.active.push(force);
             }
@@ -531,7 +542,8 @@ impl NonlinearError {
             NonlinearError::NoEquilibrium { .. }
             | NonlinearError::NoConvergence { .. }
             | NonlinearError::Diverged { .. }
-            | NonlinearError::Overflow { .. } => Failure::Numerical,
+            | NonlinearError::Overflow { .. }
+            | NonlinearError::Untrusted { .. } => Failure::Numerical,
             _ => Failure::Usage,
         }
     }

@@ -122,6 +122,32 @@ pub struct Equation {
     pub field: Field,
     /// Right-hand side, by ascending time then space derivative.
     pub rhs: Vec<RhsTerm>,
+    /// The `[active]` section's terms on the right that are not forces (a section without OST).
+    pub not_forces: Vec<NotAForce>,
+}
+
+/// An `[active]` term on the right-hand side that is inertia, not a force
+/// ([`crate::active::NOT_A_FORCE`]): no command integrates, linearises or emits it.
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
+pub struct NotAForce {
+    /// Its coefficient (`a2_x`).
+    pub coefficient: String,
+    /// The term (`∂ttt x`).
+    pub term: String,
+}
+
+/// The entering forces of one field that are inertia ([`crate::active::Force::is_inertia`]).
+pub fn not_forces(forces: &[Force]) -> Vec<NotAForce> {
+    forces
+        .iter()
+        .filter(|f| f.is_inertia())
+        .filter_map(|f| {
+            Some(NotAForce {
+                coefficient: f.coefficient.clone()?,
+                term: f.term.clone(),
+            })
+        })
+        .collect()
 }
 
 /// Why the equations cannot be written.
@@ -290,8 +316,21 @@ fn field_equation(
             SignClaim::Free("not the variation of an energy or dissipation square: nothing fixes its sign alone")
         };
     }
-    let rhs = rhs.into_iter().map(|(r, _)| r).collect();
-    Ok(Equation { field, rhs })
+    let not_forces = not_forces(active);
+    let rhs = rhs
+        .into_iter()
+        .map(|(mut r, _)| {
+            if not_forces.iter().any(|n| n.coefficient == r.coefficient) {
+                r.claim = SignClaim::Free("inertia, not a force (the note under its equation)");
+            }
+            r
+        })
+        .collect();
+    Ok(Equation {
+        field,
+        rhs,
+        not_forces,
+    })
 }
 
 /// The equations of motion of every field of `model` at `order`, plus the analyses' notes.

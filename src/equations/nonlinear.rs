@@ -32,6 +32,8 @@ pub struct NonlinearEquation {
     pub field: Field,
     /// Right-hand side, by parameter then monomial.
     pub rhs: Vec<PolyTerm>,
+    /// The `[active]` section's terms on the right that are not forces (a section without OST).
+    pub not_forces: Vec<super::NotAForce>,
 }
 
 /// The exact equations of motion of any surviving densities, quadratic or not:
@@ -63,6 +65,7 @@ pub fn derive_nonlinear_each(
             Some(rhs) => equations.push(NonlinearEquation {
                 field: field.clone(),
                 rhs,
+                not_forces: super::not_forces(forces),
             }),
             None => underived.push(EquationError::NoKinetic {
                 field: field.symbol.clone(),

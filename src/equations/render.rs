@@ -5,7 +5,8 @@ use num_rational::Rational64;
 use num_traits::{One, Signed};
 use serde_json::{json, Value};
 
-use super::{Equation, NonlinearEquation};
+use super::{Equation, NonlinearEquation, NotAForce};
+use crate::active::NOT_A_FORCE;
 use crate::markup::latex_symbol;
 use crate::reduce::sign_joiner;
 use crate::term::{superscript, Deriv};
@@ -129,6 +130,7 @@ pub fn json(order: u32, equations: &[Equation], notes: &[String]) -> Value {
                 "kind": t.kind,
             })).collect::<Vec<_>>(),
             "text": e.text(),
+            "not_forces": not_forces_json(&e.not_forces),
         })).collect::<Vec<_>>(),
         "notes": notes,
     })
@@ -143,13 +145,34 @@ fn align(lines: impl Iterator<Item = String>) -> String {
     )
 }
 
-/// The heading line and one indented line per equation.
-fn heading(model: &str, order: u32, how: &str, lines: impl Iterator<Item = String>) -> String {
+/// The heading line and one indented line per equation, each followed by the terms on its
+/// right that are not forces, if any, and why.
+fn heading<'a>(
+    model: &str,
+    order: u32,
+    how: &str,
+    lines: impl Iterator<Item = (String, &'a [NotAForce])>,
+) -> String {
     let mut out = format!("Equations of motion of the {model} model at order {order} ({how}):\n");
-    for l in lines {
+    for (l, not_forces) in lines {
         out += &format!("  {l}\n");
+        if !not_forces.is_empty() {
+            let terms: Vec<String> = not_forces
+                .iter()
+                .map(|n| format!("{} {}", n.coefficient, n.term))
+                .collect();
+            out += &format!("    not forces: {}: {NOT_A_FORCE}\n", terms.join(", "));
+        }
     }
     out
+}
+
+/// The terms that are not forces, as JSON: coefficient, term and why.
+fn not_forces_json(not_forces: &[NotAForce]) -> Value {
+    not_forces
+        .iter()
+        .map(|n| json!({"coefficient": n.coefficient, "term": n.term, "why": NOT_A_FORCE}))
+        .collect()
 }
 
 /// An equation that can be shown as text and LaTeX.
@@ -158,6 +181,8 @@ pub trait Shown {
     fn line(&self) -> String;
     /// One LaTeX `align` row.
     fn latex_row(&self) -> String;
+    /// The terms on its right that are not forces.
+    fn not_forces(&self) -> &[NotAForce];
 }
 
 impl Shown for Equation {
@@ -167,6 +192,9 @@ impl Shown for Equation {
     fn latex_row(&self) -> String {
         self.latex()
     }
+    fn not_forces(&self) -> &[NotAForce] {
+        &self.not_forces
+    }
 }
 
 impl Shown for NonlinearEquation {
@@ -175,6 +203,9 @@ impl Shown for NonlinearEquation {
     }
     fn latex_row(&self) -> String {
         self.latex()
+    }
+    fn not_forces(&self) -> &[NotAForce] {
+        &self.not_forces
     }
 }
 
@@ -204,7 +235,7 @@ impl<E: Shown> EquationReport<E> {
             &self.model,
             self.order,
             how,
-            self.equations.iter().map(|e| e.line()),
+            self.equations.iter().map(|e| (e.line(), e.not_forces())),
         )
     }
 }
@@ -391,6 +422,7 @@ impl NonlinearEquation {
                 "kind": t.kind,
             })).collect::<Vec<_>>(),
             "text": self.text(),
+            "not_forces": not_forces_json(&self.not_forces),
         })
     }
 }
