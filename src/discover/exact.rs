@@ -35,10 +35,8 @@ pub const MAX_MODES: usize = 8;
 /// Blocks of time per recording for the bootstrap (whole animals when there are several).
 pub const BLOCKS: usize = 25;
 
-/// One used mode: its index among the non-zero modes and its data in blocks.
+/// One used mode's data in blocks.
 pub(super) struct ModeData {
-    /// Index among the non-zero modes (0-based).
-    pub index: usize,
     /// Each block's frames (NaN for a lost frame), time in frames.
     pub blocks: Vec<Vec<f64>>,
     /// Which unit of the bootstrap each block belongs to.
@@ -88,11 +86,7 @@ pub(super) fn mode_data(recordings: &[Recording], modes: &[usize]) -> Vec<ModeDa
                     }
                 }
             }
-            ModeData {
-                index: j,
-                blocks,
-                unit,
-            }
+            ModeData { blocks, unit }
         })
         .collect()
 }
