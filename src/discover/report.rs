@@ -460,7 +460,10 @@ impl Report for DiscoverReport {
         } else {
             "no draws: --bootstrap B)\n".to_string()
         };
-        out += "\nTheories compared (held-out moment residual over 5 blocks of time and the criterion J/σ² + k ln n; lower is better):\n";
+        out += match self.method {
+            Method::Exact => "\nTheories compared (the criterion J + k ln n, J the modes' information-weighted distance, χ² with 2M − k degrees of freedom where the theory holds; lower is better):\n",
+            Method::WeakForm { .. } => "\nTheories compared (held-out moment residual over 5 blocks of time and the criterion J/σ² + k ln n; lower is better):\n",
+        };
         for c in &self.comparison {
             out += &format!(
                 "  {:<34} {:<40} cv {:<10} criterion {}\n",
