@@ -26,6 +26,16 @@ fn model(clamped: bool) -> Model {
 /// `discover` on `beam`'s recording (seed `seed`) at `points` model points, lost frames not
 /// bridged.
 fn discovered(beam: &Beam, seed: u64, points: usize, bootstrap: usize) -> DiscoverReport {
+    attempt(beam, seed, points, bootstrap).expect("discovers")
+}
+
+/// [`discovered`], or why not.
+fn attempt(
+    beam: &Beam,
+    seed: u64,
+    points: usize,
+    bootstrap: usize,
+) -> Result<DiscoverReport, theory_search::discover::DiscoverError> {
     let text = record(beam, seed);
     let mut settings = DiscoverSettings::new(InputKind::Midline);
     settings.recording.points = points;
@@ -35,7 +45,7 @@ fn discovered(beam: &Beam, seed: u64, points: usize, bootstrap: usize) -> Discov
         .set("fill_gaps", &Setting::Int(0))
         .expect("a setting");
     let source = Source::Reader("continuum".into(), Box::new(std::io::Cursor::new(text)));
-    discover(vec![source], &model(beam.clamped), &settings).expect("discovers")
+    discover(vec![source], &model(beam.clamped), &settings)
 }
 
 /// What one recording gave: the exact term set, and each true coefficient inside its interval
@@ -73,11 +83,13 @@ fn study(label: &str, beam: &Beam, points: usize, seeds: u64) -> Vec<Outcome> {
     let count = |f: &dyn Fn(&Outcome) -> bool| out.iter().filter(|o| f(o)).count();
     let median = |i: usize| {
         let mut v: Vec<f64> = out.iter().map(|o| o.relative[i]).collect();
+        v.retain(|x| x.is_finite());
         v.sort_by(f64::total_cmp);
-        v[v.len() / 2]
+        v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
     };
     eprintln!(
-        "{label}: exact set {}/{seeds}, c_y covered {}/{seeds} (median {:+.2} %), c'_y covered {}/{seeds} (median {:+.2} %)",
+        "{label}: refused {}/{seeds}, exact set {}/{seeds}, c_y covered {}/{seeds} (median {:+.2} %), c'_y covered {}/{seeds} (median {:+.2} %)",
+        count(&|o| o.relative[0].is_nan()),
         count(&|o| o.exact_set),
         count(&|o| o.covered[0]),
         100.0 * median(0),
