@@ -16,6 +16,23 @@ use crate::statespace::Oscillator;
 /// The estimator's line in the report.
 const EXACT: &str = "each mode's exact likelihood (Kalman filter over the frames, lost frames skipped, tracking noise as observation noise), the coefficients by minimum distance on the modes' Ω² and 2ζΩ";
 
+/// Why the exact estimator does not apply (the weak form runs instead).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub(super) enum NotExact {
+    /// Several recordings at different intervals or projections.
+    #[error("the recordings differ in frame interval or projection")]
+    Mixed,
+    /// A force is nonlinear in the field.
+    #[error("the library holds forces nonlinear in the field")]
+    Nonlinear,
+    /// A force couples modes.
+    #[error("forces of the library couple modes")]
+    Coupled,
+    /// A mode's information is singular.
+    #[error("a mode's information is singular")]
+    Singular,
+}
+
 /// The theories to score: label and candidate names.
 pub(super) type Nested = Vec<(String, Vec<String>)>;
 
@@ -27,15 +44,13 @@ pub(super) fn estimate(
     library: &[Candidate],
     nested: &Nested,
     field: &str,
-) -> Result<Result<DiscoverReport, String>, DiscoverError> {
+) -> Result<Result<DiscoverReport, NotExact>, DiscoverError> {
     let first = &recordings[0];
     if recordings
         .iter()
         .any(|r| (r.dt - first.dt).abs() > 1e-6 * first.dt || r.basis != first.basis)
     {
-        return Ok(Err(
-            "the recordings differ in frame interval or projection".into()
-        ));
+        return Ok(Err(NotExact::Mixed));
     }
     let available = match &first.basis {
         Basis::Continuum { gains, .. } => gains.len(),
@@ -80,10 +95,10 @@ pub(super) fn estimate(
     };
     let (cols, diagonal) = columns(&forces);
     if cols.iter().any(Option::is_none) {
-        return Ok(Err("the library holds forces nonlinear in the field".into()));
+        return Ok(Err(NotExact::Nonlinear));
     }
     if !diagonal {
-        return Ok(Err("forces of the library couple modes".into()));
+        return Ok(Err(NotExact::Coupled));
     }
     let cols: Vec<Vec<[f64; 2]>> = cols.into_iter().flatten().collect();
     let data = mode_data(recordings, &modes);
@@ -119,7 +134,7 @@ pub(super) fn estimate(
     };
     for f in &fits {
         let Some((y, w)) = moments(&f.fit.estimate, &f.covariance) else {
-            return Ok(Err("a mode's information is singular".into()));
+            return Ok(Err(NotExact::Singular));
         };
         distance.y.push(y);
         distance.weight.push(w);

@@ -412,9 +412,11 @@ pub fn discover(
             match linear::estimate(&recordings, model, settings, whole, &names, &field)? {
                 Ok(report) => return finish(report, &recordings, model, settings, not_estimated),
                 Err(why) if settings.estimator == Estimator::Exact => {
-                    return Err(DiscoverError::ExactUnavailable { why })
+                    return Err(DiscoverError::ExactUnavailable {
+                        why: why.to_string(),
+                    })
                 }
-                Err(why) => why,
+                Err(why) => why.to_string(),
             }
         }
     };
