@@ -252,7 +252,14 @@ pub fn log_likelihood(p: &Oscillator, series: &[&[f64]], dt: f64) -> (f64, usize
                 phi[(1, 0)] * m[0] + phi[(1, 1)] * m[1],
             ];
             if let Some(post) = posterior {
-                before = c;
+                // Only two updated predictions in a row show the gain has settled: across a
+                // lost frame from the stationary state (a series that begins lost) the
+                // prediction repeats without any update.
+                before = if obs.is_finite() {
+                    c
+                } else {
+                    Matrix2::from_element(f64::NAN)
+                };
                 let next = phi * post * phi.transpose() + q;
                 c = 0.5 * (next + next.transpose());
             }
