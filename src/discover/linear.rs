@@ -4,9 +4,8 @@
 
 use super::data::{Basis, Recording};
 use super::exact::{columns, drawn, fit_mode, mode_data, moments, Distance, ModeFit, MAX_MODES};
-use super::report::{
-    median_model, percentiles, Comparison, DiscoverReport, DiscoveredTerm, Method,
-};
+use super::report::{choose, percentiles, Comparison, DiscoverReport, DiscoveredTerm, Method};
+use super::verdict::Goodness;
 use super::weak::in_data_unit;
 use super::{galerkin, DiscoverError, DiscoverSettings, Notation};
 use crate::dynamics::Candidate;
@@ -177,7 +176,7 @@ pub(super) fn estimate(
         }
     }
     let draws_made = resamples.len();
-    let selected = median_model(&included, draws_made).unwrap_or_else(|| elimination.clone());
+    let (selected, selection) = choose(&included, draws_made, &elimination, &names);
     let mut draws: Vec<Vec<f64>> = vec![Vec::new(); selected.len()];
     for d in &resamples {
         if let Some((b, _, _)) = d.fit(&selected) {
@@ -312,7 +311,9 @@ pub(super) fn estimate(
         noise,
         bootstrap: settings.bootstrap,
         seed: settings.seed,
-        median_model: median_model(&included, draws_made).is_some(),
+        selection,
+        goodness: Goodness::new(j_selected, 2 * used - selected.len().min(2 * used)),
+        verdict: None,
         dt: first.dt,
         time_unit: first.fit.units.time.clone(),
         model_argument: None,

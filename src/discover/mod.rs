@@ -42,6 +42,7 @@ mod onward;
 mod regress;
 mod replay;
 mod report;
+mod verdict;
 mod weak;
 
 use std::io::BufRead;
@@ -49,7 +50,8 @@ use std::path::PathBuf;
 
 pub use onward::{Onward, MAX_PHASE_STEP};
 pub use replay::{Replay, STEPS_PER_FRAME};
-pub use report::{Comparison, DiscoverReport, DiscoveredTerm, Method};
+pub use report::{Comparison, DiscoverReport, DiscoveredTerm, Method, Selection};
+pub use verdict::{Conclusion, Finding, Goodness, Verdict};
 
 use crate::dynamics::nonlinear::NonlinearError;
 use crate::dynamics::{library, Candidate};
@@ -468,6 +470,15 @@ fn finish(
     leading.set_beyond_leading(0);
     let fit = settings.fit();
     report.not_estimated = not_estimated;
+    report.verdict = Some(verdict::Verdict::of(
+        &report,
+        model,
+        settings.recording.order,
+    ));
+    if let Selection::NoModel { .. } = report.selection {
+        report.onward_refused = Some("no model was selected".into());
+        return Ok(report);
+    }
     // What simulate refuses is never printed: the body the line makes, then its replay.
     let onward = replay::discovered_body(model, settings.recording.order, &report.library)
         .map_err(|e| {

@@ -94,9 +94,14 @@ pub struct DiscoverReport {
     pub bootstrap: usize,
     /// Their seed.
     pub seed: u64,
-    /// The reported selection is the draws' median-probability model (≥ [`MEDIAN_DRAWS`] draws
-    /// and some term in more than half), not the whole recording's backward elimination.
-    pub median_model: bool,
+    /// Which rule chose the reported terms.
+    pub selection: Selection,
+    /// The selected theory's misfit to the modes (exact estimator).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub goodness: Option<super::verdict::Goodness>,
+    /// Whether the theory holds here (set by `discover` once the report is whole).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub verdict: Option<super::verdict::Verdict>,
     /// The sampling interval.
     pub dt: f64,
     /// The data's time unit when it was given (`--time-unit`, or a WCON file's own).
@@ -138,19 +143,48 @@ const ESTIMATOR: &str = "weak form in time on the grid's modes, bumps (1 − τ�
 /// The fewest bootstrap draws whose inclusion frequencies choose the model.
 pub const MEDIAN_DRAWS: usize = 20;
 
-/// The median-probability model (Barbieri & Berger 2004): the terms kept in more than half of
-/// the draws' selections. A term the whole recording's selection keeps by a small margin of
-/// its criterion, which most resamples drop, is noise the criterion's scale did not expect
-/// (on nearly noise-free recordings a tracking-noise bias is "significant"). `None` with fewer
-/// than [`MEDIAN_DRAWS`] draws, or when no term reaches half.
-pub(super) fn median_model(included: &[usize], draws: usize) -> Option<Vec<usize>> {
+/// Which rule chose the reported terms.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "rule", rename_all = "snake_case")]
+pub enum Selection {
+    /// The median-probability model (Barbieri & Berger 2004): the terms kept in more than half
+    /// of the draws' selections.
+    MedianProbability,
+    /// Fewer than [`MEDIAN_DRAWS`] draws: the whole recording's backward elimination.
+    Elimination,
+    /// Enough draws, and no term kept in more than half of them: no model.
+    NoModel {
+        /// The most often kept term and its share of the draws.
+        best: Option<(String, f64)>,
+    },
+}
+
+/// The reported terms and the rule that chose them, from each term's inclusion count over
+/// `draws` and the whole recording's `elimination`. A term the whole recording's selection
+/// keeps by a small margin of its criterion, which most resamples drop, is noise the
+/// criterion's scale did not expect (on nearly noise-free recordings a tracking-noise bias is
+/// "significant"): with enough draws they decide, and when none keeps any term in more than
+/// half, no model is reported (never the elimination's pick in its place).
+pub(super) fn choose(
+    included: &[usize],
+    draws: usize,
+    elimination: &[usize],
+    names: &[String],
+) -> (Vec<usize>, Selection) {
     if draws < MEDIAN_DRAWS {
-        return None;
+        return (elimination.to_vec(), Selection::Elimination);
     }
     let set: Vec<usize> = (0..included.len())
         .filter(|&i| 2 * included[i] > draws)
         .collect();
-    (!set.is_empty()).then_some(set)
+    if !set.is_empty() {
+        return (set, Selection::MedianProbability);
+    }
+    let best = (0..included.len())
+        .max_by_key(|&i| included[i])
+        .filter(|&i| included[i] > 0)
+        .map(|i| (names[i].clone(), included[i] as f64 / draws as f64));
+    (Vec::new(), Selection::NoModel { best })
 }
 
 /// Fit, select, score and bootstrap the theories (the last is the whole library).
@@ -210,9 +244,8 @@ pub(super) fn assemble(
         }
         fits(g, &elimination, &mut draws);
     });
-    let median = median_model(&included, settings.bootstrap);
-    let median_model = median.is_some();
-    let selected = median.unwrap_or_else(|| elimination.clone());
+    let names: Vec<String> = full.candidates.iter().map(|c| c.name.clone()).collect();
+    let (selected, selection) = choose(&included, settings.bootstrap, &elimination, &names);
     if selected != elimination {
         draws = vec![Vec::new(); selected.len()];
         resample(&mut |g| fits(g, &selected, &mut draws));
@@ -307,7 +340,9 @@ pub(super) fn assemble(
         noise,
         bootstrap: settings.bootstrap,
         seed: settings.seed,
-        median_model,
+        selection,
+        goodness: None,
+        verdict: None,
         dt: first.dt,
         time_unit: first.fit.units.time.clone(),
         model_argument: None,
@@ -447,18 +482,20 @@ impl Report for DiscoverReport {
             "(coefficients in body lengths and {}; intervals from ",
             self.time_words()
         );
-        out += &if self.median_model {
-            format!(
-                "{} moving-block draws, seed {}; the selection is the terms kept in more than half of them)\n",
-                self.bootstrap, self.seed
-            )
-        } else if self.bootstrap > 0 {
-            format!(
-                "{} moving-block draws, seed {})\n",
-                self.bootstrap, self.seed
-            )
-        } else {
-            "no draws: --bootstrap B)\n".to_string()
+        out += &match (&self.selection, self.bootstrap) {
+            (Selection::Elimination, 0) => "no draws: --bootstrap B; the selection is the whole recording's backward elimination)\n".to_string(),
+            (Selection::Elimination, b) => format!(
+                "{b} moving-block draws, seed {}; fewer than {MEDIAN_DRAWS}, so the selection is the whole recording's backward elimination)\n",
+                self.seed
+            ),
+            (Selection::MedianProbability, b) => format!(
+                "{b} moving-block draws, seed {}; the selection is the terms kept in more than half of them)\n",
+                self.seed
+            ),
+            (Selection::NoModel { .. }, b) => format!(
+                "{b} moving-block draws, seed {}; no term was kept in more than half of them, so no model is selected)\n",
+                self.seed
+            ),
         };
         out += match self.method {
             Method::Exact => "\nTheories compared (the criterion J + k ln n, J the modes' information-weighted distance, χ² with 2M − k degrees of freedom where the theory holds; lower is better):\n",
@@ -481,6 +518,9 @@ impl Report for DiscoverReport {
                 .as_ref()
                 .map_or("time".to_string(), |u| u.clone())
         );
+        if let Some(v) = &self.verdict {
+            out += &v.text();
+        }
         out += &match &self.onward_refused {
             None => format!(
                 "Onward: {}\n{}",
