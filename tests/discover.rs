@@ -8,7 +8,7 @@ mod common;
 mod recording;
 
 use recording::{lengths, midlines, Spec};
-use theory_search::discover::{discover, DiscoverReport, DiscoverSettings, Source};
+use theory_search::discover::{discover, Conclusion, DiscoverReport, DiscoverSettings, Source};
 use theory_search::fit::FitSettings;
 use theory_search::model::Model;
 use theory_search::recording::InputKind;
@@ -99,8 +99,11 @@ fn crawler(a: f64, damping: f64, noise: f64, seed: u64, frames: usize) -> String
     })
 }
 
-/// Every term in `truth` must be selected, within `tolerance` of it, its interval covering it.
+/// Every term in `truth` must be selected, within `tolerance` of it, its interval covering it,
+/// and the theory judged to hold.
 fn check(report: &DiscoverReport, truth: &[(&str, f64)], tolerance: f64) {
+    let verdict = report.verdict.as_ref().expect("a verdict");
+    assert_eq!(verdict.conclusion, Conclusion::Holds, "{}", text(report));
     let names: Vec<&str> = report.selected.iter().map(|t| t.name.as_str()).collect();
     assert!(
         truth.iter().all(|(n, _)| names.contains(n)),
@@ -362,10 +365,22 @@ fn a_selection_without_a_restoring_force_gets_no_onward_line() {
         "{text}"
     );
     assert!(!text.contains("Onward: theory-search"), "{text}");
+    // The engine's own law says why: nothing holds the postures in place.
+    assert!(
+        text.contains(
+            "Verdict: the theory does not hold here: no selected force holds the postures in place"
+        ),
+        "{text}"
+    );
     let json = common::cli(&[&args[..], &["--format", "json"]].concat()).unwrap();
     let doc: serde_json::Value = serde_json::from_str(&json).unwrap();
     assert!(
         doc["simulate"].is_null() && doc["onward_refused"].is_string(),
+        "{doc}"
+    );
+    assert_eq!(doc["verdict"]["conclusion"], "does_not_hold", "{doc}");
+    assert_eq!(
+        doc["verdict"]["findings"][0]["finding"], "no_restoring_force",
         "{doc}"
     );
 }

@@ -10,7 +10,9 @@ mod common;
 
 use common::beam::on_two_cores;
 use common::continuum::{record, Beam};
-use theory_search::discover::{discover, DiscoverReport, DiscoverSettings, Method, Source};
+use theory_search::discover::{
+    discover, Conclusion, DiscoverReport, DiscoverSettings, Method, Source,
+};
 use theory_search::model::Model;
 use theory_search::recording::{InputKind, Setting};
 
@@ -54,6 +56,10 @@ struct Outcome {
     exact_set: bool,
     covered: [bool; 2],
     relative: [f64; 2],
+    /// The verdict: the theory holds (it is the generator's).
+    holds: bool,
+    /// The misfit's p-value.
+    p: f64,
 }
 
 fn outcome(beam: &Beam, r: &DiscoverReport) -> Outcome {
@@ -72,13 +78,26 @@ fn outcome(beam: &Beam, r: &DiscoverReport) -> Outcome {
         exact_set: names == ["c_y", "c'_y"],
         covered,
         relative,
+        holds: r
+            .verdict
+            .as_ref()
+            .is_some_and(|v| v.conclusion == Conclusion::Holds),
+        p: r.goodness.map_or(f64::NAN, |g| g.p),
     }
 }
 
 /// The setting's outcomes over `seeds` seeds, printed.
 fn study(label: &str, beam: &Beam, points: usize, seeds: u64) -> Vec<Outcome> {
-    let out = on_two_cores(seeds, |s| {
-        outcome(beam, &discovered(beam, 100 + s, points, 200))
+    // A refusal is an outcome with no coefficient (NaN).
+    let out = on_two_cores(seeds, |s| match attempt(beam, 100 + s, points, 200) {
+        Ok(r) => outcome(beam, &r),
+        Err(_) => Outcome {
+            exact_set: false,
+            covered: [false; 2],
+            relative: [f64::NAN; 2],
+            holds: false,
+            p: f64::NAN,
+        },
     });
     let count = |f: &dyn Fn(&Outcome) -> bool| out.iter().filter(|o| f(o)).count();
     let median = |i: usize| {
@@ -88,8 +107,10 @@ fn study(label: &str, beam: &Beam, points: usize, seeds: u64) -> Vec<Outcome> {
         v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
     };
     eprintln!(
-        "{label}: refused {}/{seeds}, exact set {}/{seeds}, c_y covered {}/{seeds} (median {:+.2} %), c'_y covered {}/{seeds} (median {:+.2} %)",
+        "{label}: refused {}/{seeds}, holds {}/{seeds} (misfit p < 0.05 in {}), exact set {}/{seeds}, c_y covered {}/{seeds} (median {:+.2} %), c'_y covered {}/{seeds} (median {:+.2} %)",
         count(&|o| o.relative[0].is_nan()),
+        count(&|o| o.holds),
+        count(&|o| o.p < 0.05),
         count(&|o| o.exact_set),
         count(&|o| o.covered[0]),
         100.0 * median(0),
@@ -154,6 +175,8 @@ fn a_free_beam_at_trackers_rates_gets_its_terms_and_covering_intervals() {
             .filter(|o| o.exact_set && o.covered.iter().all(|&c| c))
             .count();
         assert!(good >= 3, "{fpp} frames per period: {good} of 4");
+        let holds = out.iter().filter(|o| o.holds).count();
+        assert!(holds >= 3, "{fpp} frames per period: holds in {holds} of 4");
     }
 }
 

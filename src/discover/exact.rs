@@ -200,6 +200,34 @@ impl Distance {
             .sum()
     }
 
+    /// Each mode's misfit y − Xβ of `beta` on `set`.
+    pub fn residuals(&self, set: &[usize], beta: &[f64]) -> Vec<[f64; 2]> {
+        (self.y.iter().enumerate())
+            .map(|(j, y)| {
+                let mut e = *y;
+                for (&m, b) in set.iter().zip(beta) {
+                    e[0] -= self.columns[m][j][0] * b;
+                    e[1] -= self.columns[m][j][1] * b;
+                }
+                e
+            })
+            .collect()
+    }
+
+    /// J on `set` of this draw with each mode's `misfit` taken off: a draw about a recording
+    /// the theory fits exactly (Hall & Horowitz 1996), so its J strays as J would if the
+    /// theory held, at the modes' actual errors whatever their information says.
+    pub fn recentred(&self, set: &[usize], misfit: &[[f64; 2]]) -> Option<f64> {
+        let shifted = Distance {
+            y: (self.y.iter().zip(misfit))
+                .map(|(y, e)| [y[0] - e[0], y[1] - e[1]])
+                .collect(),
+            weight: self.weight.clone(),
+            columns: self.columns.clone(),
+        };
+        shifted.fit(set).map(|f| f.2)
+    }
+
     /// Backward elimination from `all` by J(S) + |S| ln n.
     pub fn select(&self, all: &[usize], n: f64) -> Vec<usize> {
         let score = |s: &[usize]| self.fit(s).map(|f| f.2 + s.len() as f64 * n.ln());

@@ -190,6 +190,10 @@ pub(super) fn estimate(
             terms: selected.len(),
         });
     };
+    let misfit = distance.residuals(&selected, &beta);
+    let strays: Vec<f64> = (resamples.iter())
+        .filter_map(|d| d.recentred(&selected, &misfit))
+        .collect();
     let unit = first.dt;
     let notation = Notation::new(model, settings.recording.order, field)?;
     let terms: Vec<DiscoveredTerm> = library
@@ -312,7 +316,7 @@ pub(super) fn estimate(
         bootstrap: settings.bootstrap,
         seed: settings.seed,
         selection,
-        goodness: Goodness::new(j_selected, 2 * used - selected.len().min(2 * used)),
+        goodness: Goodness::new(j_selected, 2 * used - selected.len().min(2 * used), &strays),
         verdict: None,
         dt: first.dt,
         time_unit: first.fit.units.time.clone(),
