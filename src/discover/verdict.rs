@@ -333,7 +333,7 @@ mod tests {
         // J = 20 on 4 degrees of freedom: p = 5e-4 as χ², 0.08 when the draws stray 2.5× as far.
         let plain = Goodness::new(20.0, 4, &[]).unwrap();
         assert!(plain.p < ALPHA && plain.scale == 1.0);
-        let strays = vec![10.0; MEDIAN_DRAWS];
+        let strays = [10.0; MEDIAN_DRAWS];
         let scaled = Goodness::new(20.0, 4, &strays).unwrap();
         assert!(
             (scaled.scale - 2.5).abs() < 1e-12 && scaled.p > 0.05,
@@ -341,7 +341,7 @@ mod tests {
         );
         // Draws straying less than χ² never narrow it.
         assert_eq!(
-            Goodness::new(20.0, 4, &vec![1.0; MEDIAN_DRAWS])
+            Goodness::new(20.0, 4, &[1.0; MEDIAN_DRAWS])
                 .unwrap()
                 .scale,
             1.0
