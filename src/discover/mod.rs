@@ -200,7 +200,7 @@ pub enum DiscoverError {
         max: usize,
     },
     /// No mode has a resolved spectral peak.
-    #[error("no mode of {recording} has a resolved spectral peak: the weak form needs each mode's time scale (fit says why for each mode)")]
+    #[error("no mode of {recording} has a resolved spectral peak: both estimators start from each mode's time scale as fit resolves it (fit says why for each mode)")]
     NoResolvedMode {
         /// The recording.
         recording: String,
