@@ -173,6 +173,9 @@ def test_discover_is_the_binarys_document_from_a_path_or_an_array():
     got = ts.discover(str(WORMPOSE), bootstrap=20)
     want = cli_json("discover", str(WORMPOSE), "--bootstrap", "20")
     assert got.to_dict() == want
+    # The worm's modes do not follow the passive beam: the verdict says so, with the misfit.
+    assert got["verdict"]["conclusion"] == "does_not_hold"
+    assert got["verdict"]["findings"][0]["finding"] == "misfit"
     assert ts.discover in (getattr(ts, n) for n in ts.__all__)
     import pandas as pd
 

@@ -712,7 +712,11 @@ def discover(
         ``equation``, ``selected`` and ``library`` (each term's ``term``, ``name``, ``kind``,
         ``coefficient`` in body lengths, ``on_points``, ``interval``, ``inclusion``,
         ``selected``), ``comparison`` (each theory's ``model``, ``terms``, ``cv_residual``,
-        ``criterion``), ``r2``, ``noise``, ``simulate`` (the onward command line),
+        ``criterion``), ``r2``, ``noise``, ``selection`` (the rule that chose the terms:
+        ``median_probability``, ``elimination`` or ``no_model``), ``goodness`` (exact estimator:
+        the modes' misfit ``j``, ``dof``, ``scale``, ``p``), ``verdict`` (``conclusion``:
+        ``holds``, ``does_not_hold`` or ``undecided``, and its ``findings``), ``simulate`` (the
+        onward command line, or ``None`` with ``onward_refused``),
         ``not_estimated`` (kinetic coefficients named but not regressed); with ``figures`` (a
         folder) also ``figures`` (the paths written) and ``replay`` (observed and simulated
         spectra and variances).

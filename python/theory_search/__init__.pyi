@@ -260,7 +260,8 @@ def discover(
     **options: Any,
 ) -> Result:
     """Which terms of the engine's library the recordings' field needs: the discovered
-    equation, every candidate with its interval and inclusion, the nested theories scored."""
+    equation, every candidate with its interval and inclusion, the nested theories scored, and
+    whether the theory holds (``verdict``)."""
 
 def run(
     command: Sequence[str], model: ModelLike = None, params: Optional[Mapping[str, float]] = None, **options: Any
