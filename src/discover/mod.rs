@@ -476,6 +476,7 @@ fn finish(
         settings.recording.order,
     ));
     if let Selection::NoModel { .. } = report.selection {
+        report.equation = "none: no term was kept in more than half of the draws".into();
         report.onward_refused = Some("no model was selected".into());
         return Ok(report);
     }

@@ -424,6 +424,10 @@ impl Report for DiscoverReport {
                 .map_or(String::new(), |u| format!(" {u}")),
             self.equation
         );
+        // What the answer is worth comes before how it was found.
+        if let Some(v) = &self.verdict {
+            out += &v.text();
+        }
         out += &format!(
             "Library: order {}, {} order(s) beyond leading, active forces {}: {} candidates.\n",
             self.order,
@@ -518,9 +522,6 @@ impl Report for DiscoverReport {
                 .as_ref()
                 .map_or("time".to_string(), |u| u.clone())
         );
-        if let Some(v) = &self.verdict {
-            out += &v.text();
-        }
         out += &match &self.onward_refused {
             None => format!(
                 "Onward: {}\n{}",

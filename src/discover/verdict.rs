@@ -341,9 +341,7 @@ mod tests {
         );
         // Draws straying less than χ² never narrow it.
         assert_eq!(
-            Goodness::new(20.0, 4, &[1.0; MEDIAN_DRAWS])
-                .unwrap()
-                .scale,
+            Goodness::new(20.0, 4, &[1.0; MEDIAN_DRAWS]).unwrap().scale,
             1.0
         );
         assert_eq!(Goodness::new(1.0, 0, &[]), None);
