@@ -19,6 +19,7 @@ pub mod boundary;
 pub mod catalogue;
 pub mod cli;
 pub mod codegen;
+pub mod compare;
 pub mod discover;
 pub mod discretise;
 pub mod dynamics;

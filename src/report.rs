@@ -206,6 +206,11 @@ pub fn number(v: f64) -> String {
     }
 }
 
+/// `v` to five significant digits, as [`number`] prints it (`0.025165`, `1.2346e-7`).
+pub fn short(v: f64) -> String {
+    number(format!("{v:.4e}").parse().unwrap_or(v))
+}
+
 /// Serialize `value` to a JSON value (every result type is plain data).
 pub fn to_json(value: &impl serde::Serialize) -> serde_json::Value {
     serde_json::to_value(value).unwrap_or_default()

@@ -18,6 +18,7 @@ use crate::report::{EmitError, Output, Report};
 mod active;
 mod asymmetry;
 mod behave;
+mod compare;
 mod count;
 mod discover;
 mod emit;
@@ -92,10 +93,15 @@ enum Command {
     /// Fit the theory to tracked midlines or segment lengths: modal projection, PCA, spectra,
     /// ω and β (paper §2.4, Fig. 2).
     Fit(fit::Args),
-    /// Discover which terms of the engine's library a recording's field needs: weak-form
-    /// regression with instruments, selection by BIC, the nested theories scored, bootstrap
-    /// intervals, and the onward simulate line.
+    /// Discover which terms of the engine's library a recording's field needs: each mode's
+    /// exact likelihood (or the weak form where forces couple modes), selection by an
+    /// information criterion and the bootstrap's draws, the nested theories scored, whether the
+    /// theory holds, and the onward simulate line.
     Discover(discover::Args),
+    /// Compare two groups of animals (a mutant against the wild type): each animal fitted
+    /// alone, the difference of the groups' κ, Ω and ζ with Welch's 95 % interval over animals
+    /// and a permutation p-value, and the laws' verdicts counted per group.
+    Compare(compare::Args),
     /// Count the candidate terms of each density at every order up to a maximum.
     Count(count::Args),
     /// Active forces: the force terms a model's [active] section allows that no Lagrangian or
@@ -141,6 +147,9 @@ pub enum CliError {
     /// Discovery (exit by the kind of failure).
     #[error("{}", bounded_text(.0))]
     Discover(#[source] Box<crate::discover::DiscoverError>),
+    /// A comparison of groups (exit by the kind of failure).
+    #[error("{}", bounded_text(.0))]
+    Compare(#[source] Box<crate::compare::CompareError>),
 }
 
 /// A library error's message as one bounded line ([`crate::markup::bound_line`]): a typed
@@ -163,6 +172,7 @@ impl CliError {
             CliError::Recording(e) => e.failure(),
             CliError::Fit(e) => e.failure(),
             CliError::Discover(e) => e.failure(),
+            CliError::Compare(e) => e.failure(),
         }
     }
 
@@ -400,6 +410,7 @@ where
         Some(Command::Figures(a)) => figures::run(a, out),
         Some(Command::Fit(a)) => fit::run(a, out),
         Some(Command::Discover(a)) => discover::run(a, out),
+        Some(Command::Compare(a)) => compare::run(a, out),
         Some(Command::Count(a)) => count::run(a, out),
         Some(Command::Active(a)) => active::run(a, out),
         Some(Command::Rules(a)) => rules::run(a, out),

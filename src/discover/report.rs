@@ -392,9 +392,7 @@ fn interval_text(i: Option<[f64; 2]>) -> String {
     })
 }
 
-pub(super) fn short(v: f64) -> String {
-    number(format!("{v:.4e}").parse().unwrap_or(v))
-}
+pub(super) use crate::report::short;
 
 impl DiscoverReport {
     /// The data's time unit in words: `s`, or "the data's time unit" when none was given.
