@@ -799,6 +799,48 @@ fn discover_json<'py>(
     Ok((report.json().to_string(), written))
 }
 
+/// `compare` on two groups of recordings given as paths (files, directories, patterns; each
+/// file one animal), through the library: the report's JSON (the command's `--format json`).
+#[pyfunction]
+#[pyo3(signature = (first, second, names, model, options))]
+fn compare_json<'py>(
+    py: Python<'py>,
+    first: Vec<String>,
+    second: Vec<String>,
+    names: (String, String),
+    model: Option<&str>,
+    options: Option<&Bound<'py, PyDict>>,
+) -> PyResult<String> {
+    use theory_search::compare::{compare, CompareSettings, Group};
+    use theory_search::report::Report;
+    let model = model_of(model)?;
+    let pairs = pairs_of(options)?;
+    let compare_error =
+        |e: theory_search::compare::CompareError| raised(e.failure(), one_line(&e.to_string()));
+    let settings = CompareSettings::from_pairs(pairs.iter().map(|(k, v)| (k.as_str(), v.clone())))
+        .map_err(compare_error)?;
+    let mut groups = Vec::new();
+    for (name, paths) in [(names.0, first), (names.1, second)] {
+        let paths: Vec<std::path::PathBuf> = paths.into_iter().map(Into::into).collect();
+        let found =
+            theory_search::recording::recordings(&paths).map_err(|e| fit_error(e.into()))?;
+        groups.push(Group {
+            name,
+            inputs: found
+                .into_iter()
+                .map(theory_search::fit::Input::File)
+                .collect(),
+        });
+    }
+    let report = py
+        .detach(|| compare(groups, &model, &Params::default(), &settings))
+        .map_err(compare_error)?;
+    report
+        .check()
+        .map_err(|e| raised(Failure::Numerical, one_line(&e.to_string())))?;
+    Ok(report.json().to_string())
+}
+
 /// Run a command line of the `theory-search` CLI in this process (GIL released); its standard
 /// output as bytes. Every command is reachable this way with the CLI's own parsing, messages and
 /// numbers; the error is typed by the CLI's error variant, never read from its text.
@@ -847,5 +889,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fit_arrays, m)?)?;
     m.add_function(wrap_pyfunction!(fit_paths, m)?)?;
     m.add_function(wrap_pyfunction!(discover_json, m)?)?;
+    m.add_function(wrap_pyfunction!(compare_json, m)?)?;
     Ok(())
 }

@@ -94,6 +94,7 @@ __all__ = [
     "figures",
     "fit",
     "discover",
+    "compare",
     "run",
 ]
 
@@ -114,6 +115,7 @@ _native_call = {
         "fit_arrays",
         "fit_paths",
         "discover_json",
+        "compare_json",
     )
 }
 
@@ -749,6 +751,47 @@ def discover(
     if options.get("figures") is not None:
         doc["figures"] = written
     return Result(doc)
+
+
+def compare(
+    first: Any,
+    second: Any,
+    model: Optional[Union[Model, str]] = None,
+    **options: Any,
+) -> Result:
+    """Two groups of animals compared (``compare``): each animal fitted alone.
+
+    Parameters
+    ----------
+    first, second : path or list of paths
+        Each group's recordings: files, directories or patterns, each file one animal.
+        Differences are the second group's mean less the first's.
+    @model
+    options
+        ``fit``'s recording options (``points``, ``kind``, ``field``, ``fill_gaps``, ``head``,
+        ``fps``, ``time_unit``, ``length_unit``, ``order``, …), ``permutations`` (default 9999)
+        and ``seed``.
+
+    Returns
+    -------
+    Result
+        ``groups`` (each group's ``name``, ``animals`` and per law the animals ``consistent``,
+        ``rejected``, ``undetermined``), ``differences`` (per quantity: ``kappa`` and each
+        compared mode's ``Omega_<mode>`` and ``zeta_<mode>``, the groups' ``means``, the
+        ``estimate``, Welch's 95 % ``interval``, the ``ratio`` and the permutation ``p``),
+        ``animals`` (one row per animal and quantity), ``excluded`` (animals whose fit failed,
+        with ``why``), ``modes``.
+    """
+    toml = _toml(model)
+    groups = []
+    for group in (first, second):
+        if not _is_paths(group):
+            raise UsageError("compare takes each group as a path or a list of paths")
+        items = [group] if isinstance(group, (str, os.PathLike)) else group
+        groups.append([os.fspath(p) for p in items])
+    names = tuple(", ".join(g) for g in groups)
+    report = _native_call["compare_json"](groups[0], groups[1], names, toml, options)
+    return Result(json.loads(report))
 
 
 # Every public function's errors are TheorySearchError (docs/python.md): an argument that a

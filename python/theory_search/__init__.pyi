@@ -38,6 +38,7 @@ __all__ = [
     "figures",
     "fit",
     "discover",
+    "compare",
     "run",
 ]
 
@@ -262,6 +263,15 @@ def discover(
     """Which terms of the engine's library the recordings' field needs: the discovered
     equation, every candidate with its interval and inclusion, the nested theories scored, and
     whether the theory holds (``verdict``)."""
+
+def compare(
+    first: Union[str, os.PathLike[str], Sequence[Union[str, os.PathLike[str]]]],
+    second: Union[str, os.PathLike[str], Sequence[Union[str, os.PathLike[str]]]],
+    model: ModelLike = None,
+    **options: Any,
+) -> Result:
+    """Two groups of animals compared, each animal fitted alone: the difference of the groups'
+    κ, Ω and ζ with Welch's 95 % interval and a permutation p-value, the laws per group."""
 
 def run(
     command: Sequence[str], model: ModelLike = None, params: Optional[Mapping[str, float]] = None, **options: Any

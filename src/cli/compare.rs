@@ -5,8 +5,9 @@ use std::path::PathBuf;
 
 use super::{emit, CliError, ModelArgs};
 use crate::compare::{compare, CompareError, CompareSettings, Group};
-use crate::fit::{FitSettings, Input};
+use crate::fit::Input;
 use crate::modal::Params;
+use crate::recording::Setting;
 use crate::report::Output;
 
 /// Arguments of `compare`.
@@ -37,12 +38,12 @@ pub struct Args {
 /// Compare and print.
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     let model = args.model.load()?;
-    let fit = FitSettings::from_pairs(args.recording.pairs(args.model.order))?;
-    let settings = CompareSettings {
-        fit,
-        permutations: args.permutations,
-        seed: args.seed,
-    };
+    let mut pairs = args.recording.pairs(args.model.order);
+    pairs.extend([
+        ("permutations", super::recording::count(args.permutations)),
+        ("seed", Setting::Int(args.seed.into())),
+    ]);
+    let settings = CompareSettings::from_pairs(pairs)?;
     let mut groups = Vec::new();
     for path in [&args.first, &args.second] {
         let inputs = crate::recording::recordings(std::slice::from_ref(path))?

@@ -27,6 +27,7 @@ use crate::failure::Failure;
 use crate::fit::{fit_inputs, FitError, FitReport, FitSettings, Input};
 use crate::modal::Params;
 use crate::model::Model;
+use crate::recording::Setting;
 
 pub use report::{AnimalRow, CompareReport, Difference, Excluded, GroupSummary};
 
@@ -53,6 +54,48 @@ pub struct CompareSettings {
     pub permutations: usize,
     /// Seed of both.
     pub seed: u64,
+}
+
+impl CompareSettings {
+    /// Each animal's fit at its defaults, 9 999 permutations, seed 1.
+    pub fn new(kind: crate::recording::InputKind) -> Self {
+        CompareSettings {
+            fit: FitSettings::new(kind),
+            permutations: 9999,
+            seed: 1,
+        }
+    }
+
+    /// One named setting: the comparison's own, or the recording's (`fit`'s recording
+    /// options). `false` for a name that is neither.
+    pub fn set(&mut self, name: &str, value: &Setting) -> Result<bool, CompareError> {
+        let fit = |e: crate::recording::RecordingError| CompareError::Fit(e.into());
+        match name {
+            "permutations" => {
+                self.permutations = value.count(name, MAX_PERMUTATIONS).map_err(fit)?
+            }
+            "seed" => self.seed = value.count(name, usize::MAX).map_err(fit)? as u64,
+            _ => return self.fit.recording.set(name, value).map_err(fit),
+        }
+        Ok(true)
+    }
+
+    /// The settings from (name, value) pairs, each checked, then the whole: the one
+    /// constructor both faces call. A name that is no option is refused.
+    pub fn from_pairs<'a>(
+        pairs: impl IntoIterator<Item = (&'a str, Setting)>,
+    ) -> Result<CompareSettings, CompareError> {
+        let mut settings = CompareSettings::new(crate::recording::InputKind::Midline);
+        let unknown = |name| CompareError::Invalid(format!("compare has no option {name:?}"));
+        crate::recording::apply_pairs(pairs, |n, v| settings.set(n, v), unknown)?;
+        crate::fit::check_settings(&settings.fit)?;
+        if settings.permutations == 0 {
+            return Err(CompareError::Invalid(format!(
+                "permutations 0: from 1 to {MAX_PERMUTATIONS}"
+            )));
+        }
+        Ok(settings)
+    }
 }
 
 /// Why the groups cannot be compared.
@@ -122,7 +165,7 @@ pub fn compare(
     let n = settings.permutations;
     if !(1..=MAX_PERMUTATIONS).contains(&n) {
         return Err(CompareError::Invalid(format!(
-            "--permutations {n}: from 1 to {MAX_PERMUTATIONS}"
+            "permutations {n}: from 1 to {MAX_PERMUTATIONS}"
         )));
     }
     for group in &groups {

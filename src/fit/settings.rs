@@ -87,7 +87,7 @@ impl FitSettings {
 }
 
 /// The settings' limits, checked before any data are read.
-pub(super) fn check_settings(settings: &FitSettings) -> Result<(), FitError> {
+pub(crate) fn check_settings(settings: &FitSettings) -> Result<(), FitError> {
     settings.recording.check()?;
     let invalid = |s: String| FitError::Invalid(s);
     match settings.window {
