@@ -182,7 +182,7 @@ pub enum TestNote {
 }
 
 /// A p-value as a reader wants it: three decimals, or two significant digits when small.
-fn p_value(p: f64) -> String {
+pub(super) fn p_value(p: f64) -> String {
     if p >= 0.001 {
         fixed(p, 3)
     } else {

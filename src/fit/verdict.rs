@@ -145,6 +145,9 @@ pub struct TheoryTest {
     /// Why undetermined or rejected by the scatter, or how the scatter was.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub note: Option<TestNote>,
+    /// The slope's standard error, χ² and degrees of freedom (`spread` combines animals').
+    #[serde(skip)]
+    pub scatter: Option<(f64, f64, usize)>,
 }
 
 /// The three predictions.
@@ -415,6 +418,7 @@ fn exponent(points: &[(usize, f64, f64, f64)], expected: f64) -> TheoryTest {
         verdict: Verdict::Undetermined,
         modes: modes.clone(),
         note: Some(note),
+        scatter: None,
     };
     if n < 2 {
         return undetermined(TestNote::TooFew { n });
@@ -440,13 +444,12 @@ fn exponent(points: &[(usize, f64, f64, f64)], expected: f64) -> TheoryTest {
     let se = (1.0 / sxx).sqrt();
     let quantile = NORMAL_975;
     let mut note = None;
+    let chi2: f64 = (points.iter().zip(&w))
+        .map(|(p, w)| w * (p.2 - ym - slope * (p.1 - xm)).powi(2))
+        .sum();
+    let scatter = Some((se, chi2, n - 2));
     if n > 2 {
         use statrs::distribution::{ChiSquared, ContinuousCDF};
-        let chi2: f64 = points
-            .iter()
-            .zip(&w)
-            .map(|(p, w)| w * (p.2 - ym - slope * (p.1 - xm)).powi(2))
-            .sum();
         let dof = (n - 2) as f64;
         let p = ChiSquared::new(dof).map_or(f64::NAN, |d| d.sf(chi2));
         // Scatter beyond chance is evidence against the power law itself, not a reason to
@@ -463,6 +466,7 @@ fn exponent(points: &[(usize, f64, f64, f64)], expected: f64) -> TheoryTest {
                     dof: n - 2,
                     p,
                 }),
+                scatter,
             };
         }
         // Scatter within chance: the modes' own errors stand (widening them by the scatter
@@ -493,6 +497,7 @@ fn exponent(points: &[(usize, f64, f64, f64)], expected: f64) -> TheoryTest {
         verdict,
         modes,
         note: why,
+        scatter,
     }
 }
 
