@@ -91,6 +91,38 @@ fn tally(name: &str, fits: &[FitReport]) -> (usize, usize, usize, usize) {
             rejected(&r.tests),
             spread.pooled_tests.as_ref().map(rejected),
         );
+        // Q, τ² and the random-effects mean again, by hand from the animals' own lines.
+        let each: Vec<(f64, f64)> = (r.animals.iter())
+            .map(|a| {
+                let [lo, hi] = a.continuum_interval.expect("its interval");
+                (
+                    a.continuum.expect("its κ"),
+                    ((hi - lo) / 3.919_927_969).powi(2),
+                )
+            })
+            .collect();
+        let sw: f64 = each.iter().map(|e| 1.0 / e.1).sum();
+        let mean = each.iter().map(|e| e.0 / e.1).sum::<f64>() / sw;
+        let q: f64 = each.iter().map(|e| (e.0 - mean).powi(2) / e.1).sum();
+        let sw2: f64 = each.iter().map(|e| e.1.powi(-2)).sum();
+        let tau2 = ((q - (ANIMALS - 1) as f64) / (sw - sw2 / sw)).max(0.0);
+        let star: f64 = each.iter().map(|e| 1.0 / (e.1 + tau2)).sum();
+        let mu = each.iter().map(|e| e.0 / (e.1 + tau2)).sum::<f64>() / star;
+        assert!(
+            (q / spread.q - 1.0).abs() < 1e-6,
+            "Q {q} against {}",
+            spread.q
+        );
+        assert!(
+            (tau2 - spread.tau2).abs() <= 1e-6 * tau2,
+            "τ² {tau2} against {}",
+            spread.tau2
+        );
+        assert!(
+            (mu / spread.mean - 1.0).abs() < 1e-9,
+            "μ {mu} against {}",
+            spread.mean
+        );
         counts.0 += usize::from(spread.differ);
         counts.1 += usize::from(lo <= KAPPA && KAPPA <= hi);
         counts.2 += rejected(&r.tests).len();
@@ -118,6 +150,12 @@ fn animals_of_different_stiffness_are_pooled_with_their_spread() {
     for r in &fits {
         let text = theory_search::report::Report::text(r);
         assert!(text.contains("between animals:"), "{text}");
+        let csv = r.animals_csv();
+        let header = csv.lines().next().expect("a header");
+        assert!(
+            header.ends_with("continuum,continuum_low,continuum_high"),
+            "{header}"
+        );
     }
 }
 

@@ -413,7 +413,8 @@ fn omega_from(r: &FitReport) -> String {
 
 impl FitReport {
     /// The per-animal table as CSV (the `csv` crate's writer): animal, frames, lost, ω, β, then
-    /// each component's share and overlap; empty cells for an animal not fitted alone.
+    /// each component's share and overlap, then its continuum constant and that one's interval
+    /// (`spread` compares them); empty cells for an animal not fitted alone.
     pub fn animals_csv(&self) -> String {
         let m = self.modes.len();
         let mut w = csv::Writer::from_writer(Vec::new());
@@ -423,6 +424,7 @@ impl FitReport {
             .collect();
         header.extend((1..=m).map(|k| format!("pca_share_{k}")));
         header.extend((1..=m).map(|k| format!("overlap_{k}")));
+        header.extend(["continuum", "continuum_low", "continuum_high"].map(String::from));
         let opt = |v: Option<f64>| v.map(|x| x.to_string()).unwrap_or_default();
         let mut rows = vec![header];
         for a in &self.animals {
@@ -437,6 +439,8 @@ impl FitReport {
             for list in [&a.pca_variance_share, &a.mode_overlap] {
                 row.extend((0..m).map(|k| opt(list.get(k).copied())));
             }
+            let [lo, hi] = a.continuum_interval.map_or([None; 2], |i| i.map(Some));
+            row.extend([opt(a.continuum), opt(lo), opt(hi)]);
             rows.push(row);
         }
         for r in rows {

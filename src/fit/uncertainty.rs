@@ -1,6 +1,7 @@
 //! The standard errors of a mode's spectral fit (`spectrum`): the inverse Fisher information
 //! widened by the taper's and the overlap's correlations, with the bounds and a white level
-//! the data cannot see handled as stated below.
+//! the data cannot see handled as stated below; and the 95 % interval of a scale fitted over
+//! several modes (`weighted_scale`).
 
 /// ν under this share of σ² is a white level the data cannot see.
 const UNSEEN_NOISE: f64 = 1e-6;
