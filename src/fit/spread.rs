@@ -201,15 +201,7 @@ pub(super) fn within(each: &[&TheoryTest], expected: f64) -> TheoryTest {
     let interval = [slope - half, slope + half];
     let scatter =
         (dof > 0 && chi2 > 1.21 * dof as f64).then_some(TestNote::WithinChance { chi2, dof, p });
-    let (verdict, note) = if modes.len() < 3 {
-        (Verdict::Undetermined, Some(few))
-    } else if half.is_nan() || half > expected.abs() {
-        (Verdict::Undetermined, Some(TestNote::TooWide))
-    } else if interval[0] <= expected && expected <= interval[1] {
-        (Verdict::Consistent, scatter)
-    } else {
-        (Verdict::Rejected, scatter)
-    };
+    let (verdict, note) = super::verdict::judged(modes.len(), (interval, half), expected, scatter);
     test(Some(slope), Some(interval), verdict, note)
 }
 
