@@ -77,7 +77,7 @@ fn tally(name: &str, fits: &[FitReport]) -> (usize, usize, usize, usize) {
             .map(|t| rejected(t).len())
             .sum();
         println!(
-            "{name}: Q {:.1} p {:.2e} I² {:.2} τ/κ {:.3} differ {}; κ {:.5} [{:.5}, {:.5}] ({}); laws from {}: rejected {:?} (pooled spectrum's: {:?}); by animals alone {alone}",
+            "{name}: Q {:.1} p {:.2e} I² {:.2} τ/κ {:.3} differ {}; κ {:.5} [{:.5}, {:.5}] ({}); laws from {} (modes {:?}): rejected {:?} (pooled spectrum's: {:?}, modes {:?}); by animals alone {alone}",
             spread.q,
             spread.p,
             spread.i2,
@@ -88,8 +88,10 @@ fn tally(name: &str, fits: &[FitReport]) -> (usize, usize, usize, usize) {
             hi,
             c.interval_from.unwrap_or(""),
             spread.tests_from,
+            r.tests.damping.modes,
             rejected(&r.tests),
             spread.pooled_tests.as_ref().map(rejected),
+            spread.pooled_tests.as_ref().map(|t| &t.damping.modes),
         );
         // Q, τ² and the random-effects mean again, by hand from the animals' own lines.
         let each: Vec<(f64, f64)> = (r.animals.iter())
