@@ -240,3 +240,84 @@ pub(super) fn text(r: &FitReport) -> String {
         s.animals
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{between, within, TestNote, TheoryTest, Verdict};
+    use crate::fit::AnimalFit;
+
+    /// An animal with constant `kappa` of standard error `se`.
+    fn animal(kappa: f64, se: f64) -> AnimalFit {
+        let half = super::NORMAL_975 * se;
+        AnimalFit {
+            recording: String::new(),
+            frames: 1000,
+            frames_lost: 0,
+            omega: Some(1.0),
+            beta: Some(1.0),
+            first_share: None,
+            pca_variance_share: Vec::new(),
+            mode_overlap: Vec::new(),
+            continuum: Some(kappa),
+            continuum_interval: Some([kappa - half, kappa + half]),
+            tests: None,
+            note: None,
+        }
+    }
+
+    #[test]
+    fn three_animals_by_hand() {
+        // w = 100 each, κ̄ = 2, Q = 200 on 2 dof, I² = 0.99, τ² = 198/(300 − 100) = 0.99;
+        // w* = 1, μ = 2, V = 2/(2·3) = 1/3 (= 1/Σw*), t(2 dof) = 4.302653.
+        let animals: Vec<AnimalFit> = [1.0, 2.0, 3.0].map(|k| animal(k, 0.1)).into();
+        let s = between(&animals).expect("a spread");
+        assert!(
+            (s.q - 200.0).abs() < 1e-9 && s.dof == 2 && s.differ,
+            "{s:?}"
+        );
+        assert!((s.i2 - 0.99).abs() < 1e-12 && (s.tau2 - 0.99).abs() < 1e-12);
+        let half = 4.302_652_729_696_142 * (1.0_f64 / 3.0).sqrt();
+        let [lo, hi] = s.interval.expect("an interval");
+        assert!((lo - (2.0 - half)).abs() < 1e-6 && (hi - (2.0 + half)).abs() < 1e-6);
+        // One animal, or one with a note, is no spread.
+        let mut noted = animal(5.0, 0.1);
+        noted.note = Some("not pooled".into());
+        assert!(between(&[animal(1.0, 0.1), noted]).is_none());
+    }
+
+    /// An animal's test: slope `a` ± `se`, χ² `chi2` on one dof over modes 2, 3, 4.
+    fn slope(a: f64, se: f64, chi2: f64) -> TheoryTest {
+        TheoryTest {
+            exponent: Some(a),
+            interval: Some([a - 1.96 * se, a + 1.96 * se]),
+            expected: 0.5,
+            verdict: Verdict::Consistent,
+            modes: vec![2, 3, 4],
+            note: None,
+            scatter: Some((se, chi2, 1)),
+        }
+    }
+
+    #[test]
+    fn laws_within_animals_combine_their_slopes() {
+        let judge = |tests: &[TheoryTest]| within(&tests.iter().collect::<Vec<_>>(), 0.5);
+        // Ten animals at the law: one common slope, 0.5 ± 0.1/√10.
+        let kept = judge(&vec![slope(0.5, 0.1, 1.0); 10]);
+        assert_eq!(kept.verdict, Verdict::Consistent, "{kept:?}");
+        let [lo, hi] = kept.interval.unwrap();
+        assert!(((hi - lo) / 2.0 - 1.96 * 0.1 / 10f64.sqrt()).abs() < 1e-3);
+        // Each one's interval holds 0.5, their common one does not.
+        let off = judge(&vec![slope(0.35, 0.1, 1.0); 10]);
+        assert_eq!(off.verdict, Verdict::Rejected, "{off:?}");
+        // Slopes that disagree beyond their errors: the law does not fit.
+        let apart: Vec<TheoryTest> = (0..10)
+            .map(|i| slope(if i % 2 == 0 { 0.1 } else { 0.9 }, 0.1, 1.0))
+            .collect();
+        let split = judge(&apart);
+        assert!(
+            matches!(split.note, Some(TestNote::LawDoesNotFit { .. })),
+            "{split:?}"
+        );
+        assert_eq!(split.verdict, Verdict::Rejected);
+    }
+}
