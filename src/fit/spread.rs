@@ -212,10 +212,15 @@ pub(super) fn text(r: &FitReport) -> String {
     };
     let symbol = if c.name == "kappa" { "κ" } else { "c" };
     let q = format!(
-        "Q = {} on {} dof, p = {}; I² = {} %, τ = {} % of {symbol}",
+        "Q = {} on {} dof, p {}; I² = {} %, τ = {} % of {symbol}",
         fixed(s.q, 1),
         s.dof,
-        super::note::p_value(s.p),
+        // Q's p underflows past 1e-300 for animals far apart.
+        if s.p < 1e-16 {
+            "< 1e-16".into()
+        } else {
+            format!("= {}", super::note::p_value(s.p))
+        },
         fixed(100.0 * s.i2, 0),
         fixed(100.0 * s.tau_share, 1),
     );
