@@ -65,9 +65,9 @@ fn rejected(tests: &TheoryTests) -> Vec<&'static str> {
 }
 
 /// Counts over a setting's directories: heterogeneity reported, κ covered, laws rejected by the
-/// pool, laws rejected by animals alone.
-fn tally(name: &str, fits: &[FitReport]) -> (usize, usize, usize, usize) {
-    let mut counts = (0, 0, 0, 0);
+/// pool, of those laws every animal obeys alone, laws rejected by animals alone.
+fn tally(name: &str, fits: &[FitReport]) -> (usize, usize, usize, usize, usize) {
+    let mut counts = (0, 0, 0, 0, 0);
     for r in fits {
         let spread = r.spread.as_ref().expect("a spread with ten animals");
         let c = r.continuum.as_ref().expect("κ");
@@ -128,15 +128,22 @@ fn tally(name: &str, fits: &[FitReport]) -> (usize, usize, usize, usize) {
         counts.0 += usize::from(spread.differ);
         counts.1 += usize::from(lo <= KAPPA && KAPPA <= hi);
         counts.2 += rejected(&r.tests).len();
-        counts.3 += alone;
+        let obeyed = |law: &&&str| {
+            (r.animals.iter())
+                .filter_map(|a| a.tests.as_ref())
+                .all(|t| !rejected(t).contains(*law))
+        };
+        counts.3 += rejected(&r.tests).iter().filter(obeyed).count();
+        counts.4 += alone;
     }
     println!(
-        "{name}: heterogeneity reported {} of {DIRECTORIES}, κ covered {} of {DIRECTORIES}, laws rejected by the pool {} of {}, by animals alone {} of {}",
+        "{name}: heterogeneity reported {} of {DIRECTORIES}, κ covered {} of {DIRECTORIES}, laws rejected by the pool {} of {} ({} that every animal obeys alone), by animals alone {} of {}",
         counts.0,
         counts.1,
         counts.2,
         3 * DIRECTORIES,
         counts.3,
+        counts.4,
         3 * DIRECTORIES * ANIMALS
     );
     counts
@@ -145,10 +152,11 @@ fn tally(name: &str, fits: &[FitReport]) -> (usize, usize, usize, usize) {
 #[test]
 fn animals_of_different_stiffness_are_pooled_with_their_spread() {
     let fits = on_two_cores(DIRECTORIES, |d| directory(d, 0.10));
-    let (differ, covered, rejected, _) = tally("κ spread 10 %", &fits);
+    let (differ, covered, rejected, obeyed, _) = tally("κ spread 10 %", &fits);
     assert!(differ >= 9, "heterogeneity reported in {differ} of 10");
     assert!(covered >= 9, "population κ covered in {covered} of 10");
     assert!(rejected <= 1, "{rejected} true laws rejected by the pool");
+    assert_eq!(obeyed, 0, "laws every animal obeys rejected by the pool");
     for (d, r) in fits.iter().enumerate() {
         let text = theory_search::report::Report::text(r);
         let line = text.split("  between animals:").nth(1).expect("the line");
@@ -172,8 +180,9 @@ fn animals_of_different_stiffness_are_pooled_with_their_spread() {
 #[test]
 fn animals_of_one_stiffness_are_seldom_called_different() {
     let fits = on_two_cores(DIRECTORIES, |d| directory(100 + d, 0.0));
-    let (differ, covered, rejected, _) = tally("one κ", &fits);
+    let (differ, covered, rejected, obeyed, _) = tally("one κ", &fits);
     assert!(differ <= 2, "heterogeneity reported in {differ} of 10");
     assert!(covered >= 9, "κ covered in {covered} of 10");
     assert!(rejected <= 1, "{rejected} true laws rejected by the pool");
+    assert_eq!(obeyed, 0, "laws every animal obeys rejected by the pool");
 }
