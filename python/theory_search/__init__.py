@@ -534,6 +534,8 @@ class FitResult:
         self.warnings: List[str] = []
         self.animals: List[Dict[str, Any]] = []
         self.intervals: Optional[Dict[str, Any]] = None
+        # With several animals: how much their constants differ (the JSON's ``spread``).
+        self.spread: Optional[Dict[str, Any]] = None
         for key, value in report.items():
             if isinstance(value, list) and value and all(
                 isinstance(v, (int, float)) or isinstance(v, list) for v in value
@@ -646,7 +648,8 @@ def fit(
     FitResult
         The report's numbers as attributes: ``omega``, ``beta``, ``frames``, ``modes``,
         ``modes_fit``, ``tests`` (each prediction's exponent, interval and verdict),
-        ``warnings``, ``animals``, ``intervals`` (always present), ``pca_variance_share``,
+        ``warnings``, ``animals``, ``intervals`` (always present), ``spread`` (several animals:
+        how much their constants differ, see docs/fit.md), ``pca_variance_share``,
         ``theory_variance_share``, ``mode_overlap``; the arrays ``frequencies`` (cycles per
         time unit of the recording), ``psd`` (modes × frequencies, Q² per cycle per time unit; row 0
         is the first non-zero mode, ``modes[0].index``: mode 2 of a free body), ``components``

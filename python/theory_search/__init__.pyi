@@ -230,6 +230,7 @@ class FitResult:
     units: Dict[str, Optional[str]]
     subspace: List[Dict[str, float]]
     intervals: Optional[Dict[str, Any]]
+    spread: Optional[Dict[str, Any]]
     animals: List[Dict[str, Any]]
     warnings: List[str]
     onward: List[str]

@@ -1,4 +1,5 @@
-//! One animal: its pooled moments, its blocks of frames, and the units a bootstrap resamples.
+//! One animal: its pooled moments, its blocks of frames, the units a bootstrap resamples, and
+//! its own fit as a pooled report lists it.
 
 use super::stats::Stats;
 use super::timedomain::{Series, Span};
@@ -64,5 +65,76 @@ impl<'a> UnitFrames<'a> {
     /// Each unit's span.
     pub(super) fn spans(&self) -> &[Span<'a>] {
         &self.0
+    }
+}
+
+/// One animal's own fit, in a pooled fit of several.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct AnimalFit {
+    /// The animal's name (file, and track id within it).
+    pub recording: String,
+    /// Frames used.
+    pub frames: usize,
+    /// Frames lost.
+    pub frames_lost: usize,
+    /// Its ω (`None` when it cannot be fitted alone).
+    pub omega: Option<f64>,
+    /// Its β.
+    pub beta: Option<f64>,
+    /// Its first principal component's variance share.
+    pub first_share: Option<f64>,
+    /// Its PCA variance shares, descending.
+    pub pca_variance_share: Vec<f64>,
+    /// Its components' overlaps with their modes.
+    pub mode_overlap: Vec<f64>,
+    /// Its continuum constant (κ or c, as the pooled one) and that one's 95 % interval.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub continuum: Option<f64>,
+    /// The interval (from its modes' errors).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub continuum_interval: Option<[f64; 2]>,
+    /// Its own tests of the theory (`spread` combines them when the animals differ).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tests: Option<super::TheoryTests>,
+    /// Why it could not be fitted alone (it still counts in the pool), or why it is not in the
+    /// pool (sampled at another rate than the pool's).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
+}
+
+impl AnimalFit {
+    /// The summary of `report`, the fit of animal `name` alone.
+    pub fn of(name: &str, counts: &Recording, report: &super::FitReport) -> AnimalFit {
+        AnimalFit {
+            recording: name.to_string(),
+            frames: report.frames,
+            frames_lost: counts.frames_lost,
+            omega: Some(report.omega),
+            beta: Some(report.beta),
+            first_share: report.pca_variance_share.first().copied(),
+            pca_variance_share: report.pca_variance_share.clone(),
+            mode_overlap: report.mode_overlap.clone(),
+            continuum: report.continuum.as_ref().map(|c| c.constant),
+            continuum_interval: report.continuum.as_ref().and_then(|c| c.interval),
+            tests: Some(report.tests.clone()),
+            note: None,
+        }
+    }
+
+    pub(super) fn failed(name: &str, stats: &Stats, counts: &Recording, why: &str) -> AnimalFit {
+        AnimalFit {
+            recording: name.to_string(),
+            frames: stats.count as usize,
+            frames_lost: counts.frames_lost,
+            omega: None,
+            beta: None,
+            first_share: None,
+            pca_variance_share: Vec::new(),
+            mode_overlap: Vec::new(),
+            continuum: None,
+            continuum_interval: None,
+            tests: None,
+            note: Some(why.to_string()),
+        }
     }
 }

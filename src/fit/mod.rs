@@ -49,6 +49,7 @@ mod pool;
 mod report;
 mod settings;
 mod spectrum;
+mod spread;
 mod stats;
 mod summary;
 mod timedomain;
@@ -58,13 +59,15 @@ mod wave;
 mod welch;
 mod window;
 pub use accumulate::{Each, SinkError};
+pub use animal::AnimalFit;
 pub use bootstrap::{Intervals, MAX_REPLICATES};
 pub use error::FitError;
 pub use note::{ModeNote, TestNote};
 pub use pilot::foretold_windows;
 pub use pool::{fit_inputs, Input};
-pub use report::{AnimalFit, Continuum, FitReport, ModeFit, Recording, Subspace};
+pub use report::{Continuum, FitReport, ModeFit, Recording, Subspace};
 pub use settings::*;
+pub use spread::Spread;
 pub use verdict::{
     ModeSpectralFit, TheoryTest, TheoryTests, Verdict, WindowChoice, RESOLVED_BINS, WIDTH_BINS,
 };

@@ -531,6 +531,7 @@ impl Pool {
         }
         if self.fits.len() > 1 {
             report.animals = self.fits;
+            super::spread::apply(&mut report);
         }
         report.onward = report.onward_arguments();
         Ok(report)

@@ -1,7 +1,7 @@
 //! What a fit reports (pooled, per animal, per mode) and how it is written: text, JSON, CSV.
 
+use super::animal::AnimalFit;
 use super::bootstrap::Intervals;
-use super::stats::Stats;
 use super::verdict::{self, ModeSpectralFit, TheoryTests, WindowChoice};
 use crate::recording::{InputKind, Units};
 use crate::report::{check_finite, csv_numbers, fixed, number, to_json, NonFinite, Report};
@@ -123,6 +123,9 @@ pub struct FitReport {
     /// With several animals: each one's own fit, beside the pooled one above.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub animals: Vec<AnimalFit>,
+    /// With several animals: how much their constants differ, and what the pool makes of it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub spread: Option<super::spread::Spread>,
     /// Units of the recording's columns.
     pub units: Units,
     /// The mean model point spacing h = (body length)/(N − 1) (midlines) or rest segment
@@ -171,62 +174,6 @@ pub struct Subspace {
     pub modes_capture: f64,
     /// Variance share the first k principal components capture (the most any k directions can).
     pub components_capture: f64,
-}
-
-/// One animal's own fit, in a pooled fit of several.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct AnimalFit {
-    /// The animal's name (file, and track id within it).
-    pub recording: String,
-    /// Frames used.
-    pub frames: usize,
-    /// Frames lost.
-    pub frames_lost: usize,
-    /// Its ω (`None` when it cannot be fitted alone).
-    pub omega: Option<f64>,
-    /// Its β.
-    pub beta: Option<f64>,
-    /// Its first principal component's variance share.
-    pub first_share: Option<f64>,
-    /// Its PCA variance shares, descending.
-    pub pca_variance_share: Vec<f64>,
-    /// Its components' overlaps with their modes.
-    pub mode_overlap: Vec<f64>,
-    /// Why it could not be fitted alone (it still counts in the pool), or why it is not in the
-    /// pool (sampled at another rate than the pool's).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub note: Option<String>,
-}
-
-impl AnimalFit {
-    /// The summary of `report`, the fit of animal `name` alone.
-    pub fn of(name: &str, counts: &Recording, report: &FitReport) -> AnimalFit {
-        AnimalFit {
-            recording: name.to_string(),
-            frames: report.frames,
-            frames_lost: counts.frames_lost,
-            omega: Some(report.omega),
-            beta: Some(report.beta),
-            first_share: report.pca_variance_share.first().copied(),
-            pca_variance_share: report.pca_variance_share.clone(),
-            mode_overlap: report.mode_overlap.clone(),
-            note: None,
-        }
-    }
-
-    pub(super) fn failed(name: &str, stats: &Stats, counts: &Recording, why: &str) -> AnimalFit {
-        AnimalFit {
-            recording: name.to_string(),
-            frames: stats.count as usize,
-            frames_lost: counts.frames_lost,
-            omega: None,
-            beta: None,
-            first_share: None,
-            pca_variance_share: Vec::new(),
-            mode_overlap: Vec::new(),
-            note: Some(why.to_string()),
-        }
-    }
 }
 
 /// Above this share of synthesised frames, bridging is a warning: the spectra lean on it.
@@ -405,6 +352,7 @@ impl Report for FitReport {
             t += &format!("  warning: {w}\n");
         }
         t += &animals_text(&r.animals);
+        t += &super::spread::text(r);
         let shares: Vec<String> = r
             .angle_pca_variance_share
             .iter()
@@ -465,7 +413,8 @@ fn omega_from(r: &FitReport) -> String {
 
 impl FitReport {
     /// The per-animal table as CSV (the `csv` crate's writer): animal, frames, lost, ω, β, then
-    /// each component's share and overlap; empty cells for an animal not fitted alone.
+    /// each component's share and overlap, then its continuum constant and that one's interval
+    /// (`spread` compares them); empty cells for an animal not fitted alone.
     pub fn animals_csv(&self) -> String {
         let m = self.modes.len();
         let mut w = csv::Writer::from_writer(Vec::new());
@@ -475,6 +424,7 @@ impl FitReport {
             .collect();
         header.extend((1..=m).map(|k| format!("pca_share_{k}")));
         header.extend((1..=m).map(|k| format!("overlap_{k}")));
+        header.extend(["continuum", "continuum_low", "continuum_high"].map(String::from));
         let opt = |v: Option<f64>| v.map(|x| x.to_string()).unwrap_or_default();
         let mut rows = vec![header];
         for a in &self.animals {
@@ -489,6 +439,8 @@ impl FitReport {
             for list in [&a.pca_variance_share, &a.mode_overlap] {
                 row.extend((0..m).map(|k| opt(list.get(k).copied())));
             }
+            let [lo, hi] = a.continuum_interval.map_or([None; 2], |i| i.map(Some));
+            row.extend([opt(a.continuum), opt(lo), opt(hi)]);
             rows.push(row);
         }
         for r in rows {

@@ -108,7 +108,7 @@ fn continuum(proj: &Projector, used: &[(usize, f64, f64)]) -> Option<Continuum> 
         .collect::<Option<_>>()?;
     let k = proj.stencil as i32;
     let x: Vec<f64> = roots.iter().map(|b| b.powi(k)).collect();
-    let (constant, interval) = weighted_scale(used, &x)?;
+    let (constant, interval) = super::uncertainty::weighted_scale(used, &x)?;
     Some(Continuum {
         name: if k == 2 { "kappa" } else { "c" },
         constant,
@@ -119,37 +119,6 @@ fn continuum(proj: &Projector, used: &[(usize, f64, f64)]) -> Option<Continuum> 
         body_length: 0.0,
         in_data_units: 0.0,
     })
-}
-
-/// The weighted least-squares C of Ωᵢ = C·xᵢ over `(mode, Ω, σ_Ω)` and its 95 % interval,
-/// widened by the Birge ratio √(χ²/(n − 1)) when the modes scatter more than their errors.
-fn weighted_scale(used: &[(usize, f64, f64)], x: &[f64]) -> Option<(f64, Option<[f64; 2]>)> {
-    let (mut num, mut den) = (0.0, 0.0);
-    for (&(_, o, e), &x) in used.iter().zip(x) {
-        let w = 1.0 / (e * e);
-        num += w * o * x;
-        den += w * x * x;
-    }
-    let c = num / den;
-    if !(c.is_finite() && c > 0.0) {
-        return None;
-    }
-    let mut se = den.sqrt().recip();
-    let q = 1.959_963_984_540_054;
-    let n = used.len();
-    if n > 1 {
-        let chi2: f64 = used
-            .iter()
-            .zip(x)
-            .map(|(&(_, o, e), &x)| ((o - c * x) / e).powi(2))
-            .sum();
-        let ratio = chi2 / (n - 1) as f64;
-        if ratio > 1.0 {
-            se *= ratio.sqrt();
-        }
-    }
-    let interval = se.is_finite().then_some([c - q * se, c + q * se]);
-    Some((c, interval))
 }
 
 /// ω, β and the continuum constant from the spectral peaks (or centroids) of `fitted`, when no
@@ -313,6 +282,7 @@ pub(super) fn summarise(
         spacing: origin.spacing,
         subspace,
         intervals: None,
+        spread: None,
         onward: Vec::new(),
         points: proj.input_points,
         pca_variance_share: pca_share,
@@ -462,7 +432,7 @@ fn scales(
             .collect();
         let omega = settings
             .omega
-            .or_else(|| weighted_scale(&voting, &sqrt).map(|(w, _)| w))
+            .or_else(|| super::uncertainty::weighted_scale(&voting, &sqrt).map(|(w, _)| w))
             .unwrap_or(f64::NAN);
         let spread: f64 = voting
             .iter()

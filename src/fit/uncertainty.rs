@@ -1,6 +1,7 @@
 //! The standard errors of a mode's spectral fit (`spectrum`): the inverse Fisher information
 //! widened by the taper's and the overlap's correlations, with the bounds and a white level
-//! the data cannot see handled as stated below.
+//! the data cannot see handled as stated below; and the 95 % interval of a scale fitted over
+//! several modes (`weighted_scale`).
 
 /// ν under this share of σ² is a white level the data cannot see.
 const UNSEEN_NOISE: f64 = 1e-6;
@@ -52,4 +53,38 @@ pub(super) fn standard_errors(
     // Should that information still be singular, ν is held where it is.
     let without_noise: Vec<usize> = free.iter().copied().filter(|&i| i != 3).collect();
     errors(&free).or_else(|| errors(&without_noise))
+}
+
+/// The weighted least-squares C of Ωᵢ = C·xᵢ over `(mode, Ω, σ_Ω)` and its 95 % interval,
+/// widened by the Birge ratio √(χ²/(n − 1)) when the modes scatter more than their errors.
+pub(super) fn weighted_scale(
+    used: &[(usize, f64, f64)],
+    x: &[f64],
+) -> Option<(f64, Option<[f64; 2]>)> {
+    let (mut num, mut den) = (0.0, 0.0);
+    for (&(_, o, e), &x) in used.iter().zip(x) {
+        let w = 1.0 / (e * e);
+        num += w * o * x;
+        den += w * x * x;
+    }
+    let c = num / den;
+    if !(c.is_finite() && c > 0.0) {
+        return None;
+    }
+    let mut se = den.sqrt().recip();
+    let q = 1.959_963_984_540_054;
+    let n = used.len();
+    if n > 1 {
+        let chi2: f64 = used
+            .iter()
+            .zip(x)
+            .map(|(&(_, o, e), &x)| ((o - c * x) / e).powi(2))
+            .sum();
+        let ratio = chi2 / (n - 1) as f64;
+        if ratio > 1.0 {
+            se *= ratio.sqrt();
+        }
+    }
+    let interval = se.is_finite().then_some([c - q * se, c + q * se]);
+    Some((c, interval))
 }

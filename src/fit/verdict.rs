@@ -39,7 +39,7 @@
 //! expectation and `rejected` when it does not.
 
 use super::note::{ModeNote, TestNote};
-pub use super::note::{NYQUIST_HALF_WIDTHS, RESOLVED_BINS, WIDTH_BINS};
+pub use super::note::{LINE_OVER_FLOOR, NYQUIST_HALF_WIDTHS, RESOLVED_BINS, WIDTH_BINS};
 use crate::report::fixed;
 
 /// The share of Nyquist above which a time-domain fit does not vote: a free beam's third mode
@@ -145,6 +145,9 @@ pub struct TheoryTest {
     /// Why undetermined or rejected by the scatter, or how the scatter was.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub note: Option<TestNote>,
+    /// The slope's standard error, χ² and degrees of freedom (`spread` combines animals').
+    #[serde(skip)]
+    pub scatter: Option<(f64, f64, usize)>,
 }
 
 /// The three predictions.
@@ -169,22 +172,6 @@ pub struct WindowChoice {
     pub how: &'static str,
     /// Why this window.
     pub why: String,
-}
-
-/// The ratio of a line's peak to the white level under it above which a mode is resolved
-/// however large the white level's variance (see [`line_over_floor`]).
-pub const LINE_OVER_FLOOR: f64 = 30.0;
-
-/// How far the line stands out of the white level: its peak density σ²/(π·max(γ, df)) (γ =
-/// ζΩ/2π its half-width in Hz, no narrower than a bin) over the white noise's 2ν/f_s. A sharp
-/// mode under noise of ten times its variance (a clamped body's first mode at 5 % tracking
-/// noise) rises 120× above it: such a line is resolved, though ν > 3σ². Below 30× the rule
-/// stays ν ≤ 3σ²: at 3× a free beam's modes 8 and 10 at N = 48, which hold nothing but the
-/// lower modes' leakage, were taken for lines and voted against every law.
-fn line_over_floor(s: &super::spectrum::ModeSpectrum, df: f64, fs: f64) -> f64 {
-    let half_width = (s.zeta * s.omega / (2.0 * std::f64::consts::PI)).max(df);
-    let peak = s.variance / (std::f64::consts::PI * half_width);
-    peak * fs / (2.0 * s.noise)
 }
 
 impl ModeSpectralFit {
@@ -228,7 +215,9 @@ impl ModeSpectralFit {
             // Its line folds back on itself: the fitted Ω and ζ of such lines run low by
             // several of their standard errors in simulations (tests/coverage.rs).
             Some(ModeNote::LinePastNyquist)
-        } else if s.noise > 3.0 * s.variance && line_over_floor(s, df, fs) < LINE_OVER_FLOOR {
+        } else if s.noise > 3.0 * s.variance
+            && super::note::line_over_floor(s, df, fs) < LINE_OVER_FLOOR
+        {
             Some(ModeNote::MostlyFlat)
         } else if s.omega_error > 0.25 * s.omega {
             Some(ModeNote::OmegaUncertain)
@@ -415,6 +404,7 @@ fn exponent(points: &[(usize, f64, f64, f64)], expected: f64) -> TheoryTest {
         verdict: Verdict::Undetermined,
         modes: modes.clone(),
         note: Some(note),
+        scatter: None,
     };
     if n < 2 {
         return undetermined(TestNote::TooFew { n });
@@ -440,13 +430,12 @@ fn exponent(points: &[(usize, f64, f64, f64)], expected: f64) -> TheoryTest {
     let se = (1.0 / sxx).sqrt();
     let quantile = NORMAL_975;
     let mut note = None;
+    let chi2: f64 = (points.iter().zip(&w))
+        .map(|(p, w)| w * (p.2 - ym - slope * (p.1 - xm)).powi(2))
+        .sum();
+    let scatter = Some((se, chi2, n - 2));
     if n > 2 {
         use statrs::distribution::{ChiSquared, ContinuousCDF};
-        let chi2: f64 = points
-            .iter()
-            .zip(&w)
-            .map(|(p, w)| w * (p.2 - ym - slope * (p.1 - xm)).powi(2))
-            .sum();
         let dof = (n - 2) as f64;
         let p = ChiSquared::new(dof).map_or(f64::NAN, |d| d.sf(chi2));
         // Scatter beyond chance is evidence against the power law itself, not a reason to
@@ -463,6 +452,7 @@ fn exponent(points: &[(usize, f64, f64, f64)], expected: f64) -> TheoryTest {
                     dof: n - 2,
                     p,
                 }),
+                scatter,
             };
         }
         // Scatter within chance: the modes' own errors stand (widening them by the scatter
@@ -477,15 +467,7 @@ fn exponent(points: &[(usize, f64, f64, f64)], expected: f64) -> TheoryTest {
     }
     let interval = [slope - quantile * se, slope + quantile * se];
     let half = quantile * se;
-    let (verdict, why) = if n < 3 {
-        (Verdict::Undetermined, Some(TestNote::TooFew { n }))
-    } else if half.is_nan() || half > expected.abs() {
-        (Verdict::Undetermined, Some(TestNote::TooWide))
-    } else if interval[0] <= expected && expected <= interval[1] {
-        (Verdict::Consistent, note)
-    } else {
-        (Verdict::Rejected, note)
-    };
+    let (verdict, why) = judged(n, (interval, half), expected, note);
     TheoryTest {
         exponent: Some(slope),
         interval: Some(interval),
@@ -493,6 +475,25 @@ fn exponent(points: &[(usize, f64, f64, f64)], expected: f64) -> TheoryTest {
         verdict,
         modes,
         note: why,
+        scatter,
+    }
+}
+
+/// The verdict on an exponent's 95 % interval (half-width `half`) over `n` voting modes.
+pub(super) fn judged(
+    n: usize,
+    (interval, half): ([f64; 2], f64),
+    expected: f64,
+    note: Option<TestNote>,
+) -> (Verdict, Option<TestNote>) {
+    if n < 3 {
+        (Verdict::Undetermined, Some(TestNote::TooFew { n }))
+    } else if half.is_nan() || half > expected.abs() {
+        (Verdict::Undetermined, Some(TestNote::TooWide))
+    } else if interval[0] <= expected && expected <= interval[1] {
+        (Verdict::Consistent, note)
+    } else {
+        (Verdict::Rejected, note)
     }
 }
 
