@@ -29,7 +29,7 @@ def cli_json(*args):
 def test_every_command_is_a_function():
     for name in ("table", "equations", "active", "operators", "modes", "simulate", "behave", "stats",
                  "asymmetry", "mathieu", "interactions", "parts", "count", "rules", "fit",
-                 "figures", "discover"):
+                 "figures", "discover", "compare"):
         assert callable(getattr(ts, name)), name
         assert getattr(ts, name).__doc__, name
     assert ts.__version__ == "0.1.0"
@@ -211,3 +211,26 @@ def test_discover_takes_values_without_files(tmp_path, monkeypatch):
     with pytest.raises(ts.UsageError, match="bootstrap"):
         ts.discover(frame, bootstrap=-1)
     assert list(empty.iterdir()) == []
+
+
+@pytest.mark.skipif(not WORMPOSE.exists(), reason="the shared recordings are not here")
+def test_compare_is_the_binarys_comparison(tmp_path):
+    # Four pieces of one worm, two a group: the library's numbers, as the command prints them.
+    lines = WORMPOSE.read_text().splitlines(keepends=True)
+    header, rows = lines[0], lines[1:]
+    for group, pieces in (("first", (rows[:400], rows[200:600])), ("second", (rows[-400:], rows[100:500]))):
+        (tmp_path / group).mkdir()
+        for i, piece in enumerate(pieces):
+            (tmp_path / group / f"a{i}.csv").write_text(header + "".join(piece))
+    first, second = str(tmp_path / "first"), str(tmp_path / "second")
+    got = ts.compare(first, second, permutations=99)
+    want = cli_json("compare", first, second, "--permutations", "99")
+    assert got["differences"] == want["differences"]
+    assert [g["animals"] for g in got["groups"]] == [2, 2]
+    assert got["differences"][0]["quantity"] == "kappa"
+    with pytest.raises(ts.UsageError, match="no option"):
+        ts.compare(first, second, window=64)
+    with pytest.raises(ts.UsageError, match="permutations"):
+        ts.compare(first, second, permutations=0)
+    with pytest.raises(ts.InputError, match="a comparison needs 2"):
+        ts.compare(str(tmp_path / "first" / "a0.csv"), second)
