@@ -1,12 +1,14 @@
 //! Forward and backward peristalsis split by a gyroscopic force, by simulation (the paper's
 //! App. C and Fig. 11).
 //!
-//! App. C posits c(X₁Ẋ₂ − X₂Ẋ₁)X₁ on the first axial pair, whose frequencies then solve
-//! ω_s² + cAω_s − ω² = 0: a wave running one way is faster than one running the other, 1 : 2 at
-//! |c|A/ω = √2/2. That force is nonlocal (docs/derivation.md). The local force with the same
+//! App. C posits c(X₁Ẋ₂ − X₂Ẋ₁)X₁ on the first axial pair, whose frequencies on a circular
+//! orbit of amplitude A then solve ω_s² + cA²ω_s − ω² = 0 (the seed prints cA: `asymmetry`): a
+//! wave running one way is faster than one running the other, 1 : 2 at |c|A²/ω = √2/2. That force is nonlocal (docs/derivation.md). The local force with the same
 //! linear effect is the axial field's lowest gyroscopic force g∂t∂s x, which an `[active]`
 //! section without PAR allows: on a wave e^{i(ks − ωt)} it gives ω² + gkω − c²k² = 0, App. C's
-//! relation with cA ↔ gk. On the grid (centred differences) k becomes sin k and ck the pair's
+//! relation with cA² ↔ gk, on circular travelling waves only (App. C's force is cubic, does
+//! work off circular orbits and keeps a standing wave standing; g∂t∂s x drives it into a
+//! travelling one). On the grid (centred differences) k becomes sin k and ck the pair's
 //! own frequency ω₁, so with the coupling G = −g sin k/ω₁ the forward (towards the head, +s)
 //! and backward frequencies are ω₁(√(G² + 4) ± G)/2 and the ratio is 1 : 2 at G = 1/√2 on any
 //! grid.

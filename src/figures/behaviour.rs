@@ -519,7 +519,7 @@ pub(super) fn forward_backward(theory: &Theory, width: u32) -> Result<String, Fi
             g(behaviour::forward_backward::analytic(c))
         })
     };
-    let x = "coupling G = −g sin k/ω₁ (App. C: −cA/ω)";
+    let x = "coupling G = −g sin k/ω₁ (App. C: −cA²/ω)";
     let mut ratio = panel(
         "backward : forward",
         x,
