@@ -16,7 +16,8 @@
 //! *conservative* when even under time reversal and *gyroscopic* when odd (a Lagrangian
 //! ∂t φ·∂s φ, which KIN strikes out, does no work and splits forward from backward waves). A
 //! force of the velocity jet alone is of *Rayleigh* form when v·f/(ε + 1) (v = ∂tφ) gives it
-//! back through δ/δv over s (its power has the coefficient's sign). Every other force is
+//! back through δ/δv over s (its power (ε + 1)c∫R has the coefficient's sign when R is definite in
+//! v, and none when R is odd in v: each force's `why` says which). Every other force is
 //! *active*: its power has no sign and it is not a variational derivative.
 
 use num_rational::Rational64;
@@ -285,18 +286,12 @@ pub fn classify(t: &Term, name: &dyn Fn(u8) -> String) -> Force {
                 "δL/δφ of L = φ·f/(ε+1), even under t → −t".to_string(),
             )
         } else {
-            (
-                ForceClass::Gyroscopic,
-                "δL/δφ of L = φ·f/(ε+1), odd under t → −t: it does no work".to_string(),
-            )
+            (ForceClass::Gyroscopic, gyroscopic_power(t))
         }
     } else if t.factors().iter().all(|x| x.deriv.t == 1)
         && space_euler(&homotopy(t, Deriv::new(1, 0), degree)).get(&1) == Some(&f)
     {
-        (
-            ForceClass::Dissipative,
-            "δR/δv of R = v·f/(ε+1), v = ∂tφ: its power has the coefficient's sign".to_string(),
-        )
+        (ForceClass::Dissipative, rayleigh_power(t, degree))
     } else {
         let why = if t.factors().iter().all(|x| x.deriv.t == 1) {
             "a velocity force that is no δR/δv: not self-adjoint, power of no sign"
@@ -317,6 +312,62 @@ pub fn classify(t: &Term, name: &dyn Fn(u8) -> String) -> Force {
         coefficient: None,
         shape: t.clone(),
     }
+}
+
+/// What a gyroscopic force's power is, read from its term: with L = φ·f/(ε+1) linear in the
+/// velocity (one factor ∂tφ, the rest without time derivatives) its power vanishes; with more
+/// time derivatives in L (no OST: ∂tφ·∂t²φ) it is a time derivative (∂tφ·∂t²φ·∂tφ = d/dt(v³/3)),
+/// not zero.
+fn gyroscopic_power(t: &Term) -> String {
+    let times: u32 = t.factors().iter().map(|f| f.deriv.t * f.power).sum();
+    if times == 1 {
+        "δL/δφ of L = φ·f/(ε+1), odd under t → −t and linear in the velocity: it does no work"
+            .to_string()
+    } else {
+        "δL/δφ of L = φ·f/(ε+1), odd under t → −t; L is not linear in the velocity, so its power is not zero (a time derivative: it exchanges energy with the motion)".to_string()
+    }
+}
+
+/// What a Rayleigh-form force's power is, read from its term. For R = v·f/(ε+1), homogeneous
+/// of degree ε + 1 in the velocity jet, the power ∫v·δR/δv ds = (ε+1)∫R ds (Euler's theorem, up
+/// to the ends' terms): R odd in v (ε even) changes sign with the motion; R a product of even
+/// powers is definite; R = v·∂sᵇv (ε = 1) is (−1)^{b/2}(∂s^{b/2}v)² by parts (b even). Any
+/// other R has no sign fixed by its form.
+fn rayleigh_power(t: &Term, degree: i64) -> String {
+    let head = "δR/δv of R = v·f/(ε+1), v = ∂tφ";
+    if degree % 2 == 0 {
+        return format!(
+            "{head}: R is odd in v, so its power (ε+1)c∫R changes sign with the motion: no sign"
+        );
+    }
+    let mut r = mono_of(t);
+    match r.iter_mut().find(|(d, _)| *d == Deriv::new(1, 0)) {
+        Some((_, n)) => *n += 1,
+        None => r.push((Deriv::new(1, 0), 1)),
+    }
+    if r.iter().all(|(_, n)| n % 2 == 0) {
+        return format!(
+            "{head}: R is a product of even powers, so its power has the coefficient's sign"
+        );
+    }
+    // ε = 1: f is one factor ∂sᵇv.
+    if let ([x], 1) = (t.factors(), degree) {
+        let d = x.deriv;
+        if d.s % 2 == 0 {
+            let sign = if d.s % 4 == 0 { "" } else { "the opposite of " };
+            return format!(
+                "{head}: R = v·∂s^{}v is (−1)^{} (∂s^{} v)² by parts, so its power has {sign}the coefficient's sign",
+                d.s,
+                d.s / 2,
+                d.s / 2
+            );
+        }
+        return format!(
+            "{head}: R = v·∂s^{}v is a total s-derivative (b odd), so it does work only at the ends",
+            d.s
+        );
+    }
+    format!("{head}: its power (ε+1)c∫R has no sign fixed by its form")
 }
 
 /// The homotopy density u·f/(ε + 1), `u` the factor ∂^`u` φ.

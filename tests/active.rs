@@ -6,6 +6,8 @@ mod common;
 
 use std::collections::BTreeMap;
 
+use rand::RngExt;
+
 use num_rational::Rational64;
 use theory_search::active::{allows, classify, ForceClass};
 use theory_search::enumerate::{monomials, BoundShape, Bounds};
@@ -369,4 +371,126 @@ fn equations_say_which_terms_are_inertia_and_not_forces() {
     let (_, json, _) = common::binary(&["equations", "--model", m, "--format", "json"]);
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
     assert_eq!(v["equations"][0]["not_forces"], serde_json::json!([]));
+}
+
+/// A random periodic profile: its value and first derivatives in s at `m` stations, as
+/// trigonometric polynomials of degree 4 (so the quadrature below is exact).
+fn profile(rng: &mut impl rand::Rng, m: usize, derivatives: u32) -> Vec<Vec<f64>> {
+    let (a, b): (Vec<f64>, Vec<f64>) = (0..5)
+        .map(|_| (rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0)))
+        .unzip();
+    (0..=derivatives)
+        .map(|d| {
+            (0..m)
+                .map(|j| {
+                    let s = std::f64::consts::TAU * j as f64 / m as f64;
+                    let mut v = if d == 0 { a[0] } else { 0.0 };
+                    for k in 1..5 {
+                        // ∂s^d of a cos ks + b sin ks: rotate the phase by d quarter turns.
+                        let (c, sn) = ((k as f64 * s).cos(), (k as f64 * s).sin());
+                        let kd = (k as f64).powi(d as i32);
+                        let (p, q) = match d % 4 {
+                            0 => (c, sn),
+                            1 => (-sn, c),
+                            2 => (-c, -sn),
+                            _ => (sn, -c),
+                        };
+                        v += kd * (a[k] * p + b[k] * q);
+                    }
+                    v
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// The power ∫ v·f ds of force `t` at one instant with random periodic φ and v = ∂tφ (the two
+/// are independent at an instant).
+fn power(t: &Term, rng: &mut impl rand::Rng) -> f64 {
+    let m = 96;
+    let top = t.factors().iter().map(|f| f.deriv.s).max().unwrap_or(0);
+    let (phi, v) = (profile(rng, m, top), profile(rng, m, top));
+    (0..m)
+        .map(|j| {
+            let f: f64 = t
+                .factors()
+                .iter()
+                .map(|x| {
+                    let jet = if x.deriv.t == 0 { &phi } else { &v };
+                    jet[x.deriv.s as usize][j].powi(x.power as i32)
+                })
+                .product();
+            v[0][j] * f
+        })
+        .sum::<f64>()
+        / m as f64
+}
+
+#[test]
+fn each_forces_power_text_agrees_with_random_motions() {
+    // The `why` of a gyroscopic or Rayleigh force says what its power is; random periodic
+    // motions check it (no ends, so terms that only do work at the ends do none here).
+    use rand::SeedableRng;
+    let mut rng = rand::rngs::StdRng::seed_from_u64(52);
+    let mut checked: BTreeMap<&str, usize> = BTreeMap::new();
+    for t in monomials(&Bounds::for_order(BoundShape::TauPlusSigma, 6)) {
+        if t.max_time_order() > 1 || t.orders().epsilon > 3 {
+            continue;
+        }
+        let force = classify(&t, &|_| "φ".into());
+        let powers: Vec<f64> = (0..200).map(|_| power(&t, &mut rng)).collect();
+        let scale = powers.iter().map(|p| p.abs()).fold(0.0, f64::max);
+        let (low, high) = (
+            powers.iter().copied().fold(f64::INFINITY, f64::min),
+            powers.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        );
+        let what = mono_of(&t);
+        let claim = match force.kind {
+            ForceClass::Gyroscopic if force.why.contains("does no work") => {
+                assert!(scale < 1e-9, "{what:?}: {}: power up to {scale}", force.why);
+                "no work"
+            }
+            ForceClass::Gyroscopic => {
+                assert!(scale > 1e-6, "{what:?}: {}: no power seen", force.why);
+                "some power"
+            }
+            ForceClass::Dissipative if force.why.contains("opposite of the coefficient's sign") => {
+                assert!(
+                    high < 1e-9 * scale.max(1.0) && low < 0.0,
+                    "{what:?}: {}: {low}..{high}",
+                    force.why
+                );
+                "opposite sign"
+            }
+            ForceClass::Dissipative if force.why.contains("the coefficient's sign") => {
+                assert!(
+                    low > -1e-9 * scale.max(1.0) && high > 0.0,
+                    "{what:?}: {}: {low}..{high}",
+                    force.why
+                );
+                "coefficient's sign"
+            }
+            ForceClass::Dissipative if force.why.contains("only at the ends") => {
+                assert!(scale < 1e-9, "{what:?}: {}: power up to {scale}", force.why);
+                "ends only"
+            }
+            ForceClass::Dissipative => {
+                assert!(
+                    low < 0.0 && high > 0.0,
+                    "{what:?}: {}: {low}..{high}",
+                    force.why
+                );
+                "no sign"
+            }
+            _ => continue,
+        };
+        *checked.entry(claim).or_default() += 1;
+    }
+    println!("{checked:?}");
+    for claim in ["no work", "coefficient's sign", "opposite sign", "no sign"] {
+        assert!(
+            checked.get(claim).copied().unwrap_or(0) > 0,
+            "{claim}: {checked:?}"
+        );
+    }
 }

@@ -766,9 +766,11 @@ def compare(
 
     Parameters
     ----------
-    first, second : path or list of paths
-        Each group's recordings: files, directories or patterns, each file one animal.
-        Differences are the second group's mean less the first's.
+    first : path or list of paths
+        The first group's recordings: files, directories or patterns, each file one animal.
+    second : path or list of paths
+        The second group's, in the same form. Differences are the second group's mean less
+        the first's.
     @model
     options
         ``fit``'s recording options (``points``, ``kind``, ``field``, ``fill_gaps``, ``head``,
@@ -802,7 +804,7 @@ def compare(
 for _name in (
     "table", "equations", "active", "operators", "modes", "simulate", "fit", "discover",
     "run", "behave", "stats", "asymmetry", "mathieu", "interactions", "parts", "count",
-    "rules", "figures",
+    "rules", "figures", "compare",
 ):
     globals()[_name] = _guarded(globals()[_name])
 del _name
