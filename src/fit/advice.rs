@@ -257,7 +257,7 @@ impl fmt::Display for Advice {
         if self.steps.is_empty() {
             return write!(
                 f,
-                "no option would: the modes out of the vote are over-damped, under the white floor or leaks (see their notes)"
+                "no option names one: the modes out of the vote are over-damped, not converged, under the white floor or leaks (their notes say which); a longer recording adds frames to every fit"
             );
         }
         let steps: Vec<String> = (self.steps.iter())
