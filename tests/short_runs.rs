@@ -104,22 +104,25 @@ fn study(per_period: f64, seed0: u64) -> Figures {
     f
 }
 
-/// 14 frames a period: before the short-run fit, every test was undetermined (no mode
-/// resolved at the runs' window). Decided in 17 of 20 (the bound is 18): in three
-/// seeds mode 4 does not vote.
-#[test]
-fn short_runs_at_14_frames_a_period_get_verdicts() {
-    let f = study(14.0, 61_000);
-    assert!(f.decided.iter().all(|&d| d >= 17), "{:?}", f.decided);
+/// Every test decided in at least `decided` of 20, a true law rejected in at most 2, κ covered
+/// in at least 18 (the bounds, but for `decided`).
+fn check(f: &Figures, decided: usize) {
+    assert!(f.decided.iter().all(|&d| d >= decided), "{:?}", f.decided);
     assert!(f.rejected.iter().all(|&r| r <= 2), "{:?}", f.rejected);
     assert!(f.covered >= 18, "κ covered in {} of {RUNS}", f.covered);
+}
+
+/// 14 frames a period: before the short-run fit, every test was undetermined (no mode
+/// resolved at the runs' window). Decided in 17 of 20 (the bound is 18): in three
+/// seeds mode 4 (0.77 × Nyquist) is fitted above 0.8 × Nyquist, where it cannot be told from
+/// its alias, and does not vote.
+#[test]
+fn short_runs_at_14_frames_a_period_get_verdicts() {
+    check(&study(14.0, 61_000), 17);
 }
 
 /// 30 frames a period: the first mode's period is longer than most runs.
 #[test]
 fn short_runs_at_30_frames_a_period_get_verdicts() {
-    let f = study(30.0, 62_000);
-    assert!(f.decided.iter().all(|&d| d >= 18), "{:?}", f.decided);
-    assert!(f.rejected.iter().all(|&r| r <= 2), "{:?}", f.rejected);
-    assert!(f.covered >= 18, "κ covered in {} of {RUNS}", f.covered);
+    check(&study(30.0, 62_000), 18);
 }

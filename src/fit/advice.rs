@@ -165,9 +165,11 @@ pub(super) fn of(report: &FitReport, series: &[Series]) -> Option<Advice> {
             ModeNote::GridOff { .. } => Some(Step::Points {
                 mode,
                 // None (0) when the model already uses every tracked point.
-                points: (report.model_points < report.points)
-                    .then(|| (2 * report.model_points).min(report.points))
-                    .unwrap_or(0),
+                points: if report.model_points < report.points {
+                    (2 * report.model_points).min(report.points)
+                } else {
+                    0
+                },
                 tracked: report.points,
             }),
             _ => None,
