@@ -1,7 +1,8 @@
 //! `fit`'s words a biologist acts on (issue 55): the ω line names the modes that vote, the
 //! spectral columns say their units, no report line runs past 160 characters (a command to
 //! copy aside), a rejected dispersion points to `discover --active`, and a DeepLabCut file read
-//! without `--fps` is said to be in frames.
+//! without `--fps` is said to be in frames, and undetermined tests come with what would decide
+//! them.
 
 mod common;
 
@@ -107,4 +108,29 @@ fn a_deeplabcut_file_without_fps_is_said_to_be_in_frames() {
     let seconds = common::cli(&["fit", p, "--fps", "15", "--time-unit", "s"]).unwrap();
     assert!(!seconds.contains("in frames"), "{seconds}");
     assert!(seconds.contains("rad/s"), "{seconds}");
+}
+
+/// The shipped example at a 16-frame window: mode 3 lies under a bin, and the advice names the
+/// window that resolves it, which then brings it into the vote; the other changes the advice
+/// names (points, rate) are said once each, with numbers.
+#[test]
+fn undetermined_tests_say_what_would_decide_them() {
+    let text = common::cli(&["fit", EXAMPLE, "--window", "16"]).expect("fit runs");
+    let line = (text.lines())
+        .find(|l| l.contains("to decide the tests"))
+        .unwrap_or_else(|| panic!("no advice in\n{text}"));
+    assert!(line.contains("mode 3: --window 19"), "{line}");
+    assert!(long_lines(&text).is_empty(), "{:?}", long_lines(&text));
+    let json = common::cli(&["fit", EXAMPLE, "--window", "16", "--format", "json"]).unwrap();
+    let doc: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let steps = doc["advice"]["steps"].as_array().expect("steps");
+    assert_eq!(steps[0]["change"], "window", "{steps:?}");
+    for kind in ["points", "rate"] {
+        let n = steps.iter().filter(|s| s["change"] == kind).count();
+        assert!(n <= 1, "{kind} said {n} times: {steps:?}");
+    }
+    assert!(voting(&["fit", EXAMPLE, "--window", "19"]).contains(&3));
+    // Decided tests carry no advice.
+    let decided = common::cli(&["fit", EXAMPLE, "--window", "512"]).unwrap();
+    assert!(!decided.contains("to decide the tests") || decided.contains("undetermined"));
 }

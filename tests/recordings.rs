@@ -390,14 +390,19 @@ fn a_window_that_cannot_resolve_the_modes_says_so() {
     let (lo, hi) = (iv[0].as_f64().unwrap(), iv[1].as_f64().unwrap());
     let k = boot["continuum"]["constant"].as_f64().unwrap();
     assert!(lo.is_finite() && lo < k && k < hi, "{lo} {k} {hi}");
-    // WT2's short runs resolve no mode at 32 frames: the bootstrap of the peaks' ω degenerates,
-    // and the report says so.
+    // WT2's short runs: its modes fitted across the runs are sharp (ζ ≈ 0.03), so a draw of
+    // moving blocks must span five correlation times, far more than a run holds: the report
+    // says there is no bootstrap and why, with the numbers.
     let v = crate::fit(
         "celegans_wt2_crawling_30fps_49pts.csv",
         &["--window", "32", "--bootstrap", "200", "--seed", "1"],
     );
     let said = v["warnings"].to_string();
-    assert!(said.contains("degenerate, not precise"), "{said}");
+    assert!(
+        said.contains("no bootstrap: a draw must span") && said.contains("record longer"),
+        "{said}"
+    );
+    assert!(v.get("intervals").is_none(), "{}", v["intervals"]);
     // The shipped example, at a window that resolves its modes, has no such warning.
     let example = format!(
         "{}/tables/examples/midlines.csv",
@@ -410,6 +415,88 @@ fn a_window_that_cannot_resolve_the_modes_says_so() {
     )
     .unwrap();
     assert!(!String::from_utf8(out).unwrap().contains("cannot resolve"));
+}
+
+/// WT2 at the defaults: its runs of 12–25 frames between stage moves hold Welch's window to 32
+/// frames, under a bin for its low modes; the exact likelihood fits them across all runs
+/// (`fit/timedomain.rs`), so modes 2–4 vote and every test is decided: the driven crawl is no
+/// passive beam (Ω nearly flat across modes 2–4, 2.73/2.98/3.14 rad/s).
+#[test]
+fn wt2_at_the_defaults_gets_decided_tests() {
+    let v = fit("celegans_wt2_crawling_30fps_49pts.csv", &[]);
+    let voting: Vec<u64> = (v["modes_fit"].as_array().unwrap().iter())
+        .filter(|m| m["votes"] == true)
+        .map(|m| m["mode"].as_u64().unwrap())
+        .collect();
+    assert_eq!(voting, [2, 3, 4], "{}", v["modes_fit"]);
+    for m in v["modes_fit"].as_array().unwrap().iter().take(3) {
+        assert_eq!(m["exact"], "window limited by short runs", "{m}");
+        let omega = m["omega"].as_f64().unwrap();
+        assert!((2.5..3.4).contains(&omega), "{m}");
+    }
+    for t in ["equipartition", "dispersion", "damping"] {
+        assert_eq!(
+            v["tests"][t]["verdict"], "rejected",
+            "{t}: {}",
+            v["tests"][t]
+        );
+    }
+    let k = v["continuum"]["constant"].as_f64().unwrap();
+    let iv = v["continuum"]["interval"].as_array().expect("κ's interval");
+    let (lo, hi) = (iv[0].as_f64().unwrap(), iv[1].as_f64().unwrap());
+    assert!(
+        lo < k && k < hi && (0.03..0.045).contains(&k),
+        "{lo} {k} {hi}"
+    );
+    assert!(v.get("advice").is_none(), "{}", v["advice"]);
+}
+
+/// WT2's first 150 rows (runs of at most 16 frames): no mode votes, and the advice names the
+/// least --fill-gaps that joins runs a period long, with the share it would synthesise; taking
+/// it brings modes into the vote.
+#[test]
+fn a_short_piece_of_wt2_is_told_what_would_decide_it() {
+    let dir = common::scratch("wt2-piece");
+    let text = std::fs::read_to_string(data("celegans_wt2_crawling_30fps_49pts.csv")).unwrap();
+    let piece: String = text.lines().take(150).map(|l| format!("{l}\n")).collect();
+    let path = dir.path().join("wt2_150.csv");
+    std::fs::write(&path, piece).unwrap();
+    let run = |extra: &[&str]| -> serde_json::Value {
+        let mut args = vec![
+            "theory-search",
+            "fit",
+            path.to_str().unwrap(),
+            "--format",
+            "json",
+        ];
+        args.extend_from_slice(extra);
+        let mut out = Vec::new();
+        theory_search::cli::run(args, &mut out).unwrap();
+        serde_json::from_slice(&out).unwrap()
+    };
+    let v = run(&[]);
+    let advice = &v["advice"];
+    assert_eq!(advice["voting"], 0, "{advice}");
+    let step = &advice["steps"][0];
+    assert_eq!(step["change"], "fill_gaps", "{advice}");
+    let k = step["fill_gaps"].as_u64().unwrap();
+    assert!(
+        step["longest"].as_u64() >= step["needed"].as_u64(),
+        "{step}"
+    );
+    let share = step["share"].as_f64().unwrap();
+    assert!(share > 0.05 && share < 0.3, "{step}");
+    let bridged = run(&["--fill-gaps", &k.to_string()]);
+    let votes = (bridged["modes_fit"].as_array().unwrap().iter())
+        .filter(|m| m["votes"] == true)
+        .count();
+    assert!(votes >= 2, "{}", bridged["modes_fit"]);
+    let filled = bridged["recording"]["frames_filled"].as_f64().unwrap();
+    let used = bridged["frames"].as_f64().unwrap();
+    assert!(
+        (filled / used - share).abs() < 1e-9,
+        "{filled} {used} {share}"
+    );
 }
 
 /// Bridging is said whenever it synthesises more than 5 % of the frames used: WT2 (runs of
@@ -436,6 +523,18 @@ fn a_fit_says_what_share_of_its_frames_bridging_synthesised() {
         w.contains(&format!("{filled} of the {frames} frames used")),
         "{w}"
     );
+    // The recording line says the share whenever bridging ran.
+    let mut out = Vec::new();
+    let path = data(file);
+    theory_search::cli::run(
+        ["theory-search", "fit", &path, "--fill-gaps", "10"],
+        &mut out,
+    )
+    .unwrap();
+    let text = String::from_utf8(out).unwrap();
+    let share = 100.0 * filled as f64 / frames as f64;
+    let said = format!("({filled} bridged, {share:.1} % of the frames used: gaps of ≤ 10 frames");
+    assert!(text.contains(&said), "{said}\n{text}");
     let default = fit(file, &[]);
     let filled = default["recording"]["frames_filled"].as_u64().unwrap();
     let frames = default["frames"].as_u64().unwrap();

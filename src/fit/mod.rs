@@ -39,9 +39,11 @@
 use std::io::BufRead;
 
 mod accumulate;
+mod advice;
 mod alias;
 mod animal;
 mod bootstrap;
+mod bridging;
 mod error;
 mod note;
 mod pilot;
@@ -59,6 +61,7 @@ mod wave;
 mod welch;
 mod window;
 pub use accumulate::{Each, SinkError};
+pub use advice::{Advice, Step};
 pub use animal::AnimalFit;
 pub use bootstrap::{Intervals, MAX_REPLICATES};
 pub use error::FitError;

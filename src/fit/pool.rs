@@ -500,6 +500,7 @@ impl Pool {
         report
             .warnings
             .extend(super::report::recording_notes(&report));
+        report.advice = super::advice::of(&report, &self.series);
         if ctx.settings.bootstrap > 0 {
             let units = units(&self.kept);
             let frames = UnitFrames::of(&units, &self.series);

@@ -136,6 +136,9 @@ pub struct FitReport {
     /// 95 % bootstrap intervals (`--bootstrap`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub intervals: Option<Intervals>,
+    /// What would decide the undetermined tests (`advice`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub advice: Option<super::advice::Advice>,
     /// The arguments that make `simulate` use the fitted scales (see [`FitReport::onward`]).
     pub onward: Vec<String>,
 }
@@ -176,32 +179,14 @@ pub struct Subspace {
     pub components_capture: f64,
 }
 
-/// Above this share of synthesised frames, bridging is a warning: the spectra lean on it.
-const BRIDGED_SHARE: f64 = 0.05;
-
-/// The recording's own warnings: bridging ([`bridged`]), and a DeepLabCut export read without
+/// The recording's own warnings: bridging ([`super::bridging::warning`]), and a DeepLabCut export read without
 /// `--fps`, whose time unit is a frame.
 pub(super) fn recording_notes(report: &FitReport) -> Vec<String> {
-    let mut notes: Vec<String> = bridged(report).into_iter().collect();
+    let mut notes: Vec<String> = super::bridging::warning(report).into_iter().collect();
     if report.units.time.as_deref() == Some(crate::recording::FRAME_UNIT) {
         notes.push("a DeepLabCut export without --fps: times are in frames (ω in rad/frame, β in frame²); --fps F gives them in seconds".into());
     }
     notes
-}
-
-/// The warning that more than [`BRIDGED_SHARE`] of the frames used were bridged, with the share.
-fn bridged(report: &FitReport) -> Option<String> {
-    let r = &report.recording;
-    let share = r.frames_filled as f64 / report.frames.max(1) as f64;
-    (share > BRIDGED_SHARE).then(|| {
-        format!(
-            "{} of the {} frames used ({} %) were synthesised by bridging gaps of up to {} frames (--fill-gaps): the spectra lean on straight lines; --fill-gaps 0 fits the runs alone",
-            r.frames_filled,
-            report.frames,
-            crate::report::fixed(100.0 * share, 1),
-            r.fill_gaps
-        )
-    })
 }
 
 impl Report for FitReport {
@@ -319,8 +304,8 @@ impl Report for FitReport {
         }
         let rec = &r.recording;
         t += &format!(
-            "  recording: {} animal(s), {} frames read, {} lost ({} bridged: gaps of ≤ {} frames, --fill-gaps), {} gaps, {} runs, longest {} frames\n",
-            rec.recordings, rec.frames_read, rec.frames_lost, rec.frames_filled, rec.fill_gaps, rec.gaps, rec.runs, rec.longest_run
+            "  recording: {} animal(s), {} frames read, {} lost ({}), {} gaps, {} runs, longest {} frames\n",
+            rec.recordings, rec.frames_read, rec.frames_lost, super::bridging::clause(rec, r.frames), rec.gaps, rec.runs, rec.longest_run
         );
         t += &format!(
             "  Welch: window {} frames, {} segments; f in cycles/{time}, ω in rad/{time} (peak f: the spectrum's highest bin, centroid f: its mean; measured ω = 2π × one of them, theory ω√λ: the fitted line)\n  mode        λ   PCA share  equipartition  overlap with mode   peak f  centroid f   measured ω  theory ω√λ\n",
@@ -350,6 +335,9 @@ impl Report for FitReport {
         t += &subspace_text(r);
         for w in &r.warnings {
             t += &format!("  warning: {w}\n");
+        }
+        if let Some(a) = &r.advice {
+            t += &format!("  {a}\n");
         }
         t += &animals_text(&r.animals);
         t += &super::spread::text(r);

@@ -8,11 +8,9 @@ use super::verdict::{self, FittedBy, ModeSpectralFit, TheoryTests};
 use super::window::{
     choose_window, fit_modes_spectra, lowest_frequency, spectral_peak_and_centroid,
 };
-use crate::recording::Projector;
-use crate::report::fixed;
-
 use super::{Continuum, Estimator, FitError, FitReport, FitSettings, ModeFit, Recording, Subspace};
-use crate::recording::Units;
+use crate::recording::{Projector, Units};
+use crate::report::fixed;
 
 /// How much of a fit to make: everything, or only the constants (ω, β, κ from the first
 /// `fit_modes` modes) for an animal alone or a bootstrap resample, warm-started from the
@@ -283,6 +281,7 @@ pub(super) fn summarise(
         subspace,
         intervals: None,
         spread: None,
+        advice: None,
         onward: Vec::new(),
         points: proj.input_points,
         pca_variance_share: pca_share,

@@ -11,7 +11,14 @@
 //! * its line is narrower than a frequency bin (ζΩ/2π < df): Whittle's Fisher error assumes a
 //!   line spread over many bins and is 1.5–2.3× too small for σ² there (issue 56);
 //! * frames were lost and not bridged: Welch's segments stay inside runs and drop the frames
-//!   of short ones, while the Kalman filter uses every frame and skips the lost ones.
+//!   of short ones, while the Kalman filter uses every frame and skips the lost ones;
+//! * frames were lost and the window the runs allow leaves the mode under a bin above zero
+//!   ([`SHORT_RUNS`]: a tracker's stage moves every 12–25 frames): the Kalman filter is not
+//!   bound to a window, so it fits the mode across all runs at once, from three starts
+//!   (Ω₀/2, Ω₀, 2Ω₀ of the unresolved Whittle estimate Ω₀, whose likelihood is flat and
+//!   multi-modal there), the best ln L kept. Such a fit stands when the longest run holds at
+//!   least [`RUN_PERIODS`] of its period 2π/Ω (a run shorter than that sees a trend, not an
+//!   oscillation, and Ω is then set by the prior start, not the data).
 //!
 //! Such a mode (fitted, not over-damped, with a line above the white level) is fitted again
 //! from the Whittle estimate, over every animal's series at once (one likelihood, the sum of
@@ -54,6 +61,12 @@ pub(super) const NEAR_NYQUIST: f64 = 0.6;
 /// error far too small (a clamped–free beam's third mode, ζ = 0.55 at 0.8 × Nyquist: a true
 /// equipartition rejected in 9 of 20 recordings).
 pub(super) const BROAD: f64 = 0.4;
+
+/// Why a mode the short runs' window cannot resolve is fitted by the exact likelihood.
+pub(super) const SHORT_RUNS: &str = "window limited by short runs";
+
+/// The share of its period 2π/Ω the longest run must hold for a [`SHORT_RUNS`] fit to stand.
+pub(super) const RUN_PERIODS: f64 = 0.5;
 
 /// One animal's modal coordinates in time order, NaN where a frame was lost; none past
 /// [`MAX_FRAMES`].
@@ -160,14 +173,19 @@ impl Span<'_> {
 
 /// Why a mode is fitted by its exact likelihood, or `None` when its Whittle fit stands.
 fn wanted(m: &ModeSpectralFit, df: f64, fs: f64, lost: bool) -> Option<&'static str> {
-    let fittable = matches!(
-        m.note,
-        None | Some(ModeNote::AboveNyquist)
-            | Some(ModeNote::LinePastNyquist)
-            | Some(ModeNote::OmegaUncertain)
-    );
+    let short = lost && matches!(m.note, Some(ModeNote::TooFewBins { .. }));
+    let fittable = short
+        || matches!(
+            m.note,
+            None | Some(ModeNote::AboveNyquist)
+                | Some(ModeNote::LinePastNyquist)
+                | Some(ModeNote::OmegaUncertain)
+        );
     if !(fittable && m.omega > 0.0 && m.zeta < BROAD && m.variance > 0.0) {
         return None;
+    }
+    if short {
+        return Some(SHORT_RUNS);
     }
     let f = m.omega / (2.0 * std::f64::consts::PI);
     // Above Nyquist the mode is its alias: it does not vote, and its fit is left as it is.
@@ -333,6 +351,7 @@ pub(super) fn refit(
             let jobs: Vec<_> = (jobs.into_iter())
                 .filter(|&(j, ..)| j < fits.len() && holds(spans, j))
                 .collect();
+            let longest = longest_run(spans);
             let one = |&(j, why, from): &(usize, &'static str, &ModeSpectralFit)| {
                 // Fitted in frames (Δt = 1), Ω back in the recording's time unit.
                 let start = Oscillator {
@@ -343,10 +362,11 @@ pub(super) fn refit(
                 };
                 let data = coordinate(spans, j);
                 let fit = match why {
-                    UNFOLDED => fit_oscillator_in(&data, 1.0, start, branch_band(start.omega)),
-                    _ => fit_oscillator(&data, 1.0, start),
+                    UNFOLDED => fit_oscillator_in(&data, 1.0, start, branch_band(start.omega)).ok(),
+                    SHORT_RUNS => across_runs(&data, start, longest),
+                    _ => fit_oscillator(&data, 1.0, start).ok(),
                 };
-                Some((j, why, in_time_unit(&fit.ok()?, fs)))
+                Some((j, why, in_time_unit(&fit?, fs)))
             };
             on_cores(jobs.len(), |k| one(&jobs[k]))
                 .into_iter()
@@ -355,12 +375,51 @@ pub(super) fn refit(
         }
     };
     for (j, why, spectrum) in done {
-        if j < fits.len() && (why == UNFOLDED || agrees(&fits[j], &spectrum, df)) {
+        // A short-run fit has no resolved Whittle line to agree with.
+        let unresolved = why == UNFOLDED || why == SHORT_RUNS;
+        if j < fits.len() && (unresolved || agrees(&fits[j], &spectrum, df)) {
             let mut fit = classify(j, &spectrum, why);
             fit.exact = Some(why);
             fits[j] = fit;
         }
     }
+}
+
+/// A [`SHORT_RUNS`] mode's fit across all runs `data` (in frames): the best ln L of three
+/// starts, kept when the longest run (`longest` frames) holds [`RUN_PERIODS`] of its period.
+fn across_runs(data: &[&[f64]], start: Oscillator, longest: usize) -> Option<OscillatorFit> {
+    let zeta = start.zeta.clamp(0.05, 0.3);
+    let fits = [0.5, 1.0, 2.0].map(|k| {
+        let omega = (start.omega * k).min(0.9 * std::f64::consts::PI);
+        fit_oscillator(
+            data,
+            1.0,
+            Oscillator {
+                omega,
+                zeta,
+                ..start
+            },
+        )
+        .ok()
+    });
+    let best = (fits.into_iter().flatten())
+        .filter(|f| f.errors.is_some())
+        .max_by(|a, b| a.log_likelihood.total_cmp(&b.log_likelihood))?;
+    let period = 2.0 * std::f64::consts::PI / best.estimate.omega;
+    (longest as f64 >= RUN_PERIODS * period).then_some(best)
+}
+
+/// The most consecutive usable frames in any of `spans`.
+fn longest_run(spans: &[Span<'_>]) -> usize {
+    let runs = spans.iter().filter_map(|s| s.coordinate(0)).map(|c| {
+        let (mut best, mut now) = (0, 0);
+        for v in c {
+            now = if v.is_nan() { 0 } else { now + 1 };
+            best = best.max(now);
+        }
+        best
+    });
+    runs.max().unwrap_or(0)
 }
 
 /// Mode `j`'s coordinate over each span.
