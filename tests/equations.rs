@@ -271,3 +271,49 @@ fn every_rhs_term_says_its_kind() {
     }
     assert_eq!(seen.len(), 3, "{seen:?}");
 }
+
+#[test]
+fn no_force_enters_an_equation_twice_in_either_basis() {
+    use theory_search::enumerate::Basis;
+    // The crawler's gyroscopic ∂t∂s x is also E(∂tx·∂sx) when the Lagrangian keeps monomials;
+    // without REF (a TRAN-only axial field) more of the active forces are the densities' own.
+    let crawler = include_str!("../tables/models/crawler.toml");
+    let tran_only = crawler
+        .replace(
+            "x = [\"OST\", \"TRAN\", \"REF\"]",
+            "x = [\"OST\", \"TRAN\"]",
+        )
+        .replace(
+            "x = [\"DIS\", \"TRAN\", \"GAL\", \"REF\"]",
+            "x = [\"DIS\", \"TRAN\", \"GAL\"]",
+        )
+        .replace(
+            "x = [\"OST\", \"TRAN\", \"REF\", \"GAL\"]",
+            "x = [\"OST\", \"TRAN\"]",
+        );
+    assert_ne!(tran_only, crawler);
+    let mut merged = 0;
+    for text in [crawler.to_string(), tran_only] {
+        let model = Model::from_toml(&text).expect("model");
+        for basis in [Basis::Powers, Basis::Monomials] {
+            let (equations, notes) =
+                theory_search::equations::derive_basis(&model, 4, basis).expect("equations");
+            for e in &equations {
+                let mut derivs: Vec<_> = e.rhs.iter().map(|t| (t.deriv.t, t.deriv.s)).collect();
+                let all = derivs.len();
+                derivs.sort();
+                derivs.dedup();
+                assert_eq!(
+                    derivs.len(),
+                    all,
+                    "{basis:?}, field {}: {:?}",
+                    e.field.id,
+                    e.rhs
+                );
+            }
+            merged += notes.iter().filter(|n| n.contains("enters once")).count();
+        }
+    }
+    // The crawler's monomial basis and the TRAN-only field each merged at least one force.
+    assert!(merged >= 2, "{merged}");
+}

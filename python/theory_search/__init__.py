@@ -756,6 +756,7 @@ def discover(
     return Result(doc)
 
 
+@shared
 def compare(
     first: Any,
     second: Any,

@@ -171,7 +171,25 @@ pub(super) fn general_rhs(
             })
         })
         .collect();
-    rhs.extend(active.iter().map(|f| PolyTerm {
+    // A force the densities already give enters once, with the densities' coefficient: two
+    // coefficients of one force are one parameter no data can split.
+    let given: Vec<(crate::parts::JetMono, String)> = rhs
+        .iter()
+        .map(|t| (t.monomial.clone(), t.coefficient.clone()))
+        .collect();
+    let active = active.iter().filter(|f| {
+        let m = mono_of(&f.shape);
+        let Some((_, by)) = given.iter().find(|(g, _)| *g == m) else {
+            return true;
+        };
+        notes.push(format!(
+            "{} {}: the densities already give this force ({by}), so it enters once",
+            f.coefficient.as_deref().unwrap_or("1"),
+            f.shape.render(&|_| field.symbol.clone()),
+        ));
+        false
+    });
+    rhs.extend(active.map(|f| PolyTerm {
         monomial: mono_of(&f.shape),
         value: Rational64::from_integer(1),
         coefficient: f.coefficient.clone().unwrap_or_else(|| "1".into()),
