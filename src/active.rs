@@ -133,6 +133,15 @@ pub struct FieldForces {
 /// moves: `equations` says it under the equation, and `simulate`, `modes` and `emit` refuse it.
 pub const NOT_A_FORCE: &str = "a factor with two time derivatives or more is inertia, not a force: it raises the equation's order in time (a position and a velocity no longer fix the motion), so no integrator moves it (OST keeps it out)";
 
+/// Whether a force is closed skew at the ends of the grid: one factor g ∂t∂sᵇφ, b odd, the
+/// gyroscopic force of L = ½g φ∂t∂sᵇφ. Its centred difference B is antisymmetric where the
+/// stencil fits; a point where it would leave the body reads it on the points where it fits, so
+/// Bᵢⱼ = −Bⱼᵢ and v·Bv = 0: the grid's form of L's natural conditions at free ends, whose point
+/// forces cancel the continuum's end work g/2[v²] (for b = 1).
+pub fn closes_skew(term: &Term) -> bool {
+    matches!(term.factors(), [f] if f.power == 1 && f.deriv.t == 1 && f.deriv.s % 2 == 1)
+}
+
 impl Force {
     /// Whether a factor has two time derivatives or more ([`NOT_A_FORCE`]).
     pub fn is_inertia(&self) -> bool {

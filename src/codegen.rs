@@ -257,6 +257,8 @@ struct ActiveContext {
     text_lit: String,
     slot: usize,
     factors: Vec<ActiveFactorContext>,
+    /// Closed skew at the ends (`active::closes_skew`).
+    skew: bool,
 }
 
 /// One field of the force template.
@@ -346,6 +348,7 @@ pub fn forces_source(model: &Model, order: u32) -> Result<String, CodegenError> 
                             velocity: g.deriv.t == 1,
                         })
                         .collect(),
+                    skew: crate::active::closes_skew(&x.shape),
                 })
             })
             .collect::<Result<_, _>>()?;

@@ -6,14 +6,17 @@
 //! that convolved with (−½, 0, ½), on the unknowns (u) or the velocities (v = ∂tφ). Around a
 //! ring every point has its stencil. With ends, the stated rule: **a point whose centred stencil
 //! would leave the body feels no active force** (a free end's natural conditions make ∂s φ,
-//! and for a beam ∂s²φ and ∂s³φ, vanish there; held points are zeros and may be read). No
+//! and for a beam ∂s²φ and ∂s³φ, vanish there; held points are zeros and may be read), but for
+//! the gyroscopic g∂t∂sᵇφ, b odd (`closes_skew`): there it reads its stencil on the points
+//! whose stencil fits, so its matrix B is skew, v·Bv = 0, and it does no work at the ends. No
 //! force is a gradient here, so the Newton matrix of a step does not hold it (the matrices are
 //! symmetric): its part of the step converges at the rate h²‖∂f/∂u‖/4 + h‖∂f/∂v‖/2 against the
 //! rest, and a step too large for that says so (`NoConvergence`).
 //!
 //! **Power.** In the average-vector-field step the force enters at the midpoint
 //! (ū = u₀ + Δ/2, v̄ = Δ/h), so the discrete energy balance is exact:
-//! E₁ − E₀ = −h v̄·∇R(v̄) + h v̄·f(ū, v̄), the second term the work the active forces inject.
+//! E₁ − E₀ = −h v̄·∇R(v̄) + h v̄·f(ū, v̄), the second term the work the active forces inject
+//! (zero, to rounding, for a skew force).
 
 use crate::boundary::Boundary;
 use crate::discretise::centred;
@@ -50,6 +53,7 @@ impl ActiveForce {
         held: (usize, usize),
     ) -> Option<ActiveForce> {
         let mut live = vec![true; unknowns];
+        let skew = crate::active::closes_skew(term);
         let mut factors = Vec::new();
         for f in term.factors() {
             if f.deriv.t > 1 {
@@ -64,16 +68,19 @@ impl ActiveForce {
                         return w.iter().enumerate().map(|(k, &x)| (at(k), x)).collect();
                     }
                     let p = i + held.0;
-                    if p < r || p + r >= points {
+                    let fits = |q: usize| q >= r && q + r < points;
+                    if !fits(p) && !skew {
                         live[i] = false;
                         return Vec::new();
                     }
+                    // Where the stencil leaves the body, a skew force reads it where it fits.
                     w.iter()
                         .enumerate()
-                        .filter(|&(k, &x)| {
-                            x != 0.0 && (held.0..held.0 + unknowns).contains(&(p + k - r))
+                        .filter_map(|(k, &x)| {
+                            let q = (p + k).checked_sub(r)?;
+                            let on = (held.0..held.0 + unknowns).contains(&q);
+                            (x != 0.0 && on && (fits(p) || fits(q))).then(|| (q - held.0, x))
                         })
-                        .map(|(k, &x)| (p + k - r - held.0, x))
                         .collect()
                 })
                 .collect();
@@ -146,6 +153,7 @@ impl ActiveForce {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nalgebra::DMatrix;
 
     #[test]
     fn a_cubic_is_differentiated_exactly_inside_and_off_near_free_ends() {
@@ -157,5 +165,24 @@ mod tests {
         f.add(&u, &[0.0; 9], 1.0, &mut out);
         let expect = [0.0, 0.0, 6.0, 6.0, 6.0, 6.0, 6.0, 0.0, 0.0];
         assert!(out.iter().zip(&expect).all(|(a, b)| (a - b).abs() < 1e-12));
+    }
+
+    #[test]
+    fn gyroscopic_forces_are_skew_at_every_end() {
+        // ∂v f = B: skew for ∂ts and ∂tsss at free ends and with held points; off at free ends
+        // (B's end rows empty) it would not be.
+        for (term, held) in [
+            ("(∂ts φ)", (0, 0)),
+            ("(∂tsss φ)", (0, 0)),
+            ("(∂tsss φ)", (1, 1)),
+        ] {
+            let term: Term = term.parse().unwrap();
+            let n = 9 - held.0 - held.1;
+            let f = ActiveForce::new(&term, 0.7, (9, n), Boundary::FREE, held).unwrap();
+            let (mut du, mut b) = (DMatrix::zeros(n, n), DMatrix::zeros(n, n));
+            f.jacobians((&vec![0.0; n], &vec![0.0; n]), &mut du, &mut b);
+            assert!((&b + b.transpose()).amax() < 1e-15, "{term:?}: {b}");
+            assert!(b.row(0).amax() > 0.0 && du.amax() == 0.0);
+        }
     }
 }

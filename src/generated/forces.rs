@@ -7,8 +7,10 @@
 //! `∂F/∂u = −∇²V(u)` and `∂F/∂v = −∇²R(v)`, its mass `M(v) = ∇²T(v)`: the equation of motion
 //! is `M(v) v̇ = F(u, v)` (ü = F with the standard kinetic term alone); a square ½c(∂sᵏφ)²
 //! gives back −c·D of the linear operators. A model's `[active]` section adds its forces f to F
-//! (per unit mass, at the points whose centred stencils lie on the body; see
-//! `theory-search equations`), with their Jacobians. Self-contained: this file needs only `std`.
+//! (per unit mass, at the points whose centred stencils lie on the body; a skew one, the
+//! gyroscopic g∂t∂sᵇφ with b odd, also elsewhere, its stencil read where it fits, so it does no
+//! work; see `theory-search equations`), with their Jacobians. Self-contained: this file needs
+//! only `std`.
 
 /// Why a force cannot be evaluated.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -79,7 +81,8 @@ pub struct ActiveFactor {
 }
 
 /// A force of the model's `[active]` section, per unit mass: `c[slot]·Π factors` at every
-/// point whose centred stencils lie on the body (around a ring, every point); elsewhere none.
+/// point whose centred stencils lie on the body (around a ring, every point); elsewhere none,
+/// or for a skew force its stencil on the points where it fits (v·f = 0 at every v).
 #[derive(Debug, Clone, Copy)]
 pub struct ActiveTerm {
     /// The term as printed.
@@ -88,6 +91,8 @@ pub struct ActiveTerm {
     pub slot: usize,
     /// Its factors.
     pub factors: &'static [ActiveFactor],
+    /// Closed skew at the ends (one factor ∂t∂sᵇφ, b odd: gyroscopic).
+    pub skew: bool,
 }
 
 /// One field's generated force.
@@ -183,13 +188,14 @@ impl FieldForce {
     }
 
     /// The unknowns (index, weight) of an active factor's centred stencil at unknown i: none
-    /// where it would leave the body.
+    /// where it would leave the body, or if `skew` the points there where it fits.
     fn active_row(
         &self,
         points: usize,
         weights: &'static [f64],
         n: usize,
         i: usize,
+        skew: bool,
     ) -> Vec<(usize, f64)> {
         let r = weights.len() / 2;
         if self.periodic {
@@ -200,14 +206,18 @@ impl FieldForce {
                 .collect();
         }
         let p = i + self.held.0;
-        if p < r || p + r >= points {
+        let fits = |q: usize| q >= r && q + r < points;
+        if !fits(p) && !skew {
             return Vec::new();
         }
         weights
             .iter()
             .enumerate()
-            .filter(|&(k, _)| (self.held.0..self.held.0 + n).contains(&(p + k - r)))
-            .map(|(k, &w)| (p + k - r - self.held.0, w))
+            .filter_map(|(k, &w)| {
+                let q = (p + k).checked_sub(r)?;
+                let on = (self.held.0..self.held.0 + n).contains(&q);
+                (on && (fits(p) || fits(q))).then(|| (q - self.held.0, w))
+            })
             .collect()
     }
 
@@ -228,14 +238,14 @@ impl FieldForce {
             .max()
             .unwrap_or(0);
         let p = i + self.held.0;
-        if !self.periodic && (p < r || p + r >= points) {
+        if !self.periodic && !t.skew && (p < r || p + r >= points) {
             return Vec::new();
         }
         t.factors
             .iter()
             .map(|f| {
                 let x = if f.velocity { v } else { u };
-                self.active_row(points, f.weights, n, i)
+                self.active_row(points, f.weights, n, i, t.skew)
                     .iter()
                     .map(|&(j, w)| w * x[j])
                     .sum()
@@ -274,7 +284,7 @@ impl FieldForce {
                         .map(|(_, (x, g))| x.powi(g.power))
                         .product();
                     let d = c[t.slot] * f64::from(f.power) * values[k].powi(f.power - 1) * others;
-                    for (j, w) in self.active_row(points, f.weights, u.len(), i) {
+                    for (j, w) in self.active_row(points, f.weights, u.len(), i, t.skew) {
                         match f.velocity {
                             true => dv(i, j, d * w),
                             false => du(i, j, d * w),
