@@ -20,6 +20,11 @@
 //! v, and none when R is odd in v: each force's `why` says which). Every other force is
 //! *active*: its power has no sign and it is not a variational derivative.
 
+mod basis;
+
+use std::collections::BTreeMap;
+
+pub use basis::Dependent;
 use num_rational::Rational64;
 
 use crate::enumerate::{monomials, Bounds, MAX_ORDER};
@@ -127,6 +132,9 @@ pub struct FieldForces {
     pub active: Vec<Force>,
     /// The lowest-order gyroscopic forces: variational, yet odd under time reversal.
     pub gyroscopic: Vec<Force>,
+    /// Active monomials of the lowest-order blocks that add no direction: the listed active
+    /// forces give them, up to a variational or Rayleigh force (`basis`).
+    pub dependent: Vec<Dependent>,
 }
 
 /// Why a force term with a factor of two time derivatives or more is not a force any command
@@ -234,6 +242,26 @@ fn field_forces(
         counts[f.kind as usize] += 1;
         by_class.push(((*t).clone(), f));
     }
+    // The active monomials, reduced to a basis block by block (`basis`).
+    let mut blocks: BTreeMap<(u32, u32, u32), Vec<Term>> = BTreeMap::new();
+    for (t, f) in &by_class {
+        if f.kind == ForceClass::Active {
+            let o = t.orders();
+            blocks
+                .entry((o.epsilon, o.tau, o.sigma))
+                .or_default()
+                .push(t.clone());
+        }
+    }
+    let render = |t: &Term| t.render(&name);
+    let mut dependent: Vec<(Term, Dependent)> = Vec::new();
+    for terms in blocks.values() {
+        let (kept, gone) = basis::reduce_block(terms, &render);
+        let dropped = (0..terms.len()).filter(|i| !kept.contains(i));
+        dependent.extend(dropped.map(|i| terms[i].clone()).zip(gone));
+    }
+    counts[ForceClass::Active as usize] -= dependent.len();
+    by_class.retain(|(t, _)| !dependent.iter().any(|(d, _)| d == t));
     let lowest = |kind: ForceClass| -> Vec<Force> {
         let terms: Vec<Term> = by_class
             .iter()
@@ -260,13 +288,21 @@ fn field_forces(
         }
         list
     };
+    let active = lowest(ForceClass::Active);
+    let block = |o: Orders| (o.epsilon, o.tau, o.sigma);
+    let listed: Vec<_> = active.iter().map(|f| block(f.orders)).collect();
     FieldForces {
         field: id.to_string(),
         candidates,
         covariant: covariant.len(),
         counts,
-        active: named("a", lowest(ForceClass::Active)),
+        active: named("a", active),
         gyroscopic: named("g", lowest(ForceClass::Gyroscopic)),
+        dependent: dependent
+            .into_iter()
+            .filter(|(t, _)| listed.contains(&block(t.orders())))
+            .map(|(_, d)| d)
+            .collect(),
     }
 }
 
@@ -455,6 +491,9 @@ impl crate::report::Report for ActiveReport {
                         x.why
                     );
                 }
+            }
+            for d in &f.dependent {
+                let _ = writeln!(t, "  not listed: {} {}", d.term, d.why);
             }
         }
         t
