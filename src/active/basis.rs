@@ -113,7 +113,7 @@ impl Echelon {
 }
 
 /// u·p/(ε + 1) for `p` of degree ε: the homotopy density of a homogeneous force.
-fn times(p: &JetPoly, u: Deriv, degree: u32) -> JetPoly {
+pub(super) fn times(p: &JetPoly, u: Deriv, degree: u32) -> JetPoly {
     let w = Rational64::new(1, i64::from(degree) + 1);
     p.iter()
         .map(|(m, c)| {

@@ -25,7 +25,6 @@ mod basis;
 use std::collections::BTreeMap;
 
 pub use basis::Dependent;
-use num_rational::Rational64;
 
 use crate::enumerate::{monomials, Bounds, MAX_ORDER};
 use crate::jet::{euler_lagrange, mono_of, poly_of, space_euler, JetPoly};
@@ -323,7 +322,7 @@ pub fn classify(t: &Term, name: &dyn Fn(u8) -> String) -> Force {
     });
     let (time_parity, space_parity) = (parity(ts % 2 == 1), parity(ss % 2 == 1));
     let f = poly_of(t);
-    let degree = t.orders().epsilon as i64;
+    let degree = t.orders().epsilon;
     let (kind, why) = if euler_lagrange(&homotopy(t, Deriv::new(0, 0), degree)) == f {
         if time_parity > 0 {
             (
@@ -336,7 +335,10 @@ pub fn classify(t: &Term, name: &dyn Fn(u8) -> String) -> Force {
     } else if t.factors().iter().all(|x| x.deriv.t == 1)
         && space_euler(&homotopy(t, Deriv::new(1, 0), degree)).get(&1) == Some(&f)
     {
-        (ForceClass::Dissipative, rayleigh_power(t, degree))
+        (
+            ForceClass::Dissipative,
+            rayleigh_power(t, i64::from(degree)),
+        )
     } else {
         let why = if t.factors().iter().all(|x| x.deriv.t == 1) {
             "a velocity force that is no δR/δv: not self-adjoint, power of no sign"
@@ -416,16 +418,8 @@ fn rayleigh_power(t: &Term, degree: i64) -> String {
 }
 
 /// The homotopy density u·f/(ε + 1), `u` the factor ∂^`u` φ.
-fn homotopy(t: &Term, u: Deriv, degree: i64) -> JetPoly {
-    let mut m = mono_of(t);
-    match m.iter_mut().find(|(d, _)| *d == u) {
-        Some((_, n)) => *n += 1,
-        None => {
-            m.push((u, 1));
-            m.sort();
-        }
-    }
-    JetPoly::from([(m, Rational64::new(1, degree + 1))])
+fn homotopy(t: &Term, u: Deriv, degree: u32) -> JetPoly {
+    basis::times(&poly_of(t), u, degree)
 }
 
 /// The active forces of a model at an order, as printed.
