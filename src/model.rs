@@ -161,6 +161,28 @@ pub struct DensitySpec {
     /// before it left (the effective theory at next-to-leading order for K = 1).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub beyond_leading: u32,
+    /// `[active]` only: whether the covariant variational and Rayleigh forces that no admitted
+    /// density gives enter the equations (`"enter"`, as `b_φ`) or are only listed (`"list"`).
+    #[serde(default, skip_serializing_if = "Uncarried::is_list")]
+    pub uncarried: Uncarried,
+}
+
+/// What `[active]` does with a force that is variational or of Rayleigh form yet carried by
+/// no density the model admits (`active::carried`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Uncarried {
+    /// Listed by `active` with the rules that strike its densities; not in the equations.
+    #[default]
+    List,
+    /// Also entered into the equations with a coefficient `b_φ`.
+    Enter,
+}
+
+impl Uncarried {
+    fn is_list(&self) -> bool {
+        *self == Uncarried::List
+    }
 }
 
 /// The most orders kept beyond the leading one.
@@ -355,6 +377,11 @@ impl Model {
         if self.rayleigh.dominance != Dominance::Joint {
             return Err(invalid(UNUSED_KEYS[0].2.into()));
         }
+        for (spec, key) in [(&self.lagrangian, 3), (&self.rayleigh, 4)] {
+            if spec.uncarried != Uncarried::List {
+                return Err(invalid(UNUSED_KEYS[key].2.into()));
+            }
+        }
         // Forces are not densities: no parts compete and no interaction table is built for
         // them, so these keys would be read and ignored.
         if let Some(active) = &self.active {
@@ -488,7 +515,7 @@ impl Model {
 
 /// Keys a section parses (it shares the densities' shape) but cannot use: (section, key, the
 /// one line that refuses it).
-const UNUSED_KEYS: [(&str, &str, &str); 3] = [
+const UNUSED_KEYS: [(&str, &str, &str); 5] = [
     (
         "rayleigh",
         "dominance",
@@ -503,6 +530,16 @@ const UNUSED_KEYS: [(&str, &str, &str); 3] = [
         "active",
         "interaction",
         "[active] interaction: no interaction table is built for forces; only [lagrangian] and [rayleigh] take interaction rules",
+    ),
+    (
+        "lagrangian",
+        "uncarried",
+        "[lagrangian] uncarried: it says whether forces no density gives enter the equations, so only [active] takes it",
+    ),
+    (
+        "rayleigh",
+        "uncarried",
+        "[rayleigh] uncarried: it says whether forces no density gives enter the equations, so only [active] takes it",
     ),
 ];
 

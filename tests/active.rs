@@ -213,7 +213,7 @@ fn the_active_report_has_a_csv_form_with_the_jsons_rows() {
     let v: serde_json::Value = serde_json::from_str(&run("json")).unwrap();
     let mut expected = Vec::new();
     for f in v["fields"].as_array().unwrap() {
-        for class in ["active", "gyroscopic"] {
+        for class in ["active", "gyroscopic", "uncarried"] {
             for x in f[class].as_array().unwrap() {
                 expected.push(vec![
                     f["field"].as_str().unwrap().to_string(),
@@ -662,4 +662,155 @@ fn the_listed_active_forces_are_a_basis_modulo_variational_and_rayleigh_forces()
     assert!(blocks > 20, "{blocks} blocks");
     // The pair: (∂s³y)² and ∂s²y·∂s⁴y add up to E((∂s²y)³)/6, one direction.
     assert!(named.iter().any(|t| t == "∂ss y·∂ssss y"), "{named:?}");
+}
+
+/// The images of the densities of the block of force `t` that every rule of `lagrangian` (for
+/// L) or `rayleigh` (for R) admits, by the test's own enumerator.
+fn admitted_images(t: &Term, lagrangian: &[&str], rayleigh: &[&str]) -> Vec<JetPoly> {
+    let o = t.orders();
+    let admits = |codes: &[&str], p: &JetPoly| {
+        let m = term_of(p.keys().next().expect("a monomial")).expect("a term");
+        codes
+            .iter()
+            .all(|c| rule(c).expect("a rule").passes_by_expansion(&m))
+    };
+    let mut out: Vec<JetPoly> = block_monomials(o.epsilon + 1, o.tau, o.sigma, false)
+        .iter()
+        .filter(|p| admits(lagrangian, p))
+        .map(euler_lagrange)
+        .collect();
+    out.extend(
+        block_monomials(o.epsilon + 1, o.tau + 1, o.sigma, false)
+            .iter()
+            .filter(|p| admits(rayleigh, p))
+            .map(|p| space_euler(p).remove(&1).unwrap_or_default()),
+    );
+    out
+}
+
+#[test]
+fn covariant_forces_no_admitted_density_gives_are_listed_with_the_rules_that_strike_them() {
+    // Random [lagrangian], [rayleigh] and [active] requirements of the crawler's lateral field
+    // at order 4, every layer kept: the forces listed as carried by no density are exactly the
+    // covariant variational or Rayleigh forces (by the oracle's search for a density) that no
+    // admitted density's image reaches (the test's own enumerator and elimination).
+    use rand::SeedableRng;
+    let mut rng = rand::rngs::StdRng::seed_from_u64(5);
+    let mut pick = |always: &'static str, optional: &[&'static str]| -> Vec<&'static str> {
+        let mut r = vec![always];
+        r.extend(optional.iter().filter(|_| rng.random_range(0..2) == 1));
+        r
+    };
+    let crawler = include_str!("../tables/models/crawler.toml");
+    let (mut listed, mut seen_rot) = (0, false);
+    for case in 0..10 {
+        let l = pick("OST", &["TRAN", "REF", "ROT"]);
+        let r = pick("DIS", &["TRAN", "GAL", "REF", "SPIN"]);
+        let a = pick("OST", &["TRAN", "REF", "ROT", "GAL"]);
+        let list = |v: &[&str]| {
+            format!(
+                "[{}]",
+                v.iter()
+                    .map(|c| format!("\"{c}\""))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        };
+        let text = crawler
+            .replace(
+                "y = [\"OST\", \"TRAN\", \"REF\", \"KIN\", \"ROT\"]",
+                &format!("y = {}", list(&[&l[..], &["KIN"]].concat())),
+            )
+            .replace(
+                "y = [\"DIS\", \"TRAN\", \"GAL\", \"REF\", \"SPIN\"]",
+                &format!("y = {}", list(&r)),
+            )
+            .replace(
+                "y = [\"OST\", \"TRAN\", \"REF\", \"ROT\", \"GAL\"]",
+                &format!("y = {}", list(&a)),
+            )
+            .replace("[active]\n", "[active]\nbeyond_leading = 8\n");
+        let model = theory_search::model::Model::from_toml(&text).expect("model");
+        let fields = theory_search::active::active_forces(&model, 4)
+            .expect("forces")
+            .expect("an [active] section");
+        let y = &fields[1];
+        let reported: Vec<&Term> = y.uncarried.iter().map(|f| &f.shape).collect();
+        let lagrangian = [&l[..], &["KIN"]].concat();
+        let rules: Vec<_> = a.iter().filter_map(|c| rule(c)).collect();
+        let mut expected: Vec<Term> = Vec::new();
+        for t in monomials(&Bounds::for_order(BoundShape::TauAndSigma, 4)) {
+            if !rules.iter().all(|r| allows(r, &t)) {
+                continue;
+            }
+            if !matches!(
+                oracle(&t),
+                ForceClass::Conservative | ForceClass::Dissipative
+            ) {
+                continue;
+            }
+            let images = admitted_images(&t, &lagrangian, &r);
+            if !reaches(&images, &|p| p.clone(), &poly_of(&t)) {
+                expected.push(t);
+            }
+        }
+        let mut got: Vec<Term> = reported.into_iter().cloned().collect();
+        got.sort();
+        expected.sort();
+        assert_eq!(got, expected, "case {case}: L {l:?}, R {r:?}, active {a:?}");
+        for f in &y.uncarried {
+            assert!(
+                f.why.contains("[lagrangian]") || f.why.contains("[rayleigh]"),
+                "{}",
+                f.why
+            );
+            assert!(f.coefficient.is_none(), "listed only by default: {f:?}");
+        }
+        seen_rot |= y
+            .uncarried
+            .iter()
+            .any(|f| f.term == "∂ss y" && f.why.contains("ROT"));
+        listed += y.uncarried.len();
+    }
+    println!("{listed} forces carried by no density");
+    assert!(listed > 5 && seen_rot, "{listed}");
+}
+
+#[test]
+fn the_crawlers_tension_force_is_listed_and_enters_when_the_model_says_so() {
+    // ROT strikes (∂s y)², the only density whose variation ∂s²y is: `active` lists it, the
+    // equations leave it out, and `uncarried = "enter"` puts it in with a sign from its square.
+    let listed = common::cli(&["active", "--model", "tables/models/crawler.toml"]).expect("active");
+    assert!(listed.contains("carried by no density:"), "{listed}");
+    assert!(
+        listed.contains("∂ss y") && listed.contains("ROT in [lagrangian] strikes every density"),
+        "{listed}"
+    );
+    let crawler = include_str!("../tables/models/crawler.toml");
+    let file = common::scratch_file("uncarried", ".toml");
+    let path = file.path();
+    let text = crawler.replace(
+        "[active.requirements]",
+        "uncarried = \"enter\"\n\n[active.requirements]",
+    );
+    std::fs::write(path, text).expect("write");
+    let p = path.to_str().expect("utf-8");
+    let eqs = common::cli(&["equations", "--model", p]).expect("equations");
+    assert!(eqs.contains("∂t² y = b_y ∂s² y +"), "{eqs}");
+    assert!(
+        eqs.contains("b_y > 0: the energy must be bounded below"),
+        "{eqs}"
+    );
+    let plain =
+        common::cli(&["equations", "--model", "tables/models/crawler.toml"]).expect("plain");
+    assert!(!plain.contains("b_y"), "{plain}");
+    // A key only [active] takes.
+    let bad = crawler.replace("[rayleigh]\n", "[rayleigh]\nuncarried = \"enter\"\n");
+    std::fs::write(path, bad).expect("write");
+    let (code, _, err) = common::binary(&["active", "--model", p]);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("[rayleigh] uncarried") && err.lines().count() == 1,
+        "{err}"
+    );
 }

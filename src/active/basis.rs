@@ -26,7 +26,7 @@ pub struct Dependent {
 
 /// The monomials of `degree` factors ∂tᵃ∂sᵇφ with Σa = `tau`, Σb = `sigma` (each a = 1 on the
 /// velocity jet).
-fn jets(degree: u32, tau: u32, sigma: u32, velocity: bool) -> Vec<JetMono> {
+pub(super) fn jets(degree: u32, tau: u32, sigma: u32, velocity: bool) -> Vec<JetMono> {
     let derivs: Vec<Deriv> = (0..=tau)
         .flat_map(|a| (0..=sigma).map(move |b| Deriv::new(a, b)))
         .filter(|d| !velocity || d.t == 1)
@@ -64,7 +64,7 @@ fn jets(degree: u32, tau: u32, sigma: u32, velocity: bool) -> Vec<JetMono> {
 /// A jet polynomial in exact rationals of any size: eliminations at order 6 overflow i64.
 type Poly = BTreeMap<JetMono, BigRational>;
 
-fn big(p: &JetPoly) -> Poly {
+pub(super) fn big(p: &JetPoly) -> Poly {
     p.iter()
         .map(|(m, v)| {
             let q = BigRational::new((*v.numer()).into(), (*v.denom()).into());
@@ -76,14 +76,14 @@ fn big(p: &JetPoly) -> Poly {
 /// An echelon basis: each row's largest monomial is its pivot, with the row's combination of
 /// kept forces (a row from a density has none).
 #[derive(Default)]
-struct Echelon {
+pub(super) struct Echelon {
     rows: Vec<(Poly, Vec<BigRational>)>,
     pivots: BTreeMap<JetMono, usize>,
 }
 
 impl Echelon {
     /// `p` less the rows it reaches, and the combination of kept forces taken off.
-    fn reduce(&self, mut p: Poly, kept: usize) -> (Poly, Vec<BigRational>) {
+    pub(super) fn reduce(&self, mut p: Poly, kept: usize) -> (Poly, Vec<BigRational>) {
         p.retain(|_, v| !v.is_zero());
         let mut combo = vec![BigRational::zero(); kept];
         while let Some((m, &r)) = p.keys().rev().find_map(|m| Some((m, self.pivots.get(m)?))) {
@@ -103,7 +103,7 @@ impl Echelon {
         (p, combo)
     }
 
-    fn push(&mut self, mut p: Poly, combo: Vec<BigRational>) {
+    pub(super) fn push(&mut self, mut p: Poly, combo: Vec<BigRational>) {
         p.retain(|_, v| !v.is_zero());
         if let Some(m) = p.keys().next_back().cloned() {
             self.pivots.insert(m, self.rows.len());

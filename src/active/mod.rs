@@ -21,6 +21,7 @@
 //! *active*: its power has no sign and it is not a variational derivative.
 
 mod basis;
+mod carried;
 
 use std::collections::BTreeMap;
 
@@ -28,7 +29,7 @@ pub use basis::Dependent;
 
 use crate::enumerate::{monomials, Bounds, MAX_ORDER};
 use crate::jet::{euler_lagrange, mono_of, poly_of, space_euler, JetPoly};
-use crate::model::{DensitySpec, Model};
+use crate::model::{DensitySpec, Model, Uncarried};
 use crate::rules::{Check, Rule};
 use crate::term::{Deriv, Orders, Term};
 
@@ -134,6 +135,10 @@ pub struct FieldForces {
     /// Active monomials of the lowest-order blocks that add no direction: the listed active
     /// forces give them, up to a variational or Rayleigh force (`basis`).
     pub dependent: Vec<Dependent>,
+    /// The lowest-order covariant variational and Rayleigh forces that no admitted density
+    /// gives (`carried`), with the rules that strike their densities; each has a coefficient
+    /// `b_φ` (and enters) only under `uncarried = "enter"`.
+    pub uncarried: Vec<Force>,
 }
 
 /// Why a force term with a factor of two time derivatives or more is not a force any command
@@ -164,6 +169,7 @@ impl FieldForces {
         self.active
             .iter()
             .chain(&self.gyroscopic)
+            .chain(&self.uncarried)
             .filter_map(|f| Some((f, f.coefficient.as_deref()?)))
     }
 }
@@ -205,7 +211,10 @@ pub fn active_forces(model: &Model, order: u32) -> Result<Option<Vec<FieldForces
             .fields
             .iter()
             .zip(&covariant)
-            .map(|(f, cov)| field_forces(spec, &f.id, &f.symbol, candidates.len(), cov))
+            .map(|(f, cov)| {
+                let rules = carried::DensityRules::of(model, &f.id);
+                field_forces(spec, (&f.id, &f.symbol), &rules, candidates.len(), cov)
+            })
             .collect(),
     ))
 }
@@ -228,8 +237,8 @@ fn covariant_of<'a>(spec: &DensitySpec, id: &str, candidates: &'a [Term]) -> Vec
 
 fn field_forces(
     spec: &DensitySpec,
-    id: &str,
-    symbol: &str,
+    (id, symbol): (&str, &str),
+    rules: &carried::DensityRules,
     candidates: usize,
     covariant: &[&Term],
 ) -> FieldForces {
@@ -261,22 +270,24 @@ fn field_forces(
     }
     counts[ForceClass::Active as usize] -= dependent.len();
     by_class.retain(|(t, _)| !dependent.iter().any(|(d, _)| d == t));
-    let lowest = |kind: ForceClass| -> Vec<Force> {
-        let terms: Vec<Term> = by_class
+    let uncarried = carried::uncarried(rules, &by_class);
+    let lowest_of = |list: &[(Term, Force)], kind: Option<ForceClass>| -> Vec<Force> {
+        let of_kind = |f: &Force| kind.is_none_or(|k| f.kind == k);
+        let terms: Vec<Term> = list
             .iter()
-            .filter(|(_, f)| f.kind == kind)
+            .filter(|(_, f)| of_kind(f))
             .map(|(t, _)| t.clone())
             .collect();
         let kept: std::collections::HashSet<Term> =
             crate::reduce::layers(&terms, spec.beyond_leading)
                 .into_iter()
                 .collect();
-        by_class
-            .iter()
-            .filter(|(t, _)| kept.contains(t))
+        list.iter()
+            .filter(|(t, f)| of_kind(f) && kept.contains(t))
             .map(|(_, f)| f.clone())
             .collect()
     };
+    let lowest = |kind: ForceClass| lowest_of(&by_class, Some(kind));
     let named = |letter: &str, mut list: Vec<Force>| {
         let several = list.len() > 1;
         for (k, f) in list.iter_mut().enumerate() {
@@ -297,6 +308,10 @@ fn field_forces(
         counts,
         active: named("a", active),
         gyroscopic: named("g", lowest(ForceClass::Gyroscopic)),
+        uncarried: match spec.uncarried {
+            Uncarried::Enter => named("b", lowest_of(&uncarried, None)),
+            Uncarried::List => lowest_of(&uncarried, None),
+        },
         dependent: dependent
             .into_iter()
             .filter(|(t, _)| listed.contains(&block(t.orders())))
@@ -489,6 +504,21 @@ impl crate::report::Report for ActiveReport {
             for d in &f.dependent {
                 let _ = writeln!(t, "  not listed: {} {}", d.term, d.why);
             }
+            if !f.uncarried.is_empty() {
+                let _ = writeln!(t, "  carried by no density:");
+            }
+            for x in &f.uncarried {
+                let enters = match &x.coefficient {
+                    Some(c) => format!("enters as {c}"),
+                    None => "in no equation (uncarried = \"enter\" in [active] adds it)".into(),
+                };
+                let o = x.orders;
+                let _ = writeln!(
+                    t,
+                    "    {:<24} δ={} ε={} τ={} σ={}  {}; {enters}",
+                    x.term, o.delta, o.epsilon, o.tau, o.sigma, x.why
+                );
+            }
         }
         t
     }
@@ -497,30 +527,34 @@ impl crate::report::Report for ActiveReport {
         serde_json::to_value(self).unwrap_or(serde_json::Value::Null)
     }
 
-    /// One row per listed force (the lowest active, then the lowest gyroscopic, of each field),
+    /// One row per listed force (the lowest active, gyroscopic and uncarried, of each field),
     /// the text's columns; the counts per class are the JSON's.
     fn csv(&self) -> Option<String> {
         let rows = self.fields.iter().flat_map(|f| {
-            [("active", &f.active), ("gyroscopic", &f.gyroscopic)]
-                .into_iter()
-                .flat_map(move |(class, list)| {
-                    list.iter().map(move |x| {
-                        let o = x.orders;
-                        vec![
-                            f.field.clone(),
-                            class.to_string(),
-                            x.term.clone(),
-                            x.coefficient.clone().unwrap_or_default(),
-                            o.delta.to_string(),
-                            o.epsilon.to_string(),
-                            o.tau.to_string(),
-                            o.sigma.to_string(),
-                            x.time_parity.to_string(),
-                            x.space_parity.to_string(),
-                            x.why.clone(),
-                        ]
-                    })
+            [
+                ("active", &f.active),
+                ("gyroscopic", &f.gyroscopic),
+                ("uncarried", &f.uncarried),
+            ]
+            .into_iter()
+            .flat_map(move |(class, list)| {
+                list.iter().map(move |x| {
+                    let o = x.orders;
+                    vec![
+                        f.field.clone(),
+                        class.to_string(),
+                        x.term.clone(),
+                        x.coefficient.clone().unwrap_or_default(),
+                        o.delta.to_string(),
+                        o.epsilon.to_string(),
+                        o.tau.to_string(),
+                        o.sigma.to_string(),
+                        x.time_parity.to_string(),
+                        x.space_parity.to_string(),
+                        x.why.clone(),
+                    ]
                 })
+            })
         });
         Some(crate::report::csv_table(
             &[

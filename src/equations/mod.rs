@@ -261,6 +261,20 @@ fn field_equation(
             }
         }
     }
+    // A linear force no density carries (`uncarried = "enter"`) is still the variation of a
+    // square: b ∂s²ᵏφ of ½b φ∂s²ᵏφ = ±½b(∂sᵏφ)², b ∂t∂s²ᵏφ of the Rayleigh ½b v∂s²ᵏv.
+    for f in active {
+        let (conservative, dissipative) = (
+            f.kind == crate::active::ForceClass::Conservative,
+            f.kind == crate::active::ForceClass::Dissipative,
+        );
+        if let [x] = f.shape.factors() {
+            let square = (conservative && x.deriv.t == 0) || (dissipative && x.deriv.t == 1);
+            if x.power == 1 && x.deriv.s % 2 == 0 && square {
+                squares.push((x.deriv, f.coefficient.clone()));
+            }
+        }
+    }
     let general = nonlinear::general_rhs(l, r, active, index, notes).ok_or_else(|| {
         EquationError::NoKinetic {
             field: field.symbol.clone(),

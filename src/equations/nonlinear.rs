@@ -189,13 +189,15 @@ pub(super) fn general_rhs(
         ));
         false
     });
+    use crate::active::ForceClass;
     rhs.extend(active.map(|f| PolyTerm {
         monomial: mono_of(&f.shape),
         value: Rational64::from_integer(1),
         coefficient: f.coefficient.clone().unwrap_or_else(|| "1".into()),
         kind: match f.kind {
-            crate::active::ForceClass::Gyroscopic => super::ForceKind::Conservative,
-            _ => super::ForceKind::Active,
+            ForceClass::Gyroscopic | ForceClass::Conservative => super::ForceKind::Conservative,
+            ForceClass::Dissipative => super::ForceKind::Dissipative,
+            ForceClass::Active => super::ForceKind::Active,
         },
     }));
     rhs.sort_by_key(|t| {
