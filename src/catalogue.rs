@@ -217,7 +217,15 @@ impl CountReport {
     /// Count the candidates of `model` in `basis` at orders 1 … `max_order`: monomials by the
     /// generating function (no enumeration, so order 32 is instant), pure powers (few) by
     /// listing them.
-    pub fn new(model: &Model, basis: Basis, max_order: u32) -> CountReport {
+    /// A `max_order` outside 1 … [`MAX_ORDER`](crate::enumerate::MAX_ORDER) is refused.
+    pub fn new(
+        model: &Model,
+        basis: Basis,
+        max_order: u32,
+    ) -> Result<CountReport, crate::reduce::OrderError> {
+        if max_order == 0 || max_order > crate::enumerate::MAX_ORDER {
+            return Err(crate::reduce::OrderError::OutOfRange(max_order));
+        }
         let count = |d: Density, order: u32| {
             let bounds = Bounds::for_order(model.density(d).bound, order);
             match basis {
@@ -225,7 +233,7 @@ impl CountReport {
                 Basis::Powers => candidates(basis, &bounds).len() as u128,
             }
         };
-        CountReport {
+        Ok(CountReport {
             model: model.name.clone(),
             basis,
             rows: (1..=max_order)
@@ -237,7 +245,7 @@ impl CountReport {
                     )
                 })
                 .collect(),
-        }
+        })
     }
 }
 

@@ -33,8 +33,8 @@ pub use mathieu::{
 pub use numerics::{principal_components, rk4_step, PcaError, PhaseUnwrap};
 pub use orbit::{pair_orbit, PairKind, PairOrbit};
 pub use pair::{
-    integrate, pair_amplitude_weight, pair_statistics, sample_pair, scaled_bessel_k1, PairReport,
-    PairSamples, PairStatistics,
+    given_pair_frequency, integrate, pair_amplitude_weight, pair_frequency, pair_statistics,
+    sample_pair, scaled_bessel_k1, PairReport, PairSamples, PairStatistics,
 };
 pub use righting::{
     decay_rate, righting_sweep, self_righting, Attachment, Righting, RightingFrame, RightingReport,

@@ -3,6 +3,7 @@
 
 use super::{finite, positive, BehaviourError};
 use crate::report::{check_finite, csv_numbers, number, to_json, NonFinite, Report};
+use crate::theory::Theory;
 
 /// Statistics of a degenerate pair at inverse temperature β with conserved momentum M
 /// (paper §3.3.3–3.3.4, App. J). Phase-space density ∝ exp(−β[p_A² + M²/A² + ω²A²]/2) on
@@ -21,6 +22,30 @@ pub struct PairStatistics {
     pub amplitude_at_minimum: f64,
     /// ⟨A⟩ = √(2β)|M|·e^{z}K₁(z)/√π, z = β|M|ω (at M = 0: √2/(ω√(πβ))).
     pub mean_amplitude: f64,
+}
+
+/// ω given for a pair (`stats pair`, `asymmetry`): scales beside it would have no effect, so
+/// they are refused rather than ignored.
+pub fn given_pair_frequency(omega: f64, scales_given: bool) -> Result<f64, BehaviourError> {
+    if scales_given {
+        return Err(BehaviourError::Invalid(
+            "omega gives ω itself: parameters (--param, --params) would have no effect (give one or the other)".into(),
+        ));
+    }
+    Ok(omega)
+}
+
+/// ω of the first degenerate pair of `theory`'s axial field, for `behaviour`.
+pub fn pair_frequency(theory: &Theory, behaviour: &str) -> Result<f64, BehaviourError> {
+    let f = super::role_fields(&theory.model, behaviour)?[0];
+    let fm = &theory.modes[f];
+    let (i, _) = *fm.degenerate_pairs.first().ok_or_else(|| {
+        BehaviourError::Body(format!(
+            "{behaviour}: the axial field {} of model {:?} has no degenerate pair (give omega)",
+            fm.field.id, theory.model.name
+        ))
+    })?;
+    Ok(fm.modes[i].frequency)
 }
 
 /// An interval of the adaptive Simpson rule with its end and mid values and its estimate.

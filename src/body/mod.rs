@@ -387,6 +387,7 @@ impl Body {
     /// The theory (every field's modes with shapes) on `points` points, for the behaviours and
     /// statistics, which need the exact modal path.
     pub fn theory(&self, points: usize, what: &'static str) -> Result<Theory, BodyError> {
+        within(points, crate::dynamics::MAX_SIM_POINTS, what, "")?;
         if !self.modal {
             return Err(BodyError::NotModal { what });
         }

@@ -143,14 +143,14 @@ fn step(
 
 fn righting(a: &RightingArgs, out: &mut dyn Write) -> Result<(), CliError> {
     let theory = a.common.body.theory("behave self-righting")?;
-    let torsion = role_fields(&theory.model, "behave self-righting")?[0];
-    let scale = theory.model.fields[torsion].scale();
-    // The model's own ζ when the user gave it, critical damping of ζ₁ otherwise.
-    let explicit = a.common.body.params.sets_zeta(&theory.params, scale);
     let settings = RightingSettings {
         theta0: a.theta0,
         tolerance: a.tolerance,
-        mode_damping: a.mode_damping.or((!explicit).then_some(1.0)),
+        mode_damping: RightingSettings::mode_damping_for(
+            &theory,
+            a.mode_damping,
+            a.common.body.params.params_file.is_some(),
+        )?,
         attachment: match a.attachment {
             AttachmentKind::Paper => Attachment::Paper,
             AttachmentKind::Pinned => Attachment::Pinned,

@@ -28,6 +28,7 @@ pub struct Args {
 /// Count and print.
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     let model = load_model(&args.model)?;
-    let counts = crate::catalogue::CountReport::new(&model, args.basis, args.max_order);
+    let counts = crate::catalogue::CountReport::new(&model, args.basis, args.max_order)
+        .map_err(CliError::usage)?;
     emit(out, &counts, args.format)
 }

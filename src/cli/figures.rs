@@ -4,7 +4,7 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use super::{write_out, BodyArgs, CliError, SampleArgs};
-use crate::figures::{write_figures, FigureError, FigureSettings, Format, Page, FIGURES};
+use crate::figures::{figure_names, write_figures, FigureError, FigureSettings, Format, Page};
 
 /// Arguments of `figures`.
 #[derive(Debug, clap::Args)]
@@ -58,18 +58,8 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     };
     settings.check().map_err(usage)?;
     let theory = args.body.theory("figures")?;
-    // Figures are named by their SVG file; any of the three extensions names the same one.
-    let only = args.only.as_ref().map(|name| {
-        let stem = [".svg", ".png", ".pdf"]
-            .iter()
-            .find_map(|e| name.strip_suffix(e))
-            .unwrap_or(name);
-        format!("{stem}.svg")
-    });
-    let names: Vec<&str> = match &only {
-        Some(name) => vec![name.as_str()],
-        None => FIGURES.to_vec(),
-    };
+    let names = figure_names(args.only.as_deref());
+    let names: Vec<&str> = names.iter().map(String::as_str).collect();
     let bar = indicatif::ProgressBar::with_draw_target(
         Some(names.len() as u64),
         indicatif::ProgressDrawTarget::stderr(),

@@ -10,7 +10,6 @@ use super::{base_params, check_list, load_model, points_parser, CliError};
 use crate::body::Body;
 use crate::enumerate::MAX_ORDER;
 use crate::figures::{Format, Page};
-use crate::modal::Params;
 use crate::model::{Density, Model};
 use crate::theory::Theory;
 
@@ -77,14 +76,6 @@ impl ParamArgs {
     pub(super) fn any(&self) -> bool {
         !self.params.is_empty() || self.params_file.is_some()
     }
-
-    /// Whether a damping scale was given for `scale` (by --param or a file).
-    pub(super) fn sets_zeta(&self, params: &Params, scale: &str) -> bool {
-        self.params_file.is_some()
-            || params
-                .get(&crate::params::Params::zeta_name(scale))
-                .is_some()
-    }
 }
 
 /// A body to run behaviours on: model, order, points and scales, turned into one [`Theory`].
@@ -104,12 +95,6 @@ pub(super) struct BodyArgs {
 impl BodyArgs {
     /// The theory of this body (every field's modes, once) for `what`.
     pub(super) fn theory(&self, what: &'static str) -> Result<Theory, CliError> {
-        if self.points > crate::dynamics::MAX_SIM_POINTS {
-            return Err(CliError::Usage(format!(
-                "at most {} points",
-                crate::dynamics::MAX_SIM_POINTS
-            )));
-        }
         Ok(self.params.body(&self.model)?.theory(self.points, what)?)
     }
 }
@@ -148,28 +133,16 @@ impl PairArgs {
     pub(super) fn omega(&self, behaviour: &'static str) -> Result<f64, CliError> {
         let scales_given = self.params.any();
         if let Some(w) = self.omega {
-            // Never ignored silently: scales would have no effect beside ω itself.
-            if scales_given {
-                return Err(CliError::Usage(
-                    "--omega gives ω itself: --param and --params would have no effect (give one or the other)".into(),
-                ));
-            }
-            return Ok(w);
+            return Ok(crate::behaviour::given_pair_frequency(w, scales_given)?);
         }
         if self.model.model.is_none() && self.points.is_none() && !scales_given {
             return Ok(1.0);
         }
-        let points = self.points.unwrap_or(12);
-        let theory = self.params.body(&self.model)?.theory(points, behaviour)?;
-        let f = crate::behaviour::role_fields(&theory.model, behaviour)?[0];
-        let fm = &theory.modes[f];
-        let (i, _) = *fm.degenerate_pairs.first().ok_or_else(|| {
-            CliError::Usage(format!(
-                "{behaviour}: the axial field {} of model {:?} has no degenerate pair (give --omega)",
-                fm.field.id, theory.model.name
-            ))
-        })?;
-        Ok(fm.modes[i].frequency)
+        let theory = self
+            .params
+            .body(&self.model)?
+            .theory(self.points.unwrap_or(12), behaviour)?;
+        Ok(crate::behaviour::pair_frequency(&theory, behaviour)?)
     }
 }
 

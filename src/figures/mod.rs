@@ -160,6 +160,21 @@ pub struct Written {
     pub skipped: Vec<(String, String)>,
 }
 
+/// The figures `only` names (any of the three extensions names the same figure, by its SVG
+/// file), or all of [`FIGURES`].
+pub fn figure_names(only: Option<&str>) -> Vec<String> {
+    match only {
+        Some(name) => {
+            let stem = [".svg", ".png", ".pdf"]
+                .iter()
+                .find_map(|e| name.strip_suffix(e))
+                .unwrap_or(name);
+            vec![format!("{stem}.svg")]
+        }
+        None => FIGURES.iter().map(|n| n.to_string()).collect(),
+    }
+}
+
 /// Write the figures `names` (from [`FIGURES`]) into `dir` (created if missing), calling
 /// `progress` before each one. Unknown names are refused before anything is written. When
 /// several are asked, a figure the body cannot make (a missing role, no degenerate pair, …) is

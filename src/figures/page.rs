@@ -39,6 +39,23 @@ pub enum Format {
     Pdf,
 }
 
+impl std::str::FromStr for Format {
+    type Err = String;
+
+    /// `svg`, `png` or `pdf`.
+    fn from_str(name: &str) -> Result<Format, String> {
+        match name {
+            "svg" => Ok(Format::Svg),
+            "png" => Ok(Format::Png),
+            "pdf" => Ok(Format::Pdf),
+            other => Err(format!(
+                "the figure format must be \"svg\", \"png\" or \"pdf\", not {}",
+                crate::markup::clip(other)
+            )),
+        }
+    }
+}
+
 impl Format {
     /// The file extension.
     pub fn extension(self) -> &'static str {

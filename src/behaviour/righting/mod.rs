@@ -73,6 +73,37 @@ impl Default for RightingSettings {
     }
 }
 
+impl RightingSettings {
+    /// ζ₁ of a run: `given`, else the model's own ζ when the user set it (`file_given`, or the
+    /// body's parameters name the torsion field's ζ), else critical damping (ζ₁ = 1).
+    pub fn mode_damping_for(
+        theory: &Theory,
+        given: Option<f64>,
+        file_given: bool,
+    ) -> Result<Option<f64>, BehaviourError> {
+        let torsion = super::role_fields(&theory.model, "behave self-righting")?[0];
+        let zeta = crate::params::Params::zeta_name(theory.model.fields[torsion].scale());
+        let explicit = file_given || theory.params.get(&zeta).is_some();
+        Ok(given.or((!explicit).then_some(1.0)))
+    }
+}
+
+impl std::str::FromStr for Attachment {
+    type Err = BehaviourError;
+
+    /// `paper` (alias `seed`) or `pinned`.
+    fn from_str(name: &str) -> Result<Attachment, BehaviourError> {
+        match name {
+            "paper" | "seed" => Ok(Attachment::Paper),
+            "pinned" => Ok(Attachment::Pinned),
+            other => Err(BehaviourError::Invalid(format!(
+                "attachment must be \"paper\" or \"pinned\", not {}",
+                crate::markup::clip(other)
+            ))),
+        }
+    }
+}
+
 /// One instant of a self-righting run.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct RightingFrame {
