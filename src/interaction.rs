@@ -421,7 +421,25 @@ pub struct InteractionsReport<'a> {
     pub analyses: Vec<Interactions>,
 }
 
-impl InteractionsReport<'_> {
+impl<'a> InteractionsReport<'a> {
+    /// The analyses of `densities` at `order`, every density's budget checked before any
+    /// density's work.
+    pub fn new(
+        model: &'a Model,
+        densities: &[Density],
+        order: u32,
+    ) -> Result<InteractionsReport<'a>, OrderError> {
+        crate::reduce::check_work(model, densities, order, crate::enumerate::Basis::Powers)?;
+        for &d in densities {
+            check_interaction_work(model, d, order)?;
+        }
+        let analyses = densities
+            .iter()
+            .map(|&d| interactions(model, d, order))
+            .collect::<Result<_, _>>()?;
+        Ok(InteractionsReport { model, analyses })
+    }
+
     /// Every verdict of every candidate row as (density, fields, term, rule, field, passed).
     fn verdict_rows(&self) -> Vec<Vec<String>> {
         let mut rows = Vec::new();

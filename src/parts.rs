@@ -361,7 +361,25 @@ pub struct PartsReport<'a> {
     pub reductions: Vec<(Density, Vec<FieldReduction>)>,
 }
 
-impl PartsReport<'_> {
+impl<'a> PartsReport<'a> {
+    /// The reductions of `densities` at `order`.
+    pub fn new(
+        model: &'a Model,
+        densities: &[Density],
+        order: u32,
+    ) -> Result<PartsReport<'a>, OrderError> {
+        crate::reduce::check_work(model, densities, order, Basis::Powers)?;
+        let reductions = densities
+            .iter()
+            .map(|&d| Ok((d, reduce_model(model, d, order)?)))
+            .collect::<Result<_, OrderError>>()?;
+        Ok(PartsReport {
+            model,
+            order,
+            reductions,
+        })
+    }
+
     /// One row per admitted term: density, field, term, whether it is kept, and what it
     /// reduces to (empty when kept).
     fn rows(&self) -> Vec<Vec<String>> {

@@ -16,8 +16,10 @@ use theory_search::enumerate::Basis;
 use theory_search::failure::Failure;
 use theory_search::fit::{fit_inputs, FitError, FitReport, FitSettings, Input};
 use theory_search::modal::Params;
-use theory_search::model::{one_line, Density, Model};
+use theory_search::model::{one_line, Model};
 use theory_search::recording::{Frame, Setting, Track};
+
+mod commands;
 
 create_exception!(
     _native,
@@ -106,16 +108,8 @@ fn table_json(
 ) -> PyResult<String> {
     let model = model_of(model)?;
     let basis = basis_of(basis)?;
-    let densities = match density {
-        "both" => vec![Density::Lagrangian, Density::Rayleigh],
-        "lagrangian" => vec![Density::Lagrangian],
-        "rayleigh" => vec![Density::Rayleigh],
-        other => {
-            return Err(usage(format!(
-                "density must be \"lagrangian\", \"rayleigh\" or \"both\", not {other:?}"
-            )))
-        }
-    };
+    let densities = commands::densities_of(Some(density))?;
+
     py.detach(|| {
         let analyses = densities
             .into_iter()
@@ -841,31 +835,6 @@ fn compare_json<'py>(
     Ok(report.json().to_string())
 }
 
-/// Run a command line of the `theory-search` CLI in this process (GIL released); its standard
-/// output as bytes. Every command is reachable this way with the CLI's own parsing, messages and
-/// numbers; the error is typed by the CLI's error variant, never read from its text.
-#[pyfunction]
-fn run_cli<'py>(py: Python<'py>, args: Vec<String>) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
-    use theory_search::cli::CliError;
-    let mut all = vec!["theory-search".to_string()];
-    all.extend(args);
-    let (out, result) = py.detach(|| {
-        let mut out = Vec::new();
-        let result = theory_search::cli::run(all, &mut out);
-        (out, result)
-    });
-    match result {
-        Ok(()) => Ok(pyo3::types::PyBytes::new(py, &out)),
-        Err(e) => {
-            let text = one_line(&e.to_string());
-            Err(match e {
-                CliError::Missing(_) => MissingError::new_err(text),
-                other => raised(other.failure(), text),
-            })
-        }
-    }
-}
-
 /// The native module.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -876,7 +845,15 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("MissingError", py.get_type::<MissingError>())?;
     m.add("OutputError", py.get_type::<OutputError>())?;
     m.add("NumericalError", py.get_type::<NumericalError>())?;
-    m.add_function(wrap_pyfunction!(run_cli, m)?)?;
+    m.add_function(wrap_pyfunction!(commands::count_json, m)?)?;
+    m.add_function(wrap_pyfunction!(commands::rules_json, m)?)?;
+    m.add_function(wrap_pyfunction!(commands::parts_json, m)?)?;
+    m.add_function(wrap_pyfunction!(commands::interactions_json, m)?)?;
+    m.add_function(wrap_pyfunction!(commands::asymmetry_json, m)?)?;
+    m.add_function(wrap_pyfunction!(commands::mathieu_json, m)?)?;
+    m.add_function(wrap_pyfunction!(commands::stats_json, m)?)?;
+    m.add_function(wrap_pyfunction!(commands::behave_json, m)?)?;
+    m.add_function(wrap_pyfunction!(commands::figures, m)?)?;
     m.add_function(wrap_pyfunction!(limits, m)?)?;
     m.add_function(wrap_pyfunction!(larva_toml, m)?)?;
     m.add_function(wrap_pyfunction!(check_model, m)?)?;

@@ -17,13 +17,13 @@ BODIES = [
 ] + [(p.name, None, {}) for p in sorted(MODELS.glob("*.toml")) if p.name != "tethered.toml"]
 
 
-def _cli_options(model, beyond_leading, params):
-    options = {"param": [f"{k}={v!r}" for k, v in params.items()]}
+def _cli_args(model, beyond_leading, params):
+    args = [w for k, v in params.items() for w in ("--param", f"{k}={v!r}")]
     if model:
-        options["model"] = str(MODELS / model)
+        args += ["--model", str(MODELS / model)]
     if beyond_leading is not None:
-        options["beyond_leading"] = beyond_leading
-    return options
+        args += ["--beyond-leading", str(beyond_leading)]
+    return args
 
 
 def _py_options(model, beyond_leading, params):
@@ -35,8 +35,8 @@ def _py_options(model, beyond_leading, params):
 
 
 @pytest.mark.parametrize("model,beyond_leading,params", BODIES)
-def test_modes_are_the_command_lines(model, beyond_leading, params):
-    cli = ts.run(["modes"], points=12, **_cli_options(model, beyond_leading, params))
+def test_modes_are_the_command_lines(cli, model, beyond_leading, params):
+    cli = cli("modes", "-p", "12", *_cli_args(model, beyond_leading, params))
     py = ts.modes(points=12, **_py_options(model, beyond_leading, params))
     assert [f["field"] for f in cli["fields"]] == list(py)
     for f in cli["fields"]:
@@ -53,8 +53,8 @@ def test_modes_are_the_command_lines(model, beyond_leading, params):
 
 
 @pytest.mark.parametrize("model,beyond_leading,params", BODIES)
-def test_operators_are_the_command_lines(model, beyond_leading, params):
-    cli = ts.run(["operators"], points=8, **_cli_options(model, beyond_leading, params))
+def test_operators_are_the_command_lines(cli, model, beyond_leading, params):
+    cli = cli("operators", "-p", "8", *_cli_args(model, beyond_leading, params))
     py = ts.operators(points=8, **_py_options(model, beyond_leading, params))
     if cli.get("linearised"):
         assert len(py) == len(cli["fields"])
@@ -70,13 +70,14 @@ def test_operators_are_the_command_lines(model, beyond_leading, params):
 
 
 @pytest.mark.parametrize("model,beyond_leading,params", BODIES)
-def test_a_run_is_the_command_lines(model, beyond_leading, params):
+def test_a_run_is_the_command_lines(cli, model, beyond_leading, params):
     ids = ts.Model.from_toml(MODELS / model).fields if model else ts.Model.larva().fields
     field = ids[-1]
     start = {"initial": [f"{field}:2=0.3,0.1"], "drive": [f"{ids[0]}:1=0.05,1.3"]}
-    cli = ts.run(
-        ["simulate"], points=9, steps=40, every=10, temperature=0.01, seed=3,
-        **start, **_cli_options(model, beyond_leading, params),
+    cli = cli(
+        "simulate", "-p", "9", "--steps", "40", "--every", "10", "--temperature", "0.01",
+        "--seed", "3", "--initial", start["initial"][0], "--drive", start["drive"][0],
+        *_cli_args(model, beyond_leading, params),
     )
     py = ts.simulate(
         points=9, steps=40, every=10, temperature=0.01, seed=3,
@@ -119,9 +120,9 @@ def test_errors_are_typed_by_kind():
 
 
 def test_what_a_notebook_user_passes(tmp_path):
-    # A command as one string, as in a shell.
-    assert ts.run("modes", points=8)["points"] == 8
-    assert ts.run("behave rearing", points=8)
+    # Every command is a function of its own, with typed keywords (no argv runner).
+    assert not hasattr(ts, "run")
+    assert ts.behave("rearing", points=8)
     # A directory of recordings, as the command line takes it.
     worm = Path(__file__).resolve().parents[3] / "shared" / "data" / "celegans_wormpose_15fps_52pts.csv"
     (tmp_path / "a.csv").symlink_to(worm)
@@ -131,7 +132,7 @@ def test_what_a_notebook_user_passes(tmp_path):
     assert by_dir.omega == by_file.omega
     # Messages in Python's words: no "--help", ranges as words.
     with pytest.raises(ts.UsageError) as e:
-        ts.run("modes", points=0)
+        ts.modes(points=0)
     assert "--help" not in str(e.value) and "..=" not in str(e.value)
 
 

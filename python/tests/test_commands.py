@@ -1,10 +1,8 @@
 """Every command from Python: the same JSON documents as the command-line binary (run here as a
 separate process), modes keyed by field against numpy, results as objects and DataFrames."""
 
-import json
 import os
 import pathlib
-import subprocess
 
 import numpy as np
 import pytest
@@ -12,18 +10,6 @@ import pytest
 import theory_search as ts
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
-# Where cargo put it: CARGO_TARGET_DIR when set (relative to the checkout), else target/.
-TARGET = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", "target"))
-BINARY = (TARGET if TARGET.is_absolute() else ROOT / TARGET) / "release" / "theory-search"
-
-
-def cli_json(*args):
-    """The binary's --format json document (cargo test --release builds it before pytest)."""
-    assert BINARY.exists(), f"build the binary first: {BINARY}"
-    out = subprocess.run(
-        [str(BINARY), *args, "--format", "json"], check=True, capture_output=True, text=True
-    )
-    return json.loads(out.stdout)
 
 
 def test_every_command_is_a_function():
@@ -43,8 +29,12 @@ def test_every_command_is_a_function():
         (lambda: ts.behave("self-righting"), ["behave", "self-righting", "-p", "12"]),
         (lambda: ts.stats("explore", samples=500, seed=3),
          ["stats", "explore", "--samples", "500", "--seed", "3", "-p", "12"]),
-        (lambda: ts.stats("pair", samples=300), ["stats", "pair", "--samples", "300", "-p", "12"]),
-        (lambda: ts.asymmetry(coupling=-0.5), ["asymmetry", "--coupling", "-0.5", "-p", "12"]),
+        (lambda: ts.stats("pair", samples=300), ["stats", "pair", "--samples", "300"]),
+        (lambda: ts.stats("pair", points=12, samples=300),
+         ["stats", "pair", "--samples", "300", "-p", "12"]),
+        (lambda: ts.asymmetry(coupling=-0.5), ["asymmetry", "--coupling", "-0.5"]),
+        (lambda: ts.asymmetry(coupling=-0.5, points=12),
+         ["asymmetry", "--coupling", "-0.5", "-p", "12"]),
         (lambda: ts.mathieu(columns=6, rows=5), ["mathieu", "--columns", "6", "--rows", "5"]),
         (lambda: ts.interactions(order=5), ["interactions", "--order", "5"]),
         (lambda: ts.parts(), ["parts", "--order", "4"]),
@@ -53,12 +43,28 @@ def test_every_command_is_a_function():
         (lambda: ts.rules(), ["rules", "--order", "4"]),
         (lambda: ts.active(model=str(ROOT / "tables/models/crawler.toml"), beyond_leading=1),
          ["active", "--model", str(ROOT / "tables/models/crawler.toml"), "--beyond-leading", "1"]),
-        (lambda: ts.run(["modes"], points=7, shapes=True), ["modes", "-p", "7", "--shapes"]),
+        (lambda: ts.behave("hunching", points=8, force=0.03, duration=50.0),
+         ["behave", "hunching", "-p", "8", "--force", "0.03", "--duration", "50"]),
+        (lambda: ts.behave("self-righting", attachment="pinned", tolerance=0.02),
+         ["behave", "self-righting", "--attachment", "pinned", "--tolerance", "0.02"]),
+        (lambda: ts.stats("equipartition", steps=3000, temperature=0.2, seed=4),
+         ["stats", "equipartition", "--steps", "3000", "--temperature", "0.2", "--seed", "4"]),
+        (lambda: ts.stats("pair", omega=2.0, beta=3.0, momentum=0.5),
+         ["stats", "pair", "--omega", "2", "--beta", "3", "--momentum", "0.5"]),
+        (lambda: ts.asymmetry(0.2, amplitude=0.5, omega=1.5),
+         ["asymmetry", "--coupling", "0.2", "--amplitude", "0.5", "--omega", "1.5"]),
+        (lambda: ts.mathieu(lambda_=2.0, epsilon_max=0.3, columns=4, rows=3),
+         ["mathieu", "--lambda", "2", "--epsilon-max", "0.3", "--columns", "4", "--rows", "3"]),
+        (lambda: ts.interactions(order=4, density="rayleigh", beyond_leading=1),
+         ["interactions", "--density", "rayleigh", "--beyond-leading", "1"]),
+        (lambda: ts.count(max_order=6, basis="monomials"),
+         ["count", "--max-order", "6", "--basis", "monomials"]),
+        (lambda: ts.rules(order=None), ["rules"]),
     ],
 )
-def test_results_are_the_binarys_documents(call, args):
+def test_results_are_the_binarys_documents(cli, call, args):
     got = call()
-    want = cli_json(*args)
+    want = cli(*args)
     want = want if isinstance(want, dict) else {"rows": want}
     assert got.to_dict() == want
 
@@ -101,11 +107,11 @@ def test_a_model_object_reaches_every_command(tmp_path):
     assert r["model"] == "planar"
 
 
-def test_simulate_takes_initial_states_forces_and_drives_as_the_binary():
+def test_simulate_takes_initial_states_forces_and_drives_as_the_binary(cli):
     # The same run by the command line's own CSV and from Python: initial mode, force, drive.
     a = ts.simulate(points=9, steps=300, every=100, initial={"y:3": (0.5, 0.0)},
                     force={"y:2": 0.2}, drive={"x:1": (0.1, 0.7)})
-    doc = cli_json("simulate", "-p", "9", "--steps", "300", "--every", "100", "--initial",
+    doc = cli("simulate", "-p", "9", "--steps", "300", "--every", "100", "--initial",
                    "y:3=0.5,0.0", "--force", "y:2=0.2", "--drive", "x:1=0.1,0.7")
     rows = np.asarray(doc["rows"])
     at = {c: i for i, c in enumerate(doc["columns"])}
@@ -124,10 +130,10 @@ def test_simulate_takes_initial_states_forces_and_drives_as_the_binary():
     assert ts.simulate(points=8, steps=10)["energy"].shape == (11,)
 
 
-def test_a_simulation_is_the_commands_csv_as_a_dataframe():
+def test_a_simulation_is_the_commands_csv_as_a_dataframe(cli):
     # The exact modal path (native) and the command line print the same samples.
     sim = ts.simulate(points=7, steps=40, every=10, temperature=0.2, seed=4)
-    doc = cli_json("simulate", "-p", "7", "--steps", "40", "--every", "10", "--temperature", "0.2",
+    doc = cli("simulate", "-p", "7", "--steps", "40", "--every", "10", "--temperature", "0.2",
                    "--seed", "4")
     df = sim.to_pandas()
     assert list(df.columns) == doc["columns"]
@@ -150,12 +156,12 @@ def test_active_forces_of_a_body_with_a_head():
         ts.active(order=0)
 
 
-def test_a_driven_simulation_carries_the_injected_work_as_the_binary():
+def test_a_driven_simulation_carries_the_injected_work_as_the_binary(cli):
     # An active force switched on: the implicit integrator, and the work it injects as a column.
     crawler = str(ROOT / "tables/models/crawler.toml")
     sim = ts.simulate(points=20, steps=200, every=50, dt=0.01, model=crawler,
                       params={"a_y": 0.5}, initial={"y:2": (0.1, 0.0)})
-    doc = cli_json("simulate", "-p", "20", "--steps", "200", "--every", "50", "--dt", "0.01",
+    doc = cli("simulate", "-p", "20", "--steps", "200", "--every", "50", "--dt", "0.01",
                    "--model", crawler, "--param", "a_y=0.5", "--initial", "y:2=0.1,0.0")
     df = sim.to_pandas()
     assert list(df.columns) == doc["columns"] and doc["columns"][:3] == ["t", "energy", "injected"]
@@ -169,9 +175,9 @@ WORMPOSE = ROOT.parent / "shared" / "data" / "celegans_wormpose_15fps_52pts.csv"
 
 
 @pytest.mark.skipif(not WORMPOSE.exists(), reason="the shared recordings are not here")
-def test_discover_is_the_binarys_document_from_a_path_or_an_array():
+def test_discover_is_the_binarys_document_from_a_path_or_an_array(cli):
     got = ts.discover(str(WORMPOSE), bootstrap=20)
-    want = cli_json("discover", str(WORMPOSE), "--bootstrap", "20")
+    want = cli("discover", str(WORMPOSE), "--bootstrap", "20")
     assert got.to_dict() == want
     # The worm's modes do not follow the passive beam: the verdict says so, with the misfit.
     assert got["verdict"]["conclusion"] == "does_not_hold"
@@ -214,7 +220,7 @@ def test_discover_takes_values_without_files(tmp_path, monkeypatch):
 
 
 @pytest.mark.skipif(not WORMPOSE.exists(), reason="the shared recordings are not here")
-def test_compare_is_the_binarys_comparison(tmp_path):
+def test_compare_is_the_binarys_comparison(cli, tmp_path):
     # Four pieces of one worm, two a group: the library's numbers, as the command prints them.
     lines = WORMPOSE.read_text().splitlines(keepends=True)
     header, rows = lines[0], lines[1:]
@@ -224,7 +230,7 @@ def test_compare_is_the_binarys_comparison(tmp_path):
             (tmp_path / group / f"a{i}.csv").write_text(header + "".join(piece))
     first, second = str(tmp_path / "first"), str(tmp_path / "second")
     got = ts.compare(first, second, permutations=99)
-    want = cli_json("compare", first, second, "--permutations", "99")
+    want = cli("compare", first, second, "--permutations", "99")
     assert got["differences"] == want["differences"]
     assert [g["animals"] for g in got["groups"]] == [2, 2]
     assert got["differences"][0]["quantity"] == "kappa"

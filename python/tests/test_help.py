@@ -85,7 +85,6 @@ def test_every_returned_attribute_named_exists(fitted):
         ts.parts: lambda: ts.parts(),
         ts.count: lambda: ts.count(max_order=4),
         ts.rules: lambda: ts.rules(),
-        ts.run: lambda: ts.run(["modes"], points=8),
         ts.fit: lambda: fitted,
         ts.Model.larva: ts.Model.larva,
         ts.Model.from_toml: lambda: ts.Model.from_toml(ts.Model.larva().toml),

@@ -32,7 +32,6 @@ from ._commands import (
     mathieu,
     parts,
     rules,
-    run,
     stats,
 )
 from ._docs import shared
@@ -95,7 +94,6 @@ __all__ = [
     "fit",
     "discover",
     "compare",
-    "run",
 ]
 
 # The library's limits (order, points), read from it rather than copied.
@@ -804,7 +802,7 @@ def compare(
 # conversion (numpy's, pyo3's, Python's) refuses before the library sees it is a UsageError.
 for _name in (
     "table", "equations", "active", "operators", "modes", "simulate", "fit", "discover",
-    "run", "behave", "stats", "asymmetry", "mathieu", "interactions", "parts", "count",
+    "behave", "stats", "asymmetry", "mathieu", "interactions", "parts", "count",
     "rules", "figures", "compare",
 ):
     globals()[_name] = _guarded(globals()[_name])

@@ -39,7 +39,6 @@ __all__ = [
     "fit",
     "discover",
     "compare",
-    "run",
 ]
 
 class TheorySearchError(Exception):
@@ -274,53 +273,88 @@ def compare(
     """Two groups of animals compared, each animal fitted alone: the difference of the groups'
     κ, Ω and ζ with Welch's 95 % interval and a permutation p-value, the laws per group."""
 
-def run(
-    command: Sequence[str], model: ModelLike = None, params: Optional[Mapping[str, float]] = None, **options: Any
-) -> Result:
-    """Any command, its options as keyword arguments, its JSON document as a Result."""
-
 def behave(
     behaviour: str,
     points: int = 12,
     model: ModelLike = None,
     params: Optional[Mapping[str, float]] = None,
     order: int = 4,
-    **options: Any,
+    beyond_leading: Optional[int] = None,
+    momentum: float = 0.1,
+    periods: float = 100.0,
+    force: float = 0.02,
+    duration: float = 2000.0,
+    tolerance: float = 0.01,
+    mode_damping: Optional[float] = None,
+    theta0: float = 3.141592653589793,
+    attachment: str = "paper",
+    sweep: Sequence[float] = (),
 ) -> Result:
-    """One of the paper's behaviours (peristalsis, rolling, rearing, hunching, self-righting)."""
+    """One of the paper's behaviours (peristalsis, rolling, rearing, hunching, self-righting):
+    momentum M and periods for the orbits, force and duration (1/ω) for the steps, tolerance
+    (rad), mode_damping ζ₁, theta0 (rad), attachment and a ζ₁ sweep for self-righting."""
 
 def stats(
     kind: str,
-    points: int = 12,
+    points: Optional[int] = None,
     model: ModelLike = None,
     params: Optional[Mapping[str, float]] = None,
     order: int = 4,
-    **options: Any,
+    beyond_leading: Optional[int] = None,
+    beta: Optional[float] = None,
+    samples: Optional[int] = None,
+    seed: int = 1,
+    field: Optional[str] = None,
+    steps: int = 200_000,
+    temperature: float = 0.5,
+    momentum: float = 0.0,
+    omega: Optional[float] = None,
 ) -> Result:
-    """Statistics: equipartition, explore or pair."""
+    """Statistics: equipartition (field, steps of 0.5/ω, temperature kT), explore (beta,
+    samples) or pair (omega, beta, momentum, samples)."""
 
 def asymmetry(
     coupling: float,
-    points: int = 12,
+    points: Optional[int] = None,
     model: ModelLike = None,
     params: Optional[Mapping[str, float]] = None,
-    **options: Any,
+    amplitude: float = 1.0,
+    omega: Optional[float] = None,
+    order: int = 4,
+    beyond_leading: Optional[int] = None,
 ) -> Result:
-    """Forward/backward asymmetry (App. C)."""
+    """Forward/backward asymmetry (App. C): amplitude in body lengths, omega in rad per time."""
 
-def mathieu(**options: Any) -> Result:
+def mathieu(
+    lambda_: float = 1.0,
+    ratio_min: float = 0.5,
+    ratio_max: float = 4.5,
+    epsilon_max: float = 0.5,
+    columns: int = 81,
+    rows: int = 21,
+) -> Result:
     """The Mathieu stability chart (App. D)."""
 
-def interactions(order: int = 4, model: ModelLike = None, density: Optional[str] = None, **options: Any) -> Result:
+def interactions(
+    order: int = 4,
+    model: ModelLike = None,
+    density: Optional[str] = None,
+    beyond_leading: Optional[int] = None,
+) -> Result:
     """The interaction terms between fields."""
 
-def parts(order: int = 4, model: ModelLike = None, density: Optional[str] = None, **options: Any) -> Result:
+def parts(
+    order: int = 4,
+    model: ModelLike = None,
+    density: Optional[str] = None,
+    beyond_leading: Optional[int] = None,
+) -> Result:
     """The densities split into parts."""
 
 def count(max_order: int = 8, model: ModelLike = None, basis: str = "powers") -> Result:
     """Candidate terms per order."""
 
-def rules(order: int = 4, model: ModelLike = None) -> Result:
+def rules(order: Optional[int] = 4, model: ModelLike = None) -> Result:
     """The rule registry."""
 
 def figures(
@@ -332,7 +366,10 @@ def figures(
     format: str = "svg",
     width: float = 180.0,
     dpi: float = 300.0,
-    **options: Any,
+    samples: int = 100_000,
+    seed: int = 1,
+    order: int = 4,
+    beyond_leading: Optional[int] = None,
 ) -> List[str]:
-    """Write the paper's figures (SVG, PNG or PDF at a printed width) into a directory; the
-    paths written."""
+    """Write the paper's figures (SVG, PNG or PDF at a printed width in mm, dpi) into a
+    directory; the paths written."""

@@ -1,102 +1,46 @@
-"""Every command of the command line from Python: keyword arguments become its options, the
-JSON it prints becomes a :class:`Result` (the same numbers, parsed from the same document)."""
+"""The commands that are one library call each, as typed functions: the behaviours, the
+statistics, the term tables, the rule registry and the figures. Each calls the library once
+(never the command line, never a temporary file) and returns the document the command's
+``--format json`` prints as a :class:`Result`."""
 
 from __future__ import annotations
 
 import json
+import math
 import os
-import tempfile
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
+import warnings
+from typing import Any, List, Mapping, Optional, Sequence, Union
 
 from . import _native
 from ._docs import shared
-from ._errors import UsageError, shown, translated
+from ._errors import UsageError, translated
 from ._results import Result
 
-_run = translated(_native.run_cli)
+_native_call = {
+    name: translated(getattr(_native, name))
+    for name in (
+        "count_json", "rules_json", "parts_json", "interactions_json", "asymmetry_json",
+        "mathieu_json", "stats_json", "behave_json", "figures",
+    )
+}
 
 
-def _result(text: bytes) -> Result:
+def _result(text: str) -> Result:
     """A JSON document as a Result (a document that is a list becomes its ``rows``)."""
     doc = json.loads(text)
     return Result(doc if isinstance(doc, dict) else {"rows": doc})
 
 
-def _flag(name: str) -> str:
-    return "--" + name.replace("_", "-")
+def _toml(model: Any) -> Optional[str]:
+    from . import _toml  # type: ignore[attr-defined]  # (the package's own, not public)
+
+    return _toml(model)
 
 
-def _word(name: str, value: Any) -> str:
-    """An option's value as the command line's word: an integer too long to print (Python's
-    ``str`` refuses one over 4300 digits; no option takes one over 80) is refused here."""
-    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 256:
-        raise UsageError(f"{name} must be a number the command line takes, not {shown(value)}")
-    return str(value)
+def _params(params: Any) -> Optional[dict]:
+    from . import _body_args  # type: ignore[attr-defined]
 
-
-def _argv(
-    command: Sequence[str],
-    model: Any = None,
-    params: Optional[Mapping[str, float]] = None,
-    options: Optional[Mapping[str, Any]] = None,
-) -> List[str]:
-    """The command line: `command`, then `--name value` per option (a list repeats it, True is
-    a bare flag, None and False leave it out), `--param k=v` per parameter, `--model FILE`."""
-    argv = list(command)
-    for name, value in (options or {}).items():
-        if value is None or value is False:
-            continue
-        if value is True:
-            argv.append(_flag(name))
-        elif isinstance(value, (list, tuple)):
-            for v in value:
-                argv += [_flag(name), _word(name, v)]
-        else:
-            argv += [_flag(name), _word(name, value)]
-    for name, value in (params or {}).items():
-        argv += ["--param", f"{name}={_word(str(name), value)}"]
-    return argv
-
-
-@shared
-def run(
-    command: Sequence[str],
-    model: Any = None,
-    params: Optional[Mapping[str, float]] = None,
-    **options: Any,
-) -> Result:
-    """Run any command with ``options`` as its command-line options.
-
-    Parameters
-    ----------
-    command : str or sequence of str
-        The command and its positional words, e.g. ``"behave rolling"`` or
-        ``["behave", "rolling"]``.
-    @model
-    @params
-    options
-        ``name=value`` becomes ``--name value`` (``_`` as ``-``); a list repeats the option,
-        ``True`` is a bare flag, ``None``/``False`` leave it out.
-
-    Returns
-    -------
-    Result
-        The command's ``--format json`` document: ``result["key"]`` as printed,
-        ``result.key`` with lists of numbers as numpy arrays, ``to_dict()``, ``to_pandas()``.
-    """
-    from . import Model
-
-    if isinstance(command, str):  # "modes" or "behave rolling": its words
-        command = command.split()
-    argv = _argv(command, params=params, options=options) + ["--format", "json"]
-    if model is None:
-        return _result(_run(argv))
-    toml = model.toml if isinstance(model, Model) else Model.from_toml(model).toml
-    with tempfile.TemporaryDirectory() as d:
-        path = os.path.join(d, "model.toml")
-        with open(path, "w", encoding="utf-8") as f:
-            f.write(toml)
-        return _result(_run(argv + ["--model", path]))
+    return _body_args(4, None, None, params)[3]
 
 
 @shared
@@ -106,7 +50,16 @@ def behave(
     model: Any = None,
     params: Optional[Mapping[str, float]] = None,
     order: int = 4,
-    **options: Any,
+    beyond_leading: Optional[int] = None,
+    momentum: float = 0.1,
+    periods: float = 100.0,
+    force: float = 0.02,
+    duration: float = 2000.0,
+    tolerance: float = 0.01,
+    mode_damping: Optional[float] = None,
+    theta0: float = math.pi,
+    attachment: str = "paper",
+    sweep: Sequence[float] = (),
 ) -> Result:
     """One of the paper's behaviours.
 
@@ -118,9 +71,29 @@ def behave(
     @model
     @params
     @order
-    options
-        The command's: ``momentum``, ``periods``, ``force``, ``duration``, ``tolerance``,
-        ``mode_damping``, ``theta0``, ``attachment``, ``sweep``, ``beyond_leading``.
+    @beyond_leading
+    momentum : float
+        Peristalsis and rolling: the pair's conserved momentum M (units of ω × amplitude²).
+    periods : float
+        Peristalsis and rolling: how long to run, in periods of the pair.
+    force : float
+        Rearing and hunching: the constant force on the mode (units where ω = 1 and the body
+        length is 1).
+    duration : float
+        Rearing and hunching: how long to run, in units of 1/ω.
+    tolerance : float
+        Self-righting: the angle (radians) within which the head counts as attached and a
+        segment as aligned.
+    mode_damping : float, optional
+        Self-righting: ζ₁ of the first torsional mode (default: the model's ζ when ``params``
+        sets it, else critical damping, 1).
+    theta0 : float
+        Self-righting: every segment's initial angle (radians; π is upside down).
+    attachment : str
+        Self-righting: ``"paper"`` (App. H: the free first mode relaxes) or ``"pinned"``
+        (the whole chain with the head held).
+    sweep : sequence of float
+        Self-righting: also the righting time at each of these ζ₁.
 
     Returns
     -------
@@ -131,32 +104,63 @@ def behave(
         ``attachment_time``, ``righting_time``, ``alignment_times``, ``damping_ratio``,
         ``frames``.
     """
-    return run(["behave", behaviour], model, params, points=points, order=order, **options)
+    ask = dict(momentum=momentum, periods=periods, force=force, duration=duration,
+               tolerance=tolerance, mode_damping=mode_damping, theta0=theta0,
+               attachment=attachment, sweep=list(sweep))
+    return _result(_native_call["behave_json"](
+        behaviour, points, order, beyond_leading, _toml(model), _params(params), ask))
 
 
 @shared
 def stats(
     kind: str,
-    points: int = 12,
+    points: Optional[int] = None,
     model: Any = None,
     params: Optional[Mapping[str, float]] = None,
     order: int = 4,
-    **options: Any,
+    beyond_leading: Optional[int] = None,
+    beta: Optional[float] = None,
+    samples: Optional[int] = None,
+    seed: int = 1,
+    field: Optional[str] = None,
+    steps: int = 200_000,
+    temperature: float = 0.5,
+    momentum: float = 0.0,
+    omega: Optional[float] = None,
 ) -> Result:
     """Statistics of the body at equilibrium.
 
     Parameters
     ----------
     kind : str
-        ``"equipartition"`` (options ``field``, ``steps``, ``temperature``, ``seed``),
-        ``"explore"`` (``beta``, ``samples``, ``seed``) or ``"pair"`` (``omega``, ``beta``,
-        ``momentum``, ``samples``, ``seed``).
-    @points
+        ``"equipartition"`` (a Langevin run's PCA beside the modes, App. B), ``"explore"``
+        (Gaussian postures and the 3-point bend, §3.3.4) or ``"pair"`` (a degenerate pair at
+        fixed momentum, App. J).
+    points : int, optional
+        Points along the body (12 when None; for ``"pair"``, naming a body whose first axial
+        pair sets ω).
     @model
     @params
     @order
-    options
-        The command's, as listed under ``kind``.
+    @beyond_leading
+    beta : float, optional
+        Inverse temperature: of the whole body for ``"explore"`` (default 10000, units where
+        ω = 1 and the body length is 1), of the pair for ``"pair"`` (default 1).
+    samples : int, optional
+        Draws (``"explore"``: default 100000; ``"pair"``: a Metropolis run only when given).
+    seed : int
+        Seed of the draws or of the noise.
+    field : str, optional
+        ``"equipartition"``: the field (id); default the model's lateral field.
+    steps : int
+        ``"equipartition"``: time steps of 0.5 (units of 1/ω; a tenth are burn-in).
+    temperature : float
+        ``"equipartition"``: thermal energy kT (units where ω = 1 and the body length is 1).
+    momentum : float
+        ``"pair"``: the conserved momentum M.
+    omega : float, optional
+        ``"pair"``: the pair's ω (default: the first axial pair of the body ``model``,
+        ``points`` or ``params`` name, else 1); not with ``params``.
 
     Returns
     -------
@@ -166,16 +170,22 @@ def stats(
         ``fitted_beta``. Pair: ``partition_function``, ``free_energy``,
         ``amplitude_at_minimum``, ``mean_amplitude``, ``samples``.
     """
-    return run(["stats", kind], model, params, points=points, order=order, **options)
+    ask = dict(beta=beta, samples=samples, seed=seed, field=field, steps=steps,
+               temperature=temperature, momentum=momentum, omega=omega)
+    return _result(_native_call["stats_json"](
+        kind, points, order, beyond_leading, _toml(model), _params(params), ask))
 
 
 @shared
 def asymmetry(
     coupling: float,
-    points: int = 12,
+    points: Optional[int] = None,
     model: Any = None,
     params: Optional[Mapping[str, float]] = None,
-    **options: Any,
+    amplitude: float = 1.0,
+    omega: Optional[float] = None,
+    order: int = 4,
+    beyond_leading: Optional[int] = None,
 ) -> Result:
     """Forward/backward asymmetry of App. C.
 
@@ -183,11 +193,16 @@ def asymmetry(
     ----------
     coupling : float
         The nonlinear coupling c.
-    @points
+    points : int, optional
+        Points of the body whose first axial pair sets ω (12 when a model or params is given).
     @model
     @params
-    options
-        The command's: ``amplitude``, ``omega``.
+    amplitude : float
+        The wave's amplitude A (units of the body length).
+    omega : float, optional
+        The pair's ω (radians per unit time); default the body's first axial pair, else 1.
+    @order
+    @beyond_leading
 
     Returns
     -------
@@ -195,31 +210,50 @@ def asymmetry(
         ``coupling``, ``amplitude``, ``omega``, ``forward``, ``backward``, ``ratio``,
         ``simulated_forward``, ``simulated_backward``.
     """
-    return run(["asymmetry"], model, params, coupling=coupling, points=points, **options)
+    return _result(_native_call["asymmetry_json"](
+        coupling, amplitude, omega, points, order, beyond_leading, _toml(model), _params(params)))
 
 
-def mathieu(**options: Any) -> Result:
+def mathieu(
+    lambda_: float = 1.0,
+    ratio_min: float = 0.5,
+    ratio_max: float = 4.5,
+    epsilon_max: float = 0.5,
+    columns: int = 81,
+    rows: int = 21,
+) -> Result:
     """The Mathieu stability chart of App. D.
 
     Parameters
     ----------
-    options
-        The command's: ``lambda_`` (the mode's λ), ``ratio_min``, ``ratio_max``,
-        ``epsilon_max``, ``columns``, ``rows``.
+    lambda_ : float
+        The mode's λ (its squared frequency, units of ω²).
+    ratio_min : float
+        The chart's lowest drive frequency over the mode's.
+    ratio_max : float
+        The chart's highest drive frequency over the mode's.
+    epsilon_max : float
+        The largest drive amplitude ε (dimensionless).
+    columns : int
+        Grid points across (drive frequency ratios).
+    rows : int
+        Grid points up (drive amplitudes ε).
 
     Returns
     -------
     Result
         ``rows``: one dict per grid point (drive frequency ratio, ε, trace, stable).
     """
-    if "lambda_" in options:
-        options["lambda"] = options.pop("lambda_")
-    return run(["mathieu"], **options)
+    return _result(_native_call["mathieu_json"](
+        lambda_, ratio_min, ratio_max, epsilon_max, columns, rows))
 
 
 @shared
 def interactions(
-    order: int = 4, model: Any = None, density: Optional[str] = None, **options: Any
+    order: int = 4,
+    model: Any = None,
+    density: Optional[str] = None,
+    beyond_leading: Optional[int] = None,
 ) -> Result:
     """The interaction terms between fields that the requirements admit.
 
@@ -228,18 +262,23 @@ def interactions(
     @order
     @model
     @density
-    @term_options
+    @beyond_leading
 
     Returns
     -------
     Result
         ``model``, ``analyses`` (per density: the pairs of fields and their coupling terms).
     """
-    return run(["interactions"], model, order=order, density=density, **options)
+    return _result(_native_call["interactions_json"](order, beyond_leading, _toml(model), density))
 
 
 @shared
-def parts(order: int = 4, model: Any = None, density: Optional[str] = None, **options: Any) -> Result:
+def parts(
+    order: int = 4,
+    model: Any = None,
+    density: Optional[str] = None,
+    beyond_leading: Optional[int] = None,
+) -> Result:
     """The density split into kinetic, potential and interaction parts.
 
     Parameters
@@ -247,14 +286,14 @@ def parts(order: int = 4, model: Any = None, density: Optional[str] = None, **op
     @order
     @model
     @density
-    @term_options
+    @beyond_leading
 
     Returns
     -------
     Result
         ``model``, ``order``, ``densities`` (each with its parts and their terms).
     """
-    return run(["parts"], model, order=order, density=density, **options)
+    return _result(_native_call["parts_json"](order, beyond_leading, _toml(model), density))
 
 
 @shared
@@ -264,7 +303,7 @@ def count(max_order: int = 8, model: Any = None, basis: str = "powers") -> Resul
     Parameters
     ----------
     max_order : int
-        The highest order counted.
+        The highest order counted (1 to 32).
     @model
     @basis
 
@@ -273,11 +312,11 @@ def count(max_order: int = 8, model: Any = None, basis: str = "powers") -> Resul
     Result
         ``model``, ``rows`` (per order: candidates, admitted, survivors).
     """
-    return run(["count"], model, max_order=max_order, basis=basis)
+    return _result(_native_call["count_json"](max_order, _toml(model), basis))
 
 
 @shared
-def rules(order: int = 4, model: Any = None) -> Result:
+def rules(order: Optional[int] = 4, model: Any = None) -> Result:
     """The rule registry: each requirement and what it does to a term.
 
     Parameters
@@ -290,7 +329,7 @@ def rules(order: int = 4, model: Any = None) -> Result:
     Result
         ``rules`` (each requirement's name, transformation and reason), ``requirements``.
     """
-    return run(["rules"], model, order=order)
+    return _result(_native_call["rules_json"](order, _toml(model)))
 
 
 @shared
@@ -303,7 +342,10 @@ def figures(
     format: str = "svg",
     width: float = 180.0,
     dpi: float = 300.0,
-    **options: Any,
+    samples: int = 100_000,
+    seed: int = 1,
+    order: int = 4,
+    beyond_leading: Optional[int] = None,
 ) -> List[str]:
     """Write the paper's figures into ``directory`` (created if missing).
 
@@ -321,9 +363,13 @@ def figures(
     width : float
         Printed width in millimetres (60 to 600); text prints at 7.4 pt at any width.
     dpi : float
-        Resolution of a PNG.
-    options
-        The command's: ``samples``, ``seed``, ``order``, ``beyond_leading``.
+        Resolution of a PNG, in dots per inch.
+    samples : int
+        Draws of the sampled figures (pair density, 3-point bend).
+    seed : int
+        Seed of those draws.
+    @order
+    @beyond_leading
 
     Returns
     -------
@@ -331,31 +377,12 @@ def figures(
         The paths written, in the order made. A figure the body cannot make (a role its model
         lacks) is skipped with a ``UserWarning`` saying why.
     """
-    import warnings
-
-    from . import Model
-
-    argv = _argv(
-        ["figures", "--figures", os.fspath(directory)],
-        params=params,
-        options=dict(only=only, points=points, format=format, width=width, dpi=dpi, **options),
+    written, skipped = _native_call["figures"](
+        os.fspath(directory), only, points, order, beyond_leading, _toml(model), _params(params),
+        format, width, dpi, samples, seed,
     )
-    if model is not None:
-        toml = model.toml if isinstance(model, Model) else Model.from_toml(model).toml
-        with tempfile.TemporaryDirectory() as d:
-            path = os.path.join(d, "model.toml")
-            with open(path, "w", encoding="utf-8") as f:
-                f.write(toml)
-            out = _run(argv + ["--model", path])
-    else:
-        out = _run(argv)
-    written = []
-    text = out if isinstance(out, str) else out.decode("utf-8")
-    for line in text.splitlines():
-        if line.startswith("wrote "):
-            written.append(line[len("wrote ") :])
-        elif line.startswith("skipped "):
-            warnings.warn(line, UserWarning, stacklevel=2)
+    for name, why in skipped:
+        warnings.warn(f"skipped {name}: {why}", UserWarning, stacklevel=2)
     if not written:
         raise UsageError(f"no figure was written into {os.fspath(directory)}")
     return written

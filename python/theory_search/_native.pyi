@@ -12,7 +12,15 @@ __all__ = [
     "MissingError",
     "OutputError",
     "NumericalError",
-    "run_cli",
+    "count_json",
+    "rules_json",
+    "parts_json",
+    "interactions_json",
+    "asymmetry_json",
+    "mathieu_json",
+    "stats_json",
+    "behave_json",
+    "figures",
     "limits",
     "larva_toml",
     "check_model",
@@ -44,7 +52,59 @@ _FitOut = Tuple[
     List[str],
 ]
 
-def run_cli(args: Sequence[str]) -> bytes: ...
+def count_json(max_order: int, model: Optional[str], basis: str) -> str: ...
+def rules_json(order: Optional[int], model: Optional[str]) -> str: ...
+def parts_json(
+    order: int, beyond_leading: Optional[int], model: Optional[str], density: Optional[str]
+) -> str: ...
+def interactions_json(
+    order: int, beyond_leading: Optional[int], model: Optional[str], density: Optional[str]
+) -> str: ...
+def asymmetry_json(
+    coupling: float,
+    amplitude: float,
+    omega: Optional[float],
+    points: Optional[int],
+    order: int,
+    beyond_leading: Optional[int],
+    model: Optional[str],
+    params: Optional[Mapping[str, float]],
+) -> str: ...
+def mathieu_json(
+    lambda_: float, ratio_min: float, ratio_max: float, epsilon_max: float, columns: int, rows: int
+) -> str: ...
+def stats_json(
+    kind: str,
+    points: Optional[int],
+    order: int,
+    beyond_leading: Optional[int],
+    model: Optional[str],
+    params: Optional[Mapping[str, float]],
+    ask: Mapping[str, Any],
+) -> str: ...
+def behave_json(
+    behaviour: str,
+    points: int,
+    order: int,
+    beyond_leading: Optional[int],
+    model: Optional[str],
+    params: Optional[Mapping[str, float]],
+    ask: Mapping[str, Any],
+) -> str: ...
+def figures(
+    directory: str,
+    only: Optional[str],
+    points: int,
+    order: int,
+    beyond_leading: Optional[int],
+    model: Optional[str],
+    params: Optional[Mapping[str, float]],
+    format: str,
+    width: float,
+    dpi: float,
+    samples: int,
+    seed: int,
+) -> Tuple[List[str], List[Tuple[str, str]]]: ...
 def limits() -> Dict[str, int]: ...
 def larva_toml() -> str: ...
 def check_model(toml: str) -> Tuple[str, List[str]]: ...

@@ -30,11 +30,11 @@ pub struct EquipartitionCheck {
 pub const EQUIPARTITION_BUDGET: f64 = 4e9;
 
 /// Run the Langevin dynamics of the theory at temperature `kt` and compare the PCA of the
-/// postures of field `index` (the lateral field by default) with its modes (paper App. B:
+/// postures of the field with id `field` (the lateral field by default) with its modes (paper App. B:
 /// equipartition from dynamics). Only that field is simulated: the others do not couple.
 pub fn equipartition_from_dynamics(
     theory: &Theory,
-    index: Option<usize>,
+    field: Option<&str>,
     steps: u64,
     kt: f64,
     seed: u64,
@@ -49,8 +49,18 @@ pub fn equipartition_from_dynamics(
             "{steps} steps on {points} points is {work:.1e} units of work, over the {EQUIPARTITION_BUDGET:.0e} budget (about three seconds): use fewer points or steps"
         )));
     }
-    let index = match index {
-        Some(i) => i,
+    let index = match field {
+        Some(id) => theory
+            .model
+            .fields
+            .iter()
+            .position(|f| f.id == id)
+            .ok_or_else(|| {
+                BehaviourError::new(format!(
+                    "the model has no field {}",
+                    crate::markup::clip(id)
+                ))
+            })?,
         None => role_fields(&theory.model, "stats equipartition")?[0],
     };
     let f = &theory.modes[index];

@@ -23,21 +23,7 @@ pub struct Args {
 /// Decide and print the interaction tables.
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     let model = args.model.load()?;
-    // Every density's budget before any density's work.
-    for &d in args.density.densities() {
-        crate::interaction::check_interaction_work(&model, d, args.model.order)
-            .map_err(CliError::usage)?;
-    }
-    let mut analyses = Vec::new();
-    for &d in args.density.densities() {
-        analyses.push(
-            crate::interaction::interactions(&model, d, args.model.order)
-                .map_err(CliError::usage)?,
-        );
-    }
-    let report = InteractionsReport {
-        model: &model,
-        analyses,
-    };
+    let report = InteractionsReport::new(&model, args.density.densities(), args.model.order)
+        .map_err(CliError::usage)?;
     emit(out, &report, args.format)
 }

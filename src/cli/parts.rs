@@ -23,16 +23,7 @@ pub struct Args {
 /// Reduce and print.
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     let model = args.model.load()?;
-    let mut reductions = Vec::new();
-    for &d in args.density.densities() {
-        let fields =
-            crate::parts::reduce_model(&model, d, args.model.order).map_err(CliError::usage)?;
-        reductions.push((d, fields));
-    }
-    let report = PartsReport {
-        model: &model,
-        order: args.model.order,
-        reductions,
-    };
+    let report = PartsReport::new(&model, args.density.densities(), args.model.order)
+        .map_err(CliError::usage)?;
     emit(out, &report, args.format)
 }

@@ -101,18 +101,13 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
             format,
         } => {
             let theory = body.theory("stats equipartition")?;
-            let index = match field {
-                None => None,
-                Some(id) => Some(
-                    theory
-                        .model
-                        .fields
-                        .iter()
-                        .position(|f| &f.id == id)
-                        .ok_or_else(|| CliError::Usage(format!("the model has no field {id:?}")))?,
-                ),
-            };
-            let c = equipartition_from_dynamics(&theory, index, *steps, *temperature, *seed)?;
+            let c = equipartition_from_dynamics(
+                &theory,
+                field.as_deref(),
+                *steps,
+                *temperature,
+                *seed,
+            )?;
             emit(out, &c, *format)
         }
         StatsCommand::Pair {
