@@ -110,40 +110,37 @@ pub(crate) fn rules_json(
     })
 }
 
-/// `parts`: the admitted monomials of `density` modulo total derivatives.
+/// `parts` (the admitted monomials modulo total derivatives; default density the Lagrangian)
+/// or `interactions` (which terms could couple each set of fields; default both densities).
 #[pyfunction]
-#[pyo3(signature = (order, beyond_leading, model, density))]
-pub(crate) fn parts_json(
+#[pyo3(signature = (table, order, beyond_leading, model, density))]
+pub(crate) fn terms_json(
     py: Python<'_>,
+    table: &str,
     order: u32,
     beyond_leading: Option<u32>,
     model: Option<&str>,
     density: Option<&str>,
 ) -> PyResult<String> {
+    use theory_search::interaction::InteractionsReport;
+    use theory_search::parts::PartsReport;
     let model = model_at(model, beyond_leading)?;
-    let densities = densities_of(Some(density.unwrap_or("lagrangian")))?;
-    let report = py
-        .detach(|| theory_search::parts::PartsReport::new(&model, &densities, order))
-        .map_err(order_error)?;
-    json_of(&report)
-}
-
-/// `interactions`: which terms could couple each set of fields.
-#[pyfunction]
-#[pyo3(signature = (order, beyond_leading, model, density))]
-pub(crate) fn interactions_json(
-    py: Python<'_>,
-    order: u32,
-    beyond_leading: Option<u32>,
-    model: Option<&str>,
-    density: Option<&str>,
-) -> PyResult<String> {
-    let model = model_at(model, beyond_leading)?;
-    let densities = densities_of(density)?;
-    let report = py
-        .detach(|| theory_search::interaction::InteractionsReport::new(&model, &densities, order))
-        .map_err(order_error)?;
-    json_of(&report)
+    match table {
+        "parts" => {
+            let densities = densities_of(Some(density.unwrap_or("lagrangian")))?;
+            let report = py
+                .detach(|| PartsReport::new(&model, &densities, order))
+                .map_err(order_error)?;
+            json_of(&report)
+        }
+        _ => {
+            let densities = densities_of(density)?;
+            let report = py
+                .detach(|| InteractionsReport::new(&model, &densities, order))
+                .map_err(order_error)?;
+            json_of(&report)
+        }
+    }
 }
 
 /// A pair's ω: given (no scales beside it), the first axial pair of the body named by any of

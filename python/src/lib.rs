@@ -847,8 +847,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("NumericalError", py.get_type::<NumericalError>())?;
     m.add_function(wrap_pyfunction!(commands::count_json, m)?)?;
     m.add_function(wrap_pyfunction!(commands::rules_json, m)?)?;
-    m.add_function(wrap_pyfunction!(commands::parts_json, m)?)?;
-    m.add_function(wrap_pyfunction!(commands::interactions_json, m)?)?;
+    m.add_function(wrap_pyfunction!(commands::terms_json, m)?)?;
     m.add_function(wrap_pyfunction!(commands::asymmetry_json, m)?)?;
     m.add_function(wrap_pyfunction!(commands::mathieu_json, m)?)?;
     m.add_function(wrap_pyfunction!(commands::stats_json, m)?)?;

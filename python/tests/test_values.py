@@ -95,7 +95,7 @@ def test_no_native_function_runs_the_command_line():
 def test_every_keyword_is_typed_and_documented():
     # No **options where a command's options are known: an editor offers each one.
     for name in ("behave", "stats", "asymmetry", "mathieu", "interactions", "parts", "count",
-                 "rules", "figures"):
+                 "rules", "figures", "fit", "discover", "compare"):
         fn = getattr(ts, name)
         params = inspect.signature(fn).parameters.values()
         assert not any(p.kind == p.VAR_KEYWORD for p in params), name

@@ -584,6 +584,20 @@ def _from_frame(frame: Any, t: Any) -> tuple:
     return data.reshape(len(data), -1, 2), t
 
 
+# The recording options fit, discover and compare share (the library's RecordingSettings).
+_RECORDING = (
+    "points", "kind", "field", "order", "ring", "fill_gaps", "head", "min_likelihood",
+    "input_format", "track_column", "time_unit", "length_unit",
+)
+_PAGE = ("figures", "figure_format", "figure_width", "figure_dpi")
+
+
+def _given(values: Mapping[str, Any], names: Sequence[str]) -> Dict[str, Any]:
+    """The options among ``names`` a caller gave (not None): the library's defaults for the
+    rest, and its checks for all."""
+    return {n: values[n] for n in names if values[n] is not None}
+
+
 def _is_paths(x: Any) -> bool:
     if isinstance(x, (str, os.PathLike)):
         return True
@@ -618,7 +632,28 @@ def fit(
     t: Optional[Any] = None,
     fps: Optional[float] = None,
     model: Optional[Union[Model, str]] = None,
-    **options: Any,
+    points: Optional[int] = None,
+    kind: Optional[str] = None,
+    field: Optional[str] = None,
+    order: Optional[int] = None,
+    ring: Optional[int] = None,
+    fill_gaps: Optional[int] = None,
+    head: Optional[str] = None,
+    min_likelihood: Optional[float] = None,
+    input_format: Optional[str] = None,
+    track_column: Optional[bool] = None,
+    time_unit: Optional[str] = None,
+    length_unit: Optional[str] = None,
+    window: Optional[int] = None,
+    estimator: Optional[str] = None,
+    fit_modes: Optional[int] = None,
+    omega: Optional[float] = None,
+    bootstrap: Optional[int] = None,
+    seed: Optional[int] = None,
+    figures: Optional[Union[str, os.PathLike]] = None,
+    figure_format: Optional[str] = None,
+    figure_width: Optional[float] = None,
+    figure_dpi: Optional[float] = None,
 ) -> FitResult:
     """Fit the theory to tracked midlines.
 
@@ -634,12 +669,20 @@ def fit(
     fps : float, optional
         Frames per second (one time unit per frame without it or ``t``).
     @model
-    options
-        The command's: ``points``, ``window``, ``fit_modes``, ``omega``, ``fill_gaps``,
-        ``head`` ("first"/"last"), ``bootstrap``, ``seed``, ``time_unit``, ``length_unit``,
-        ``kind``, ``field``, ``order``, ``min_likelihood``, ``track_column``; ``figures``
-        (a folder: the fit's figures are written there) with ``figure_format``,
-        ``figure_width`` and ``figure_dpi``.
+    @recording
+    window : int, optional
+        Welch window in frames (8 or more; default: chosen from the slowest mode).
+    estimator : str, optional
+        ``"peak"`` (default) or ``"centroid"``: how a mode's frequency is read off its line.
+    fit_modes : int, optional
+        How many modes to fit (default 10).
+    omega : float, optional
+        The time scale ω (radians per time unit) to fix instead of fitting it.
+    bootstrap : int, optional
+        Replicates of the block bootstrap behind the intervals.
+    seed : int, optional
+        Seed of the bootstrap.
+    @figure_page
 
     Returns
     -------
@@ -655,6 +698,8 @@ def fit(
         ``to_dict()``, ``to_pandas()``. ``omega`` and each ``modes_fit`` Ω are in radians per
         time unit; ``beta`` in time unit².
     """
+    options = _given(locals(), _RECORDING + _PAGE + (
+        "window", "estimator", "fit_modes", "omega", "bootstrap", "seed"))
     toml = _toml(model)
     if hasattr(midlines, "columns") and hasattr(midlines, "to_numpy"):
         midlines, t = _from_frame(midlines, t)
@@ -686,7 +731,27 @@ def discover(
     model: Optional[Union[Model, str]] = None,
     t: Optional[Any] = None,
     fps: Optional[float] = None,
-    **options: Any,
+    points: Optional[int] = None,
+    kind: Optional[str] = None,
+    field: Optional[str] = None,
+    order: Optional[int] = None,
+    ring: Optional[int] = None,
+    fill_gaps: Optional[int] = None,
+    head: Optional[str] = None,
+    min_likelihood: Optional[float] = None,
+    input_format: Optional[str] = None,
+    track_column: Optional[bool] = None,
+    time_unit: Optional[str] = None,
+    length_unit: Optional[str] = None,
+    active: Optional[bool] = None,
+    beyond_leading: Optional[int] = None,
+    estimator: Optional[str] = None,
+    bootstrap: Optional[int] = None,
+    seed: Optional[int] = None,
+    figures: Optional[Union[str, os.PathLike]] = None,
+    figure_format: Optional[str] = None,
+    figure_width: Optional[float] = None,
+    figure_dpi: Optional[float] = None,
 ) -> Result:
     """Which terms of the engine's library the recordings' field needs (``discover``).
 
@@ -702,12 +767,18 @@ def discover(
     fps : float, optional
         Frames per second of the arrays (one time unit per frame without it or ``t``), or of
         DeepLabCut files (refused for files with a time column).
-    options
-        ``fit``'s recording options (``points``, ``kind``, ``field``, ``fill_gaps``, ``head``,
-        ``min_likelihood``, ``track_column``, ``time_unit``, ``length_unit``, ``order``) and
-        ``active`` (True puts the model's active forces in the library), ``bootstrap``,
-        ``seed``, ``beyond_leading``; ``figures`` (a folder) with ``figure_format``,
-        ``figure_width`` and ``figure_dpi``.
+    @recording
+    active : bool, optional
+        True puts the model's active forces in the library.
+    @beyond_leading
+    estimator : str, optional
+        ``"auto"`` (default: the exact state-space likelihood where the weak form cannot
+        resolve the modes), ``"weak"`` or ``"exact"``.
+    bootstrap : int, optional
+        Draws behind the inclusion frequencies and intervals (default 200).
+    seed : int, optional
+        Seed of the draws.
+    @figure_page
 
     Returns
     -------
@@ -724,6 +795,8 @@ def discover(
         folder) also ``figures`` (the paths written) and ``replay`` (observed and simulated
         spectra and variances).
     """
+    options = _given(locals(), _RECORDING + _PAGE + (
+        "active", "beyond_leading", "estimator", "bootstrap", "seed"))
     # A model file is named as itself in the onward `simulate` line.
     model_path = None
     if isinstance(model, (str, os.PathLike)) and os.path.isfile(model):
@@ -759,7 +832,21 @@ def compare(
     first: Any,
     second: Any,
     model: Optional[Union[Model, str]] = None,
-    **options: Any,
+    fps: Optional[float] = None,
+    points: Optional[int] = None,
+    kind: Optional[str] = None,
+    field: Optional[str] = None,
+    order: Optional[int] = None,
+    ring: Optional[int] = None,
+    fill_gaps: Optional[int] = None,
+    head: Optional[str] = None,
+    min_likelihood: Optional[float] = None,
+    input_format: Optional[str] = None,
+    track_column: Optional[bool] = None,
+    time_unit: Optional[str] = None,
+    length_unit: Optional[str] = None,
+    permutations: Optional[int] = None,
+    seed: Optional[int] = None,
 ) -> Result:
     """Two groups of animals compared (``compare``): each animal fitted alone.
 
@@ -771,10 +858,13 @@ def compare(
         The second group's, in the same form. Differences are the second group's mean less
         the first's.
     @model
-    options
-        ``fit``'s recording options (``points``, ``kind``, ``field``, ``fill_gaps``, ``head``,
-        ``fps``, ``time_unit``, ``length_unit``, ``order``, …), ``permutations`` (default 9999)
-        and ``seed``.
+    fps : float, optional
+        Frames per second of DeepLabCut files (their rows carry frame indices, not times).
+    @recording
+    permutations : int, optional
+        Permutations behind the p-values (default 9999).
+    seed : int, optional
+        Seed of the permutations.
 
     Returns
     -------
@@ -786,6 +876,7 @@ def compare(
         ``animals`` (one row per animal and quantity), ``excluded`` (animals whose fit failed,
         with ``why``), ``modes``.
     """
+    options = _given(locals(), _RECORDING + ("fps", "permutations", "seed"))
     toml = _toml(model)
     groups = []
     for group in (first, second):

@@ -19,7 +19,7 @@ from ._results import Result
 _native_call = {
     name: translated(getattr(_native, name))
     for name in (
-        "count_json", "rules_json", "parts_json", "interactions_json", "asymmetry_json",
+        "count_json", "rules_json", "terms_json", "asymmetry_json",
         "mathieu_json", "stats_json", "behave_json", "figures",
     )
 }
@@ -269,7 +269,7 @@ def interactions(
     Result
         ``model``, ``analyses`` (per density: the pairs of fields and their coupling terms).
     """
-    return _result(_native_call["interactions_json"](order, beyond_leading, _toml(model), density))
+    return _result(_native_call["terms_json"]("interactions", order, beyond_leading, _toml(model), density))
 
 
 @shared
@@ -293,7 +293,7 @@ def parts(
     Result
         ``model``, ``order``, ``densities`` (each with its parts and their terms).
     """
-    return _result(_native_call["parts_json"](order, beyond_leading, _toml(model), density))
+    return _result(_native_call["terms_json"]("parts", order, beyond_leading, _toml(model), density))
 
 
 @shared

@@ -18,6 +18,40 @@ SHARED = {
     "density": "density : str, optional\n"
     '    ``"lagrangian"``, ``"rayleigh"`` or ``"both"`` (the command\'s default without it).',
     "term_options": "options\n    The command's other options (``basis``, ``beyond_leading``).",
+    "recording": "points : int, optional\n"
+    "    Model points N the midlines are projected on (default 12; fewer tracked points are\n"
+    "    interpolated, with a warning).\n"
+    "kind : str, optional\n"
+    '    ``\"midline\"`` (default) or ``\"lengths\"`` (segment lengths, the axial field).\n'
+    "field : str, optional\n"
+    "    The model's field the data observe (default: the lateral field, or the axial one for\n"
+    "    lengths).\n"
+    "order : int, optional\n"
+    "    Order of the theory whose operator the data are projected on (default 4).\n"
+    "ring : int, optional\n"
+    "    Lengths only: segments around the whole body when only the first K were measured.\n"
+    "fill_gaps : int, optional\n"
+    "    Gaps of at most this many lost frames are bridged linearly; longer ones split runs.\n"
+    "head : str, optional\n"
+    '    ``\"first\"`` (default: the data list the head first) or ``\"last\"``.\n'
+    "min_likelihood : float, optional\n"
+    "    DeepLabCut points tracked below this likelihood (0 to 1) count as lost.\n"
+    "input_format : str, optional\n"
+    '    ``\"auto\"`` (default), ``\"csv\"`` or ``\"wcon\"``.\n'
+    "track_column : bool, optional\n"
+    "    The first CSV column is a track id: each track is one animal.\n"
+    "time_unit : str, optional\n"
+    "    The recordings' time unit, as reports print it (``\"s\"``; overrides a WCON file's).\n"
+    "length_unit : str, optional\n"
+    "    The recordings' length unit (``\"mm\"``; overrides a WCON file's).",
+    "figure_page": "figures : str or path, optional\n"
+    "    A folder: the figures are written there.\n"
+    "figure_format : str, optional\n"
+    '    ``\"svg\"`` (default), ``\"png\"`` or ``\"pdf\"`` (needs ``figures``).\n'
+    "figure_width : float, optional\n"
+    "    Printed width in millimetres (default 180; needs ``figures``).\n"
+    "figure_dpi : float, optional\n"
+    "    Resolution of a PNG in dots per inch (default 300; needs ``figures``).",
     "ax": "ax : matplotlib Axes, optional\n    Draw into these axes (a new figure when None).",
     "figure": "\nReturns\n-------\nmatplotlib.figure.Figure\n"
     "    The figure drawn into (``axes`` holds its panels).",

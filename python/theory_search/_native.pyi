@@ -14,8 +14,7 @@ __all__ = [
     "NumericalError",
     "count_json",
     "rules_json",
-    "parts_json",
-    "interactions_json",
+    "terms_json",
     "asymmetry_json",
     "mathieu_json",
     "stats_json",
@@ -54,11 +53,12 @@ _FitOut = Tuple[
 
 def count_json(max_order: int, model: Optional[str], basis: str) -> str: ...
 def rules_json(order: Optional[int], model: Optional[str]) -> str: ...
-def parts_json(
-    order: int, beyond_leading: Optional[int], model: Optional[str], density: Optional[str]
-) -> str: ...
-def interactions_json(
-    order: int, beyond_leading: Optional[int], model: Optional[str], density: Optional[str]
+def terms_json(
+    table: str,
+    order: int,
+    beyond_leading: Optional[int],
+    model: Optional[str],
+    density: Optional[str],
 ) -> str: ...
 def asymmetry_json(
     coupling: float,
