@@ -2,6 +2,7 @@
 text, arrays and paths, leaves the temporary directory empty (no model file, no CSV, no
 command line run), and refuses bad keywords in the library's words."""
 
+import html
 import inspect
 import pathlib
 import subprocess
@@ -64,7 +65,7 @@ def test_no_function_writes_a_temporary_file_or_runs_the_command_line(tmp_path):
                                           model=larva, permutations=9),
         }}
         missing = sorted(set(ts.__all__) - set(calls) - {{
-            "Model", "Result", "Modes", "FieldModes", "Simulation", "FitResult",
+            "Model", "Result", "DiscoverResult", "Modes", "FieldModes", "Simulation", "FitResult",
             "TheorySearchError", "UsageError", "InputError", "MissingFileError", "OutputError",
             "NumericalError", "plot", "limits", "__version__", "ModelLike",
         }})
@@ -123,3 +124,21 @@ def test_the_library_refuses_in_its_words(call, words):
         call()
     assert words in str(e.value)
     assert "\n" not in str(e.value).strip()
+
+
+def test_notebook_views_lead_with_verdicts_kappa_and_terms():
+    fit = ts.fit(str(EXAMPLE))
+    page = fit._repr_html_()
+    kappa = fit.continuum
+    assert f"κ = {kappa['constant']:.6g} [{kappa['interval'][0]:.6g}" in page
+    for law, t in fit.tests.items():
+        assert law in page and f"<b>{t['verdict']}</b>" in page
+    found = ts.discover(str(EXAMPLE), bootstrap=20)
+    assert isinstance(found, ts.DiscoverResult) and isinstance(found, ts.Result)
+    page = found._repr_html_()
+    assert f"the theory: {found['verdict']['conclusion']}" in page
+    for t in found["selected"]:
+        assert html.escape(t["name"]) in page and f"{t['coefficient']:.6g}" in page
+    # Text from a recording is escaped in markup.
+    found["equation"] = "<script>"
+    assert "<script>" not in found._repr_html_()

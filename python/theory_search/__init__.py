@@ -49,7 +49,7 @@ from ._errors import (
     positive as _positive,
     translated as _translated,
 )
-from ._results import FieldModes, Modes, Result, Simulation
+from ._results import DiscoverResult, FieldModes, Modes, Result, Simulation
 
 try:
     from importlib.metadata import PackageNotFoundError, version as _version
@@ -69,6 +69,7 @@ __all__ = [
     "Modes",
     "FieldModes",
     "FitResult",
+    "DiscoverResult",
     "Simulation",
     "TheorySearchError",
     "UsageError",
@@ -552,15 +553,35 @@ class FitResult:
         return pd.json_normalize(self._report.get("modes") or [])
 
     def _repr_html_(self) -> str:
+        """The notebook view: κ with its interval, each law's verdict, the modes, warnings."""
         import html
 
-        head = html.escape(repr(self))
+        esc = lambda v: html.escape(str(v))  # noqa: E731
+        head = f"<p><b>{esc(repr(self))}</b></p>"
+        c = self._report.get("continuum") or {}
+        if c.get("constant") is not None:
+            lo, hi = c.get("interval") or (None, None)
+            span = f" [{lo:.6g}, {hi:.6g}] (95 %, {esc(c.get('interval_from', ''))})" if lo is not None else ""
+            head += f"<p>κ = {c['constant']:.6g}{span} {esc(c.get('unit', ''))}</p>"
+        laws = ""
+        for law, t in (self._report.get("tests") or {}).items():
+            lo, hi = t.get("interval") or (float("nan"), float("nan"))
+            laws += (
+                f"<tr><td>{esc(law)}</td><td>{t.get('exponent', float('nan')):.4g}</td>"
+                f"<td>[{lo:.4g}, {hi:.4g}]</td><td>{t.get('expected', float('nan')):.4g}</td>"
+                f"<td><b>{esc(t.get('verdict', ''))}</b></td><td>{esc(t.get('note', ''))}</td></tr>"
+            )
+        if laws:
+            head += (
+                "<table><tr><th>law</th><th>exponent</th><th>95 % interval</th>"
+                f"<th>theory</th><th>verdict</th><th>note</th></tr>{laws}</table>"
+            )
         try:
             table = self.to_pandas().to_html(max_rows=40)
         except ImportError:
             table = ""
-        notes = "".join(f"<li>{html.escape(str(w))}</li>" for w in self.warnings)
-        return f"<p><b>{head}</b></p>{table}" + (f"<ul>{notes}</ul>" if notes else "")
+        notes = "".join(f"<li>{esc(w)}</li>" for w in self.warnings)
+        return head + table + (f"<ul>{notes}</ul>" if notes else "")
 
     def __repr__(self) -> str:
         return f"FitResult(frames={self._report['frames']}, omega={self._report['omega']:.6g}, beta={self._report['beta']:.6g})"
@@ -824,7 +845,7 @@ def discover(
     doc = json.loads(report)
     if options.get("figures") is not None:
         doc["figures"] = written
-    return Result(doc)
+    return DiscoverResult(doc)
 
 
 @shared

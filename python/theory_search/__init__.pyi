@@ -14,6 +14,7 @@ __all__ = [
     "Modes",
     "FieldModes",
     "FitResult",
+    "DiscoverResult",
     "Simulation",
     "TheorySearchError",
     "UsageError",
@@ -67,6 +68,11 @@ class Result(Dict[str, Any]):
     def __getattr__(self, name: str) -> Any: ...
     def to_dict(self) -> Dict[str, Any]: ...
     def to_pandas(self) -> Any: ...
+    def _repr_html_(self) -> str: ...
+
+class DiscoverResult(Result):
+    """discover's document; its notebook view leads with the verdict and the selected terms."""
+
     def _repr_html_(self) -> str: ...
 
 class FieldModes:
@@ -300,7 +306,7 @@ def discover(
     figure_format: Optional[str] = None,
     figure_width: Optional[float] = None,
     figure_dpi: Optional[float] = None,
-) -> Result:
+) -> DiscoverResult:
     """Which terms of the engine's library the recordings' field needs: the discovered
     equation, every candidate with its interval and inclusion, the nested theories scored, and
     whether the theory holds (``verdict``)."""

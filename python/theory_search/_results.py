@@ -75,6 +75,39 @@ class Result(dict):
             return "<pre>" + html.escape(json.dumps(self, indent=1)[:20000]) + "</pre>"
 
 
+class DiscoverResult(Result):
+    """``discover``'s document (a :class:`Result`) whose notebook view leads with the verdict,
+    the discovered equation and the selected terms with their intervals."""
+
+    def _repr_html_(self) -> str:
+        esc = lambda v: html.escape(str(v))  # noqa: E731
+        verdict = self.get("verdict") or {}
+        findings = "".join(
+            f"<li>{esc(f.get('finding', ''))}: "
+            + esc(", ".join(f"{k} = {v:.4g}" if isinstance(v, float) else f"{k} = {v}"
+                            for k, v in f.items() if k != "finding"))
+            + "</li>"
+            for f in verdict.get("findings") or []
+        )
+        out = f"<p><b>the theory: {esc(verdict.get('conclusion', 'undecided'))}</b></p>"
+        out += f"<ul>{findings}</ul>" if findings else ""
+        out += f"<p>{esc(self.get('equation', ''))}</p>"
+        rows = ""
+        for t in self.get("selected") or []:
+            lo, hi = t.get("interval") or (float("nan"), float("nan"))
+            rows += (
+                f"<tr><td>{esc(t.get('term', ''))}</td><td>{esc(t.get('name', ''))}</td>"
+                f"<td>{t.get('coefficient', float('nan')):.6g}</td><td>[{lo:.6g}, {hi:.6g}]</td>"
+                f"<td>{t.get('inclusion', float('nan')):.2f}</td></tr>"
+            )
+        if rows:
+            out += (
+                "<table><tr><th>term</th><th>coefficient</th><th>value (body lengths)</th>"
+                f"<th>95 % interval</th><th>inclusion</th></tr>{rows}</table>"
+            )
+        return out
+
+
 class FieldModes:
     """One field's modes: numpy arrays ``eigenvalues``, ``frequencies``, ``damping_ratios``,
     ``variance_shares`` and ``shapes`` (points × modes, one mode per column like
