@@ -444,6 +444,11 @@ fn limits(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     d.set_item("simulate_points", theory_search::dynamics::MAX_SIM_POINTS)?;
     d.set_item("operator_points", theory_search::body::MAX_OPERATOR_POINTS)?;
     d.set_item("text_file", theory_search::cli::MAX_TEXT_FILE)?;
+    // The recording's default, for trackers' objects read in Python (DeepLabCut, SLEAP, movement).
+    let recording = theory_search::recording::RecordingSettings::new(
+        theory_search::recording::InputKind::Midline,
+    );
+    d.set_item("min_likelihood", recording.min_likelihood)?;
     Ok(d)
 }
 

@@ -22,7 +22,7 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
 
 import numpy as np
 
-from . import _native
+from . import _formats, _native
 from ._commands import (
     asymmetry,
     behave,
@@ -619,6 +619,35 @@ def _given(values: Mapping[str, Any], names: Sequence[str]) -> Dict[str, Any]:
     return {n: values[n] for n in names if values[n] is not None}
 
 
+def _tracker_arrays(
+    data: Any,
+    t: Any,
+    fps: Optional[float],
+    keypoints: Optional[Sequence[str]],
+    individuals: Optional[Sequence[str]],
+    options: Dict[str, Any],
+) -> tuple:
+    """A tracker's object (a ``movement`` dataset, a ``sleap_io.Labels``, a DeepLabCut
+    DataFrame) or a DataFrame in a recording's layout as arrays, one per animal, and times;
+    anything else as given. The format's own time unit is used unless ``time_unit`` is given."""
+    if _formats.is_tracker_object(data):
+        least = options.get("min_likelihood", _LIMITS["min_likelihood"])
+        least = _number("min_likelihood", least)
+        if fps is not None:
+            fps = _positive("fps", fps)
+        animals, times, stated = _formats.midlines(data, t, fps, keypoints, individuals, least)
+        for key, value in stated.items():
+            options.setdefault(key, value)
+        return animals, times
+    if keypoints is not None or individuals is not None:
+        raise UsageError(
+            "keypoints and individuals choose among a tracker's (movement, SLEAP, DeepLabCut) data"
+        )
+    if hasattr(data, "columns") and hasattr(data, "to_numpy"):
+        return _from_frame(data, t)
+    return data, t
+
+
 def _is_paths(x: Any) -> bool:
     if isinstance(x, (str, os.PathLike)):
         return True
@@ -653,6 +682,8 @@ def fit(
     t: Optional[Any] = None,
     fps: Optional[float] = None,
     model: Optional[Union[Model, str]] = None,
+    keypoints: Optional[Sequence[str]] = None,
+    individuals: Optional[Sequence[str]] = None,
     points: Optional[int] = None,
     kind: Optional[str] = None,
     field: Optional[str] = None,
@@ -680,16 +711,19 @@ def fit(
 
     Parameters
     ----------
-    midlines : array, list of arrays, DataFrame, path or list of paths
+    midlines : array, list of arrays, DataFrame, tracker's object, path or list of paths
         A numpy array (frames × points × 2, NaN where the tracker lost a point), one per
         animal; a DataFrame in a recording's layout (``t``, ``x1``, ``y1``, …, as
-        ``pandas.read_csv`` reads one); or files, directories or patterns the ``fit`` command
+        ``pandas.read_csv`` reads one); a ``movement`` poses dataset, a ``sleap_io.Labels``
+        or a DeepLabCut DataFrame (``pandas.read_hdf`` of its ``.h5``, or ``read_csv`` with
+        ``header=[0, 1, 2]``; multi-animal too), each individual one animal; or files, directories or patterns the ``fit`` command
         reads (CSV, DeepLabCut, WCON).
     t : array or list of arrays, optional
         The frames' times (one array per animal); without it frames are ``1/fps`` apart.
     fps : float, optional
         Frames per second (one time unit per frame without it or ``t``).
     @model
+    @trackers
     @recording
     window : int, optional
         Welch window in frames (8 or more; default: chosen from the slowest mode).
@@ -722,8 +756,7 @@ def fit(
     options = _given(locals(), _RECORDING + _PAGE + (
         "window", "estimator", "fit_modes", "omega", "bootstrap", "seed"))
     toml = _toml(model)
-    if hasattr(midlines, "columns") and hasattr(midlines, "to_numpy"):
-        midlines, t = _from_frame(midlines, t)
+    midlines, t = _tracker_arrays(midlines, t, fps, keypoints, individuals, options)
     if "figures" in options and options["figures"] is not None:
         if not isinstance(options["figures"], (str, os.PathLike)):
             raise UsageError(f"figures must be a folder's path, not {type(options['figures']).__name__}")
@@ -752,6 +785,8 @@ def discover(
     model: Optional[Union[Model, str]] = None,
     t: Optional[Any] = None,
     fps: Optional[float] = None,
+    keypoints: Optional[Sequence[str]] = None,
+    individuals: Optional[Sequence[str]] = None,
     points: Optional[int] = None,
     kind: Optional[str] = None,
     field: Optional[str] = None,
@@ -778,16 +813,18 @@ def discover(
 
     Parameters
     ----------
-    recordings : path, list of paths, array, list of arrays, or DataFrame
+    recordings : path, list of paths, array, list of arrays, DataFrame or tracker's object
         Files, directories or patterns as ``fit`` reads them; or midlines as arrays (frames ×
         points × 2, head first, NaN where the tracker lost a point), one per animal; or a
-        DataFrame in a recording's layout (``t``, ``x1``, ``y1``, …).
+        DataFrame in a recording's layout (``t``, ``x1``, ``y1``, …); or a ``movement``
+        dataset, a ``sleap_io.Labels`` or a DeepLabCut DataFrame, each individual one animal.
     @model
     t : array or list of arrays, optional
         The arrays' frame times (without it frames are ``1/fps`` apart).
     fps : float, optional
         Frames per second of the arrays (one time unit per frame without it or ``t``), or of
         DeepLabCut files (refused for files with a time column).
+    @trackers
     @recording
     active : bool, optional
         True puts the model's active forces in the library.
@@ -825,8 +862,7 @@ def discover(
     toml = _toml(model)
     if fps is not None:
         fps = _positive("fps", fps)
-    if hasattr(recordings, "columns") and hasattr(recordings, "to_numpy"):
-        recordings, t = _from_frame(recordings, t)
+    recordings, t = _tracker_arrays(recordings, t, fps, keypoints, individuals, options)
     if "figures" in options and options["figures"] is not None:
         options["figures"] = os.fspath(options["figures"])
     paths: List[str] = []

@@ -249,12 +249,12 @@ class FitResult:
     def _repr_html_(self) -> str: ...
 
 def fit(
-    midlines: Union[
-        npt.ArrayLike, Sequence[npt.ArrayLike], str, os.PathLike[str], Sequence[Union[str, os.PathLike[str]]]
-    ],
+    midlines: Any,  # arrays, paths, a DataFrame, or a tracker's object (movement, SLEAP, DeepLabCut)
     t: Optional[Union[npt.ArrayLike, Sequence[npt.ArrayLike]]] = None,
     fps: Optional[float] = None,
     model: ModelLike = None,
+    keypoints: Optional[Sequence[str]] = None,
+    individuals: Optional[Sequence[str]] = None,
     points: Optional[int] = None,
     kind: Optional[str] = None,
     field: Optional[str] = None,
@@ -281,10 +281,12 @@ def fit(
     """Fit the theory to midlines (arrays frames × points × 2, NaN for lost points) or files."""
 
 def discover(
-    recordings: Union[npt.ArrayLike, str, os.PathLike[str], Sequence[Union[str, os.PathLike[str]]]],
+    recordings: Any,  # paths, arrays, a DataFrame, or a tracker's object (movement, SLEAP, DeepLabCut)
     model: ModelLike = None,
     t: Optional[npt.ArrayLike] = None,
     fps: Optional[float] = None,
+    keypoints: Optional[Sequence[str]] = None,
+    individuals: Optional[Sequence[str]] = None,
     points: Optional[int] = None,
     kind: Optional[str] = None,
     field: Optional[str] = None,

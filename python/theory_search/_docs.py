@@ -18,6 +18,11 @@ SHARED = {
     "density": "density : str, optional\n"
     '    ``"lagrangian"``, ``"rayleigh"`` or ``"both"`` (the command\'s default without it).',
     "term_options": "options\n    The command's other options (``basis``, ``beyond_leading``).",
+    "trackers": "keypoints : sequence of str, optional\n"
+    "    A tracker's keypoints (nodes, body parts) along the body, head first (default: all,\n"
+    "    in the tracker's order).\n"
+    "individuals : sequence of str, optional\n"
+    "    Which of a tracker's individuals (tracks) to take, each one animal (default: all).",
     "recording": "points : int, optional\n"
     "    Model points N the midlines are projected on (default 12; fewer tracked points are\n"
     "    interpolated, with a warning).\n"
