@@ -48,7 +48,7 @@ mod weak;
 use std::io::BufRead;
 use std::path::PathBuf;
 
-pub use onward::{Onward, MAX_PHASE_STEP};
+pub use onward::{Onward, OnwardRefusal, MAX_PHASE_STEP};
 pub use replay::{Replay, STEPS_PER_FRAME};
 pub use report::{Comparison, DiscoverReport, DiscoveredTerm, Method, Selection};
 pub use verdict::{Conclusion, Finding, Goodness, Verdict};
@@ -482,16 +482,11 @@ fn finish(
     }
     // What simulate refuses is never printed: the body the line makes, then its replay.
     let onward = replay::discovered_body(model, settings.recording.order, &report.library)
-        .map_err(|e| {
-            format!(
-                "simulate refuses the discovered equation ({})",
-                crate::markup::one_line(&e.to_string())
-            )
-        })
+        .map_err(|e| OnwardRefusal::Simulate(crate::markup::one_line(&e.to_string())))
         .and_then(|body| onward::onward(&report, &recordings[0], model, &body));
     match onward {
         Ok(o) => report.onward = Some(o),
-        Err(why) => report.onward_refused = Some(why),
+        Err(why) => report.onward_refused = Some(why.to_string()),
     }
     if settings.replay && report.onward_refused.is_none() {
         let modes: Vec<usize> = report.modes.iter().map(|m| m.0).collect();

@@ -59,26 +59,44 @@ fn ascii_name(name: &str, model: &Model) -> String {
     alias.unwrap_or_else(|| name.to_string())
 }
 
+/// Why the discovered equation gets no onward `simulate` line (the report says so instead).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum OnwardRefusal {
+    /// `simulate` refuses the body the discovered equation makes.
+    #[error("simulate refuses the discovered equation ({0})")]
+    Simulate(String),
+    /// No mode was used.
+    #[error("no mode was used, so no temperature can be measured")]
+    NoModes,
+    /// The body's modes failed.
+    #[error("its modes cannot be computed ({0})")]
+    Modes(String),
+    /// None of the modes used has a real frequency.
+    #[error("the discovered equation has no restoring force on the modes used ({used}; none has a real frequency): no temperature can be measured and a replay would drift")]
+    NoRestoringForce {
+        /// The modes used, listed.
+        used: String,
+    },
+    /// The variances give no finite temperature.
+    #[error("the recording's modal variances give no finite temperature")]
+    NoTemperature,
+}
+
 /// The replay of `rec` by `body` (the discovered equation), or why `simulate` cannot give one.
 pub(super) fn onward(
     report: &DiscoverReport,
     rec: &Recording,
     model: &Model,
     body: &Body,
-) -> Result<Onward, String> {
+) -> Result<Onward, OnwardRefusal> {
     let used: Vec<usize> = report.modes.iter().map(|m| m.0).collect();
     let Some(&highest) = used.iter().max() else {
-        return Err("no mode was used, so no temperature can be measured".into());
+        return Err(OnwardRefusal::NoModes);
     };
     let field = &report.field;
     let modes = body
         .modes(report.points, Some(highest + 1), false)
-        .map_err(|e| {
-            format!(
-                "its modes cannot be computed ({})",
-                crate::markup::one_line(&e.to_string())
-            )
-        })?;
+        .map_err(|e| OnwardRefusal::Modes(crate::markup::one_line(&e.to_string())))?;
     let frequencies: Vec<Option<f64>> = match modes {
         BodyModes::Exact(fields) => fields
             .into_iter()
@@ -102,16 +120,19 @@ pub(super) fn onward(
         })
         .collect();
     let Some(&(lowest, omega_low, _)) = pairs.first() else {
-        return Err(format!(
-            "the discovered equation has no restoring force on the modes used ({}; none has a real frequency): no temperature can be measured and a replay would drift",
-            used.iter().map(usize::to_string).collect::<Vec<_>>().join(", ")
-        ));
+        return Err(OnwardRefusal::NoRestoringForce {
+            used: used
+                .iter()
+                .map(usize::to_string)
+                .collect::<Vec<_>>()
+                .join(", "),
+        });
     };
     let temperature = pairs.iter().map(|&(_, w, v)| w * w * v).sum::<f64>() / pairs.len() as f64;
     let fastest = pairs.iter().map(|p| p.1).fold(0.0, f64::max);
     let every = (fastest * rec.dt / MAX_PHASE_STEP).ceil().max(1.0);
     if !(temperature.is_finite() && every.is_finite() && every < 1e6) {
-        return Err("the recording's modal variances give no finite temperature".into());
+        return Err(OnwardRefusal::NoTemperature);
     }
     let every = every as u64;
     // As many frames as the recording had, within half of simulate's budget (its work is
