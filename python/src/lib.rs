@@ -798,14 +798,15 @@ fn discover_json<'py>(
     Ok((report.json().to_string(), written))
 }
 
-/// `compare` on two groups of recordings given as paths (files, directories, patterns; each
-/// file one animal), through the library: the report's JSON (the command's `--format json`).
+/// `compare` on two groups of animals, each group given as paths (files, directories,
+/// patterns; each file one animal) and arrays (each one animal), through the library: the
+/// report's JSON (the command's `--format json`).
 #[pyfunction]
 #[pyo3(signature = (first, second, names, model, options))]
 fn compare_json<'py>(
     py: Python<'py>,
-    first: Vec<String>,
-    second: Vec<String>,
+    first: GroupIn<'py>,
+    second: GroupIn<'py>,
     names: (String, String),
     model: Option<&str>,
     options: Option<&Bound<'py, PyDict>>,
@@ -819,17 +820,19 @@ fn compare_json<'py>(
     let settings = CompareSettings::from_pairs(pairs.iter().map(|(k, v)| (k.as_str(), v.clone())))
         .map_err(compare_error)?;
     let mut groups = Vec::new();
-    for (name, paths) in [(names.0, first), (names.1, second)] {
+    for (name, (paths, animals, times)) in [(names.0, first), (names.1, second)] {
         let paths: Vec<std::path::PathBuf> = paths.into_iter().map(Into::into).collect();
-        let found =
-            theory_search::recording::recordings(&paths).map_err(|e| fit_error(e.into()))?;
-        groups.push(Group {
-            name,
-            inputs: found
-                .into_iter()
-                .map(theory_search::fit::Input::File)
-                .collect(),
-        });
+        let found = if paths.is_empty() {
+            Vec::new()
+        } else {
+            theory_search::recording::recordings(&paths).map_err(|e| fit_error(e.into()))?
+        };
+        let mut inputs: Vec<Input<'_>> = found.into_iter().map(Input::File).collect();
+        // Each array its own input: one animal, fitted alone.
+        for track in tracks_of(&animals, &times)? {
+            inputs.push(Input::Tracks(vec![track]));
+        }
+        groups.push(Group { name, inputs });
     }
     let report = py
         .detach(|| compare(groups, &model, &Params::default(), &settings))
@@ -839,6 +842,13 @@ fn compare_json<'py>(
         .map_err(|e| raised(Failure::Numerical, one_line(&e.to_string())))?;
     Ok(report.json().to_string())
 }
+
+/// One group of `compare`: paths, and animals' midlines with their times.
+type GroupIn<'py> = (
+    Vec<String>,
+    Vec<PyReadonlyArray3<'py, f64>>,
+    Vec<PyReadonlyArray1<'py, f64>>,
+);
 
 /// The native module.
 #[pymodule]

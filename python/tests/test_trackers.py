@@ -99,3 +99,21 @@ def test_deeplabcut_hdf5_single_and_multi_animal(beam, tmp_path):
     assert len(ts.fit(two, fps=1.0).animals) == 2
     found = ts.discover(two, fps=1.0, individuals=["a"], bootstrap=0)
     assert found["selected"]
+
+
+def test_compare_takes_arrays_and_trackers_objects(beam):
+    # Four animals as arrays, two a group: pieces of one beam (one κ), so the difference's
+    # interval holds 0; each array is one animal, as each file is.
+    xy, _ = beam
+    pieces = [xy[i * 700:(i + 1) * 700 + 600] for i in range(4)]
+    got = ts.compare(pieces[:2], pieces[2:], fps=1.0, permutations=99)
+    assert [g["animals"] for g in got["groups"]] == [2, 2]
+    kappa = got["differences"][0]
+    assert kappa["quantity"] == "kappa"
+    lo, hi = kappa["interval"]
+    assert lo < 0 < hi
+    # The same animals as a multi-animal DeepLabCut frame: each individual one animal.
+    frames = [_dlc_frame(p, [f"a{i}"]) for i, p in enumerate(pieces[:2])]
+    two = pd.concat(frames, axis=1)
+    by_frame = ts.compare(two, pieces[2:], fps=1.0, permutations=99)
+    assert by_frame["differences"][0]["estimate"] == pytest.approx(kappa["estimate"], rel=1e-9)

@@ -909,14 +909,17 @@ def compare(
 
     Parameters
     ----------
-    first : path or list of paths
-        The first group's recordings: files, directories or patterns, each file one animal.
-    second : path or list of paths
-        The second group's, in the same form. Differences are the second group's mean less
+    first : path, list of paths, array, list of arrays, or tracker's object
+        The first group's animals: files, directories or patterns (each file one animal), or
+        midlines as arrays (frames × points × 2, each one animal; frames ``1/fps`` apart), or a
+        ``movement`` dataset, ``sleap_io.Labels`` or DeepLabCut DataFrame (each individual one
+        animal).
+    second : path, list of paths, array, list of arrays, or tracker's object
+        The second group's, in any of the same forms. Differences are the second group's mean less
         the first's.
     @model
     fps : float, optional
-        Frames per second of DeepLabCut files (their rows carry frame indices, not times).
+        Frames per second of arrays and DeepLabCut data (their rows are frames, not times).
     @recording
     permutations : int, optional
         Permutations behind the p-values (default 9999).
@@ -933,16 +936,30 @@ def compare(
         ``animals`` (one row per animal and quantity), ``excluded`` (animals whose fit failed,
         with ``why``), ``modes``.
     """
-    options = _given(locals(), _RECORDING + ("fps", "permutations", "seed"))
+    options = _given(locals(), _RECORDING + ("permutations", "seed"))
+    if fps is not None:
+        fps = _positive("fps", fps)
     toml = _toml(model)
-    groups = []
+    groups, names = [], []
     for group in (first, second):
-        if not _is_paths(group):
-            raise UsageError("compare takes each group as a path or a list of paths")
-        items = [group] if isinstance(group, (str, os.PathLike)) else group
-        groups.append([os.fspath(p) for p in items])
-    names = tuple(", ".join(g) for g in groups)
-    report = _native_call["compare_json"](groups[0], groups[1], names, toml, options)
+        if _is_paths(group):
+            items = [group] if isinstance(group, (str, os.PathLike)) else list(group)
+            paths = [os.fspath(p) for p in items]
+            groups.append((paths, [], []))
+            names.append(", ".join(paths))
+            if fps is not None:
+                options["fps"] = fps  # DeepLabCut files' rows are frames
+            continue
+        # Arrays, a DataFrame or a tracker's object: each animal (individual) its own.
+        data, t = _tracker_arrays(group, None, fps, None, None, options)
+        if data is None or isinstance(data, (str, bytes, dict)):
+            raise UsageError("compare takes each group as paths, arrays or a tracker's object")
+        animals, times = _arrays(data, t, fps)
+        groups.append(([], animals, times))
+        names.append(f"{len(animals)} array(s)")
+    if names[0] == names[1]:
+        names = [f"first ({names[0]})", f"second ({names[1]})"]
+    report = _native_call["compare_json"](groups[0], groups[1], tuple(names), toml, options)
     return Result(json.loads(report))
 
 

@@ -314,8 +314,8 @@ def discover(
     whether the theory holds (``verdict``)."""
 
 def compare(
-    first: Union[str, os.PathLike[str], Sequence[Union[str, os.PathLike[str]]]],
-    second: Union[str, os.PathLike[str], Sequence[Union[str, os.PathLike[str]]]],
+    first: Any,  # paths, arrays, or a tracker's object (movement, SLEAP, DeepLabCut)
+    second: Any,
     model: ModelLike = None,
     fps: Optional[float] = None,
     points: Optional[int] = None,

@@ -108,9 +108,11 @@ def figures(
 def limits() -> Dict[str, int]: ...
 def larva_toml() -> str: ...
 def check_model(toml: str) -> Tuple[str, List[str]]: ...
+_Group = Tuple[Sequence[str], Sequence[NDArray[np.float64]], Sequence[NDArray[np.float64]]]
+
 def compare_json(
-    first: Sequence[str],
-    second: Sequence[str],
+    first: _Group,
+    second: _Group,
     names: Tuple[str, str],
     model: Optional[str],
     options: Optional[Mapping[str, Any]],
