@@ -118,7 +118,7 @@ fn several_recordings_pool_into_one_fit_beside_each_own() {
     );
     assert!((alone / whole - 1.0).abs() < 1e-6, "{alone} {whole}");
     // Recordings of different rates cannot share spectra: the pool keeps the first's rate, the
-    // other is fitted alone in its own time unit and listed with the reason.
+    // other is its own rate group (here one animal), listed with its group.
     let wt2 = data("celegans_wt2_crawling_30fps_49pts.csv");
     let mixed = fit("celegans_wormpose_15fps_52pts.csv", &[&wt2]);
     assert_eq!(mixed["frames"], one["frames"], "only the first rate pooled");
@@ -128,10 +128,11 @@ fn several_recordings_pool_into_one_fit_beside_each_own() {
     assert!(animals[0].get("note").is_none(), "{}", animals[0]);
     let note = animals[1]["note"].as_str().unwrap();
     assert!(
-        note.contains("sampled every 0.0333, the pool every 0.066667")
-            && note.contains("not pooled"),
+        note.contains("rate group 2, sampled every 0.0333"),
         "{note}"
     );
+    assert_eq!(mixed["rate_groups"].as_array().unwrap().len(), 2);
+    assert!(mixed["across_rates"]["constant"].as_f64().unwrap() > 0.0);
     // Its own fit, in its own time unit: the same ω as the file fitted alone.
     let alone = fit("celegans_wt2_crawling_30fps_49pts.csv", &[]);
     let (a, b) = (

@@ -38,6 +38,24 @@ pub enum FitError {
 }
 
 impl FitError {
+    /// An error reading input `name`, named (unless the input has no name).
+    pub(super) fn named(self, name: &str) -> FitError {
+        let e = self;
+        match e {
+            FitError::Recording(
+                RecordingError::Io(_)
+                | RecordingError::Open(_)
+                | RecordingError::Line { .. }
+                | RecordingError::NoFrames { .. }
+                | RecordingError::Fps { .. },
+            ) if !name.is_empty() => FitError::In {
+                name: name.to_string(),
+                why: Box::new(e),
+            },
+            other => other,
+        }
+    }
+
     /// The kind of failure.
     pub fn failure(&self) -> crate::failure::Failure {
         use crate::failure::Failure;

@@ -9,7 +9,6 @@
 //! rayon `collect` would hold them all first. The per-mode fits are rayon's (`window`).
 
 use crate::recording::Jitter;
-use crate::report::number;
 use std::collections::BTreeMap;
 use std::io::BufRead;
 use std::path::PathBuf;
@@ -119,7 +118,7 @@ fn pass(
             for input in inputs {
                 let name = input.name();
                 let read = read_input(input, ctx, &mut projs, &mut Some(&mut *each));
-                pool.take(ctx, read.map_err(|e| with_name(e, &name))?)?;
+                pool.take(ctx, read.map_err(|e| FitError::named(e, &name))?)?;
             }
         }
         None => parallel(inputs, ctx, &mut pool)?,
@@ -181,7 +180,7 @@ fn parallel(inputs: Vec<Input<'_>>, ctx: &Context<'_>, pool: &mut Pool) -> Resul
                 want += 1;
                 if outcome.is_ok() {
                     outcome = read
-                        .map_err(|e| with_name(e, &name))
+                        .map_err(|e| FitError::named(e, &name))
                         .and_then(|r| pool.take(ctx, r));
                     if outcome.is_err() {
                         stop.store(true, Ordering::Relaxed);
@@ -191,23 +190,6 @@ fn parallel(inputs: Vec<Input<'_>>, ctx: &Context<'_>, pool: &mut Pool) -> Resul
         }
         outcome
     })
-}
-
-/// An error reading input `name`, named (unless the input has no name).
-fn with_name(e: FitError, name: &str) -> FitError {
-    match e {
-        FitError::Recording(
-            RecordingError::Io(_)
-            | RecordingError::Open(_)
-            | RecordingError::Line { .. }
-            | RecordingError::NoFrames { .. }
-            | RecordingError::Fps { .. },
-        ) if !name.is_empty() => FitError::In {
-            name: name.to_string(),
-            why: Box::new(e),
-        },
-        other => other,
-    }
 }
 
 /// Open and read one input into its animals.
@@ -328,6 +310,8 @@ struct Pool {
     first: Option<(String, Recording, Stats, f64)>,
     /// Each pooled animal's modal coordinates in time order (`timedomain`).
     series: Vec<super::timedomain::Series>,
+    /// The animals sampled at other rates, one pool per rate (`rates`).
+    others: Vec<Pool>,
 }
 
 impl Pool {
@@ -370,8 +354,8 @@ impl Pool {
     fn take_animal(&mut self, ctx: &Context<'_>, mut animal: Animal) -> Result<(), FitError> {
         if let (Some(a), Some(b)) = (self.interval, animal.interval) {
             if (a - b).abs() > 0.01 * a {
-                self.apart(ctx, animal, a, b);
-                return Ok(());
+                self.fit_first(ctx);
+                return self.other_rate(ctx, animal, b);
             }
         }
         let c = &animal.counts;
@@ -445,30 +429,35 @@ impl Pool {
     }
 
     /// An animal sampled at another rate than the pool's (the first timed animal's): spectra
-    /// in frames of different lengths cannot be summed, so it is fitted alone, in its own time
-    /// unit, listed among the animals with a note, and left out of the pooled fit.
-    fn apart(&mut self, ctx: &Context<'_>, animal: Animal, pooled: f64, own: f64) {
-        self.fit_first(ctx);
-        let parts = (animal.name.as_str(), &animal.counts, &animal.stats);
-        let parts = (parts.0, parts.1, parts.2, &animal.series);
-        let mut fit = match (animal.own, self.projector.as_ref()) {
-            (Some(fit), _) => fit,
-            (None, Some(proj)) if animal.stats.count > 0.0 => own_fit(proj, ctx, parts, own),
-            _ => AnimalFit::failed(parts.0, parts.2, parts.1, "no usable frame"),
+    /// in frames of different lengths cannot be summed, so it joins the pool of its own rate.
+    fn other_rate(&mut self, ctx: &Context<'_>, animal: Animal, rate: f64) -> Result<(), FitError> {
+        let same = |p: &Pool| p.interval.is_some_and(|a| (a - rate).abs() <= 0.01 * a);
+        let i = match self.others.iter().position(same) {
+            Some(i) => i,
+            None => {
+                self.others.push(Pool {
+                    interval: Some(rate),
+                    units: self.units.clone(),
+                    projector: self.projector.clone(),
+                    ..Pool::default()
+                });
+                self.others.len() - 1
+            }
         };
-        let why = format!(
-            "sampled every {}, the pool every {}: fitted alone in its own time unit, not pooled",
-            number(own),
-            number(pooled)
-        );
-        fit.note = Some(match fit.note {
-            Some(n) => format!("{why}; {n}"),
-            None => why,
-        });
-        self.fits.push(fit);
+        self.others[i].take_animal(ctx, animal)
     }
 
-    fn finish(self, ctx: &Context<'_>) -> Result<FitReport, FitError> {
+    /// The names of the animals pooled.
+    fn names(&self) -> Vec<String> {
+        let first = self.first.iter().map(|f| f.0.clone());
+        first
+            .chain(self.fits.iter().map(|f| f.recording.clone()))
+            .collect()
+    }
+
+    fn finish(mut self, ctx: &Context<'_>) -> Result<FitReport, FitError> {
+        let others = std::mem::take(&mut self.others);
+        let names = self.names();
         let (Some(stats), Some(proj)) = (&self.stats, &self.projector) else {
             // A recording with nothing in it is a problem of the file: named, when there is one.
             let empty = FitError::from(RecordingError::NoFrames {
@@ -476,7 +465,7 @@ impl Pool {
             });
             let mut names = self.fits.iter().map(|f| f.recording.as_str());
             return Err(match (names.next(), names.next()) {
-                (Some(name), None) if !name.is_empty() => with_name(empty, name),
+                (Some(name), None) if !name.is_empty() => FitError::named(empty, name),
                 _ => empty,
             });
         };
@@ -530,9 +519,15 @@ impl Pool {
                 });
             }
         }
-        if self.fits.len() > 1 {
+        if self.fits.len() > 1 || !others.is_empty() {
             report.animals = self.fits;
             super::spread::apply(&mut report);
+        }
+        if !others.is_empty() {
+            let fitted = (others.into_iter())
+                .map(|o| (o.interval.unwrap_or(1.0), o.names(), o.finish(ctx)))
+                .collect();
+            super::rates::attach(&mut report, (interval, names), fitted);
         }
         report.onward = report.onward_arguments();
         Ok(report)

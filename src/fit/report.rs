@@ -126,6 +126,13 @@ pub struct FitReport {
     /// With several animals: how much their constants differ, and what the pool makes of it.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub spread: Option<super::spread::Spread>,
+    /// With animals sampled at several rates: each rate group's pooled fit (the first is the
+    /// one above), summarised.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub rate_groups: Vec<super::rates::RateGroup>,
+    /// The continuum constant across the rate groups.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub across_rates: Option<super::rates::AcrossRates>,
     /// Units of the recording's columns.
     pub units: Units,
     /// The mean model point spacing h = (body length)/(N − 1) (midlines) or rest segment
@@ -341,6 +348,7 @@ impl Report for FitReport {
         }
         t += &animals_text(&r.animals);
         t += &super::spread::text(r);
+        t += &super::rates::text(r);
         let shares: Vec<String> = r
             .angle_pca_variance_share
             .iter()
@@ -497,7 +505,7 @@ fn animals_text(animals: &[AnimalFit]) -> String {
     }
     let mut t = format!(
         "  each animal alone ({} pooled above):\n  {:<40} {:>7} {:>6} {:>10} {:>12} {:>9}\n",
-        animals.len(),
+        animals.iter().filter(|a| a.note.is_none()).count(),
         "animal",
         "frames",
         "lost",

@@ -281,6 +281,8 @@ pub(super) fn summarise(
         subspace,
         intervals: None,
         spread: None,
+        rate_groups: Vec::new(),
+        across_rates: None,
         advice: None,
         onward: Vec::new(),
         points: proj.input_points,

@@ -206,6 +206,10 @@ impl<'env, R: BufRead + Send + 'env> Source for Chunked<'_, 'env, R> {
         }
         let (r, v, m) = self.next;
         let (width, modes) = self.sizes;
+        if self.clock.dt.is_none() {
+            self.clock
+                .seed(self.current.rows[r..].iter().map(|row| row.t));
+        }
         let row = &self.current.rows[r];
         let line = self.base + row.line;
         let missing_before = self.clock.step(row.t).map_err(|e| RecordingError::Line {

@@ -75,10 +75,12 @@ pub(crate) struct TrackSource {
 
 impl TrackSource {
     pub(crate) fn new(track: Track) -> TrackSource {
+        let mut clock = Clock::default();
+        clock.seed(track.frames.iter().map(|f| f.t).filter(|t| t.is_finite()));
         TrackSource {
             frames: track.frames.into_iter(),
             index: 0,
-            clock: Clock::default(),
+            clock,
             current: None,
         }
     }
@@ -241,6 +243,11 @@ impl<R: BufRead> FrameReader<R> {
             let missing_before = if self.track {
                 0
             } else {
+                if self.clock.dt.is_none() {
+                    // The interval from the rows already buffered, before the first step.
+                    let ahead = buffered_times(&mut self.reader);
+                    self.clock.seed(std::iter::once(t).chain(ahead));
+                }
                 self.clock.step(t).map_err(|e| bad(e.into()))?
             };
             return Ok(Some(Parsed {
@@ -378,6 +385,31 @@ pub(crate) fn plain_line(
             Ok(Some(done))
         }
     }
+}
+
+/// The times of the complete plain rows `reader` has already buffered (at most
+/// [`LOOK_AHEAD`](super::clock::LOOK_AHEAD)), without consuming them; reading stops at the
+/// first line that is not such a row.
+fn buffered_times(reader: &mut impl BufRead) -> Vec<f64> {
+    let Ok(buffered) = reader.fill_buf() else {
+        return Vec::new();
+    };
+    let mut times = Vec::new();
+    let mut lines = buffered.split(|&b| b == b'\n');
+    // The last piece may be a line cut by the buffer's end.
+    let complete = buffered.iter().filter(|&&b| b == b'\n').count();
+    for line in lines.by_ref().take(complete.min(super::clock::LOOK_AHEAD)) {
+        let Some(t) = std::str::from_utf8(line)
+            .ok()
+            .and_then(|text| cells(text.trim()).next())
+            .and_then(|cell| cell.parse::<f64>().ok())
+            .filter(|t| t.is_finite())
+        else {
+            break;
+        };
+        times.push(t);
+    }
+    times
 }
 
 /// A line's cells: split at commas (each trimmed) when it has one, else at white space.
