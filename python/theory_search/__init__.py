@@ -904,6 +904,7 @@ def compare(
     length_unit: Optional[str] = None,
     permutations: Optional[int] = None,
     seed: Optional[int] = None,
+    discover: Optional[bool] = None,
 ) -> Result:
     """Two groups of animals compared (``compare``): each animal fitted alone.
 
@@ -925,6 +926,9 @@ def compare(
         Permutations behind the p-values (default 9999).
     seed : int, optional
         Seed of the permutations.
+    discover : bool, optional
+        Also discover each animal's equation and compare its coefficients (a term an animal's
+        selection left out counts as 0).
 
     Returns
     -------
@@ -936,7 +940,7 @@ def compare(
         ``animals`` (one row per animal and quantity), ``excluded`` (animals whose fit failed,
         with ``why``), ``modes``.
     """
-    options = _given(locals(), _RECORDING + ("permutations", "seed"))
+    options = _given(locals(), _RECORDING + ("permutations", "seed", "discover"))
     if fps is not None:
         fps = _positive("fps", fps)
     toml = _toml(model)

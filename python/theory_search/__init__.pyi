@@ -332,6 +332,7 @@ def compare(
     length_unit: Optional[str] = None,
     permutations: Optional[int] = None,
     seed: Optional[int] = None,
+    discover: Optional[bool] = None,
 ) -> Result:
     """Two groups of animals compared, each animal fitted alone: the difference of the groups'
     κ, Ω and ζ with Welch's 95 % interval and a permutation p-value, the laws per group."""

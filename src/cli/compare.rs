@@ -28,6 +28,10 @@ pub struct Args {
     /// Seed of the permutations.
     #[arg(long, value_name = "S", default_value_t = 1)]
     seed: u64,
+    /// Also discover each animal's equation and compare its coefficients (a term an animal's
+    /// selection left out counts as 0).
+    #[arg(long)]
+    discover: bool,
     #[command(flatten)]
     model: ModelArgs,
     /// Output format (csv: one row per animal and quantity).
@@ -42,6 +46,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     pairs.extend([
         ("permutations", super::recording::count(args.permutations)),
         ("seed", Setting::Int(args.seed.into())),
+        ("discover", Setting::Bool(args.discover)),
     ]);
     let settings = CompareSettings::from_pairs(pairs)?;
     let mut groups = Vec::new();

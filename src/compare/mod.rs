@@ -23,6 +23,7 @@ mod report;
 use rand::{RngExt, SeedableRng};
 use statrs::distribution::{ContinuousCDF, StudentsT};
 
+use crate::discover::{discover, DiscoverSettings, Source};
 use crate::failure::Failure;
 use crate::fit::{fit_inputs, FitError, FitReport, FitSettings, Input};
 use crate::modal::Params;
@@ -54,6 +55,9 @@ pub struct CompareSettings {
     pub permutations: usize,
     /// Seed of both.
     pub seed: u64,
+    /// Also `discover` each animal and compare its equation's coefficients (a term its
+    /// selection left out has coefficient 0 in its equation).
+    pub discover: bool,
 }
 
 impl CompareSettings {
@@ -63,6 +67,7 @@ impl CompareSettings {
             fit: FitSettings::new(kind),
             permutations: 9999,
             seed: 1,
+            discover: false,
         }
     }
 
@@ -75,6 +80,7 @@ impl CompareSettings {
                 self.permutations = value.count(name, MAX_PERMUTATIONS).map_err(fit)?
             }
             "seed" => self.seed = value.count(name, usize::MAX).map_err(fit)? as u64,
+            "discover" => self.discover = value.switch(name).map_err(fit)?,
             _ => return self.fit.recording.set(name, value).map_err(fit),
         }
         Ok(true)
@@ -147,6 +153,9 @@ struct Fitted {
     group: usize,
     name: String,
     report: FitReport,
+    /// With `discover`: each library term's name and its coefficient in the discovered
+    /// equation (0 where the selection left it out).
+    terms: Vec<(String, f64)>,
 }
 
 /// Fit every animal of `groups` alone and compare the groups.
@@ -189,6 +198,7 @@ pub fn compare(
         let mut first_why = None;
         for input in group.inputs {
             let name = input_name(&input);
+            let source = discover_source(&input, settings)?;
             match fit_inputs(vec![input], model, params, &settings.fit, None) {
                 Ok(report) if report.animals.len() > 1 => {
                     return Err(CompareError::SeveralAnimals {
@@ -197,12 +207,21 @@ pub fn compare(
                     })
                 }
                 Ok(report) if report.continuum.is_some() => {
-                    kept += 1;
-                    fitted.push(Fitted {
-                        group: g,
-                        name,
-                        report,
-                    });
+                    match discovered(source, model, settings) {
+                        Ok(terms) => {
+                            kept += 1;
+                            fitted.push(Fitted {
+                                group: g,
+                                name,
+                                report,
+                                terms,
+                            });
+                        }
+                        Err(why) => {
+                            first_why.get_or_insert(why.clone());
+                            excluded.push(Excluded::new(&group.name, &name, why));
+                        }
+                    }
                 }
                 Ok(_) => {
                     let why = "the field has no continuum constant".to_string();
@@ -229,6 +248,51 @@ pub fn compare(
         names.push(group.name);
     }
     Ok(summarise(&fitted, names, excluded, settings))
+}
+
+/// What `discover` reads of `input` (with `--discover`): the same file or frames.
+fn discover_source<'a>(
+    input: &Input<'_>,
+    settings: &CompareSettings,
+) -> Result<Option<Source<'a>>, CompareError> {
+    if !settings.discover {
+        return Ok(None);
+    }
+    match input {
+        Input::File(p) => Ok(Some(Source::File(p.clone()))),
+        Input::Tracks(t) if t.len() == 1 => Ok(Some(Source::Track(t[0].clone()))),
+        _ => Err(CompareError::Invalid(
+            "compare --discover reads each animal from a file or one track".into(),
+        )),
+    }
+}
+
+/// The discovered equation's coefficients of `source` (none without `--discover`), or why
+/// there is none (the animal is then left out, with the reason).
+fn discovered(
+    source: Option<Source<'_>>,
+    model: &Model,
+    settings: &CompareSettings,
+) -> Result<Vec<(String, f64)>, String> {
+    let Some(source) = source else {
+        return Ok(Vec::new());
+    };
+    let asked = DiscoverSettings {
+        recording: settings.fit.recording.clone(),
+        bootstrap: 0,
+        seed: settings.seed,
+        ..DiscoverSettings::new(settings.fit.recording.kind)
+    };
+    let report = discover(vec![source], model, &asked)
+        .map_err(|e| format!("discover: {}", crate::markup::bound_line(&e.to_string())))?;
+    if report.onward_refused.as_deref() == Some("no model was selected") {
+        return Err("discover: no model was selected".into());
+    }
+    Ok(report
+        .library
+        .iter()
+        .map(|t| (t.name.clone(), if t.selected { t.coefficient } else { 0.0 }))
+        .collect())
 }
 
 fn input_name(input: &Input<'_>) -> String {
@@ -283,6 +347,17 @@ fn quantities(fitted: &[Fitted], modes: &[usize]) -> Vec<(String, Vec<f64>)> {
             format!("zeta_{m}"),
             fitted.iter().map(|f| of(f, |x| x.zeta)).collect(),
         ));
+    }
+    // The coefficients of the terms some animal's equation has, in the library's order.
+    let names: Vec<&String> = fitted[0].terms.iter().map(|(n, _)| n).collect();
+    for (i, name) in names.into_iter().enumerate() {
+        let values: Vec<f64> = fitted
+            .iter()
+            .map(|f| f.terms.get(i).map_or(f64::NAN, |t| t.1))
+            .collect();
+        if values.iter().any(|&v| v != 0.0) {
+            out.push((name.clone(), values));
+        }
     }
     out
 }
