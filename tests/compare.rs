@@ -208,4 +208,15 @@ fn discovered_coefficients_are_compared_across_groups() {
     assert!((c.estimate / truth - 1.0).abs() < 0.25, "{c:?}");
     assert!(r.animals.iter().any(|a| a.quantity == "c_y"));
     assert!(r.excluded.is_empty(), "{:?}", r.excluded);
+    // Each group's mean holds within its own interval, and the figure draws them.
+    for d in &r.differences {
+        for g in 0..2 {
+            let [lo, hi] = d.group_intervals[g];
+            assert!(lo <= d.means[g] && d.means[g] <= hi, "{d:?}");
+        }
+    }
+    let page = theory_search::figures::Page::default();
+    let path = theory_search::figures::write_compare(dir.path(), &r, &page).unwrap();
+    let svg = std::fs::read_to_string(path).unwrap();
+    assert!(svg.contains("stiff against wild") && svg.contains("c_y (discovered)"));
 }

@@ -810,10 +810,11 @@ fn compare_json<'py>(
     names: (String, String),
     model: Option<&str>,
     options: Option<&Bound<'py, PyDict>>,
-) -> PyResult<String> {
+) -> PyResult<(String, Vec<String>)> {
     use theory_search::compare::{compare, CompareSettings, Group};
     use theory_search::report::Report;
     let model = model_of(model)?;
+    let page = figure_page(options)?;
     let pairs = pairs_of(options)?;
     let compare_error =
         |e: theory_search::compare::CompareError| raised(e.failure(), one_line(&e.to_string()));
@@ -840,7 +841,13 @@ fn compare_json<'py>(
     report
         .check()
         .map_err(|e| raised(Failure::Numerical, one_line(&e.to_string())))?;
-    Ok(report.json().to_string())
+    let mut written = Vec::new();
+    if let Some((dir, page)) = page {
+        let path = theory_search::figures::write_compare(&dir, &report, &page)
+            .map_err(|e| raised(e.failure(), one_line(&e.to_string())))?;
+        written.push(path.display().to_string());
+    }
+    Ok((report.json().to_string(), written))
 }
 
 /// One group of `compare`: paths, and animals' midlines with their times.

@@ -101,7 +101,7 @@ def test_deeplabcut_hdf5_single_and_multi_animal(beam, tmp_path):
     assert found["selected"]
 
 
-def test_compare_takes_arrays_and_trackers_objects(beam):
+def test_compare_takes_arrays_and_trackers_objects(beam, tmp_path):
     # Four animals as arrays, two a group: pieces of one beam (one κ), so the difference's
     # interval holds 0; each array is one animal, as each file is.
     xy, _ = beam
@@ -117,3 +117,6 @@ def test_compare_takes_arrays_and_trackers_objects(beam):
     two = pd.concat(frames, axis=1)
     by_frame = ts.compare(two, pieces[2:], fps=1.0, permutations=99)
     assert by_frame["differences"][0]["estimate"] == pytest.approx(kappa["estimate"], rel=1e-9)
+    # The figure, as the command line's --figures writes it.
+    drawn = ts.compare(pieces[:2], pieces[2:], fps=1.0, permutations=99, figures=tmp_path)
+    assert [pathlib.Path(p).name for p in drawn["figures"]] == ["compare_groups.svg"]

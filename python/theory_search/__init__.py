@@ -905,6 +905,10 @@ def compare(
     permutations: Optional[int] = None,
     seed: Optional[int] = None,
     discover: Optional[bool] = None,
+    figures: Optional[Union[str, os.PathLike]] = None,
+    figure_format: Optional[str] = None,
+    figure_width: Optional[float] = None,
+    figure_dpi: Optional[float] = None,
 ) -> Result:
     """Two groups of animals compared (``compare``): each animal fitted alone.
 
@@ -929,6 +933,7 @@ def compare(
     discover : bool, optional
         Also discover each animal's equation and compare its coefficients (a term an animal's
         selection left out counts as 0).
+    @figure_page
 
     Returns
     -------
@@ -938,9 +943,12 @@ def compare(
         compared mode's ``Omega_<mode>`` and ``zeta_<mode>``, the groups' ``means``, the
         ``estimate``, Welch's 95 % ``interval``, the ``ratio`` and the permutation ``p``),
         ``animals`` (one row per animal and quantity), ``excluded`` (animals whose fit failed,
-        with ``why``), ``modes``.
+        with ``why``), ``modes``; each difference also has each group's ``group_intervals``;
+        with ``figures`` (a folder) also ``figures`` (the path written).
     """
-    options = _given(locals(), _RECORDING + ("permutations", "seed", "discover"))
+    options = _given(locals(), _RECORDING + _PAGE + ("permutations", "seed", "discover"))
+    if options.get("figures") is not None:
+        options["figures"] = os.fspath(options["figures"])
     if fps is not None:
         fps = _positive("fps", fps)
     toml = _toml(model)
@@ -963,8 +971,11 @@ def compare(
         names.append(f"{len(animals)} array(s)")
     if names[0] == names[1]:
         names = [f"first ({names[0]})", f"second ({names[1]})"]
-    report = _native_call["compare_json"](groups[0], groups[1], tuple(names), toml, options)
-    return Result(json.loads(report))
+    report, written = _native_call["compare_json"](groups[0], groups[1], tuple(names), toml, options)
+    doc = json.loads(report)
+    if written:
+        doc["figures"] = written
+    return Result(doc)
 
 
 # Every public function's errors are TheorySearchError (docs/python.md): an argument that a

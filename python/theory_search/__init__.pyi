@@ -333,6 +333,10 @@ def compare(
     permutations: Optional[int] = None,
     seed: Optional[int] = None,
     discover: Optional[bool] = None,
+    figures: Optional[Union[str, os.PathLike[str]]] = None,
+    figure_format: Optional[str] = None,
+    figure_width: Optional[float] = None,
+    figure_dpi: Optional[float] = None,
 ) -> Result:
     """Two groups of animals compared, each animal fitted alone: the difference of the groups'
     κ, Ω and ζ with Welch's 95 % interval and a permutation p-value, the laws per group."""

@@ -32,6 +32,12 @@ pub struct Args {
     /// selection left out counts as 0).
     #[arg(long)]
     discover: bool,
+    /// Also write the comparison's figure (each animal's values, the groups' means with their
+    /// 95 % intervals) into this directory.
+    #[arg(long, value_name = "DIR")]
+    figures: Option<PathBuf>,
+    #[command(flatten)]
+    page: super::options::FitPageArgs,
     #[command(flatten)]
     model: ModelArgs,
     /// Output format (csv: one row per animal and quantity).
@@ -42,6 +48,7 @@ pub struct Args {
 /// Compare and print.
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
     let model = args.model.load()?;
+    let page = args.page.page()?;
     let mut pairs = args.recording.pairs(args.model.order);
     pairs.extend([
         ("permutations", super::recording::count(args.permutations)),
@@ -61,6 +68,9 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
         });
     }
     let report = compare(groups, &model, &Params::default(), &settings)?;
+    if let Some(dir) = &args.figures {
+        crate::figures::write_compare(dir, &report, &page).map_err(super::figures::usage)?;
+    }
     emit(out, &report, args.format)
 }
 

@@ -388,6 +388,16 @@ fn welch(a: &[f64], b: &[f64], estimate: f64) -> [f64; 2] {
     [estimate - t * se, estimate + t * se]
 }
 
+/// One group's 95 % interval of its mean: x̄ ± t₀.₉₇₅,ₙ₋₁ s/√n.
+fn group_interval(v: &[f64]) -> [f64; 2] {
+    let (m, n) = (mean(v), v.len() as f64);
+    let s = (v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
+    let t = StudentsT::new(0.0, 1.0, n - 1.0)
+        .map(|d| d.inverse_cdf(0.975))
+        .unwrap_or(f64::NAN);
+    [m - t * s / n.sqrt(), m + t * s / n.sqrt()]
+}
+
 /// The difference of group means of `values` (`groups[i]` each animal's group), its
 /// resampled percentile interval and its permutation p-value.
 fn difference(
@@ -422,6 +432,7 @@ fn difference(
     Difference {
         quantity: name.to_string(),
         means: [mean(&a), mean(&b)],
+        group_intervals: [group_interval(&a), group_interval(&b)],
         estimate,
         interval,
         ratio: mean(&b) / mean(&a),

@@ -63,6 +63,8 @@ pub struct Difference {
     pub quantity: String,
     /// Each group's mean over its animals.
     pub means: [f64; 2],
+    /// Each group's 95 % interval of its mean (Student's t on its animals − 1 dof).
+    pub group_intervals: [[f64; 2]; 2],
     /// The second group's mean less the first's.
     pub estimate: f64,
     /// Its 95 % interval (Welch's t).

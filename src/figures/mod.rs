@@ -10,6 +10,7 @@
 use std::path::{Path, PathBuf};
 
 mod behaviour;
+mod compare;
 mod discover;
 mod fit;
 mod key;
@@ -244,6 +245,18 @@ pub fn write_discover(
     let svg = discover::discover_spectra(r, replay, page.canvas_width())?;
     create_dir(dir)?;
     write_figure(dir, "discover_spectra.svg", &svg, page)
+}
+
+/// Write `compare`'s figure (`compare_groups`) into `dir`, laid out and encoded as `page` says.
+pub fn write_compare(
+    dir: &Path,
+    r: &crate::compare::CompareReport,
+    page: &Page,
+) -> Result<PathBuf, FigureError> {
+    page.check()?;
+    let svg = compare::compare_groups(r, page.canvas_width())?;
+    create_dir(dir)?;
+    write_figure(dir, "compare_groups.svg", &svg, page)
 }
 
 /// Write [`fit_figures`] into `dir`, laid out and encoded as `page` says.
