@@ -123,9 +123,18 @@ impl AnimalFit {
 
     pub(super) fn failed(name: &str, stats: &Stats, counts: &Recording, why: &str) -> AnimalFit {
         AnimalFit {
-            recording: name.to_string(),
             frames: stats.count as usize,
             frames_lost: counts.frames_lost,
+            ..AnimalFit::unfitted(name, why)
+        }
+    }
+
+    /// `name`, with no fit and the reason.
+    pub(super) fn unfitted(name: &str, why: &str) -> AnimalFit {
+        AnimalFit {
+            recording: name.to_string(),
+            frames: 0,
+            frames_lost: 0,
             omega: None,
             beta: None,
             first_share: None,

@@ -39,20 +39,7 @@ impl RateGroup {
         let label = format!("sampled every {}", number(interval));
         let fit = match report {
             Ok(r) => AnimalFit::of(&label, &r.recording, r),
-            Err(why) => AnimalFit {
-                recording: label,
-                frames: 0,
-                frames_lost: 0,
-                omega: None,
-                beta: None,
-                first_share: None,
-                pca_variance_share: Vec::new(),
-                mode_overlap: Vec::new(),
-                continuum: None,
-                continuum_interval: None,
-                tests: None,
-                note: Some(why),
-            },
+            Err(why) => AnimalFit::unfitted(&label, &why),
         };
         RateGroup {
             interval,
