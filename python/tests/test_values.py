@@ -117,6 +117,7 @@ def test_every_keyword_is_typed_and_documented():
         (lambda: ts.stats("equipartition", points=6, steps=10, field="q"), "no field"),
         (lambda: ts.behave("rearing", points=5000), "at most 2000 points"),
         (lambda: ts.interactions(beyond_leading=99), "beyond_leading"),
+        (lambda: ts.stats("pair", samples=5), "samples must be between"),
     ],
 )
 def test_the_library_refuses_in_its_words(call, words):
@@ -124,6 +125,7 @@ def test_the_library_refuses_in_its_words(call, words):
         call()
     assert words in str(e.value)
     assert "\n" not in str(e.value).strip()
+    assert "--" not in str(e.value), "a keyword argument, not the command line's flag"
 
 
 def test_notebook_views_lead_with_verdicts_kappa_and_terms():

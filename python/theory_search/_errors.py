@@ -54,7 +54,9 @@ def _pythonic(message: str) -> str:
     words, options as keyword arguments."""
     message = message.replace(" (see --help)", "")
     message = re.sub(r"(-?\d+) is not in (-?\d+)\.\.=(-?\d+)", r"\1 is not between \2 and \3", message)
-    return re.sub(r"'--([a-z][a-z-]*)(?: <[A-Z_]+>)?'", lambda m: m.group(1).replace("-", "_") + "=", message)
+    message = re.sub(r"'--([a-z][a-z-]*)(?: <[A-Z_]+>)?'", lambda m: m.group(1).replace("-", "_") + "=", message)
+    # A flag named in the library's words (``--samples must be …``) is the keyword argument.
+    return re.sub(r"(?<![\w'-])--([a-z][a-z0-9-]*)", lambda m: m.group(1).replace("-", "_"), message)
 
 
 def translated(fn: F) -> F:
