@@ -8,18 +8,16 @@ use std::collections::HashMap;
 use pyo3::prelude::*;
 use theory_search::behaviour::{self, PairKind, PairReport, RightingReport, RightingSettings};
 use theory_search::model::{one_line, Density};
-use theory_search::report::{render, EmitError, Output, Report};
+use theory_search::report::Report;
 use theory_search::theory::Theory;
 
-use crate::{basis_of, body_of, model_of, raised, usage, OutputError};
+use crate::{basis_of, body_of, model_of, raised, usage};
 
-/// The report as the command line's JSON document (its numbers checked finite first).
-fn json_of(report: &dyn Report) -> PyResult<String> {
-    match render(report, Output::Json) {
-        Ok(text) => Ok(text),
-        Err(EmitError::Refused(why)) => Err(usage(why)),
-        Err(EmitError::Io(e)) => Err(OutputError::new_err(one_line(&e.to_string()))),
-    }
+/// The report as the command line's `--format json` document, as Python objects (its numbers
+/// checked finite first, as the command line checks them).
+fn json_of<'py>(py: Python<'py>, report: &dyn Report) -> PyResult<Bound<'py, PyAny>> {
+    report.check().map_err(|e| usage(e.0))?;
+    crate::document(py, &report.json())
 }
 
 fn behaviour_error(e: behaviour::BehaviourError) -> PyErr {
@@ -78,21 +76,26 @@ fn theory_of(
 /// `count`: candidate terms per density at orders 1 … `max_order`.
 #[pyfunction]
 #[pyo3(signature = (max_order, model, basis))]
-pub(crate) fn count_json(max_order: u32, model: Option<&str>, basis: &str) -> PyResult<String> {
+pub(crate) fn count_json<'py>(
+    py: Python<'py>,
+    max_order: u32,
+    model: Option<&str>,
+    basis: &str,
+) -> PyResult<Bound<'py, PyAny>> {
     let model = model_of(model)?;
     let report = theory_search::catalogue::CountReport::new(&model, basis_of(basis)?, max_order)
         .map_err(order_error)?;
-    json_of(&report)
+    json_of(py, &report)
 }
 
 /// `rules`: the registry, and with a model or an order what the model requires.
 #[pyfunction]
 #[pyo3(signature = (order, model))]
-pub(crate) fn rules_json(
-    py: Python<'_>,
+pub(crate) fn rules_json<'py>(
+    py: Python<'py>,
     order: Option<u32>,
     model: Option<&str>,
-) -> PyResult<String> {
+) -> PyResult<Bound<'py, PyAny>> {
     use theory_search::catalogue::{Requirements, RulesReport};
     let requirements = if model.is_some() || order.is_some() {
         let model = model_of(model)?;
@@ -104,24 +107,27 @@ pub(crate) fn rules_json(
     } else {
         None
     };
-    json_of(&RulesReport {
-        header: theory_search::codegen::header("<!--", " -->"),
-        requirements,
-    })
+    json_of(
+        py,
+        &RulesReport {
+            header: theory_search::codegen::header("<!--", " -->"),
+            requirements,
+        },
+    )
 }
 
 /// `parts` (the admitted monomials modulo total derivatives; default density the Lagrangian)
 /// or `interactions` (which terms could couple each set of fields; default both densities).
 #[pyfunction]
 #[pyo3(signature = (table, order, beyond_leading, model, density))]
-pub(crate) fn terms_json(
-    py: Python<'_>,
+pub(crate) fn terms_json<'py>(
+    py: Python<'py>,
     table: &str,
     order: u32,
     beyond_leading: Option<u32>,
     model: Option<&str>,
     density: Option<&str>,
-) -> PyResult<String> {
+) -> PyResult<Bound<'py, PyAny>> {
     use theory_search::interaction::InteractionsReport;
     use theory_search::parts::PartsReport;
     let model = model_at(model, beyond_leading)?;
@@ -131,14 +137,14 @@ pub(crate) fn terms_json(
             let report = py
                 .detach(|| PartsReport::new(&model, &densities, order))
                 .map_err(order_error)?;
-            json_of(&report)
+            json_of(py, &report)
         }
         _ => {
             let densities = densities_of(density)?;
             let report = py
                 .detach(|| InteractionsReport::new(&model, &densities, order))
                 .map_err(order_error)?;
-            json_of(&report)
+            json_of(py, &report)
         }
     }
 }
@@ -177,7 +183,8 @@ fn pair_omega(
 #[pyfunction]
 #[pyo3(signature = (coupling, amplitude, omega, points, order, beyond_leading, model, params))]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn asymmetry_json(
+pub(crate) fn asymmetry_json<'py>(
+    py: Python<'py>,
     coupling: f64,
     amplitude: f64,
     omega: Option<f64>,
@@ -186,7 +193,7 @@ pub(crate) fn asymmetry_json(
     beyond_leading: Option<u32>,
     model: Option<&str>,
     params: Option<HashMap<String, f64>>,
-) -> PyResult<String> {
+) -> PyResult<Bound<'py, PyAny>> {
     let omega = pair_omega(
         omega,
         points,
@@ -197,21 +204,21 @@ pub(crate) fn asymmetry_json(
         "asymmetry",
     )?;
     let a = behaviour::asymmetry(coupling, amplitude, omega).map_err(behaviour_error)?;
-    json_of(&a)
+    json_of(py, &a)
 }
 
 /// `mathieu`: the Floquet chart of a bare equation (App. D).
 #[pyfunction]
 #[pyo3(signature = (lambda_, ratio_min, ratio_max, epsilon_max, columns, rows))]
-pub(crate) fn mathieu_json(
-    py: Python<'_>,
+pub(crate) fn mathieu_json<'py>(
+    py: Python<'py>,
     lambda_: f64,
     ratio_min: f64,
     ratio_max: f64,
     epsilon_max: f64,
     columns: usize,
     rows: usize,
-) -> PyResult<String> {
+) -> PyResult<Bound<'py, PyAny>> {
     let chart = py
         .detach(|| {
             behaviour::chart(
@@ -222,7 +229,7 @@ pub(crate) fn mathieu_json(
             )
         })
         .map_err(behaviour_error)?;
-    json_of(&chart)
+    json_of(py, &chart)
 }
 
 /// What a statistic is asked, beyond its body.
@@ -243,8 +250,8 @@ pub(crate) struct StatsAsk {
 #[pyfunction]
 #[pyo3(signature = (kind, points, order, beyond_leading, model, params, ask))]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn stats_json(
-    py: Python<'_>,
+pub(crate) fn stats_json<'py>(
+    py: Python<'py>,
     kind: &str,
     points: Option<usize>,
     order: u32,
@@ -252,7 +259,7 @@ pub(crate) fn stats_json(
     model: Option<&str>,
     params: Option<HashMap<String, f64>>,
     ask: StatsAsk,
-) -> PyResult<String> {
+) -> PyResult<Bound<'py, PyAny>> {
     match kind {
         "explore" => {
             let t = theory_of(
@@ -268,7 +275,7 @@ pub(crate) fn stats_json(
             let e = py
                 .detach(|| behaviour::explore(&t, beta, samples, ask.seed))
                 .map_err(behaviour_error)?;
-            json_of(&e)
+            json_of(py, &e)
         }
         "equipartition" => {
             let t = theory_of(
@@ -291,7 +298,7 @@ pub(crate) fn stats_json(
                     )
                 })
                 .map_err(behaviour_error)?;
-            json_of(&c)
+            json_of(py, &c)
         }
         "pair" => {
             let omega = pair_omega(
@@ -307,7 +314,7 @@ pub(crate) fn stats_json(
             let r = py
                 .detach(|| PairReport::new(omega, beta, ask.momentum, ask.samples, ask.seed))
                 .map_err(behaviour_error)?;
-            json_of(&r)
+            json_of(py, &r)
         }
         other => Err(usage(format!(
             "stats is \"explore\", \"equipartition\" or \"pair\", not {}",
@@ -335,8 +342,8 @@ pub(crate) struct BehaveAsk {
 #[pyfunction]
 #[pyo3(signature = (behaviour, points, order, beyond_leading, model, params, ask))]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn behave_json(
-    py: Python<'_>,
+pub(crate) fn behave_json<'py>(
+    py: Python<'py>,
     behaviour: &str,
     points: usize,
     order: u32,
@@ -344,7 +351,7 @@ pub(crate) fn behave_json(
     model: Option<&str>,
     params: Option<HashMap<String, f64>>,
     ask: BehaveAsk,
-) -> PyResult<String> {
+) -> PyResult<Bound<'py, PyAny>> {
     let what: &'static str = match behaviour {
         "peristalsis" => "behave peristalsis",
         "rolling" => "behave rolling",
@@ -369,7 +376,7 @@ pub(crate) fn behave_json(
             let o = py
                 .detach(|| behaviour::pair_orbit(&theory, kind, ask.momentum, ask.periods))
                 .map_err(behaviour_error)?;
-            json_of(&o)
+            json_of(py, &o)
         }
         "rearing" | "hunching" => {
             let name = if behaviour == "rearing" {
@@ -382,7 +389,7 @@ pub(crate) fn behave_json(
             let r = py
                 .detach(|| behaviour::step_response(&theory, name, field, ask.force, ask.duration))
                 .map_err(behaviour_error)?;
-            json_of(&r)
+            json_of(py, &r)
         }
         _ => {
             let settings = RightingSettings {
@@ -401,7 +408,7 @@ pub(crate) fn behave_json(
                     })
                 })
                 .map_err(behaviour_error)?;
-            json_of(&r)
+            json_of(py, &r)
         }
     }
 }
@@ -414,8 +421,8 @@ type Written = (Vec<String>, Vec<(String, String)>);
 #[pyfunction]
 #[pyo3(signature = (directory, only, points, order, beyond_leading, model, params, format, width, dpi, samples, seed))]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn figures(
-    py: Python<'_>,
+pub(crate) fn figures<'py>(
+    py: Python<'py>,
     directory: std::path::PathBuf,
     only: Option<&str>,
     points: usize,

@@ -1,6 +1,6 @@
 //! The native half of the `theory_search` Python package: thin wrappers over the library (never
-//! the CLI binary). Structured results cross as JSON text (the same documents the CLI's
-//! `--format json` prints) and numbers as numpy arrays; every error becomes a Python exception of
+//! the CLI binary). Structured results cross as Python objects converted directly from the
+//! documents the CLI's `--format json` prints (no JSON text between) and numbers as numpy arrays; every error becomes a Python exception of
 //! the `TheorySearchError` family with the library's one-line message, and long work runs with
 //! the GIL released.
 
@@ -58,6 +58,12 @@ create_exception!(
     "Output that cannot be written (the CLI's exit code 1)."
 );
 
+/// A document (the value the command line's `--format json` prints) as Python objects:
+/// dicts, lists, floats, ints, strings and None, converted directly, with no JSON text between.
+fn document<'py>(py: Python<'py>, value: &serde_json::Value) -> PyResult<Bound<'py, PyAny>> {
+    pythonize::pythonize(py, value).map_err(|e| usage(e.to_string()))
+}
+
 fn usage(e: impl std::fmt::Display) -> PyErr {
     UsageError::new_err(one_line(&e.to_string()))
 }
@@ -99,50 +105,62 @@ fn check_model(toml: &str) -> PyResult<(String, Vec<String>)> {
 /// Table 1 and its Rayleigh twin as the CLI's JSON document.
 #[pyfunction]
 #[pyo3(signature = (order, model, basis, density))]
-fn table_json(
-    py: Python<'_>,
+fn table_json<'py>(
+    py: Python<'py>,
     order: u32,
     model: Option<&str>,
     basis: &str,
     density: &str,
-) -> PyResult<String> {
+) -> PyResult<Bound<'py, PyAny>> {
     let model = model_of(model)?;
     let basis = basis_of(basis)?;
     let densities = commands::densities_of(Some(density))?;
 
-    py.detach(|| {
-        let analyses = densities
-            .into_iter()
-            .map(|d| theory_search::reduce::analyse_basis(&model, d, order, basis))
-            .collect::<Result<Vec<_>, _>>()
-            .map_err(|e| e.to_string())?;
-        Ok(theory_search::table::json_report(&model, &analyses).to_string())
-    })
-    .map_err(|e: String| usage(e))
+    let value = py
+        .detach(|| {
+            let analyses = densities
+                .into_iter()
+                .map(|d| theory_search::reduce::analyse_basis(&model, d, order, basis))
+                .collect::<Result<Vec<_>, _>>()
+                .map_err(|e| e.to_string())?;
+            Ok(theory_search::table::json_report(&model, &analyses))
+        })
+        .map_err(|e: String| usage(e))?;
+    document(py, &value)
 }
 
 /// The active forces of `theory-search active`, as its JSON.
 #[pyfunction]
 #[pyo3(signature = (order, beyond_leading, model))]
-fn active_json(order: u32, beyond_leading: Option<u32>, model: Option<&str>) -> PyResult<String> {
+fn active_json<'py>(
+    py: Python<'py>,
+    order: u32,
+    beyond_leading: Option<u32>,
+    model: Option<&str>,
+) -> PyResult<Bound<'py, PyAny>> {
     use theory_search::report::Report;
     let mut model = model_of(model)?;
     if let Some(k) = beyond_leading {
         model.set_beyond_leading(k);
     }
     let report = theory_search::active::ActiveReport::of(&model, order).map_err(usage)?;
-    Ok(report.json().to_string())
+    document(py, &report.json())
 }
 
 /// The equations of motion as the CLI's JSON document (linear, or exact nonlinear).
 #[pyfunction]
 #[pyo3(signature = (order, model, basis))]
-fn equations_json(order: u32, model: Option<&str>, basis: &str) -> PyResult<String> {
+fn equations_json<'py>(
+    py: Python<'py>,
+    order: u32,
+    model: Option<&str>,
+    basis: &str,
+) -> PyResult<Bound<'py, PyAny>> {
     use theory_search::equations::{derive_any, Derivation, Derived, EquationReport};
     use theory_search::report::Report;
     let model = model_of(model)?;
     // Every field's equation, or the first reason one has none (the command line's exit 2).
-    fn json<E>(name: &str, order: u32, d: Derivation<E>) -> PyResult<String>
+    fn json<E>(name: &str, order: u32, d: Derivation<E>) -> PyResult<serde_json::Value>
     where
         EquationReport<E>: Report,
     {
@@ -153,12 +171,13 @@ fn equations_json(order: u32, model: Option<&str>, basis: &str) -> PyResult<Stri
             equations,
             notes,
         };
-        Ok(report.json().to_string())
+        Ok(report.json())
     }
-    match derive_any(&model, order, basis_of(basis)?).map_err(usage)? {
-        Derived::Linear(d) => json(&model.name, order, d),
-        Derived::Nonlinear(d) => json(&model.name, order, d),
-    }
+    let value = match derive_any(&model, order, basis_of(basis)?).map_err(usage)? {
+        Derived::Linear(d) => json(&model.name, order, d)?,
+        Derived::Nonlinear(d) => json(&model.name, order, d)?,
+    };
+    document(py, &value)
 }
 
 /// The library's error as its Python exception, by the kind of failure.
@@ -523,7 +542,7 @@ fn fit_error(e: FitError) -> PyErr {
 /// The report as JSON plus the arrays JSON leaves out: frequencies, spectra (modes ×
 /// frequencies), principal components (components × modes), mode shapes (modes × points).
 type FitOut<'py> = (
-    String,
+    Bound<'py, PyAny>,
     Bound<'py, PyArray1<f64>>,
     Bound<'py, PyArray2<f64>>,
     Bound<'py, PyArray2<f64>>,
@@ -613,7 +632,7 @@ fn write_figures(
 }
 
 fn fit_out<'py>(py: Python<'py>, r: FitReport, figures: Vec<String>) -> PyResult<FitOut<'py>> {
-    let json = serde_json::to_string(&r).map_err(usage)?;
+    let json = document(py, &serde_json::to_value(&r).map_err(usage)?)?;
     let two = |v: &Vec<Vec<f64>>| PyArray2::from_vec2(py, v).map_err(usage);
     Ok((
         json,
@@ -751,7 +770,7 @@ fn discover_json<'py>(
     model: Option<&str>,
     model_path: Option<String>,
     options: Option<&Bound<'py, PyDict>>,
-) -> PyResult<(String, Vec<String>)> {
+) -> PyResult<(Bound<'py, PyAny>, Vec<String>)> {
     use theory_search::discover::{discover, DiscoverSettings, Source};
     use theory_search::report::Report;
     let mut model = model_of(model)?;
@@ -795,7 +814,7 @@ fn discover_json<'py>(
     report
         .check()
         .map_err(|e| raised(Failure::Numerical, one_line(&e.to_string())))?;
-    Ok((report.json().to_string(), written))
+    Ok((document(py, &report.json())?, written))
 }
 
 /// `compare` on two groups of animals, each group given as paths (files, directories,
@@ -810,7 +829,7 @@ fn compare_json<'py>(
     names: (String, String),
     model: Option<&str>,
     options: Option<&Bound<'py, PyDict>>,
-) -> PyResult<(String, Vec<String>)> {
+) -> PyResult<(Bound<'py, PyAny>, Vec<String>)> {
     use theory_search::compare::{compare, CompareSettings, Group};
     use theory_search::report::Report;
     let model = model_of(model)?;
@@ -847,7 +866,7 @@ fn compare_json<'py>(
             .map_err(|e| raised(e.failure(), one_line(&e.to_string())))?;
         written.push(path.display().to_string());
     }
-    Ok((report.json().to_string(), written))
+    Ok((document(py, &report.json())?, written))
 }
 
 /// One group of `compare`: paths, and animals' midlines with their times.

@@ -15,6 +15,7 @@ an ``ArithmeticError``; each with the one-line message the command line prints.
 
 from __future__ import annotations
 
+import copy
 import json
 import os
 import warnings
@@ -219,7 +220,7 @@ def table(
         ``notes``. ``to_pandas()`` gives one row per term; Jupyter renders it as HTML.
     """
     _count("order", order, 1, _LIMITS["order"])
-    doc = json.loads(_native_call["table_json"](order, _toml(model), basis, density))
+    doc = _native_call["table_json"](order, _toml(model), basis, density)
     for key in ("lagrangian", "rayleigh"):
         if key in doc:
             doc[key] = _Density(doc[key])
@@ -298,7 +299,7 @@ def equations(
         ``notes``.
     """
     _count("order", order, 1, _LIMITS["order"])
-    return Result(json.loads(_native_call["equations_json"](order, _toml(model), basis)))
+    return Result(_native_call["equations_json"](order, _toml(model), basis))
 
 
 @shared
@@ -330,7 +331,7 @@ def active(
     if beyond_leading is not None:
         _count("beyond_leading", beyond_leading, 0, _LIMITS["beyond_leading"])
     return Result(
-        json.loads(_native_call["active_json"](order, beyond_leading, _toml(model)))
+        _native_call["active_json"](order, beyond_leading, _toml(model))
     )
 
 
@@ -544,7 +545,7 @@ class FitResult:
 
     def to_dict(self) -> Dict[str, Any]:
         """The report as plain data (the CLI's ``--format json``)."""
-        return json.loads(json.dumps(self._report))
+        return copy.deepcopy(self._report)
 
     def to_pandas(self):
         """One row per fitted mode (needs pandas)."""
@@ -776,7 +777,7 @@ def fit(
         animals, times = _arrays(midlines, t, fps)
         out = _native_call["fit_arrays"](animals, times, toml, options)
     report, frequencies, psd, components, shapes, written = out
-    return FitResult(json.loads(report), frequencies, psd, components, shapes, written)
+    return FitResult(report, frequencies, psd, components, shapes, written)
 
 
 @shared
@@ -878,7 +879,7 @@ def discover(
     report, written = _native_call["discover_json"](
         paths, animals, times, toml, model_path, options
     )
-    doc = json.loads(report)
+    doc = report
     if options.get("figures") is not None:
         doc["figures"] = written
     return DiscoverResult(doc)
@@ -971,8 +972,7 @@ def compare(
         names.append(f"{len(animals)} array(s)")
     if names[0] == names[1]:
         names = [f"first ({names[0]})", f"second ({names[1]})"]
-    report, written = _native_call["compare_json"](groups[0], groups[1], tuple(names), toml, options)
-    doc = json.loads(report)
+    doc, written = _native_call["compare_json"](groups[0], groups[1], tuple(names), toml, options)
     if written:
         doc["figures"] = written
     return Result(doc)

@@ -5,7 +5,6 @@ statistics, the term tables, the rule registry and the figures. Each calls the l
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import warnings
@@ -25,9 +24,8 @@ _native_call = {
 }
 
 
-def _result(text: str) -> Result:
-    """A JSON document as a Result (a document that is a list becomes its ``rows``)."""
-    doc = json.loads(text)
+def _result(doc: Any) -> Result:
+    """A document as a Result (a document that is a list becomes its ``rows``)."""
     return Result(doc if isinstance(doc, dict) else {"rows": doc})
 
 
