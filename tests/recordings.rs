@@ -545,3 +545,69 @@ fn a_fit_says_what_share_of_its_frames_bridging_synthesised() {
         "{filled} of {frames}"
     );
 }
+
+/// Frames lost right after the first (frames 1–3 of a 30 fps clock): the first step spans four
+/// intervals, and the reader takes the interval from the rows ahead instead of refusing every
+/// later step as uneven; a plain CSV in seconds and a DeepLabCut CSV of frame indices with
+/// `--fps` alike.
+#[test]
+fn a_first_step_over_lost_frames_is_read_as_a_gap() {
+    let dir = common::scratch("first-gap");
+    let frames: Vec<usize> = std::iter::once(0).chain(4..300).collect();
+    let value = |f: usize, j: usize| ((f * 7 + j * 3) % 11) as f64 * 0.01;
+    let mut plain = String::from("t");
+    for j in 1..=8 {
+        plain += &format!(",x{j},y{j}");
+    }
+    plain.push('\n');
+    let parts: Vec<String> = (0..8).map(|j| format!("p{j}")).collect();
+    let mut dlc = format!(
+        "scorer{}\nbodyparts{}\ncoords{}\n",
+        ",DLC".repeat(24),
+        parts
+            .iter()
+            .map(|p| format!(",{p},{p},{p}"))
+            .collect::<String>(),
+        ",x,y,likelihood".repeat(8)
+    );
+    for &f in &frames {
+        plain += &format!("{}", f as f64 / 30.0);
+        dlc += &format!("{f}");
+        for j in 0..8 {
+            plain += &format!(",{},{}", 10.0 * j as f64, value(f, j));
+            dlc += &format!(",{},{},0.99", 10.0 * j as f64, value(f, j));
+        }
+        plain.push('\n');
+        dlc.push('\n');
+    }
+    for (name, text, extra) in [
+        ("plain.csv", plain, vec![]),
+        ("dlc.csv", dlc, vec!["--fps", "30"]),
+    ] {
+        let path = dir.path().join(name);
+        std::fs::write(&path, text).unwrap();
+        let path = path.display().to_string();
+        let mut args = vec![
+            "theory-search",
+            "fit",
+            &path,
+            "--points",
+            "8",
+            "--format",
+            "json",
+        ];
+        args.extend(extra);
+        let mut out = Vec::new();
+        theory_search::cli::run(args, &mut out).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let r: serde_json::Value = serde_json::from_slice(&out).unwrap();
+        assert_eq!(
+            r["recording"]["frames_lost"], 3,
+            "{name}: {}",
+            r["recording"]
+        );
+        assert!(
+            (r["sample_interval"].as_f64().unwrap() - 1.0 / 30.0).abs() < 1e-9,
+            "{name}"
+        );
+    }
+}

@@ -243,9 +243,17 @@ impl<R: BufRead> FrameReader<R> {
             let missing_before = if self.track {
                 0
             } else {
+                // The interval from the rows already buffered, before the first step
+                // (DeepLabCut's rows hold frame indices: over --fps, as `dlc_row` reads them).
                 if self.clock.dt.is_none() {
-                    // The interval from the rows already buffered, before the first step.
-                    let ahead = buffered_times(&mut self.reader);
+                    let per = if self.dlc {
+                        self.fps.unwrap_or(1.0)
+                    } else {
+                        1.0
+                    };
+                    let ahead = buffered_times(&mut self.reader)
+                        .into_iter()
+                        .map(|i| i / per);
                     self.clock.seed(std::iter::once(t).chain(ahead));
                 }
                 self.clock.step(t).map_err(|e| bad(e.into()))?
