@@ -588,21 +588,10 @@ fn figure_page(
         dpi: 300.0,
     };
     if let Some(f) = format {
-        page.format = match f
-            .extract::<String>()
-            .map_err(|_| usage("figure_format must be \"svg\", \"png\" or \"pdf\""))?
-            .as_str()
-        {
-            "svg" => Format::Svg,
-            "png" => Format::Png,
-            "pdf" => Format::Pdf,
-            other => {
-                return Err(usage(format!(
-                    "figure_format must be \"svg\", \"png\" or \"pdf\", not {:?}",
-                    theory_search::markup::clip(other)
-                )))
-            }
-        };
+        let name: String = f
+            .extract()
+            .map_err(|_| usage("figure_format must be \"svg\", \"png\" or \"pdf\""))?;
+        page.format = name.parse().map_err(usage)?;
     }
     if let Some(w) = width {
         page.width_mm = w.extract().map_err(|_| bad("figure_width"))?;

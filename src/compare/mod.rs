@@ -23,7 +23,7 @@ mod report;
 use rand::{RngExt, SeedableRng};
 use statrs::distribution::{ContinuousCDF, StudentsT};
 
-use crate::discover::{discover, DiscoverSettings, Source};
+use crate::discover::{discover, DiscoverError, DiscoverSettings, Source};
 use crate::failure::Failure;
 use crate::fit::{fit_inputs, FitError, FitReport, FitSettings, Input};
 use crate::modal::Params;
@@ -217,7 +217,8 @@ pub fn compare(
                                 terms,
                             });
                         }
-                        Err(why) => {
+                        Err(e) => {
+                            let why = crate::markup::bound_line(&e.to_string());
                             first_why.get_or_insert(why.clone());
                             excluded.push(Excluded::new(&group.name, &name, why));
                         }
@@ -267,13 +268,23 @@ fn discover_source<'a>(
     }
 }
 
-/// The discovered equation's coefficients of `source` (none without `--discover`), or why
-/// there is none (the animal is then left out, with the reason).
+/// Why an animal's equation could not be compared (it is left out, with this reason).
+#[derive(Debug, thiserror::Error)]
+pub enum Undiscovered {
+    /// `discover` failed on it.
+    #[error("discover: {0}")]
+    Failed(#[from] DiscoverError),
+    /// `discover` selected no term.
+    #[error("discover: no model was selected")]
+    NoModel,
+}
+
+/// The discovered equation's coefficients of `source` (none without `--discover`).
 fn discovered(
     source: Option<Source<'_>>,
     model: &Model,
     settings: &CompareSettings,
-) -> Result<Vec<(String, f64)>, String> {
+) -> Result<Vec<(String, f64)>, Undiscovered> {
     let Some(source) = source else {
         return Ok(Vec::new());
     };
@@ -283,10 +294,9 @@ fn discovered(
         seed: settings.seed,
         ..DiscoverSettings::new(settings.fit.recording.kind)
     };
-    let report = discover(vec![source], model, &asked)
-        .map_err(|e| format!("discover: {}", crate::markup::bound_line(&e.to_string())))?;
-    if report.onward_refused.as_deref() == Some("no model was selected") {
-        return Err("discover: no model was selected".into());
+    let report = discover(vec![source], model, &asked)?;
+    if !report.library.iter().any(|t| t.selected) {
+        return Err(Undiscovered::NoModel);
     }
     Ok(report
         .library

@@ -40,18 +40,18 @@ pub enum Format {
 }
 
 impl std::str::FromStr for Format {
-    type Err = String;
+    type Err = super::FigureError;
 
     /// `svg`, `png` or `pdf`.
-    fn from_str(name: &str) -> Result<Format, String> {
+    fn from_str(name: &str) -> Result<Format, super::FigureError> {
         match name {
             "svg" => Ok(Format::Svg),
             "png" => Ok(Format::Png),
             "pdf" => Ok(Format::Pdf),
-            other => Err(format!(
+            other => Err(super::err(format!(
                 "the figure format must be \"svg\", \"png\" or \"pdf\", not {}",
                 crate::markup::clip(other)
-            )),
+            ))),
         }
     }
 }

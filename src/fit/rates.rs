@@ -13,6 +13,7 @@
 //! bias: too few frames per period in one group, or different animals).
 
 use super::{AnimalFit, FitError, FitReport};
+use crate::markup::bound_line;
 use crate::report::{fixed, number};
 
 /// The normal distribution's 97.5 % point.
@@ -34,12 +35,12 @@ impl RateGroup {
     pub(super) fn of(
         interval: f64,
         names: Vec<String>,
-        report: Result<&FitReport, String>,
+        report: Result<&FitReport, &FitError>,
     ) -> RateGroup {
         let label = format!("sampled every {}", number(interval));
         let fit = match report {
             Ok(r) => AnimalFit::of(&label, &r.recording, r),
-            Err(why) => AnimalFit::unfitted(&label, &why),
+            Err(e) => AnimalFit::unfitted(&label, &bound_line(&e.to_string())),
         };
         RateGroup {
             interval,
@@ -59,8 +60,7 @@ pub(super) fn attach(
 ) {
     let mut groups = vec![RateGroup::of(interval, names, Ok(report))];
     for (rate, names, fitted) in others {
-        let why = |e: &FitError| crate::markup::bound_line(&e.to_string());
-        let group = RateGroup::of(rate, names, fitted.as_ref().map_err(why));
+        let group = RateGroup::of(rate, names, fitted.as_ref());
         let note = format!(
             "rate group {}, sampled every {}",
             groups.len() + 1,
@@ -193,7 +193,8 @@ mod tests {
 
     fn group(interval: f64, kappa: f64, se: f64) -> RateGroup {
         let half = NORMAL_975 * se;
-        let mut g = RateGroup::of(interval, vec!["a".into()], Err("none".into()));
+        let none = FitError::Invalid("none".into());
+        let mut g = RateGroup::of(interval, vec!["a".into()], Err(&none));
         g.fit.note = None;
         g.fit.continuum = Some(kappa);
         g.fit.continuum_interval = Some([kappa - half, kappa + half]);
