@@ -427,6 +427,36 @@ fn active_section() -> impl Strategy<Value = String> {
         })
 }
 
+/// A SLEAP analysis file (SLEAP's own axis order, `dims` named) of a wiggling 8-point body, as
+/// the crate writes it: the seed of the HDF5 mutations.
+fn sleap_analysis_file() -> Vec<u8> {
+    use hdf5_pure::{AttrValue, FileBuilder};
+    let (frames, nodes) = (400usize, 8usize);
+    // (track, xy, node, frame): x along the body, y a travelling bend.
+    let mut v = Vec::with_capacity(2 * nodes * frames);
+    for xy in 0..2 {
+        for j in 0..nodes {
+            for f in 0..frames {
+                let s = j as f64;
+                v.push(if xy == 0 {
+                    s
+                } else {
+                    0.3 * (0.7 * s - 0.4 * f as f64).sin()
+                });
+            }
+        }
+    }
+    let mut b = FileBuilder::new();
+    b.create_dataset("tracks")
+        .with_f64_data(&v)
+        .with_shape(&[1, 2, nodes as u64, frames as u64])
+        .set_attr(
+            "dims",
+            AttrValue::String(r#"["track", "xy", "node", "frame"]"#.into()),
+        );
+    b.finish().unwrap()
+}
+
 fn cases() -> u32 {
     std::env::var("PROPTEST_CASES")
         .ok()
@@ -528,6 +558,26 @@ proptest! {
     }
 
     #[test]
+    fn any_mutated_hdf5_file_obeys_the_rule(
+        edits in prop::collection::vec((0usize..1 << 16, any::<u8>()), 0..8),
+        cut in 0usize..1 << 16,
+    ) {
+        let mut bytes = sleap_analysis_file();
+        let n = bytes.len();
+        for (at, byte) in edits {
+            bytes[at % n] = byte;
+        }
+        bytes.truncate(n - cut % (n / 2));
+        let dir_held = common::scratch("fuzz-hdf5");
+        let path = dir_held.path().join("larva.analysis.h5");
+        std::fs::write(&path, &bytes).unwrap();
+        let p = path.to_str().unwrap().to_string();
+        let fit = ["fit", &p, "--fps", "15", "--points", "8"].map(String::from);
+        obeys_the_rule(&fit, None);
+        obeys_the_rule(&["discover".into(), p, "--bootstrap".into(), "0".into()], None);
+    }
+
+    #[test]
     fn any_recording_obeys_the_rule(
         rows in prop::collection::vec(prop::collection::vec(value(), 0..16), 0..40),
         sep in prop_oneof![Just(","), Just(" "), Just("\t")],
@@ -536,6 +586,21 @@ proptest! {
         obeys_the_rule(&["fit".into(), "-".into()], Some(&text));
         obeys_the_rule(&["fit".into(), "-".into(), "--kind".into(), "lengths".into()], Some(&text));
     }
+}
+
+/// The seed of the HDF5 mutations is a recording: read, and fitted.
+#[test]
+fn the_hdf5_seed_is_a_recording() {
+    let dir_held = common::scratch("fuzz-hdf5-seed");
+    let path = dir_held.path().join("larva.analysis.h5");
+    std::fs::write(&path, sleap_analysis_file()).unwrap();
+    let p = path.to_str().unwrap().to_string();
+    let args: Vec<String> = ["fit", &p, "--fps", "15", "--points", "8"]
+        .map(String::from)
+        .into();
+    let (code, out, err) = run(&args, None);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("400 frames of 8-point midlines"), "{out}");
 }
 
 /// The command lines of the hostile-input campaign that hung, aborted or printed NaN: each now

@@ -101,6 +101,43 @@ def test_deeplabcut_hdf5_single_and_multi_animal(beam, tmp_path):
     assert found["selected"]
 
 
+def test_the_library_reads_the_trackers_hdf5_files_by_path(beam, tmp_path):
+    # The command line's reader (no h5py, no pandas): a SLEAP analysis file written by
+    # sleap_io, and DeepLabCut's .h5 written by pandas as DeepLabCut writes it, single and
+    # multi-animal, each the CSV's κ.
+    import sleap_io as sio
+
+    xy, want = beam
+    k = xy.shape[1]
+    labels = sio.Labels.from_numpy(
+        xy[:, None], videos=[sio.Video(filename="larva.mp4", open_backend=False)],
+        skeletons=sio.Skeleton(_names(k)), tracks=[sio.Track("larva")],
+    )
+    for preset in ("matlab", "standard"):
+        path = tmp_path / f"larva.{preset}.analysis.h5"
+        sio.save_analysis_h5(labels, str(path), preset=preset)
+        got = ts.fit(str(path), fps=1.0)
+        _same_kappa(got, want)
+        assert got.units["time"] == "s"  # frames per second: the clock is in seconds
+    one = tmp_path / "larvaDLC_resnet50.h5"
+    _dlc_frame(xy, None).to_hdf(one, key="df_with_missing", format="table", mode="w")
+    _same_kappa(ts.fit(str(one), fps=1.0), want)
+    assert ts.fit(str(one)).units["time"] == "frame"
+    two = tmp_path / "twoDLC.h5"
+    _dlc_frame(xy, ["a", "b"]).to_hdf(two, key="df_with_missing", format="table", mode="w")
+    both = ts.fit(str(two), fps=1.0)
+    assert [a["recording"].rsplit("#", 1)[1] for a in both.animals] == ["a", "b"]
+    # A directory's .h5 files are its recordings, as its CSVs are.
+    assert len(ts.fit(str(tmp_path), fps=1.0).animals) == 5
+    # A point below min_likelihood loses its frame, as in DeepLabCut's CSV.
+    low = _dlc_frame(xy, None)
+    low.iloc[100, 2] = 0.1
+    lossy = tmp_path / "lossy" / "larvaDLC.h5"
+    lossy.parent.mkdir()
+    low.to_hdf(lossy, key="df_with_missing", format="table", mode="w")
+    assert ts.fit(str(lossy), fps=1.0).recording["frames_lost"] == 1
+
+
 def test_compare_takes_arrays_and_trackers_objects(beam, tmp_path):
     # Four animals as arrays, two a group: pieces of one beam (one κ), so the difference's
     # interval holds 0; each array is one animal, as each file is.

@@ -42,7 +42,7 @@ SHARED = {
     "min_likelihood : float, optional\n"
     "    DeepLabCut points tracked below this likelihood (0 to 1) count as lost.\n"
     "input_format : str, optional\n"
-    '    ``\"auto\"`` (default), ``\"csv\"`` or ``\"wcon\"``.\n'
+    '    ``\"auto\"`` (default), ``\"csv\"``, ``\"wcon\"`` or ``\"hdf5\"`` (SLEAP analysis, DeepLabCut .h5).\n'
     "track_column : bool, optional\n"
     "    The first CSV column is a track id: each track is one animal.\n"
     "time_unit : str, optional\n"

@@ -43,7 +43,8 @@ pub struct RecordingArgs {
     /// A WCON record's own `"head"` (`L`/`R`) is followed where it is given.
     #[arg(long, value_enum, default_value_t = HeadEnd::First)]
     head: HeadEnd,
-    /// The inputs' layout (auto: `{` opens WCON, DeepLabCut's header rows mark its CSV).
+    /// The inputs' layout (auto: `{` opens WCON, HDF5's signature a SLEAP analysis file or
+    /// DeepLabCut's `.h5`, DeepLabCut's header rows mark its CSV).
     #[arg(long, value_enum, default_value_t = Format::Auto)]
     input_format: Format,
     /// The first CSV column is a track id: each track is one animal (rows may interleave).
@@ -70,6 +71,7 @@ enum Format {
     Auto,
     Csv,
     Wcon,
+    Hdf5,
 }
 
 /// Where the head is in each frame.

@@ -102,7 +102,10 @@ fn windows(path: &Path, ctx: &Context<'_>) -> Option<Vec<usize>> {
     let settings = ctx.settings;
     if settings.window.is_some()
         || settings.recording.track_column
-        || settings.recording.format == InputFormat::Wcon
+        || !matches!(
+            settings.recording.format,
+            InputFormat::Auto | InputFormat::Csv
+        )
     {
         return None;
     }
@@ -134,7 +137,7 @@ fn windows(path: &Path, ctx: &Context<'_>) -> Option<Vec<usize>> {
         return None;
     }
     let mut text: Box<dyn BufRead + Send + '_> = Box::new(head.as_slice());
-    if sniff(&mut text).ok()? == InputFormat::Wcon {
+    if sniff(&mut text).ok()? != InputFormat::Csv {
         return None;
     }
     // Read on this thread: for so few frames the workers save nothing (measured).

@@ -237,6 +237,12 @@ fn read_input(
         };
         return read_tracks_of(w.tracks, ctx, projs, each, units);
     }
+    if format == InputFormat::Hdf5 {
+        let bytes = crate::recording::whole_bytes(reader, "an HDF5 file")?;
+        let tracks = crate::recording::parse_hdf5(bytes, &name, &settings.recording)?;
+        let units = crate::recording::frame_units(&settings.recording);
+        return read_tracks_of(tracks, ctx, projs, each, units);
+    }
     if settings.recording.track_column {
         let tracks = read_tracks(
             std::io::Read::take(reader, MAX_WHOLE_FILE),

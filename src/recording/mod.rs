@@ -12,7 +12,9 @@
 //!   index, then x, y, likelihood per body part; time is index/fps, and a point below the
 //!   likelihood threshold makes its frame lost;
 //! * WCON (tracker-commons JSON, recognised by its opening `{`; see `wcon`): each id one animal,
-//!   its units reported.
+//!   its units reported;
+//! * HDF5 (recognised by its signature; see `hdf5`): a SLEAP analysis file (each track one
+//!   animal) or DeepLabCut's `.h5` (each individual one animal), time the frame index over fps.
 //!
 //! Every frame must have the first frame's width and time that increases by whole sampling
 //! intervals (the first step, within 1 %). A frame with a missing or non-finite value, or one
@@ -43,6 +45,8 @@ mod chunks;
 mod clock;
 mod continuum;
 mod error;
+mod format;
+mod hdf5;
 mod jitter;
 mod number;
 mod observe;
@@ -55,13 +59,16 @@ mod wcon;
 pub(crate) use chunks::Chunked;
 pub use clock::{ClockError, MIN_TIME_STEP};
 pub use error::{LineError, LineWhy, RecordingError};
+pub use format::FRAME_UNIT;
+pub(crate) use format::{frame_units, layout_units, sniff, whole, whole_bytes};
+pub(crate) use hdf5::parse as parse_hdf5;
 pub(crate) use jitter::Jitter;
 pub use jitter::TrackingNoise;
 pub use paths::recordings;
 pub(crate) use project::Work;
 pub use project::{turning_angles, FrameError, Projector};
-pub(crate) use read::{layout_units, read_tracks, sniff, whole, FrameReader, Source, TrackSource};
-pub use read::{Frame, Track, FRAME_UNIT, MAX_LINE_BYTES, MAX_WHOLE_FILE};
+pub(crate) use read::{read_tracks, FrameReader, Source, TrackSource};
+pub use read::{Frame, Track, MAX_LINE_BYTES, MAX_WHOLE_FILE};
 pub use settings::*;
 pub(crate) use wcon::parse as parse_wcon;
 

@@ -1,5 +1,5 @@
 //! The recordings a list of paths names, as the command line and Python take them: a file as
-//! given, a directory's recordings (.csv, .txt, .wcon, .json) and a pattern's matches
+//! given, a directory's recordings (.csv, .txt, .wcon, .json, .h5) and a pattern's matches
 //! (`*`, `?` in the file name), each in name order.
 
 use std::path::{Path, PathBuf};
@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use super::RecordingError;
 
 /// Files a directory holds recordings in.
-const EXTENSIONS: [&str; 4] = ["csv", "txt", "wcon", "json"];
+const EXTENSIONS: [&str; 5] = ["csv", "txt", "wcon", "json", "h5"];
 
 /// The files of `dir` whose names `keep` accepts, in name order.
 fn files_in(dir: &Path, keep: &dyn Fn(&str) -> bool) -> Result<Vec<PathBuf>, RecordingError> {
@@ -67,7 +67,7 @@ pub fn recordings(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, RecordingError> {
             return Err(RecordingError::In {
                 name: path.display().to_string(),
                 why: Box::new(RecordingError::Io(std::io::Error::other(
-                    "no recordings there (.csv, .txt, .wcon or .json files)",
+                    "no recordings there (.csv, .txt, .wcon, .json or .h5 files)",
                 ))),
             });
         }

@@ -390,7 +390,16 @@ fn dimensions(
                     settings.points
                 )));
             }
-            (width / 2, settings.points)
+            let k = width / 2;
+            // Resampled to more points than were tracked, the midline is straight between
+            // tracked points: the extra angles are zero, a white floor no fit sees through.
+            if k >= 5 && k < settings.points {
+                return Err(invalid(format!(
+                    "{k} tracked points per frame cannot resolve N = {} model points: give --points {k} (or fewer)",
+                    settings.points
+                )));
+            }
+            (k, settings.points)
         }
         InputKind::Lengths => {
             let ring = settings.ring.unwrap_or(width);

@@ -7,8 +7,9 @@ use std::io::BufRead;
 
 use super::clock::Clock;
 pub use super::error::LineError;
+use super::format::DLC_HEADERS;
 use super::number::plain_row;
-use super::{FrameError, InputFormat, InputKind, LineWhy, RecordingError, RecordingSettings};
+use super::{FrameError, InputKind, LineWhy, RecordingError, RecordingSettings};
 use crate::markup::clip;
 
 /// One frame of a track held in memory: time and values, `None` when the tracker lost it.
@@ -517,64 +518,4 @@ pub(crate) fn read_tracks<R: BufRead>(
         t.frames.sort_by(|a, b| a.t.total_cmp(&b.t));
     }
     Ok(tracks)
-}
-
-/// The format of a stream from its first bytes: `{` opens WCON; DeepLabCut's header rows are
-/// recognised by the line reader; anything else is plain CSV.
-pub(crate) fn sniff(
-    reader: &mut Box<dyn BufRead + Send + '_>,
-) -> Result<InputFormat, RecordingError> {
-    loop {
-        let buf = reader.fill_buf().map_err(RecordingError::Io)?;
-        let Some(&first) = buf.iter().find(|b| !b.is_ascii_whitespace()) else {
-            if buf.is_empty() {
-                return Ok(InputFormat::Csv);
-            }
-            let n = buf.len();
-            reader.consume(n);
-            continue;
-        };
-        return Ok(if first == b'{' {
-            InputFormat::Wcon
-        } else {
-            InputFormat::Csv
-        });
-    }
-}
-
-/// The first cells of DeepLabCut's three header rows; an export opens with the first.
-const DLC_HEADERS: [&str; 3] = ["scorer", "bodyparts", "coords"];
-
-/// The time unit of a DeepLabCut export read without `--fps`: its rows hold frame indices.
-pub const FRAME_UNIT: &str = "frame";
-
-/// The units a CSV stream's own layout implies: [`FRAME_UNIT`] for a DeepLabCut export (it
-/// opens with `scorer`) read without `--fps`, none otherwise. Only peeks.
-pub(crate) fn layout_units(
-    reader: &mut Box<dyn BufRead + Send + '_>,
-    settings: &super::RecordingSettings,
-) -> Result<super::Units, RecordingError> {
-    let buf = reader.fill_buf().map_err(RecordingError::Io)?;
-    let text = String::from_utf8_lossy(&buf[..buf.len().min(64)]);
-    let first = text.trim_start().split([',', '\t', ' ', '\n']).next();
-    let frames = settings.fps.is_none() && first.is_some_and(|c| c.trim() == DLC_HEADERS[0]);
-    Ok(super::Units {
-        time: frames.then(|| FRAME_UNIT.to_string()),
-        length: None,
-    })
-}
-
-/// A whole stream as text, at most [`MAX_WHOLE_FILE`] bytes.
-pub(crate) fn whole(reader: Box<dyn BufRead + Send + '_>) -> Result<String, RecordingError> {
-    use std::io::Read as _;
-    let mut text = String::new();
-    std::io::Read::take(reader, MAX_WHOLE_FILE + 1)
-        .read_to_string(&mut text)
-        .map_err(RecordingError::Io)?;
-    if text.len() as u64 > MAX_WHOLE_FILE {
-        return Err(RecordingError::Invalid(format!(
-            "a WCON file is read whole; this one is larger than {MAX_WHOLE_FILE} bytes (split it into chunks)"
-        )));
-    }
-    Ok(text)
 }

@@ -35,6 +35,8 @@ pub enum InputFormat {
     Csv,
     /// WCON (tracker-commons JSON).
     Wcon,
+    /// HDF5: a SLEAP analysis file or DeepLabCut's `.h5`.
+    Hdf5,
 }
 
 /// Lost frames bridged linearly by default (`--fill-gaps`): single lost frames and pairs, the
@@ -299,6 +301,7 @@ impl RecordingSettings {
                     ("auto", InputFormat::Auto),
                     ("csv", InputFormat::Csv),
                     ("wcon", InputFormat::Wcon),
+                    ("hdf5", InputFormat::Hdf5),
                 ];
                 self.format = value.choice(name, &formats)?;
             }
