@@ -217,22 +217,35 @@ fn classifying_the_forces_of_a_loose_active_section_is_refused_up_front() {
 
 #[test]
 fn discover_refuses_a_weak_form_over_its_budget_before_its_sums() {
-    // 30 copies of the example end to end (90,000 frames) at 50 points, against the crawler's
+    // 30 copies of the example end to end (90,000 frames), each midline interpolated to 50
+    // points (a recording must track at least the model's points), against the crawler's
     // 71-term library at order 8 with eight layers beyond leading (a basis: six active monomials
     // that add no direction are not candidates): 90,000 × 50 × 1 mode × 71 = 3.2e8 units, over
     // the weak form's 3e8.
     let text = std::fs::read_to_string(MIDLINES).unwrap();
-    let header = text.lines().find(|l| l.starts_with("t,")).unwrap();
-    let rows: Vec<&str> = text
+    let rows: Vec<Vec<f64>> = text
         .lines()
         .filter(|l| l.starts_with(|c: char| c.is_ascii_digit()))
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
         .collect();
-    let mut long = format!("{header}\n");
+    let at = |row: &[f64], u: f64, c: usize| {
+        let k = (row.len() - 1) / 2;
+        let (j, f) = (
+            (u.floor() as usize).min(k - 2),
+            u - (u.floor()).min((k - 2) as f64),
+        );
+        (1.0 - f) * row[1 + 2 * j + c] + f * row[1 + 2 * (j + 1) + c]
+    };
+    let mut long = String::new();
     for copy in 0..30 {
         for row in &rows {
-            let (t, rest) = row.split_once(',').unwrap();
-            let t: f64 = t.parse().unwrap();
-            long += &format!("{},{rest}\n", t + (copy * rows.len()) as f64);
+            let k = (row.len() - 1) / 2;
+            long += &(row[0] + (copy * rows.len()) as f64).to_string();
+            for i in 0..50 {
+                let u = i as f64 * (k - 1) as f64 / 49.0;
+                long += &format!(",{},{}", at(row, u, 0), at(row, u, 1));
+            }
+            long.push('\n');
         }
     }
     let data = common::scratch_file("weak-budget", ".csv");
