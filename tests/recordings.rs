@@ -611,3 +611,31 @@ fn a_first_step_over_lost_frames_is_read_as_a_gap() {
         );
     }
 }
+
+/// Fewer tracked points than the model's N (issue 56 item 4): resampled past its points, a
+/// midline is straight between them and the extra angles a white floor no fit sees through,
+/// so the fit refuses in one line naming the `--points` that works; with it, the body fits.
+#[test]
+fn fewer_tracked_points_than_the_model_are_refused_with_the_points_that_work() {
+    let body = common::beam::Body {
+        points: 9,
+        frames: 4000,
+        ..common::beam::FREE_BEAM
+    };
+    let file = common::scratch_file("nine-points", ".csv");
+    std::fs::write(file.path(), common::beam::record(&body, 3)).unwrap();
+    let p = file.path().to_str().unwrap();
+    let refused = common::cli(&["fit", p]).unwrap_err();
+    assert_eq!(refused.lines().count(), 1, "{refused}");
+    assert!(
+        refused.contains(
+            "9 tracked points per frame cannot resolve N = 12 model points: give --points 9"
+        ),
+        "{refused}"
+    );
+    let fitted = common::cli(&["fit", p, "--points", "9"]).unwrap();
+    assert!(
+        fitted.contains("4000 frames of 9-point midlines"),
+        "{fitted}"
+    );
+}

@@ -55,15 +55,20 @@ def test_a_movement_dataset(beam):
     assert ts.fit(lossy).recording["frames_lost"] == 1
 
 
+def _labels(xy):
+    import sleap_io as sio
+
+    return sio.Labels.from_numpy(
+        xy[:, None], videos=[sio.Video(filename="larva.mp4", open_backend=False)],
+        skeletons=sio.Skeleton(_names(xy.shape[1])), tracks=[sio.Track("larva")],
+    )
+
+
 def test_a_sleap_file(beam, tmp_path):
     import sleap_io as sio
 
     xy, want = beam
-    k = xy.shape[1]
-    labels = sio.Labels.from_numpy(
-        xy[:, None], videos=[sio.Video(filename="larva.mp4", open_backend=False)],
-        skeletons=sio.Skeleton(_names(k)), tracks=[sio.Track("larva")],
-    )
+    labels = _labels(xy)
     path = tmp_path / "larva.slp"
     sio.save_slp(labels, str(path))
     _same_kappa(ts.fit(sio.load_slp(str(path)), fps=1.0), want)
@@ -108,11 +113,7 @@ def test_the_library_reads_the_trackers_hdf5_files_by_path(beam, tmp_path):
     import sleap_io as sio
 
     xy, want = beam
-    k = xy.shape[1]
-    labels = sio.Labels.from_numpy(
-        xy[:, None], videos=[sio.Video(filename="larva.mp4", open_backend=False)],
-        skeletons=sio.Skeleton(_names(k)), tracks=[sio.Track("larva")],
-    )
+    labels = _labels(xy)
     for preset in ("matlab", "standard"):
         path = tmp_path / f"larva.{preset}.analysis.h5"
         sio.save_analysis_h5(labels, str(path), preset=preset)

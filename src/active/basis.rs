@@ -33,6 +33,8 @@ pub(super) fn jets(degree: u32, tau: u32, sigma: u32, velocity: bool) -> Vec<Jet
         .collect();
     let mut out = Vec::new();
     let mut stack: JetMono = Vec::new();
+    // Each multiset once: the next factor's derivative is one of `derivs` (in order), taken k ≥ 1
+    // times (most first), so no branch walks through the derivatives it does not take.
     fn walk(derivs: &[Deriv], left: (u32, u32, u32), stack: &mut JetMono, out: &mut Vec<JetMono>) {
         let (n, t, s) = left;
         if n == 0 {
@@ -41,18 +43,22 @@ pub(super) fn jets(degree: u32, tau: u32, sigma: u32, velocity: bool) -> Vec<Jet
             }
             return;
         }
-        let Some((&d, rest)) = derivs.split_first() else {
-            return;
-        };
-        for k in (0..=n).rev() {
-            if d.t * k > t || d.s * k > s {
-                continue;
+        for (j, &d) in derivs.iter().enumerate() {
+            // Past φ itself every factor takes a derivative: n of them need n ≤ t + s.
+            if (d.t, d.s) != (0, 0) && n > t + s {
+                return;
             }
-            if k > 0 {
+            for k in (1..=n).rev() {
+                if d.t * k > t || d.s * k > s {
+                    continue;
+                }
                 stack.push((d, k));
-            }
-            walk(rest, (n - k, t - d.t * k, s - d.s * k), stack, out);
-            if k > 0 {
+                walk(
+                    &derivs[j + 1..],
+                    (n - k, t - d.t * k, s - d.s * k),
+                    stack,
+                    out,
+                );
                 stack.pop();
             }
         }
@@ -185,6 +191,114 @@ pub(super) fn reduce_block(
         basis.push(rest, own);
     }
     (kept, dependent)
+}
+
+/// 2⁶¹ − 1, a prime: a rank modulo it is the rational rank unless it divides a minor of the
+/// residuals (whose entries are small rationals), so the count of dependent forces is exact
+/// but for that chance.
+const P: u64 = (1 << 61) - 1;
+
+fn mul(a: u64, b: u64) -> u64 {
+    ((u128::from(a) * u128::from(b)) % u128::from(P)) as u64
+}
+
+fn inverse(a: u64) -> u64 {
+    let (mut base, mut e, mut out) = (a, P - 2, 1);
+    while e > 0 {
+        if e & 1 == 1 {
+            out = mul(out, base);
+        }
+        base = mul(base, base);
+        e >>= 1;
+    }
+    out
+}
+
+fn residue(q: &Rational64) -> u64 {
+    let m = |v: i64| v.rem_euclid(P as i64) as u64;
+    mul(m(*q.numer()), inverse(m(*q.denom())))
+}
+
+/// A sparse row modulo [`P`], its monomials by number ([`Columns`]).
+type Row = BTreeMap<u32, u64>;
+
+/// Monomials numbered as first seen: any fixed order of the columns gives the same rank.
+#[derive(Default)]
+struct Columns(std::collections::HashMap<JetMono, u32>);
+
+impl Columns {
+    /// The Helmholtz residual ([`helmholtz`]) modulo [`P`].
+    fn helmholtz(&mut self, f: &JetPoly, degree: u32) -> Row {
+        let mut p = Row::new();
+        let image = euler_lagrange(&times(f, Deriv::new(0, 0), degree));
+        let terms = image.iter().map(|(m, c)| (m, residue(c)));
+        for (m, c) in terms.chain(f.iter().map(|(m, c)| (m, (P - residue(c)) % P))) {
+            let n = self.0.len() as u32;
+            let id = *self.0.entry(m.clone()).or_insert(n);
+            let e = p.entry(id).or_insert(0);
+            *e = (*e + c) % P;
+        }
+        p.retain(|_, v| *v != 0);
+        p
+    }
+}
+
+/// Which of `forces` (one block, canonical order) add no direction, as [`reduce_block`]
+/// decides it, by sparse elimination modulo [`P`]: machine words where the exact
+/// elimination's rationals grow (a loose `[active]` section's blocks at order 6, 688 forces,
+/// took minutes). The exact elimination is kept for the blocks whose forces are listed,
+/// which need the combinations.
+pub(super) fn dependent_modulo_prime(forces: &[Term]) -> Vec<usize> {
+    let Some(first) = forces.first() else {
+        return Vec::new();
+    };
+    let o = first.orders();
+    let mut columns = Columns::default();
+    let mut rows: Vec<Row> = Vec::new();
+    let mut pivots: std::collections::HashMap<u32, usize> = std::collections::HashMap::new();
+    // Reduced by the rows (each row's pivot is its largest column, 1 there; so the scan for
+    // the next pivot goes on below the last), then pushed when anything is left: is it new?
+    let mut push = |mut p: Row| -> bool {
+        let mut below = u32::MAX;
+        loop {
+            let next = p
+                .range(..=below)
+                .rev()
+                .find_map(|(m, _)| Some((*m, *pivots.get(m)?)));
+            let Some((m, r)) = next else { break };
+            let a = p[&m];
+            for (k, v) in &rows[r] {
+                let e = p.entry(*k).or_insert(0);
+                *e = (*e + P - mul(a, *v)) % P;
+                if *e == 0 {
+                    p.remove(k);
+                }
+            }
+            match m.checked_sub(1) {
+                Some(b) => below = b,
+                None => break,
+            }
+        }
+        let Some((&m, &lead)) = p.iter().next_back() else {
+            return false;
+        };
+        let scale = inverse(lead);
+        p.values_mut().for_each(|v| *v = mul(*v, scale));
+        pivots.insert(m, rows.len());
+        rows.push(p);
+        true
+    };
+    if o.tau == o.epsilon {
+        let one = |m: JetMono| JetPoly::from([(m, Rational64::from_integer(1))]);
+        for m in jets(o.epsilon + 1, o.tau + 1, o.sigma, true) {
+            if let Some(p) = space_euler(&one(m)).remove(&1) {
+                push(columns.helmholtz(&p, o.epsilon));
+            }
+        }
+    }
+    (0..forces.len())
+        .filter(|&i| !push(columns.helmholtz(&poly_of(&forces[i]), o.epsilon)))
+        .collect()
 }
 
 /// "= c₁ T₁ + c₂ T₂ + a variational or Rayleigh force".

@@ -22,14 +22,13 @@
 
 mod basis;
 mod carried;
-
-use std::collections::BTreeMap;
+mod field;
 
 pub use basis::Dependent;
 
 use crate::enumerate::{monomials, Bounds, MAX_ORDER};
 use crate::jet::{euler_lagrange, mono_of, poly_of, space_euler, JetPoly};
-use crate::model::{DensitySpec, Model, Uncarried};
+use crate::model::Model;
 use crate::rules::{Check, Rule};
 use crate::term::{Deriv, Orders, Term};
 
@@ -174,10 +173,32 @@ impl FieldForces {
     }
 }
 
+/// The last few models' forces: one command asks for them several times (`discover`'s library,
+/// its equations, its replay body), and at high orders each asking costs seconds.
+static RECENT: std::sync::Mutex<Vec<(Model, u32, Vec<FieldForces>)>> =
+    std::sync::Mutex::new(Vec::new());
+
 /// The active forces of a model at an order (`None` when it has no `[active]` section).
 pub fn active_forces(model: &Model, order: u32) -> Result<Option<Vec<FieldForces>>, ActiveError> {
-    let Some(spec) = &model.active else {
+    if model.active.is_none() {
         return Ok(None);
+    }
+    let recent = || RECENT.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some((_, _, forces)) = recent().iter().find(|(m, o, _)| *o == order && m == model) {
+        return Ok(Some(forces.clone()));
+    }
+    let forces = derive_active_forces(model, order)?;
+    let mut kept = recent();
+    if kept.len() >= 4 {
+        kept.remove(0);
+    }
+    kept.push((model.clone(), order, forces.clone()));
+    Ok(Some(forces))
+}
+
+fn derive_active_forces(model: &Model, order: u32) -> Result<Vec<FieldForces>, ActiveError> {
+    let Some(spec) = &model.active else {
+        return Ok(Vec::new());
     };
     if order == 0 || order > MAX_ORDER {
         return Err(ActiveError::Order(order));
@@ -193,7 +214,7 @@ pub fn active_forces(model: &Model, order: u32) -> Result<Option<Vec<FieldForces
     let covariant: Vec<Vec<&Term>> = model
         .fields
         .iter()
-        .map(|f| covariant_of(spec, &f.id, &candidates))
+        .map(|f| field::covariant_of(spec, &f.id, &candidates))
         .collect();
     let (count, work) = covariant
         .iter()
@@ -206,118 +227,15 @@ pub fn active_forces(model: &Model, order: u32) -> Result<Option<Vec<FieldForces
             work: work as u64,
         });
     }
-    Ok(Some(
-        model
-            .fields
-            .iter()
-            .zip(&covariant)
-            .map(|(f, cov)| {
-                let rules = carried::DensityRules::of(model, &f.id);
-                field_forces(spec, (&f.id, &f.symbol), &rules, candidates.len(), cov)
-            })
-            .collect(),
-    ))
-}
-
-/// The candidates every rule `spec` requires of field `id` allows.
-fn covariant_of<'a>(spec: &DensitySpec, id: &str, candidates: &'a [Term]) -> Vec<&'a Term> {
-    // The model refuses KIN and DIS here (rules about densities).
-    let rules: Vec<&'static Rule> = spec
-        .requirements
-        .get(id)
-        .into_iter()
-        .flatten()
-        .filter_map(|c| crate::rules::rule(c))
-        .collect();
-    candidates
+    Ok(model
+        .fields
         .iter()
-        .filter(|t| rules.iter().all(|r| allows(r, t)))
-        .collect()
-}
-
-fn field_forces(
-    spec: &DensitySpec,
-    (id, symbol): (&str, &str),
-    rules: &carried::DensityRules,
-    candidates: usize,
-    covariant: &[&Term],
-) -> FieldForces {
-    let name = |_: u8| symbol.to_string();
-    let mut counts = [0; 4];
-    let mut by_class: Vec<(Term, Force)> = Vec::new();
-    for t in covariant {
-        let f = classify(t, &name);
-        counts[f.kind as usize] += 1;
-        by_class.push(((*t).clone(), f));
-    }
-    // The active monomials, reduced to a basis block by block (`basis`).
-    let mut blocks: BTreeMap<(u32, u32, u32), Vec<Term>> = BTreeMap::new();
-    for (t, f) in &by_class {
-        if f.kind == ForceClass::Active {
-            let o = t.orders();
-            blocks
-                .entry((o.epsilon, o.tau, o.sigma))
-                .or_default()
-                .push(t.clone());
-        }
-    }
-    let render = |t: &Term| t.render(&name);
-    let mut dependent: Vec<(Term, Dependent)> = Vec::new();
-    for terms in blocks.values() {
-        let (kept, gone) = basis::reduce_block(terms, &render);
-        let dropped = (0..terms.len()).filter(|i| !kept.contains(i));
-        dependent.extend(dropped.map(|i| terms[i].clone()).zip(gone));
-    }
-    counts[ForceClass::Active as usize] -= dependent.len();
-    by_class.retain(|(t, _)| !dependent.iter().any(|(d, _)| d == t));
-    let uncarried = carried::uncarried(rules, &by_class);
-    let lowest_of = |list: &[(Term, Force)], kind: Option<ForceClass>| -> Vec<Force> {
-        let of_kind = |f: &Force| kind.is_none_or(|k| f.kind == k);
-        let terms: Vec<Term> = list
-            .iter()
-            .filter(|(_, f)| of_kind(f))
-            .map(|(t, _)| t.clone())
-            .collect();
-        let kept: std::collections::HashSet<Term> =
-            crate::reduce::layers(&terms, spec.beyond_leading)
-                .into_iter()
-                .collect();
-        list.iter()
-            .filter(|(t, f)| of_kind(f) && kept.contains(t))
-            .map(|(_, f)| f.clone())
-            .collect()
-    };
-    let lowest = |kind: ForceClass| lowest_of(&by_class, Some(kind));
-    let named = |letter: &str, mut list: Vec<Force>| {
-        let several = list.len() > 1;
-        for (k, f) in list.iter_mut().enumerate() {
-            f.coefficient = Some(match several {
-                true => format!("{letter}{}_{symbol}", k + 1),
-                false => format!("{letter}_{symbol}"),
-            });
-        }
-        list
-    };
-    let active = lowest(ForceClass::Active);
-    let block = |o: Orders| (o.epsilon, o.tau, o.sigma);
-    let listed: Vec<_> = active.iter().map(|f| block(f.orders)).collect();
-    FieldForces {
-        field: id.to_string(),
-        candidates,
-        covariant: covariant.len(),
-        counts,
-        active: named("a", active),
-        gyroscopic: named("g", lowest(ForceClass::Gyroscopic)),
-        uncarried: match spec.uncarried {
-            Uncarried::Enter => named("b", lowest_of(&uncarried, None)),
-            Uncarried::List => lowest_of(&uncarried, None),
-        },
-        dependent: dependent
-            .into_iter()
-            .filter(|(t, _)| listed.contains(&block(t.orders())))
-            .map(|(_, d)| d)
-            .collect(),
-    }
+        .zip(&covariant)
+        .map(|(f, cov)| {
+            let rules = carried::DensityRules::of(model, &f.id);
+            field::field_forces(spec, (&f.id, &f.symbol), &rules, candidates.len(), cov)
+        })
+        .collect())
 }
 
 /// Does rule `r` allow force `t` (placeholder field 0)? A structural rule judges its shape; a
