@@ -669,7 +669,7 @@ fn fit_command() {
     // Errors: files exit 1 naming the line, settings exit 2.
     let bad = dir.join("bad.csv");
     std::fs::write(&bad, "0 0 0 1 0 2 0 3 0 4 0\n1 0 0 1 0 2 x 3 0 4 0\n").unwrap();
-    let (code, _, err) = run(&["fit", bad.to_str().unwrap()]);
+    let (code, _, err) = run(&["fit", bad.to_str().unwrap(), "--points", "5"]);
     assert_eq!(code, 1);
     assert!(err.contains("line 2: column 7"), "{err}");
     std::fs::remove_file(&bad).unwrap();
