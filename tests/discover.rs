@@ -255,7 +255,7 @@ fn bad_input_gets_one_line_and_its_exit_code() {
         (vec![short, "--model", worm, "--active"], 2, "[active]"),
         (vec![short, "--bootstrap", "100000"], 2, "at most"),
         (vec![short, "--points", "2"], 2, "points"),
-        (vec![broken], 1, "line 2"),
+        (vec![broken, "--points", "5"], 1, "line 2"),
         (
             vec![short, "--model", CRAWLER, "--points", "25"],
             1,
