@@ -271,6 +271,8 @@ fn lost_frames_split_the_recording_into_runs() {
     // No bridging first (the default bridges gaps of ≤ 2 frames).
     let mut s = FitSettings::new(InputKind::Midline);
     s.recording.fill_gaps = 0;
+    // Six tracked points resolve at most six model points.
+    s.recording.points = 6;
     let frame = |t: usize, lost: bool| -> String {
         let mut c = vec![format!("{t}")];
         for j in 0..6 {
@@ -313,7 +315,8 @@ fn lost_frames_split_the_recording_into_runs() {
 
 #[test]
 fn bad_input_names_the_line() {
-    let s = FitSettings::new(InputKind::Midline);
+    let mut s = FitSettings::new(InputKind::Midline);
+    s.recording.points = 6;
     let cells = |t: f64| -> Vec<String> {
         let mut c = vec![format!("{t}")];
         for j in 0..6 {
