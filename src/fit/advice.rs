@@ -162,7 +162,7 @@ pub(super) fn of(report: &FitReport, series: &[Series]) -> Option<Advice> {
                     now: fs,
                 })
             }
-            ModeNote::GridOff { .. } => Some(Step::Points {
+            ModeNote::GridOff { .. } | ModeNote::Mixed { .. } => Some(Step::Points {
                 mode,
                 // None (0) when the model already uses every tracked point.
                 points: if report.model_points < report.points {

@@ -68,6 +68,12 @@ pub enum ModeNote {
         /// λ/λ₁ against the continuum's, in per cent.
         percent: f64,
     },
+    /// Neighbouring continuum modes the tracked points cannot separate from it put this share
+    /// of its variance in its coordinate (at equipartition).
+    Mixed {
+        /// That share, in per cent.
+        percent: f64,
+    },
     /// A lower mode showing through.
     Leak {
         /// That mode.
@@ -121,6 +127,11 @@ impl fmt::Display for ModeNote {
             ModeNote::GridOff { percent } => write!(
                 f,
                 "λ/λ₁ of the model's points differs from the continuum's by {} %: the grid does not resolve it",
+                fixed(*percent, 1)
+            ),
+            ModeNote::Mixed { percent } => write!(
+                f,
+                "neighbouring modes the tracked points cannot separate from it put {} % of its variance in its coordinate",
                 fixed(*percent, 1)
             ),
             ModeNote::Leak { from } => write!(

@@ -365,7 +365,12 @@ fn vote(
     locked: &[usize],
 ) -> (Option<f64>, TheoryTests) {
     let noise_floor = verdict::noise_floor(modes_fit);
-    verdict::disqualify(modes_fit, noise_floor, &continuum_lambda(proj));
+    verdict::disqualify(
+        modes_fit,
+        noise_floor,
+        (&continuum_lambda(proj), &proj.mixed_shares()),
+        proj.continuum_modes,
+    );
     verdict::drop_leaks(modes_fit, cov, locked);
     let tests = verdict::tests(modes_fit, &regressor(proj), &proj.continuum_gains());
     (noise_floor, tests)

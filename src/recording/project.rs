@@ -337,6 +337,37 @@ impl Projector {
             .collect()
     }
 
+    /// Each coordinate's share of its variance that other continuum modes put in it at these
+    /// tracked points, were the body at equipartition (the theory under test): with qⱼ(n) the
+    /// coordinate Qⱼ of a midline bent by continuum mode n, and λₙ = (βₙL)^2k,
+    /// Σₙ≠ⱼ (λⱼ/λₙ)(qⱼ(n)/qⱼ(j))² over the first 4N modes (the terms fall as n^−2k). A
+    /// continuum coordinate takes nothing from the modes it projects out, only from the ones
+    /// past them (which the N − 2 coordinates cannot separate); an N-point coordinate takes
+    /// from any. `None` where the field has no continuum shapes (lengths, a ring).
+    pub fn mixed_shares(&self) -> Vec<Option<f64>> {
+        let grid = self.grid();
+        let k = self.stencil as i32;
+        let modes: Vec<Option<(f64, Vec<f64>)>> = (0..4 * self.points)
+            .map(|n| {
+                let beta = crate::modal::continuum_beta(self.stencil, self.boundary, n + 1)?;
+                let q = self.modal(&grid.continuum_midline(n)?).ok()?;
+                Some((beta.powi(2 * k), q))
+            })
+            .collect();
+        (0..self.eigenvalues.len())
+            .map(|j| {
+                let (lj, own) = modes.get(j)?.as_ref()?;
+                let (lj, own) = (*lj, own[j] * own[j]);
+                let near = |l: f64| l < NEAR * NEAR * lj && lj < NEAR * NEAR * l;
+                let share = (modes.iter().enumerate().filter(|(n, _)| *n != j))
+                    .filter_map(|(_, m)| m.as_ref().filter(|(l, _)| near(*l)))
+                    .map(|(l, q)| lj / l * q[j] * q[j] / own)
+                    .sum::<f64>();
+                share.is_finite().then_some(share)
+            })
+            .collect()
+    }
+
     /// The model point spacing of one frame in the data's length unit: arc length over N − 1
     /// (midlines), the rest segment length (lengths).
     pub fn spacing(&self, values: &[f64]) -> f64 {
@@ -356,6 +387,10 @@ impl Projector {
         }
     }
 }
+
+/// How far apart (as a ratio of frequencies, √λ) two modes may lie for one's line to bias the
+/// other's fit; modes further off show as a white background the spectral fit takes up.
+const NEAR: f64 = 4.0;
 
 /// How many of a ring's modes (eigenvalues `lambdas`, ascending) `observed` of its segments
 /// fit: at most K − 1 (the constant takes one more unknown), never half of a degenerate pair;
