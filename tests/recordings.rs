@@ -235,9 +235,9 @@ fn deeplabcut_files_are_read_with_their_likelihoods() {
     let lost = rows.iter().enumerate().filter(|(i, _)| i % 97 == 5).count();
     assert_eq!(v["recording"]["frames_lost"], lost);
     assert_eq!(v["recording"]["frames_filled"], lost);
-    // The same physics as the plain file: ω_b = 1 in the simulation.
-    let omega = v["omega"].as_f64().unwrap();
-    assert!((omega - 1.0).abs() < 0.02, "{omega}");
+    // The same physics as the plain file: κ = 0.01 in the generator.
+    let kappa = v["continuum"]["constant"].as_f64().unwrap();
+    assert!((kappa / 0.01 - 1.0).abs() < 0.03, "{kappa}");
     // --fps took: the frame indices over it are the clock. A file with a time column refuses it.
     assert!((v["sample_interval"].as_f64().unwrap() - dt).abs() < 1e-9 * dt);
     let example = format!(
@@ -404,14 +404,23 @@ fn a_window_that_cannot_resolve_the_modes_says_so() {
         "{said}"
     );
     assert!(v.get("intervals").is_none(), "{}", v["intervals"]);
-    // The shipped example, at a window that resolves its modes, has no such warning.
+    // The shipped example, at a window that resolves its modes 2–4 (its fifth reaches past
+    // Nyquist), has no such warning.
     let example = format!(
         "{}/tables/examples/midlines.csv",
         env!("CARGO_MANIFEST_DIR")
     );
     let mut out = Vec::new();
     theory_search::cli::run(
-        ["theory-search", "fit", example.as_str(), "--window", "512"],
+        [
+            "theory-search",
+            "fit",
+            example.as_str(),
+            "--window",
+            "512",
+            "--fit-modes",
+            "3",
+        ],
         &mut out,
     )
     .unwrap();

@@ -237,7 +237,7 @@ fn the_json_contract_of_a_fit() {
         assert!(t["interval"].is_array() || t["interval"].is_null());
     }
     assert!(v["noise_floor"].is_number());
-    assert_eq!(v["window"]["frames"], 1024);
+    assert_eq!(v["window"]["frames"], 512);
     assert_eq!(v["window"]["how"], "chosen");
     assert!(v["window"]["why"].as_str().unwrap().contains("16 bins"));
 }

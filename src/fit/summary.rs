@@ -416,7 +416,7 @@ fn scales(
         .collect();
     if !unresolved.is_empty() {
         warnings.push(format!(
-            "at a {window}-frame window the spectral fits cannot resolve mode(s) {} (see the per-mode notes): left out of ω, β and κ",
+            "the spectral fits cannot resolve mode(s) {} at this window ({window} frames) and frame rate (see the per-mode notes): left out of ω, β and κ",
             unresolved.join(", ")
         ));
     }

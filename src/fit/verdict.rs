@@ -267,14 +267,9 @@ pub(super) fn noise_floor(fits: &[ModeSpectralFit]) -> Option<f64> {
     })
 }
 
-/// Take the vote from modes below the white floor, mixed with their neighbours, or beyond the
-/// grid. `mixed[i]` is the share of mode i's variance that neighbouring continuum modes put in
-/// its coordinate at the tracked points (`Projector::mixed_shares`): over [`MAX_MIXED`] its
-/// line is not its own. `continuum[i]` is the continuum eigenvalue when the field has one; the
-/// first `projected` coordinates are the body's continuum modes, so the grid does not enter
-/// them, and a coordinate past them (an N-point mode's) votes only while its λᵢ/λ₁ is within
-/// 10 % of the continuum ratio (the lowest mode sets the scale, so no convention for the
-/// discrete body's length enters).
+/// Take the vote from modes below the white floor, mixed with neighbours (`mixed`, over
+/// [`MAX_MIXED`]) or, past the first `projected` (continuum) coordinates, beyond the grid:
+/// λᵢ/λ₁ of the N-point mode over 10 % off the `continuum` ratio.
 pub(super) fn disqualify(
     fits: &mut [ModeSpectralFit],
     floor: Option<f64>,
@@ -314,10 +309,9 @@ pub(super) fn disqualify(
     }
 }
 
-/// The share of a mode's variance its neighbours (lines within a factor 4 in frequency) may
-/// put in its coordinate while it votes. The voting modes of free beams at 9 and 12 points
-/// take under 0.5 %, and their laws hold; a clamped beam's third coordinate at 12 points takes
-/// 10 % and rejected true laws in 9–11 of 40 (tests/projection.rs).
+/// The most of a voting mode's variance its neighbours may put in its coordinate: free beams'
+/// voting modes at 9 and 12 points take < 0.5 % and their laws hold; a clamped beam's third
+/// at 12 points takes 10 % and rejected true laws in 9–11 of 40 (tests/projection.rs).
 pub const MAX_MIXED: f64 = 0.02;
 
 /// Take the vote from a mode that is another's leak: correlated with a lower voting mode
