@@ -16,12 +16,18 @@ EXAMPLE = ROOT / "tables" / "examples" / "midlines.csv"
 
 
 @pytest.fixture(scope="module")
-def beam():
+def beam(tmp_path_factory):
     frame = pd.read_csv(EXAMPLE, comment="#")
-    xy = frame.iloc[:, 1:].to_numpy().reshape(len(frame), -1, 2)
+    # SLEAP stores positions as float32: every format gets the float32 values, and the CSV they
+    # are compared with holds those exactly.
+    values = frame.iloc[:, 1:].to_numpy().astype(np.float32).astype(np.float64)
+    xy = values.reshape(len(frame), -1, 2)
     t = frame["t"].to_numpy()
     assert np.allclose(np.diff(t), 1.0)  # one frame per time unit: fps = 1
-    want = ts.fit(str(EXAMPLE), time_unit="s").continuum
+    path = tmp_path_factory.mktemp("beam") / "beam.csv"
+    np.savetxt(path, np.column_stack([t, values]), delimiter=",", fmt="%.17g",
+               header=",".join(frame.columns), comments="")
+    want = ts.fit(str(path), time_unit="s").continuum
     return xy, want
 
 
