@@ -367,3 +367,93 @@ fn tracking_noise(body: Body, seed: u64) -> theory_search::recording::TrackingNo
     let fit = fitted(&record(&body, seed), body.clamped, 12, None);
     fit.tracking_noise.expect("midlines give a tracking noise")
 }
+
+/// Issue 56's grid, 40 seeds a setting: each true law rejected in at most 4 of 40 and κ
+/// covered in at least 36 (seeds 56 000 + 100 i + r for the i-th setting of [`GRID`]).
+fn grid_study(which: &[usize]) {
+    let mut failed = Vec::new();
+    for &i in which {
+        let (name, body, points) = GRID[i];
+        let fits = on_two_cores(40, |r| {
+            let seed = 56_000 + 100 * i as u64 + r;
+            fitted(&record(&body, seed), body.clamped, points, None)
+        });
+        let count = |pick: &dyn Fn(&FitReport) -> bool| fits.iter().filter(|r| pick(r)).count();
+        let tests = |r: &FitReport| {
+            let t = &r.tests;
+            [&t.equipartition, &t.dispersion, &t.damping].map(|t| t.verdict)
+        };
+        let rejected = [0, 1, 2].map(|k| count(&|r| tests(r)[k] == Verdict::Rejected));
+        let undetermined = [0, 1, 2].map(|k| count(&|r| tests(r)[k] == Verdict::Undetermined));
+        let covered = count(&|r| {
+            r.continuum
+                .as_ref()
+                .and_then(|c| c.interval)
+                .is_some_and(|[lo, hi]| lo <= body.kappa && body.kappa <= hi)
+        });
+        let line = format!(
+            "{name}: rejected {rejected:?}, undetermined {undetermined:?}, κ covered {covered} of 40"
+        );
+        println!("{line}");
+        if rejected.iter().any(|&n| n > 4) || covered < 36 {
+            failed.push(line);
+        }
+    }
+    assert!(failed.is_empty(), "{failed:#?}");
+}
+
+/// The settings: (name, body, `--points`).
+const GRID: [(&str, Body, usize); 6] = [
+    (
+        "ζ₁ = 0.005",
+        Body {
+            zeta1: 0.005,
+            ..FREE
+        },
+        12,
+    ),
+    (
+        "ζ₁ = 0.12",
+        Body {
+            zeta1: 0.12,
+            ..FREE
+        },
+        12,
+    ),
+    ("9 tracked points", Body { points: 9, ..FREE }, 9),
+    (
+        "clamped, ζ₁ = 0.01",
+        Body {
+            zeta1: 0.01,
+            ..CLAMPED
+        },
+        12,
+    ),
+    (
+        "third mode at 0.9 × Nyquist",
+        Body {
+            kappa: 0.0234,
+            ..NEAR_NYQUIST
+        },
+        12,
+    ),
+    ("33 tracked points", Body { points: 33, ..FREE }, 12),
+];
+
+/// A sharp first line (ζ₁ = 0.005: rejected 3, 1, 4 of 40; 2, 18 and 20 before a mode
+/// unfolded above an alias marked it, once the continuum coordinates' modes 5–7 vote), broad
+/// lines (ζ₁ = 0.12: undetermined, κ covered 40), and 9 tracked points at `--points 9`
+/// (rejected 1, 4, 2; κ covered 38).
+#[test]
+fn issue_56_grid_forty_seeds_a_setting() {
+    grid_study(&[0, 1, 2]);
+}
+
+/// Where the grid misses its bounds (open in issue 56): the clamped beam at ζ₁ = 0.01 (two
+/// voting modes, every test undetermined, κ covered 33 of 40), a third mode at 0.9 × Nyquist
+/// (equipartition rejected 5 of 40), 33 tracked points at N = 12 (damping rejected 5 of 40).
+#[test]
+#[ignore = "open in issue 56: fails its bounds"]
+fn issue_56_grid_open_settings() {
+    grid_study(&[3, 4, 5]);
+}

@@ -538,9 +538,10 @@ fn the_continuum_constant_does_not_depend_on_the_model_points() {
         .collect();
     assert_eq!(fits.len(), 3);
     let kappa = fits[0].1;
-    // (The simulated truth, ω√λ₂/β₂² = 0.00697, is met at N = 12.)
+    // The generator's κ is 0.01 (tests/common/beam.rs).
     for &(omega, k) in &fits {
         assert!((k / kappa - 1.0).abs() < 0.01, "{fits:?}");
+        assert!((k / 0.01 - 1.0).abs() < 0.02, "{fits:?}");
         assert!(omega > 0.0);
     }
     // ω is the N-point constant: it scales with (N − 1)², 11² : 8² : 6².

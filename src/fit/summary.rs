@@ -215,6 +215,8 @@ pub(super) fn summarise(
         (&regressor(proj), fs),
         &classify,
     );
+    // A mode unfolded above the next one's resolved Ω shows that one to be an alias too.
+    mark_aliases(&mut modes_fit, fs);
     let Spectra {
         window: used_window,
         segments,
