@@ -28,13 +28,14 @@ impl Report for RightingReport {
             "overdamped"
         };
         let mut t = format!(
-            "Self-righting on N = {}: first torsional mode ω₁ = {:.9}, ζ₁ = {:.6} ({regime}), a = v₁(head) = {:.9}\n\
-             \x20 stage 1: constant torque Q = −ω₁²θ₀/a = {:.9} on Θ₁ from θ₀ = {:.6}\n\
+            "Self-righting on N = {}: first torsional mode ω₁ = {:.9} rad/time unit, ζ₁ = {:.6} ({regime})\n\
+             \x20 a = v₁(head) = {:.9} (the first mode at the head)\n\
+             \x20 stage 1: constant torque Q = −ω₁²θ₀/a = {:.9} rad/time unit² on Θ₁ from θ₀ = {:.6} rad\n\
              \x20   the head follows Eq. 20 to {:.1e}; the mean rotation moves by {:.1e}\n\
-             \x20   mouth hooks attach at t = {:.4} (head within δ = {} rad)\n\
-             \x20 stage 2 ({:?}): torque released; slowest relaxing mode ω = {:.6}, ζ = {:.4}; overshoot {:.4}\n\
-             \x20   body aligned within δ at t = {:.4}\n\
-             \x20 alignment time per segment (0 = tail … {} = head):\n",
+             \x20   mouth hooks attach at t = {:.4} time units (head within δ = {} rad)\n\
+             \x20 stage 2 ({:?}): torque released; slowest relaxing mode ω = {:.6} rad/time unit, ζ = {:.4}; overshoot {:.4}\n\
+             \x20   body aligned within δ at t = {:.4} time units\n\
+             \x20 alignment time per segment, time units (0 = tail … {} = head):\n",
             r.points,
             r.frequency,
             r.damping_ratio,
@@ -56,7 +57,7 @@ impl Report for RightingReport {
             t += &format!("  {j:>6}  {a:.4}\n");
         }
         if !self.sweep.is_empty() {
-            t += "  sweep of ζ₁:\n      ζ₁   attach   righted  overshoot  decay rate\n";
+            t += "  sweep of ζ₁ (attach and righted in time units, decay rate per time unit):\n      ζ₁   attach   righted  overshoot  decay rate\n";
             for p in &self.sweep {
                 t += &format!(
                     "  {:>6.3}  {:>7.3}  {:>8.3}  {:>9.4}  {:>10.6}\n",
