@@ -370,7 +370,7 @@ fn vote(
     verdict::disqualify(
         modes_fit,
         noise_floor,
-        (&continuum_lambda(proj), &proj.mixed_shares()),
+        (&continuum_lambda(proj), proj.mixed_shares()),
         proj.continuum_modes,
     );
     verdict::drop_leaks(modes_fit, cov, locked);

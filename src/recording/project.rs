@@ -77,6 +77,8 @@ pub struct Projector {
     /// How many leading coordinates are the body's continuum modes' (the rest are the N-point
     /// modes'): the most whose projection keeps tracking noise within twice the N-point gain.
     pub continuum_modes: usize,
+    /// [`Projector::mixed_shares`], derived once: a fit's every bootstrap draw asks for them.
+    mixed: Vec<Option<f64>>,
 }
 
 impl Projector {
@@ -181,7 +183,7 @@ impl Projector {
                 (false, Some(continuum)) => continuum,
                 _ => (projector, design, 0),
             };
-        Ok(Projector {
+        let mut projector = Projector {
             kind: settings.kind,
             input_points: k_in,
             points: n,
@@ -199,7 +201,10 @@ impl Projector {
             boundary: fm.field.boundary,
             lattice,
             continuum_modes,
-        })
+            mixed: Vec::new(),
+        };
+        projector.mixed = projector.mixing();
+        Ok(projector)
     }
 
     /// Each coordinate's gain of white tracking noise: its standard deviation under this
@@ -344,7 +349,12 @@ impl Projector {
     /// continuum coordinate takes nothing from the modes it projects out, only from the ones
     /// past them (which the N − 2 coordinates cannot separate); an N-point coordinate takes
     /// from any. `None` where the field has no continuum shapes (lengths, a ring).
-    pub fn mixed_shares(&self) -> Vec<Option<f64>> {
+    pub fn mixed_shares(&self) -> &[Option<f64>] {
+        &self.mixed
+    }
+
+    /// [`Projector::mixed_shares`] computed.
+    fn mixing(&self) -> Vec<Option<f64>> {
         let grid = self.grid();
         let k = self.stencil as i32;
         let modes: Vec<Option<(f64, Vec<f64>)>> = (0..4 * self.points)
