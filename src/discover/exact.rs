@@ -155,9 +155,40 @@ pub(super) struct Distance {
     pub columns: Vec<Vec<[f64; 2]>>,
 }
 
-impl Distance {
-    /// The estimate on `set`, its covariance and J; `None` when singular.
-    pub fn fit(&self, set: &[usize]) -> Option<(Vec<f64>, DMatrix<f64>, f64)> {
+/// A statistic J(S) quadratic in the coefficients, minimised on each subset S of the library:
+/// the selection and the criterion built on it.
+pub(super) trait Quadratic {
+    /// The estimate on `set` (library indices), its covariance and J; `None` when singular.
+    fn fit(&self, set: &[usize]) -> Option<(Vec<f64>, DMatrix<f64>, f64)>;
+
+    /// Backward elimination from `all` by J(S) + |S| ln n.
+    fn select(&self, all: &[usize], n: f64) -> Vec<usize> {
+        let score = |s: &[usize]| self.fit(s).map(|f| f.2 + s.len() as f64 * n.ln());
+        let mut set = all.to_vec();
+        let mut best = score(&set).unwrap_or(f64::INFINITY);
+        loop {
+            let trial = (0..set.len())
+                .filter_map(|i| {
+                    let mut s = set.clone();
+                    s.remove(i);
+                    score(&s).map(|v| (v, s))
+                })
+                .min_by(|a, b| a.0.total_cmp(&b.0));
+            match trial {
+                Some((v, s)) if v <= best => (best, set) = (v, s),
+                _ => return set,
+            }
+        }
+    }
+
+    /// The criterion J(S) + |S| ln n.
+    fn criterion(&self, set: &[usize], n: f64) -> Option<f64> {
+        self.fit(set).map(|f| f.2 + set.len() as f64 * n.ln())
+    }
+}
+
+impl Quadratic for Distance {
+    fn fit(&self, set: &[usize]) -> Option<(Vec<f64>, DMatrix<f64>, f64)> {
         let k = set.len();
         let mut a = DMatrix::zeros(k, k);
         let mut b = DVector::zeros(k);
@@ -183,7 +214,9 @@ impl Distance {
         let j = self.objective(set, &beta);
         Some((beta, chol.inverse(), j))
     }
+}
 
+impl Distance {
     /// J of `beta` on `set`.
     pub fn objective(&self, set: &[usize], beta: &[f64]) -> f64 {
         self.y
@@ -226,31 +259,6 @@ impl Distance {
             columns: self.columns.clone(),
         };
         shifted.fit(set).map(|f| f.2)
-    }
-
-    /// Backward elimination from `all` by J(S) + |S| ln n.
-    pub fn select(&self, all: &[usize], n: f64) -> Vec<usize> {
-        let score = |s: &[usize]| self.fit(s).map(|f| f.2 + s.len() as f64 * n.ln());
-        let mut set = all.to_vec();
-        let mut best = score(&set).unwrap_or(f64::INFINITY);
-        loop {
-            let trial = (0..set.len())
-                .filter_map(|i| {
-                    let mut s = set.clone();
-                    s.remove(i);
-                    score(&s).map(|v| (v, s))
-                })
-                .min_by(|a, b| a.0.total_cmp(&b.0));
-            match trial {
-                Some((v, s)) if v <= best => (best, set) = (v, s),
-                _ => return set,
-            }
-        }
-    }
-
-    /// The criterion J(S) + |S| ln n.
-    pub fn criterion(&self, set: &[usize], n: f64) -> Option<f64> {
-        self.fit(set).map(|f| f.2 + set.len() as f64 * n.ln())
     }
 }
 

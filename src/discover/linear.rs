@@ -3,8 +3,16 @@
 //! Otherwise the reason, and the weak form runs (`mod`).
 
 use super::data::{Basis, Recording};
-use super::exact::{columns, drawn, fit_mode, mode_data, moments, Distance, ModeFit, MAX_MODES};
-use super::report::{choose, percentiles, Comparison, DiscoverReport, DiscoveredTerm, Method};
+use nalgebra::DVector;
+
+use super::coupled::{Joint, Wald, COUPLED};
+use super::exact::{
+    columns, drawn, fit_mode, mode_data, moments, Distance, ModeData, ModeFit, Quadratic, MAX_MODES,
+};
+use super::galerkin::ModalForce;
+use super::report::{
+    choose, percentiles, Comparison, DiscoverReport, DiscoveredTerm, Method, Selection,
+};
 use super::verdict::Goodness;
 use super::weak::in_data_unit;
 use super::{galerkin, DiscoverError, DiscoverSettings, Notation};
@@ -24,9 +32,6 @@ pub(super) enum NotExact {
     /// A force is nonlinear in the field.
     #[error("the library holds forces nonlinear in the field")]
     Nonlinear,
-    /// A force couples modes.
-    #[error("forces of the library couple modes")]
-    Coupled,
     /// A mode's information is singular.
     #[error("a mode's information is singular")]
     Singular,
@@ -67,6 +72,10 @@ pub(super) fn estimate(
     }
     let names: Vec<String> = library.iter().map(|c| c.name.clone()).collect();
     let points = first.fit.model_points;
+    // The modes in the likelihood. (Taking every continuum coordinate up to MAX_MODES into
+    // the coupled one, the unresolved ones as mostly tracking noise, was tried: at 14 frames a
+    // period the aliased extra modes led it to a wrong optimum, a_y ≈ 0.)
+    let extended = modes.len();
     let (forces, continuum) = match &first.basis {
         Basis::Continuum {
             stencil, boundary, ..
@@ -76,19 +85,19 @@ pub(super) fn estimate(
                 settings.recording.order,
                 field,
                 (*stencil, *boundary),
-                modes.len(),
+                extended,
                 &names,
             )?;
             match found {
                 Some(f) => (f, true),
                 None => (
-                    galerkin::grid(library, &first.shapes[..modes.len()], points),
+                    galerkin::grid(library, &first.shapes[..extended], points),
                     false,
                 ),
             }
         }
         Basis::Grid => (
-            galerkin::grid(library, &first.shapes[..modes.len()], points),
+            galerkin::grid(library, &first.shapes[..extended], points),
             false,
         ),
     };
@@ -96,11 +105,8 @@ pub(super) fn estimate(
     if cols.iter().any(Option::is_none) {
         return Ok(Err(NotExact::Nonlinear));
     }
-    if !diagonal {
-        return Ok(Err(NotExact::Coupled));
-    }
     let cols: Vec<Vec<[f64; 2]>> = cols.into_iter().flatten().collect();
-    let data = mode_data(recordings, &modes);
+    let data = mode_data(recordings, &(0..extended).collect::<Vec<usize>>());
     let mut fits: Vec<ModeFit> = Vec::new();
     for (d, &j) in data.iter().zip(&modes) {
         let m = &first.fit.modes_fit[j];
@@ -125,75 +131,49 @@ pub(super) fn estimate(
             recording: crate::markup::clip(&first.name),
         });
     }
-    let used = fits.len();
-    let mut distance = Distance {
-        y: Vec::new(),
-        weight: Vec::new(),
-        columns: cols.iter().map(|c| c[..used].to_vec()).collect(),
-    };
-    for f in &fits {
-        let Some((y, w)) = moments(&f.fit.estimate, &f.covariance) else {
-            return Ok(Err(NotExact::Singular));
-        };
-        distance.y.push(y);
-        distance.weight.push(w);
-    }
-    let all: Vec<usize> = (0..library.len())
-        .filter(|&m| {
-            distance.columns[m]
-                .iter()
-                .any(|e| e[0] != 0.0 || e[1] != 0.0)
-        })
-        .collect();
     let frames: f64 = data[0]
         .blocks
         .iter()
         .flatten()
         .filter(|v| v.is_finite())
         .count() as f64;
-    let Some((whole, _, _)) = distance.fit(&all) else {
-        return Err(DiscoverError::Degenerate { terms: all.len() });
+    let problem = Problem {
+        fits: &fits,
+        data: &data,
+        frames,
+        settings,
+        names: &names,
     };
-    let elimination = distance.select(&all, frames);
-    // The one-step bootstrap: inclusion, then the reported set's percentiles.
-    let units = data[0].unit.iter().max().map_or(1, |u| u + 1);
-    let mut rng = super::regress::generator(settings.seed);
-    let mut resamples: Vec<Distance> = Vec::new();
-    for _ in 0..settings.bootstrap {
-        let mut count = vec![0usize; units];
-        for _ in 0..units {
-            count[rand::RngExt::random_range(&mut rng, 0..units)] += 1;
-        }
-        if let Some(mut d) = drawn(&fits, &data[..used], &count) {
-            d.columns.clone_from(&distance.columns);
-            resamples.push(d);
-        }
-    }
-    let mut included = vec![0usize; library.len()];
-    for d in &resamples {
-        for i in d.select(&all, frames) {
-            included[i] += 1;
-        }
-    }
-    let draws_made = resamples.len();
-    let (selected, selection) = choose(&included, draws_made, &elimination, &names);
-    let mut draws: Vec<Vec<f64>> = vec![Vec::new(); selected.len()];
-    for d in &resamples {
-        if let Some((b, _, _)) = d.fit(&selected) {
-            for (v, x) in draws.iter_mut().zip(b) {
-                v.push(x);
-            }
-        }
-    }
-    let Some((beta, covariance, j_selected)) = distance.fit(&selected) else {
-        return Err(DiscoverError::Degenerate {
-            terms: selected.len(),
-        });
+    let found = if diagonal {
+        problem.diagonal(&cols)
+    } else {
+        let used = fits.len();
+        let forces: Vec<ModalForce> = (forces.iter().flatten())
+            .map(|f| ModalForce {
+                position: f.position.view((0, 0), (used, used)).into_owned(),
+                velocity: f.velocity.view((0, 0), (used, used)).into_owned(),
+            })
+            .collect();
+        problem.coupled(&forces, &cols)
     };
-    let misfit = distance.residuals(&selected, &beta);
-    let strays: Vec<f64> = (resamples.iter())
-        .filter_map(|d| d.recentred(&selected, &misfit))
-        .collect();
+    let Estimate {
+        all,
+        whole,
+        selected,
+        selection,
+        included,
+        draws_made,
+        beta,
+        covariance,
+        draws,
+        scored,
+        noise,
+        goodness,
+        estimator,
+    } = match found? {
+        Ok(e) => e,
+        Err(why) => return Ok(Err(why)),
+    };
     let unit = first.dt;
     let notation = Notation::new(model, settings.recording.order, field)?;
     let terms: Vec<DiscoveredTerm> = library
@@ -248,7 +228,7 @@ pub(super) fn estimate(
                 model: label.clone(),
                 terms: set.iter().map(|&i| names[i].clone()).collect(),
                 cv_residual: None,
-                criterion: distance.criterion(&set, frames),
+                criterion: scored.criterion(&set, frames),
             }
         })
         .collect();
@@ -256,18 +236,10 @@ pub(super) fn estimate(
         model: "selected".into(),
         terms: selected.iter().map(|&i| names[i].clone()).collect(),
         cv_residual: None,
-        criterion: distance.criterion(&selected, frames),
+        criterion: scored.criterion(&selected, frames),
     });
-    let empty = distance.objective(&[], &[]).max(f64::MIN_POSITIVE);
-    // The modal force noise 4ζΩ³σ² (time in frames), averaged over the modes.
-    let noise = fits
-        .iter()
-        .map(|f| {
-            let p = f.fit.estimate;
-            4.0 * p.zeta * p.omega.powi(3) * p.variance
-        })
-        .sum::<f64>()
-        / used as f64;
+    let j_of = |set: &[usize]| scored.fit(set).map_or(f64::NAN, |f| f.2);
+    let (j_selected, empty) = (j_of(&selected), j_of(&[]).max(f64::MIN_POSITIVE));
     let noise = in_data_unit(noise, unit, -3);
     if terms
         .iter()
@@ -284,9 +256,9 @@ pub(super) fn estimate(
         });
     }
     let estimator = if continuum {
-        format!("{EXACT}, on the body's continuum modes (coefficients the continuum's)")
+        format!("{estimator}, on the body's continuum modes (coefficients the continuum's)")
     } else {
-        format!("{EXACT}, on the grid's modes (coefficients the grid's: the field has no continuum shapes here)")
+        format!("{estimator}, on the grid's modes (coefficients the grid's: the field has no continuum shapes here)")
     };
     Ok(Ok(DiscoverReport {
         recordings: recordings.iter().map(|r| r.name.clone()).collect(),
@@ -316,7 +288,7 @@ pub(super) fn estimate(
         bootstrap: settings.bootstrap,
         seed: settings.seed,
         selection,
-        goodness: Goodness::new(j_selected, 2 * used - selected.len().min(2 * used), &strays),
+        goodness,
         verdict: None,
         dt: first.dt,
         time_unit: first.fit.units.time.clone(),
@@ -326,4 +298,276 @@ pub(super) fn estimate(
         onward: None,
         onward_refused: None,
     }))
+}
+
+/// What either exact estimator gives the report.
+struct Estimate {
+    /// The candidates with a force on the used modes.
+    all: Vec<usize>,
+    /// The whole library's estimate on `all`.
+    whole: Vec<f64>,
+    selected: Vec<usize>,
+    selection: Selection,
+    /// Per candidate, the draws whose selection kept it.
+    included: Vec<usize>,
+    draws_made: usize,
+    /// The selected set's estimate and covariance.
+    beta: Vec<f64>,
+    covariance: nalgebra::DMatrix<f64>,
+    /// Per selected term, its draws.
+    draws: Vec<Vec<f64>>,
+    /// J(S) on every subset.
+    scored: Box<dyn Quadratic>,
+    /// The modes' mean force noise (time in frames).
+    noise: f64,
+    goodness: Option<Goodness>,
+    estimator: &'static str,
+}
+
+/// The fitted modes and what the estimators share.
+struct Problem<'a> {
+    fits: &'a [ModeFit],
+    data: &'a [ModeData],
+    frames: f64,
+    settings: &'a DiscoverSettings,
+    names: &'a [String],
+}
+
+impl Problem<'_> {
+    /// Each bootstrap draw's count per unit (blocks of time, or animals).
+    fn counts(&self) -> Vec<Vec<usize>> {
+        let units = self.data[0].unit.iter().max().map_or(1, |u| u + 1);
+        let mut rng = super::regress::generator(self.settings.seed);
+        (0..self.settings.bootstrap)
+            .map(|_| {
+                let mut count = vec![0usize; units];
+                for _ in 0..units {
+                    count[rand::RngExt::random_range(&mut rng, 0..units)] += 1;
+                }
+                count
+            })
+            .collect()
+    }
+
+    /// The minimum distance on the modes' (Ω², 2ζΩ): forces diagonal on the modes.
+    fn diagonal(
+        &self,
+        cols: &[Vec<[f64; 2]>],
+    ) -> Result<Result<Estimate, NotExact>, DiscoverError> {
+        let used = self.fits.len();
+        let mut distance = Distance {
+            y: Vec::new(),
+            weight: Vec::new(),
+            columns: cols.iter().map(|c| c[..used].to_vec()).collect(),
+        };
+        for f in self.fits {
+            let Some((y, w)) = moments(&f.fit.estimate, &f.covariance) else {
+                return Ok(Err(NotExact::Singular));
+            };
+            distance.y.push(y);
+            distance.weight.push(w);
+        }
+        let all: Vec<usize> = (0..cols.len())
+            .filter(|&m| {
+                distance.columns[m]
+                    .iter()
+                    .any(|e| e[0] != 0.0 || e[1] != 0.0)
+            })
+            .collect();
+        let Some((whole, _, _)) = distance.fit(&all) else {
+            return Err(DiscoverError::Degenerate { terms: all.len() });
+        };
+        let elimination = distance.select(&all, self.frames);
+        // The one-step bootstrap: inclusion, then the reported set's percentiles.
+        let resamples: Vec<Distance> = (self.counts().iter())
+            .filter_map(|count| drawn(self.fits, self.data, count))
+            .map(|mut d| {
+                d.columns.clone_from(&distance.columns);
+                d
+            })
+            .collect();
+        let mut included = vec![0usize; cols.len()];
+        for d in &resamples {
+            for i in d.select(&all, self.frames) {
+                included[i] += 1;
+            }
+        }
+        let draws_made = resamples.len();
+        let (selected, selection) = choose(&included, draws_made, &elimination, self.names);
+        let Some((beta, covariance, j_selected)) = distance.fit(&selected) else {
+            return Err(DiscoverError::Degenerate {
+                terms: selected.len(),
+            });
+        };
+        let draws = set_draws(&resamples, &selected);
+        let misfit = distance.residuals(&selected, &beta);
+        let strays: Vec<f64> = (resamples.iter())
+            .filter_map(|d| d.recentred(&selected, &misfit))
+            .collect();
+        let goodness = Goodness::new(j_selected, 2 * used - selected.len().min(2 * used), &strays);
+        // The modal force noise 4ζΩ³σ² (time in frames), averaged over the modes.
+        let noise = (self.fits.iter())
+            .map(|f| {
+                let p = f.fit.estimate;
+                4.0 * p.zeta * p.omega.powi(3) * p.variance
+            })
+            .sum::<f64>()
+            / used as f64;
+        Ok(Ok(Estimate {
+            all,
+            whole,
+            selected,
+            selection,
+            included,
+            draws_made,
+            beta,
+            covariance,
+            draws,
+            scored: Box::new(distance),
+            noise,
+            goodness,
+            estimator: EXACT,
+        }))
+    }
+
+    /// The modes' joint exact likelihood: forces that couple the modes (`coupled`).
+    fn coupled(
+        &self,
+        forces: &[ModalForce],
+        cols: &[Vec<[f64; 2]>],
+    ) -> Result<Result<Estimate, NotExact>, DiscoverError> {
+        // The resolved modes that were fitted (fewer than the forces' when a later one failed).
+        let (m, r) = (self.fits.len(), self.fits.len());
+        let all: Vec<usize> = (0..forces.len())
+            .filter(|&i| {
+                let f = &forces[i];
+                f.position
+                    .iter()
+                    .chain(f.velocity.iter())
+                    .any(|x| *x != 0.0)
+            })
+            .collect();
+        let k = all.len();
+        let estimates: Vec<Oscillator> = self.fits.iter().map(|f| f.fit.estimate).collect();
+        let mean = |f: &dyn Fn(&Oscillator) -> f64| estimates.iter().map(f).sum::<f64>() / r as f64;
+        let rates = [
+            mean(&|p| p.omega * p.omega),
+            mean(&|p| 2.0 * p.zeta * p.omega),
+        ];
+        let chosen: Vec<&ModalForce> = all.iter().map(|&i| &forces[i]).collect();
+        // Start: the diagonal entries' minimum distance on the terms that have them, the rest 0.
+        let biggest = |f: &ModalForce, diagonal: bool| {
+            (f.position.iter().chain(f.velocity.iter()).enumerate())
+                .filter(|(e, _)| !diagonal || (e % (m * m)) % (m + 1) == 0)
+                .fold(0.0f64, |s, (_, x)| s.max(x.abs()))
+        };
+        let on_diagonal: Vec<usize> = (all.iter().copied())
+            .filter(|&i| biggest(&forces[i], true) > 1e-3 * biggest(&forces[i], false))
+            .collect();
+        let mut start = DVector::zeros(k + 2 * m);
+        if let Ok(Ok(d)) = self.diagonal(cols).map(|e| e.map(|e| e.scored)) {
+            if let Some((b, _, _)) = d.fit(&on_diagonal) {
+                for (&i, v) in on_diagonal.iter().zip(b) {
+                    start[all.iter().position(|&a| a == i).unwrap_or(0)] = v;
+                }
+            }
+        }
+        for (j, p) in estimates.iter().enumerate() {
+            start[k + j] = (4.0 * p.zeta * p.omega.powi(3) * p.variance)
+                .max(f64::MIN_POSITIVE)
+                .ln();
+            start[k + m + j] = p.noise.max(1e-12 * p.variance).ln();
+        }
+        // A resolved mode whose own fit found no tracking noise keeps it (the likelihood is
+        // flat there).
+        let nuisance: Vec<usize> = (k..k + 2 * m)
+            .filter(|&i| i < k + m || self.fits[i - k - m].free.contains(&3))
+            .collect();
+        let Some(joint) = Joint::new(&self.data[..m], &chosen, rates, &start) else {
+            return Ok(Err(NotExact::Mixed));
+        };
+        let every: Vec<usize> = (0..k).chain(nuisance.iter().copied()).collect();
+        let Some(full) = joint.fit(start, &every) else {
+            return Ok(Err(NotExact::Singular));
+        };
+        let Some(wald) = Wald::new(full.theta.clone(), full.information.clone(), all.clone())
+        else {
+            return Ok(Err(NotExact::Singular));
+        };
+        let whole: Vec<f64> = full.theta.iter().take(k).copied().collect();
+        let elimination = wald.select(&all, self.frames);
+        let resamples: Vec<Wald> = (self.counts().iter())
+            .filter_map(|count| full.drawn(count))
+            .filter_map(|(theta, h)| Wald::new(theta, h, all.clone()))
+            .collect();
+        let mut included = vec![0usize; forces.len()];
+        for d in &resamples {
+            for i in d.select(&all, self.frames) {
+                included[i] += 1;
+            }
+        }
+        let draws_made = resamples.len();
+        let (selected, selection) = choose(&included, draws_made, &elimination, self.names);
+        let Some((mut beta, mut covariance, _)) = wald.fit(&selected) else {
+            return Err(DiscoverError::Degenerate {
+                terms: selected.len(),
+            });
+        };
+        // The selected set refitted by the exact likelihood (the Wald step is its first
+        // approximation); where that fails (no stable system), the Wald step stands.
+        let kept: Vec<usize> = (0..k).filter(|&p| selected.contains(&all[p])).collect();
+        let mut at = full.theta.clone();
+        for p in 0..k {
+            at[p] = kept.iter().position(|&q| q == p).map_or(0.0, |r| beta[r]);
+        }
+        let free: Vec<usize> = kept
+            .iter()
+            .copied()
+            .chain(nuisance.iter().copied())
+            .collect();
+        let refit = (!selected.is_empty())
+            .then(|| joint.fit(at, &free))
+            .flatten();
+        let noise_of = |theta: &DVector<f64>| {
+            theta.iter().skip(k).take(m).map(|l| l.exp()).sum::<f64>() / m as f64
+        };
+        let mut noise = noise_of(&full.theta);
+        if let Some(r) = &refit {
+            if let Some(c) = r.information.clone().cholesky() {
+                let inv = c.inverse();
+                beta = kept.iter().map(|&p| r.theta[p]).collect();
+                covariance = inv.view((0, 0), (kept.len(), kept.len())).into_owned();
+                noise = noise_of(&r.theta);
+            }
+        }
+        let draws = set_draws(&resamples, &selected);
+        Ok(Ok(Estimate {
+            all,
+            whole,
+            selected,
+            selection,
+            included,
+            draws_made,
+            beta,
+            covariance,
+            draws,
+            scored: Box::new(wald),
+            noise,
+            goodness: None,
+            estimator: COUPLED,
+        }))
+    }
+}
+
+/// Each selected term's estimate over the draws.
+fn set_draws<Q: Quadratic>(resamples: &[Q], selected: &[usize]) -> Vec<Vec<f64>> {
+    let mut draws: Vec<Vec<f64>> = vec![Vec::new(); selected.len()];
+    for d in resamples {
+        if let Some((b, _, _)) = d.fit(selected) {
+            for (v, x) in draws.iter_mut().zip(b) {
+                v.push(x);
+            }
+        }
+    }
+    draws
 }

@@ -34,6 +34,7 @@
 //! frames (`weak`), so no decision depends on the unit the time column is written in; each
 //! coefficient is taken back to that unit at the end.
 
+mod coupled;
 mod data;
 mod exact;
 mod galerkin;

@@ -330,14 +330,17 @@ impl Projector {
     /// continuum modes, else `None`): the modal coordinate Qⱼ that a midline of the input's K
     /// points bent by εφⱼ gives, over ε. The N-point modes are not quite the body's, so Qⱼ
     /// reads its continuum amplitude times this gain; equipartition is tested on Var Qⱼ/gainⱼ².
+    /// Signed: Qⱼ/gainⱼ is the amplitude of φⱼ as `modal::continuum_shape` draws it, so modes
+    /// coupled by a force keep the signs of its matrix ⟨φᵢ, Lφⱼ⟩ (`discover`; without the sign
+    /// an active beam's fourth mode entered the coupled likelihood upside down).
     pub fn continuum_gains(&self) -> Vec<Option<f64>> {
         let m = self.eigenvalues.len();
         let grid = self.grid();
         (0..m)
             .map(|j| {
                 let values = grid.continuum_midline(j)?;
-                let g = self.modal(&values).ok()?.get(j)?.abs() / CONTINUUM_AMPLITUDE;
-                (g > 0.0 && g.is_finite()).then_some(g)
+                let g = self.modal(&values).ok()?.get(j)? / CONTINUUM_AMPLITUDE;
+                (g != 0.0 && g.is_finite()).then_some(g)
             })
             .collect()
     }

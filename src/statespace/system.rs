@@ -81,18 +81,27 @@ impl System {
     /// means removed), each from the stationary state: one value per series. `None` when
     /// the system is not stable or a covariance is not positive definite.
     pub fn negative_log_likelihoods(&self, series: &[&[Vec<f64>]]) -> Option<Vec<f64>> {
+        let terms = self.frame_terms(series)?;
+        Some(terms.iter().map(|t| t.iter().sum()).collect())
+    }
+
+    /// Each observed frame's term ½[ln det(2πSₙ) + vₙᵀSₙ⁻¹vₙ] of −ln L, series by series (a
+    /// lost frame adds none): the prediction-error decomposition, whose terms' derivatives are
+    /// the score's martingale differences.
+    pub fn frame_terms(&self, series: &[&[Vec<f64>]]) -> Option<Vec<Vec<f64>>> {
         let p0 = self.stationary()?;
         let gains = Gains::new(self, &p0)?;
         series.iter().map(|s| self.run(s, &gains)).collect()
     }
 
-    fn run(&self, frames: &[Vec<f64>], gains: &Gains) -> Option<f64> {
+    fn run(&self, frames: &[Vec<f64>], gains: &Gains) -> Option<Vec<f64>> {
         let n = self.phi.nrows();
         let m = n / 2;
         let mut x = DVector::zeros(n);
         let mut scratch = DVector::zeros(n);
         let mut v = DVector::zeros(m);
-        let mut total = 0.0;
+        let mut terms = Vec::with_capacity(frames.len());
+        let mut sv = DVector::zeros(m);
         // Frames since the last fresh start (the cached gains apply), or a covariance of
         // our own after a lost frame.
         let mut since = 0usize;
@@ -113,10 +122,11 @@ impl System {
             for i in 0..m {
                 v[i] = y[i] - x[i];
             }
+            let fresh;
             let step = match own.take() {
                 Some(p) => {
-                    let step = Step::of(&p, &self.noise)?;
-                    let posterior = &p - &step.gain * p.rows(0, m);
+                    fresh = Step::of(&p, &self.noise)?;
+                    let posterior = &p - &fresh.gain * p.rows(0, m);
                     let next = self.predict(&posterior);
                     // Back on the cached sequence once it has settled to the steady gain.
                     if (&next - &gains.settled_prediction).norm() > 1e-10 * next.norm() {
@@ -124,21 +134,25 @@ impl System {
                     } else {
                         since = usize::MAX;
                     }
-                    step
+                    &fresh
                 }
                 None => {
-                    let s = gains.at(since).clone();
+                    let s = gains.at(since);
                     since = since.saturating_add(1);
                     s
                 }
             };
-            let sv = &step.inverse * &v;
-            total += 0.5 * (step.log_det + v.dot(&sv));
+            sv.gemv(1.0, &step.inverse, &v, 0.0);
+            let term = 0.5 * (step.log_det + v.dot(&sv));
+            if !term.is_finite() {
+                return None;
+            }
+            terms.push(term);
             x.gemv(1.0, &step.gain, &v, 1.0);
             scratch.gemv(1.0, &self.phi, &x, 0.0);
             std::mem::swap(&mut x, &mut scratch);
         }
-        total.is_finite().then_some(total)
+        Some(terms)
     }
 
     fn predict(&self, posterior: &DMatrix<f64>) -> DMatrix<f64> {
