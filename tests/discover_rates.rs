@@ -218,9 +218,12 @@ fn active_beam(fpp: f64) -> Beam {
     }
 }
 
+/// The exact set, each coefficient covered, each relative error.
+type ActiveOutcome = (bool, [bool; 3], [f64; 3]);
+
 /// What one active recording gave: the exact set {c_y, c′_y, a_y} and each coefficient's
 /// coverage (the tool's s runs from the tail, the generator's from the head: a_y = −a).
-fn active_outcome(beam: &Beam, r: &DiscoverReport) -> (bool, [bool; 3], [f64; 3]) {
+fn active_outcome(beam: &Beam, r: &DiscoverReport) -> ActiveOutcome {
     let truth = [("c_y", beam.c), ("c'_y", beam.cp / 2.0), ("a_y", -beam.a)];
     let names: Vec<&str> = r.selected.iter().map(|t| t.name.as_str()).collect();
     let mut covered = [false; 3];
@@ -271,9 +274,7 @@ fn active_coverage_study() {
             attempt(&beam, 100 + s, 12, 200).map(|r| active_outcome(&beam, &r))
         });
         let answered: Vec<_> = out.iter().filter_map(|o| o.as_ref().ok()).collect();
-        let count = |f: &dyn Fn(&(bool, [bool; 3], [f64; 3])) -> bool| {
-            answered.iter().filter(|o| f(o)).count()
-        };
+        let count = |f: &dyn Fn(&ActiveOutcome) -> bool| answered.iter().filter(|o| f(o)).count();
         let median = |i: usize| {
             let mut v: Vec<f64> = answered.iter().map(|o| o.2[i]).collect();
             v.sort_by(f64::total_cmp);

@@ -72,10 +72,10 @@ pub(super) fn estimate(
     }
     let names: Vec<String> = library.iter().map(|c| c.name.clone()).collect();
     let points = first.fit.model_points;
-    // The modes in the likelihood. (Taking every continuum coordinate up to MAX_MODES into
-    // the coupled one, the unresolved ones as mostly tracking noise, was tried: at 14 frames a
-    // period the aliased extra modes led it to a wrong optimum, a_y ≈ 0.)
-    let extended = modes.len();
+    // The modes in the likelihood: the resolved ones. (Tried for the coupled likelihood: every
+    // continuum coordinate up to MAX_MODES, the unresolved ones as mostly tracking noise, led it
+    // to a wrong optimum at 14 frames a period, a_y ≈ 0; two more modes as latent states, their
+    // noise by fluctuation–dissipation, moved c_y by 0.5 % and a_y not at all.)
     let (forces, continuum) = match &first.basis {
         Basis::Continuum {
             stencil, boundary, ..
@@ -85,19 +85,19 @@ pub(super) fn estimate(
                 settings.recording.order,
                 field,
                 (*stencil, *boundary),
-                extended,
+                modes.len(),
                 &names,
             )?;
             match found {
                 Some(f) => (f, true),
                 None => (
-                    galerkin::grid(library, &first.shapes[..extended], points),
+                    galerkin::grid(library, &first.shapes[..modes.len()], points),
                     false,
                 ),
             }
         }
         Basis::Grid => (
-            galerkin::grid(library, &first.shapes[..extended], points),
+            galerkin::grid(library, &first.shapes[..modes.len()], points),
             false,
         ),
     };
@@ -106,7 +106,7 @@ pub(super) fn estimate(
         return Ok(Err(NotExact::Nonlinear));
     }
     let cols: Vec<Vec<[f64; 2]>> = cols.into_iter().flatten().collect();
-    let data = mode_data(recordings, &(0..extended).collect::<Vec<usize>>());
+    let data = mode_data(recordings, &modes);
     let mut fits: Vec<ModeFit> = Vec::new();
     for (d, &j) in data.iter().zip(&modes) {
         let m = &first.fit.modes_fit[j];
@@ -170,6 +170,7 @@ pub(super) fn estimate(
         noise,
         goodness,
         estimator,
+        method,
     } = match found? {
         Ok(e) => e,
         Err(why) => return Ok(Err(why)),
@@ -278,7 +279,7 @@ pub(super) fn estimate(
             .collect(),
         rows: frames as usize,
         estimator,
-        method: Method::Exact,
+        method,
         equation: notation.equation(&keep),
         selected: terms.iter().filter(|t| t.selected).cloned().collect(),
         library: terms,
@@ -322,6 +323,7 @@ struct Estimate {
     noise: f64,
     goodness: Option<Goodness>,
     estimator: &'static str,
+    method: Method,
 }
 
 /// The fitted modes and what the estimators share.
@@ -427,6 +429,7 @@ impl Problem<'_> {
             noise,
             goodness,
             estimator: EXACT,
+            method: Method::Exact,
         }))
     }
 
@@ -456,9 +459,10 @@ impl Problem<'_> {
         ];
         let chosen: Vec<&ModalForce> = all.iter().map(|&i| &forces[i]).collect();
         // Start: the diagonal entries' minimum distance on the terms that have them, the rest 0.
+        let size = forces.first().map_or(m, |f| f.position.nrows());
         let biggest = |f: &ModalForce, diagonal: bool| {
             (f.position.iter().chain(f.velocity.iter()).enumerate())
-                .filter(|(e, _)| !diagonal || (e % (m * m)) % (m + 1) == 0)
+                .filter(|(e, _)| !diagonal || (e % (size * size)) % (size + 1) == 0)
                 .fold(0.0f64, |s, (_, x)| s.max(x.abs()))
         };
         let on_diagonal: Vec<usize> = (all.iter().copied())
@@ -555,6 +559,7 @@ impl Problem<'_> {
             noise,
             goodness: None,
             estimator: COUPLED,
+            method: Method::Joint,
         }))
     }
 }

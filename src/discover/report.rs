@@ -131,6 +131,8 @@ pub struct DiscoverReport {
 pub enum Method {
     /// The exact likelihood (`exact`): every candidate linear and diagonal on the modes.
     Exact,
+    /// The modes' joint exact likelihood (`coupled`): linear forces that couple the modes.
+    Joint,
     /// The weak form (`weak`), and why not the exact likelihood.
     WeakForm {
         /// Why the exact likelihood did not run.
@@ -434,7 +436,7 @@ impl Report for DiscoverReport {
             self.library.len()
         );
         out += &match &self.method {
-            Method::Exact => format!(
+            Method::Exact | Method::Joint => format!(
                 "Estimator: {}; {} frames on modes {}.\n",
                 self.estimator,
                 self.rows,
@@ -501,6 +503,7 @@ impl Report for DiscoverReport {
         };
         out += match self.method {
             Method::Exact => "\nTheories compared (the criterion J + k ln n, J the modes' information-weighted distance, χ² with 2M − k degrees of freedom where the theory holds; lower is better):\n",
+            Method::Joint => "\nTheories compared (the criterion J + k ln n, J the Wald distance of the whole library's estimate from the theory's, the likelihood ratio's quadratic form, χ² on the terms left out where they are absent; lower is better):\n",
             Method::WeakForm { .. } => "\nTheories compared (held-out moment residual over 5 blocks of time and the criterion J/σ² + k ln n; lower is better):\n",
         };
         for c in &self.comparison {

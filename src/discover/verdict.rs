@@ -197,7 +197,7 @@ impl Verdict {
     pub fn text(&self) -> String {
         let head = match (self.conclusion, self.goodness) {
             (Conclusion::Holds, Some(g)) => format!("the theory holds here: every selected coefficient has the sign the engine fixes, a force of the positions holds the postures, and the modes fit it (J = {:.1} on {} degrees of freedom, the draws' scale {:.2}, p = {:.2})", g.j, g.dof, g.scale, g.p),
-            (Conclusion::Holds, None) => "the theory holds here as far as the weak form tests it: every selected coefficient has the sign the engine fixes and a force of the positions holds the postures (the weak form has no test of the modes' fit)".to_string(),
+            (Conclusion::Holds, None) => "the theory holds here as far as its estimator tests it: every selected coefficient has the sign the engine fixes and a force of the positions holds the postures (the weak form and the modes' joint likelihood have no test of the modes' fit yet)".to_string(),
             (Conclusion::DoesNotHold, _) => "the theory does not hold here".to_string(),
             (Conclusion::Undecided, _) => "undecided".to_string(),
         };

@@ -18,7 +18,8 @@ use nalgebra::{DMatrix, DVector};
 
 use super::{discretise, StateSpaceError};
 
-/// A sampled linear system of M coupled modes seen through white noise.
+/// A sampled linear system of M coupled modes, the first `noise.len()` of them seen through
+/// white noise (the rest latent).
 #[derive(Debug, Clone)]
 pub struct System {
     /// Φ (2M × 2M).
@@ -96,7 +97,8 @@ impl System {
 
     fn run(&self, frames: &[Vec<f64>], gains: &Gains) -> Option<Vec<f64>> {
         let n = self.phi.nrows();
-        let m = n / 2;
+        // The first `noise.len()` modes are observed (the rest are latent).
+        let m = self.noise.len();
         let mut x = DVector::zeros(n);
         let mut scratch = DVector::zeros(n);
         let mut v = DVector::zeros(m);
