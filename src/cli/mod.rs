@@ -93,8 +93,8 @@ enum Command {
     /// Fit the theory to tracked midlines or segment lengths: modal projection, PCA, spectra,
     /// ω and β (paper §2.4, Fig. 2).
     Fit(fit::Args),
-    /// Discover which terms of the engine's library a recording's field needs: each mode's
-    /// exact likelihood (or the weak form where forces couple modes), selection by an
+    /// Discover which terms of the engine's library a recording's field needs: the modes'
+    /// exact likelihood (the weak form for nonlinear forces), selection by an
     /// information criterion and the bootstrap's draws, the nested theories scored, whether the
     /// theory holds, and the onward simulate line.
     Discover(discover::Args),

@@ -1,6 +1,7 @@
-//! `discover` with the exact estimator (`exact`) where the library allows it: every candidate
-//! linear in the field and diagonal on the modes used, every recording at one frame interval.
-//! Otherwise the reason, and the weak form runs (`mod`).
+//! `discover` with the exact estimators where the library allows them: every candidate linear
+//! in the field, every recording at one frame interval; forces diagonal on the modes used by
+//! each mode's likelihood and minimum distance (`exact`), forces that couple them by the modes'
+//! joint likelihood (`coupled`). Otherwise the reason, and the weak form runs (`mod`).
 
 use super::data::{Basis, Recording};
 use nalgebra::DVector;
@@ -157,24 +158,19 @@ pub(super) fn estimate(
         problem.coupled(&forces, &cols)
     };
     let Estimate {
-        all,
-        whole,
-        selected,
-        selection,
-        included,
-        draws_made,
-        beta,
-        covariance,
-        draws,
+        chosen,
+        fitted: (beta, covariance, draws),
         scored,
         noise,
         goodness,
-        estimator,
         method,
     } = match found? {
         Ok(e) => e,
         Err(why) => return Ok(Err(why)),
     };
+    let (all, whole) = (chosen.all, chosen.whole);
+    let (selected, selection) = (chosen.selected, chosen.selection);
+    let (included, draws_made) = (chosen.included, chosen.draws_made);
     let unit = first.dt;
     let notation = Notation::new(model, settings.recording.order, field)?;
     let terms: Vec<DiscoveredTerm> = library
@@ -256,6 +252,11 @@ pub(super) fn estimate(
             dt: crate::report::fixed(unit, 4),
         });
     }
+    let estimator = if method == Method::Joint {
+        COUPLED
+    } else {
+        EXACT
+    };
     let estimator = if continuum {
         format!("{estimator}, on the body's continuum modes (coefficients the continuum's)")
     } else {
@@ -301,8 +302,8 @@ pub(super) fn estimate(
     }))
 }
 
-/// What either exact estimator gives the report.
-struct Estimate {
+/// The library's terms chosen: what the whole recording and the draws keep.
+struct Chosen {
     /// The candidates with a force on the used modes.
     all: Vec<usize>,
     /// The whole library's estimate on `all`.
@@ -312,17 +313,18 @@ struct Estimate {
     /// Per candidate, the draws whose selection kept it.
     included: Vec<usize>,
     draws_made: usize,
-    /// The selected set's estimate and covariance.
-    beta: Vec<f64>,
-    covariance: nalgebra::DMatrix<f64>,
-    /// Per selected term, its draws.
-    draws: Vec<Vec<f64>>,
+}
+
+/// What either exact estimator gives the report.
+struct Estimate {
+    chosen: Chosen,
+    /// The selected set's estimate, its covariance and, per selected term, its draws.
+    fitted: (Vec<f64>, nalgebra::DMatrix<f64>, Vec<Vec<f64>>),
     /// J(S) on every subset.
     scored: Box<dyn Quadratic>,
     /// The modes' mean force noise (time in frames).
     noise: f64,
     goodness: Option<Goodness>,
-    estimator: &'static str,
     method: Method,
 }
 
@@ -349,6 +351,34 @@ impl Problem<'_> {
                 count
             })
             .collect()
+    }
+
+    /// Backward elimination on the whole recording and on each draw; the reported terms.
+    fn choose_terms<Q: Quadratic>(
+        &self,
+        scored: &Q,
+        resamples: &[Q],
+        all: Vec<usize>,
+        whole: Vec<f64>,
+        candidates: usize,
+    ) -> Chosen {
+        let elimination = scored.select(&all, self.frames);
+        let mut included = vec![0usize; candidates];
+        for d in resamples {
+            for i in d.select(&all, self.frames) {
+                included[i] += 1;
+            }
+        }
+        let draws_made = resamples.len();
+        let (selected, selection) = choose(&included, draws_made, &elimination, self.names);
+        Chosen {
+            all,
+            whole,
+            selected,
+            selection,
+            included,
+            draws_made,
+        }
     }
 
     /// The minimum distance on the modes' (Ω², 2ζΩ): forces diagonal on the modes.
@@ -379,7 +409,6 @@ impl Problem<'_> {
         let Some((whole, _, _)) = distance.fit(&all) else {
             return Err(DiscoverError::Degenerate { terms: all.len() });
         };
-        let elimination = distance.select(&all, self.frames);
         // The one-step bootstrap: inclusion, then the reported set's percentiles.
         let resamples: Vec<Distance> = (self.counts().iter())
             .filter_map(|count| drawn(self.fits, self.data, count))
@@ -388,14 +417,8 @@ impl Problem<'_> {
                 d
             })
             .collect();
-        let mut included = vec![0usize; cols.len()];
-        for d in &resamples {
-            for i in d.select(&all, self.frames) {
-                included[i] += 1;
-            }
-        }
-        let draws_made = resamples.len();
-        let (selected, selection) = choose(&included, draws_made, &elimination, self.names);
+        let chosen = self.choose_terms(&distance, &resamples, all, whole, cols.len());
+        let selected = chosen.selected.clone();
         let Some((beta, covariance, j_selected)) = distance.fit(&selected) else {
             return Err(DiscoverError::Degenerate {
                 terms: selected.len(),
@@ -416,19 +439,11 @@ impl Problem<'_> {
             .sum::<f64>()
             / used as f64;
         Ok(Ok(Estimate {
-            all,
-            whole,
-            selected,
-            selection,
-            included,
-            draws_made,
-            beta,
-            covariance,
-            draws,
+            chosen,
+            fitted: (beta, covariance, draws),
             scored: Box::new(distance),
             noise,
             goodness,
-            estimator: EXACT,
             method: Method::Exact,
         }))
     }
@@ -499,19 +514,12 @@ impl Problem<'_> {
             return Ok(Err(NotExact::Singular));
         };
         let whole: Vec<f64> = full.theta.iter().take(k).copied().collect();
-        let elimination = wald.select(&all, self.frames);
         let resamples: Vec<Wald> = (self.counts().iter())
             .filter_map(|count| full.drawn(count))
             .filter_map(|(theta, h)| Wald::new(theta, h, all.clone()))
             .collect();
-        let mut included = vec![0usize; forces.len()];
-        for d in &resamples {
-            for i in d.select(&all, self.frames) {
-                included[i] += 1;
-            }
-        }
-        let draws_made = resamples.len();
-        let (selected, selection) = choose(&included, draws_made, &elimination, self.names);
+        let chosen = self.choose_terms(&wald, &resamples, all.clone(), whole, forces.len());
+        let selected = chosen.selected.clone();
         let Some((mut beta, mut covariance, _)) = wald.fit(&selected) else {
             return Err(DiscoverError::Degenerate {
                 terms: selected.len(),
@@ -546,19 +554,11 @@ impl Problem<'_> {
         }
         let draws = set_draws(&resamples, &selected);
         Ok(Ok(Estimate {
-            all,
-            whole,
-            selected,
-            selection,
-            included,
-            draws_made,
-            beta,
-            covariance,
-            draws,
+            chosen,
+            fitted: (beta, covariance, draws),
             scored: Box::new(wald),
             noise,
             goodness: None,
-            estimator: COUPLED,
             method: Method::Joint,
         }))
     }

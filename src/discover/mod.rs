@@ -10,8 +10,9 @@
 //! **Estimators.** Where every candidate is linear and diagonal on the modes used (`linear`),
 //! each mode's exact likelihood on the body's continuum modes and the coefficients by minimum
 //! distance (`exact`, `galerkin`): any frame rate, lost frames skipped, coefficients the
-//! continuum body's. Otherwise (`--estimator weak`, or forces nonlinear or coupling modes):
-//! the weak form in time on the grid's modes, with instruments from earlier
+//! continuum body's. Linear forces that couple the modes (an active ∂s³ or gyroscopic ∂t∂s
+//! force on a free body): the modes' joint exact likelihood (`coupled`). Otherwise
+//! (`--estimator weak`, or forces nonlinear): the weak form in time on the grid's modes, with instruments from earlier
 //! windows and the state just before each window (two-stage least squares; see `weak`): unbiased under thermal (Langevin) noise and
 //! white tracking noise for terms linear in the data; a nonlinear term's products of noisy
 //! derivatives keep a bias of order (noise/signal)² in its own direction (not corrected).
