@@ -37,13 +37,16 @@ for path in sorted(data.glob("*.csv")):
         pc = r.shapes @ r.components[k]
         sign = np.sign(pc @ r.shapes[:, k]) or 1.0
         left.plot(s, sign * pc, label=f"PC {k + 1}")
-        left.plot(s, r.shapes[:, k], "k:", lw=1)
+        left.plot(s, r.shapes[:, k], "k:", lw=1, label="mode shapes 2–4" if k == 0 else None)
     left.set_xlabel("arc length (tail → head)")
+    left.set_ylabel("component and mode shape")
     left.legend(frameon=False, loc="upper left", bbox_to_anchor=(1, 1))
-    modes = np.arange(1, len(r.pca_variance_share) + 1)
+    # The fit numbers the bending modes from 2 (mode 1 is the rigid turn), as the command line does.
+    modes = np.arange(2, len(r.pca_variance_share) + 2)
     right.semilogy(modes, r.pca_variance_share, "o-", label="PCA")
     right.semilogy(modes, r.theory_variance_share, "s--", label="equipartition")
     right.set_xlabel("mode")
+    right.set_ylabel("share of the variance")
     right.legend(frameon=False)
     fig.tight_layout()
     target = out / f"{path.stem}.png"
