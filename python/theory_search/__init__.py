@@ -831,8 +831,9 @@ def discover(
         True puts the model's active forces in the library.
     @beyond_leading
     estimator : str, optional
-        ``"auto"`` (default: the exact state-space likelihood where the weak form cannot
-        resolve the modes), ``"weak"`` or ``"exact"``.
+        ``"auto"`` (default: the exact state-space likelihood wherever the library is linear,
+        each mode's or, for forces that couple the modes, their joint one; the weak form for
+        nonlinear forces), ``"weak"`` or ``"exact"``.
     bootstrap : int, optional
         Draws behind the inclusion frequencies and intervals (default 200).
     seed : int, optional
