@@ -67,14 +67,7 @@ fn outcome(beam: &Beam, r: &DiscoverReport) -> Outcome {
     assert_eq!(r.method, Method::Exact, "{}", r.estimator);
     let truth = [("c_y", beam.c), ("c'_y", beam.cp / 2.0)];
     let names: Vec<&str> = r.selected.iter().map(|t| t.name.as_str()).collect();
-    let mut covered = [false; 2];
-    let mut relative = [f64::NAN; 2];
-    for (i, (name, value)) in truth.iter().enumerate() {
-        if let Some(t) = r.library.iter().find(|t| t.name == *name) {
-            relative[i] = t.coefficient / value - 1.0;
-            covered[i] = t.interval.is_some_and(|[a, b]| a <= *value && *value <= b);
-        }
-    }
+    let (covered, relative) = against(r, truth);
     Outcome {
         exact_set: names == ["c_y", "c'_y"],
         covered,
@@ -85,6 +78,20 @@ fn outcome(beam: &Beam, r: &DiscoverReport) -> Outcome {
             .is_some_and(|v| v.conclusion == Conclusion::Holds),
         p: r.goodness.map_or(f64::NAN, |g| g.p),
     }
+}
+
+/// Each true coefficient (name, value) inside its interval, and the estimate's relative error
+/// (NaN for a coefficient not in the library).
+fn against<const K: usize>(r: &DiscoverReport, truth: [(&str, f64); K]) -> ([bool; K], [f64; K]) {
+    let mut covered = [false; K];
+    let mut relative = [f64::NAN; K];
+    for (i, (name, value)) in truth.iter().enumerate() {
+        if let Some(t) = r.library.iter().find(|t| t.name == *name) {
+            relative[i] = t.coefficient / value - 1.0;
+            covered[i] = t.interval.is_some_and(|[a, b]| a <= *value && *value <= b);
+        }
+    }
+    (covered, relative)
 }
 
 /// The setting's outcomes over `seeds` seeds, printed.
@@ -226,14 +233,7 @@ type ActiveOutcome = (bool, [bool; 3], [f64; 3]);
 fn active_outcome(beam: &Beam, r: &DiscoverReport) -> ActiveOutcome {
     let truth = [("c_y", beam.c), ("c'_y", beam.cp / 2.0), ("a_y", -beam.a)];
     let names: Vec<&str> = r.selected.iter().map(|t| t.name.as_str()).collect();
-    let mut covered = [false; 3];
-    let mut relative = [f64::NAN; 3];
-    for (i, (name, value)) in truth.iter().enumerate() {
-        if let Some(t) = r.library.iter().find(|t| t.name == *name) {
-            relative[i] = t.coefficient / value - 1.0;
-            covered[i] = t.interval.is_some_and(|[a, b]| a <= *value && *value <= b);
-        }
-    }
+    let (covered, relative) = against(r, truth);
     let mut sorted = names.clone();
     sorted.sort_unstable();
     (sorted == ["a_y", "c'_y", "c_y"], covered, relative)

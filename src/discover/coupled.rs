@@ -216,7 +216,7 @@ impl Joint {
         for _ in 0..ITERATIONS {
             // A noise at its floor that the likelihood pushes further down is held there.
             let scores = self.scores(&theta, free)?;
-            let (g, _) = total(&self.by_unit(&scores, free.len()));
+            let g = (scores.iter()).fold(DVector::zeros(free.len()), |g, s| g + s);
             let moving: Vec<usize> = (0..free.len())
                 .filter(|&r| !(theta[free[r]] <= self.floor[free[r]] && g[r] > 0.0))
                 .collect();

@@ -381,11 +381,8 @@ impl Problem<'_> {
         }
     }
 
-    /// The minimum distance on the modes' (Ω², 2ζΩ): forces diagonal on the modes.
-    fn diagonal(
-        &self,
-        cols: &[Vec<[f64; 2]>],
-    ) -> Result<Result<Estimate, NotExact>, DiscoverError> {
+    /// The modes' (Ω², 2ζΩ), their weights and the library's diagonal columns on them.
+    fn distance(&self, cols: &[Vec<[f64; 2]>]) -> Result<Distance, NotExact> {
         let used = self.fits.len();
         let mut distance = Distance {
             y: Vec::new(),
@@ -393,12 +390,23 @@ impl Problem<'_> {
             columns: cols.iter().map(|c| c[..used].to_vec()).collect(),
         };
         for f in self.fits {
-            let Some((y, w)) = moments(&f.fit.estimate, &f.covariance) else {
-                return Ok(Err(NotExact::Singular));
-            };
+            let (y, w) = moments(&f.fit.estimate, &f.covariance).ok_or(NotExact::Singular)?;
             distance.y.push(y);
             distance.weight.push(w);
         }
+        Ok(distance)
+    }
+
+    /// The minimum distance on the modes' (Ω², 2ζΩ): forces diagonal on the modes.
+    fn diagonal(
+        &self,
+        cols: &[Vec<[f64; 2]>],
+    ) -> Result<Result<Estimate, NotExact>, DiscoverError> {
+        let used = self.fits.len();
+        let distance = match self.distance(cols) {
+            Ok(d) => d,
+            Err(why) => return Ok(Err(why)),
+        };
         let all: Vec<usize> = (0..cols.len())
             .filter(|&m| {
                 distance.columns[m]
@@ -455,7 +463,7 @@ impl Problem<'_> {
         cols: &[Vec<[f64; 2]>],
     ) -> Result<Result<Estimate, NotExact>, DiscoverError> {
         // The resolved modes that were fitted (fewer than the forces' when a later one failed).
-        let (m, r) = (self.fits.len(), self.fits.len());
+        let m = self.fits.len();
         let all: Vec<usize> = (0..forces.len())
             .filter(|&i| {
                 let f = &forces[i];
@@ -467,24 +475,28 @@ impl Problem<'_> {
             .collect();
         let k = all.len();
         let estimates: Vec<Oscillator> = self.fits.iter().map(|f| f.fit.estimate).collect();
-        let mean = |f: &dyn Fn(&Oscillator) -> f64| estimates.iter().map(f).sum::<f64>() / r as f64;
+        let mean = |f: &dyn Fn(&Oscillator) -> f64| estimates.iter().map(f).sum::<f64>() / m as f64;
         let rates = [
             mean(&|p| p.omega * p.omega),
             mean(&|p| 2.0 * p.zeta * p.omega),
         ];
         let chosen: Vec<&ModalForce> = all.iter().map(|&i| &forces[i]).collect();
         // Start: the diagonal entries' minimum distance on the terms that have them, the rest 0.
-        let size = forces.first().map_or(m, |f| f.position.nrows());
-        let biggest = |f: &ModalForce, diagonal: bool| {
-            (f.position.iter().chain(f.velocity.iter()).enumerate())
-                .filter(|(e, _)| !diagonal || (e % (size * size)) % (size + 1) == 0)
-                .fold(0.0f64, |s, (_, x)| s.max(x.abs()))
-        };
+        let largest =
+            |a: &nalgebra::DMatrix<f64>, b: &nalgebra::DMatrix<f64>| a.amax().max(b.amax());
         let on_diagonal: Vec<usize> = (all.iter().copied())
-            .filter(|&i| biggest(&forces[i], true) > 1e-3 * biggest(&forces[i], false))
+            .filter(|&i| {
+                let f = &forces[i];
+                let diagonal = f
+                    .position
+                    .diagonal()
+                    .amax()
+                    .max(f.velocity.diagonal().amax());
+                diagonal > 1e-3 * largest(&f.position, &f.velocity)
+            })
             .collect();
         let mut start = DVector::zeros(k + 2 * m);
-        if let Ok(Ok(d)) = self.diagonal(cols).map(|e| e.map(|e| e.scored)) {
+        if let Ok(d) = self.distance(cols) {
             if let Some((b, _, _)) = d.fit(&on_diagonal) {
                 for (&i, v) in on_diagonal.iter().zip(b) {
                     start[all.iter().position(|&a| a == i).unwrap_or(0)] = v;
