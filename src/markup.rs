@@ -53,6 +53,40 @@ pub fn clip(s: &str) -> String {
     }
 }
 
+/// A word the shell reads as itself: plain words as they are, others in single quotes (a quote
+/// inside as `'\''`); a word with control characters is clipped, never printed raw.
+pub fn shell_word(s: &str) -> String {
+    if s.chars().any(char::is_control) {
+        return clip(s);
+    }
+    if !s.is_empty()
+        && s.chars()
+            .all(|c| c.is_ascii_alphanumeric() || "_./-+=:,".contains(c))
+    {
+        s.to_string()
+    } else {
+        format!("'{}'", s.replace('\'', "'\\''"))
+    }
+}
+
+/// `theory-search SUB FILE… [--model M]`, every word as the shell reads it: the start of a
+/// command a report prints for the recordings it read (`FILE` when it does not know them).
+pub fn command_line(sub: &str, inputs: &[String], model: Option<&str>) -> String {
+    let mut line = format!("theory-search {sub}");
+    if inputs.is_empty() {
+        line += " FILE";
+    }
+    for i in inputs {
+        line += " ";
+        line += &shell_word(i);
+    }
+    if let Some(m) = model {
+        line += " --model ";
+        line += &shell_word(m);
+    }
+    line
+}
+
 /// A cell of a Markdown table: `|` and `\\` escaped, so text from a model file never adds a
 /// column.
 pub fn markdown_cell(s: &str) -> String {

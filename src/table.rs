@@ -157,6 +157,13 @@ fn notes(a: &Analysis) -> Vec<String> {
 /// The candidate tables in text: the title, the requirements, the aligned table, then each
 /// density's survivors and notes; written line by line to `out`.
 fn text(model: &Model, analyses: &[Analysis], out: &mut Chunked) -> io::Result<()> {
+    // Which body the tables are of: a model file's name is validated text (one line, no controls).
+    if let Some(a) = analyses.first() {
+        out.say(format_args!(
+            "Candidate terms of the {} model at order {}\n",
+            model.name, a.order
+        ));
+    }
     for a in analyses {
         let cells = Cells::new(model, a, plain);
         out.say(format_args!(

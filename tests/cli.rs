@@ -637,7 +637,13 @@ fn fit_command() {
     assert!(out.starts_with("mode,eigenvalue,pca_share,theory_share,overlap"));
     let (code, out, _) = run(&["fit", example]);
     assert_eq!(code, 0);
-    assert!(out.starts_with("Fit of 3000 frames of 12-point midlines"));
+    // The verdict in words first, with the next command; then how it was found.
+    assert!(
+        out.starts_with("In short: the theory holds here: equipartition, dispersion and damping consistent over modes 2, 3, 4.\n  κ = "),
+        "{out}"
+    );
+    assert!(out.contains("\n  next: theory-search simulate --points 12 --param omega_b="));
+    assert!(out.contains("\n\nFit of 3000 frames of 12-point midlines"));
     // Standard input.
     let child = Command::new(env!("CARGO_BIN_EXE_theory-search"))
         .args(["fit", "-", "--format", "json"])

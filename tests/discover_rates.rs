@@ -190,7 +190,7 @@ fn a_free_beam_at_trackers_rates_gets_its_terms_and_covering_intervals() {
 
 #[test]
 #[ignore = "a coverage study: 20 seeds a setting (docs/discover.md)"]
-fn coverage_study() {
+fn by_hand_coverage_study() {
     for clamped in [false, true] {
         for fpp in [8.0, 14.0, 30.0] {
             for (points, noise) in [(12, 0.01), (25, 0.05)] {
@@ -262,7 +262,7 @@ fn an_active_beam_is_found_by_the_coupled_likelihood_at_a_trackers_rate() {
 
 #[test]
 #[ignore = "a coverage study: 20 seeds a setting (docs/discover.md)"]
-fn active_coverage_study() {
+fn by_hand_active_coverage_study() {
     for fpp in [8.0, 14.0, 30.0] {
         let beam = active_beam(fpp);
         let out = on_two_cores(20, |s| {

@@ -117,6 +117,17 @@ fn the_command_writes_quietly_and_fails_cleanly() {
         ),
         "{said}"
     );
+    // In another format the skipped figure is named by the file it would have been.
+    let png_held = common::scratch("figures-png");
+    let out = Command::new(env!("CARGO_BIN_EXE_theory-search"))
+        .args(["figures", "--samples", "5000", "--format", "png", "--out"])
+        .arg(png_held.path())
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert!(said.contains("skipped forward_backward.png: "), "{said}");
+    assert!(!said.contains(".svg"), "{said}");
     // A file where the directory should be.
     let file = dir.join("mode_shapes.svg");
     let out = Command::new(env!("CARGO_BIN_EXE_theory-search"))

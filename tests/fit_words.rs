@@ -134,3 +134,63 @@ fn undetermined_tests_say_what_would_decide_them() {
     let decided = common::cli(&["fit", EXAMPLE, "--window", "512"]).unwrap();
     assert!(!decided.contains("to decide the tests") || decided.contains("undetermined"));
 }
+
+/// The words before the numbers: whether the theory holds, the constant, and the next command
+/// with this recording's names and numbers; every `next:` line that is a command runs.
+#[test]
+fn the_report_opens_with_the_verdict_and_the_next_command() {
+    let first_lines = |args: &[&str]| -> Vec<String> {
+        let text = common::cli(args).expect("fit runs");
+        text.lines().take(3).map(String::from).collect()
+    };
+    // Consistent: the fitted body, simulated.
+    let holds = first_lines(&["fit", EXAMPLE]);
+    assert!(
+        holds[0].starts_with("In short: the theory holds here"),
+        "{holds:?}"
+    );
+    assert!(holds[1].starts_with("  κ = 0.00992"), "{holds:?}");
+    assert!(
+        holds[2].starts_with("  next: theory-search simulate --points 12 --param omega_b="),
+        "{holds:?}"
+    );
+    // Rejected on a model with an [active] section: discover --active, with the same
+    // recording, model and reading options.
+    let crawler = "tables/models/crawler.toml";
+    let rejected = first_lines(&["fit", WORMPOSE, "--model", crawler, "--time-unit", "s"]);
+    assert!(
+        rejected[0].starts_with("In short: the theory does not hold here: "),
+        "{rejected:?}"
+    );
+    assert!(
+        rejected[1].contains("not a constant of this body"),
+        "{rejected:?}"
+    );
+    let next = format!(
+        "  next: theory-search discover {WORMPOSE} --time-unit s --model {crawler} --active ("
+    );
+    assert!(rejected[2].starts_with(&next), "{rejected:?}");
+    // Without an [active] section, plain discover (which names the next layer itself).
+    let worm = first_lines(&["fit", WORMPOSE, "--model", "tables/models/worm.toml"]);
+    assert!(!worm[2].contains("--active"), "{worm:?}");
+    // Undetermined: the advice's option, with its number.
+    let few = first_lines(&["fit", EXAMPLE, "--points", "5"]);
+    assert_eq!(
+        few[0],
+        "In short: undetermined: 2 voting mode(s), a test needs 3."
+    );
+    assert!(
+        few[2].starts_with("  next: this command again with --points 10 "),
+        "{few:?}"
+    );
+    // Each command printed runs as printed.
+    for lines in [&holds, &rejected, &worm] {
+        let command = lines[2]
+            .trim()
+            .strip_prefix("next: theory-search ")
+            .unwrap();
+        let command = command.split(" (").next().unwrap();
+        let args: Vec<&str> = command.split_whitespace().collect();
+        common::cli(&args).unwrap_or_else(|e| panic!("{command}: {e}"));
+    }
+}

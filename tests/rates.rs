@@ -217,7 +217,7 @@ fn five_percent_lost_in_bursts_unbridged_keeps_kappa() {
 /// bounds counted; the table is in docs/fit.md.
 #[test]
 #[ignore]
-fn every_rate_end_and_noise() {
+fn by_hand_every_rate_end_and_noise() {
     let mut met = Vec::new();
     for clamped in [false, true] {
         for per_period in [8.0, 14.0, 30.0] {

@@ -211,14 +211,22 @@ fn every_block_says_what_it_is_and_shown_output_is_printed() {
     assert!(onward >= 1, "{onward} onward lines run");
 }
 
-/// Every onward line a command printed (`Onward: theory-search simulate …`), run as printed
-/// (no shell quoting: the words are the arguments); how many ran.
+/// Every onward line a command printed, run as printed (no shell quoting: the words are the
+/// arguments): discover's `Onward: theory-search simulate …`, fit's `onward (…): theory-search
+/// simulate …` and the verdict blocks' `next: theory-search … (why)` (fit) and `Next: …`
+/// (discover); how many ran.
 fn onward_lines_run(printed: &str) -> usize {
     let mut ran = 0;
     for line in printed.lines() {
-        let Some(command) = line.trim().strip_prefix("Onward: theory-search ") else {
+        let line = line.trim();
+        let onward = ["Onward: ", "onward (", "next: ", "Next: "]
+            .iter()
+            .any(|p| line.starts_with(p));
+        let Some((_, command)) = line.split_once("theory-search ").filter(|_| onward) else {
             continue;
         };
+        // A trailing `(why)` is words, not arguments.
+        let command = command.split(" (").next().unwrap_or(command);
         assert!(!command.contains('\''), "a quoted onward line: {command}");
         let args: Vec<String> = command.split_whitespace().map(String::from).collect();
         run(&args);

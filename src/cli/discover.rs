@@ -72,6 +72,7 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
         .collect();
     let mut report = discover(sources, &model, &settings).map_err(CliError::from)?;
     report.model_argument = args.model.model.as_ref().map(|p| p.display().to_string());
+    report.inputs = super::recording::inputs(&args.input, &args.recording);
     // An equation `simulate` refuses has no replay to draw: the report says why instead.
     if let (Some(dir), None) = (&args.figures, &report.onward_refused) {
         crate::figures::write_discover(dir, &report, &page).map_err(super::figures::usage)?;

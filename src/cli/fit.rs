@@ -107,7 +107,9 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<(), CliError> {
         fit_inputs(inputs, &model, &params, &settings, None)
     };
     finish_series(sink)?;
-    let report = result?;
+    let mut report = result?;
+    report.inputs = super::recording::inputs(&args.input, &args.recording);
+    report.model_argument = args.model.model.as_ref().map(|p| p.display().to_string());
     if let Some(dir) = &args.figures {
         crate::figures::write_fit(dir, &report, &page).map_err(super::figures::usage)?;
     }

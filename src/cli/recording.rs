@@ -117,4 +117,39 @@ impl RecordingArgs {
         pairs.extend(optional.into_iter().filter_map(|(n, v)| Some((n, v?))));
         pairs
     }
+
+    /// The options given away from their defaults, as command-line words: the commands a
+    /// report prints read the same recordings the same way.
+    pub fn words(&self) -> Vec<String> {
+        #[derive(clap::Parser)]
+        struct Defaults {
+            #[command(flatten)]
+            recording: RecordingArgs,
+        }
+        let defaults = <Defaults as clap::Parser>::try_parse_from(["defaults"])
+            .map(|d| d.recording.pairs(0))
+            .unwrap_or_default();
+        let mut words = Vec::new();
+        for (name, value) in self.pairs(0) {
+            if defaults.contains(&(name, value.clone())) {
+                continue;
+            }
+            words.push(format!("--{}", name.replace('_', "-")));
+            match value {
+                Setting::Bool(_) => {}
+                Setting::Text(t) => words.push(t),
+                Setting::Int(i) => words.push(i.to_string()),
+                Setting::Float(x) => words.push(crate::report::number(x)),
+            }
+        }
+        words
+    }
+}
+
+/// The recordings as the command line named them, then the reading options given: the words
+/// a report's commands start from.
+pub(super) fn inputs(paths: &[std::path::PathBuf], args: &RecordingArgs) -> Vec<String> {
+    let mut words: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
+    words.extend(args.words());
+    words
 }

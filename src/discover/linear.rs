@@ -295,6 +295,7 @@ pub(super) fn estimate(
         dt: first.dt,
         time_unit: first.fit.units.time.clone(),
         model_argument: None,
+        inputs: Vec::new(),
         not_estimated: Vec::new(),
         replay: None,
         onward: None,

@@ -13,8 +13,10 @@ use serde::Serialize;
 
 use super::data::Recording;
 use super::report::{short, DiscoverReport};
+use super::verdict::Next;
 use crate::body::{Body, BodyModes};
 use crate::dynamics::MAX_WORK;
+use crate::markup::{command_line, shell_word};
 use crate::model::Model;
 use crate::report::number;
 
@@ -158,22 +160,39 @@ pub(super) fn onward(
     })
 }
 
-/// A word the shell reads as itself.
-fn shell_word(s: &str) -> String {
-    if s.chars().any(char::is_control) {
-        return crate::markup::clip(s);
-    }
-    if !s.is_empty()
-        && s.chars()
-            .all(|c| c.is_ascii_alphanumeric() || "_./-+=:,".contains(c))
-    {
-        s.to_string()
-    } else {
-        format!("'{}'", s.replace('\'', "'\\''"))
-    }
-}
-
 impl DiscoverReport {
+    /// `Next: …`: what to run after the verdict, from the recordings and reading options as the
+    /// command line gave them.
+    pub fn next_line(&self, next: Next) -> String {
+        let discover = |order: u32| {
+            let line = command_line("discover", &self.inputs, self.model_argument.as_deref());
+            format!("{line} --order {order}")
+        };
+        match next {
+            Next::Replay if self.onward_refused.is_none() => {
+                "Next: the Onward line below runs the discovered body as the recording was taken.\n"
+                    .into()
+            }
+            Next::Replay => "Next: nothing to run (the Onward line below says why).\n".into(),
+            Next::Active => format!(
+                "Next: {} --active (the forces the passive library lacks: active and gyroscopic)\n",
+                discover(self.order)
+            ),
+            Next::Layer {
+                order,
+                beyond_leading,
+            } => format!(
+                "Next: {}{} --beyond-leading {beyond_leading} (the next layer of the expansion)\n",
+                discover(order),
+                if self.active { " --active" } else { "" }
+            ),
+            Next::MoreData => {
+                "Next: more frames or animals (no term is kept in more than half of the draws).\n"
+                    .into()
+            }
+        }
+    }
+
     /// The onward `simulate` line: every library coefficient set (0 where not selected), and
     /// with [`Onward`] (set by `discover`) the recording's replay.
     pub fn simulate_line(&self) -> String {

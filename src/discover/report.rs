@@ -109,6 +109,10 @@ pub struct DiscoverReport {
     pub time_unit: Option<String>,
     /// The model as the onward `simulate` line names it (set by the caller).
     pub model_argument: Option<String>,
+    /// The recordings and reading options as the command line gave them (set by the caller):
+    /// the `Next:` command starts from them.
+    #[serde(skip)]
+    pub inputs: Vec<String>,
     /// Kinetic coefficients beyond ½(∂tφ)²: in the library, not estimated (they renormalise
     /// the mass, which the weak form cannot tell from a rescaling of every other coefficient);
     /// the onward line sets them to 0.
@@ -348,6 +352,7 @@ pub(super) fn assemble(
         dt: first.dt,
         time_unit: first.fit.units.time.clone(),
         model_argument: None,
+        inputs: Vec::new(),
         not_estimated: Vec::new(),
         replay: None,
         onward: None,
@@ -427,6 +432,7 @@ impl Report for DiscoverReport {
         // What the answer is worth comes before how it was found.
         if let Some(v) = &self.verdict {
             out += &v.text();
+            out += &self.next_line(v.next);
         }
         out += &format!(
             "Library: order {}, {} order(s) beyond leading, active forces {}: {} candidates.\n",

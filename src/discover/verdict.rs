@@ -157,6 +157,28 @@ pub struct Verdict {
     /// The modes' misfit, when the estimator tests it.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub goodness: Option<Goodness>,
+    /// What to run after this answer.
+    pub next: Next,
+}
+
+/// What to run after a verdict.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case", tag = "kind")]
+pub enum Next {
+    /// The theory holds: the onward line runs the discovered body as the recording was taken.
+    Replay,
+    /// Forces the passive library lacks, which the model's `[active]` section allows.
+    Active,
+    /// The next layer of the expansion: two orders more (the body's reflection symmetry
+    /// steps the orders by two) and one more layer beyond the leading one.
+    Layer {
+        /// `--order`.
+        order: u32,
+        /// `--beyond-leading`.
+        beyond_leading: u32,
+    },
+    /// No term is kept in more than half of the draws: more frames or animals.
+    MoreData,
 }
 
 impl Verdict {
@@ -186,10 +208,26 @@ impl Verdict {
         } else {
             Conclusion::Undecided
         };
+        let next = if findings
+            .iter()
+            .any(|f| matches!(f, Finding::NoModel { .. }))
+        {
+            Next::MoreData
+        } else if conclusion == Conclusion::Holds {
+            Next::Replay
+        } else if !report.active && model.active.is_some() {
+            Next::Active
+        } else {
+            Next::Layer {
+                order: order + 2,
+                beyond_leading: report.beyond_leading + 1,
+            }
+        };
         Verdict {
             conclusion,
             findings,
             goodness: report.goodness,
+            next,
         }
     }
 
@@ -294,6 +332,7 @@ mod tests {
             conclusion: Conclusion::Undecided,
             findings: vec![reaching],
             goodness: None,
+            next: Next::Active,
         };
         assert!(
             verdict

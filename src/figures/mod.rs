@@ -203,7 +203,9 @@ pub fn write_figures(
                 .written
                 .push(write_figure(dir, name, &svg, &settings.page)?),
             Err(FigureError::Behaviour(why)) if names.len() > 1 && why.is_missing_structure() => {
-                out.skipped.push((name.to_string(), why.to_string()))
+                // Named as the file it would have been, in the format asked for.
+                out.skipped
+                    .push((file_name(name, &settings.page), why.to_string()))
             }
             Err(e) => return Err(e),
         }
@@ -219,9 +221,17 @@ fn create_dir(dir: &Path) -> Result<(), FigureError> {
     })
 }
 
+/// Figure `name`'s (`….svg`) file name in `page`'s format.
+fn file_name(name: &str, page: &Page) -> String {
+    Path::new(name)
+        .with_extension(page.format.extension())
+        .display()
+        .to_string()
+}
+
 /// Write figure `name` (`….svg`) as `page` says: the file takes the format's extension.
 fn write_figure(dir: &Path, name: &str, svg: &str, page: &Page) -> Result<PathBuf, FigureError> {
-    let path = dir.join(name).with_extension(page.format.extension());
+    let path = dir.join(file_name(name, page));
     let bytes = page.encode(svg)?;
     std::fs::write(&path, bytes).map_err(|source| FigureError::Io {
         action: "write",

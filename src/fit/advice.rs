@@ -203,6 +203,16 @@ pub(super) fn of(report: &FitReport, series: &[Series]) -> Option<Advice> {
 }
 
 impl Step {
+    /// The option of `fit` that makes this change (`--window 29`), where one does.
+    pub(super) fn option(&self) -> Option<String> {
+        match self {
+            Step::Window { frames, .. } => Some(format!("--window {frames}")),
+            Step::FillGaps { fill_gaps, .. } => Some(format!("--fill-gaps {fill_gaps}")),
+            Step::Points { points, .. } if *points > 0 => Some(format!("--points {points}")),
+            _ => None,
+        }
+    }
+
     /// In words, frame rates per `unit`.
     fn words(&self, unit: &str) -> String {
         let f = &mut String::new();

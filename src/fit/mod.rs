@@ -45,6 +45,7 @@ mod animal;
 mod bootstrap;
 mod bridging;
 mod error;
+mod gist;
 mod note;
 mod pilot;
 mod pool;

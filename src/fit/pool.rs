@@ -536,6 +536,7 @@ impl Pool {
             super::rates::attach(&mut report, (interval, names), fitted);
         }
         report.onward = report.onward_arguments();
+        report.active_allowed = ctx.model.active.is_some();
         Ok(report)
     }
 }

@@ -148,6 +148,16 @@ pub struct FitReport {
     pub advice: Option<super::advice::Advice>,
     /// The arguments that make `simulate` use the fitted scales (see [`FitReport::onward`]).
     pub onward: Vec<String>,
+    /// The recordings as the command line named them and the reading options it gave (`--fps
+    /// 15`…): the commands the report prints start from them.
+    #[serde(skip)]
+    pub inputs: Vec<String>,
+    /// The model has an `[active]` section (`discover --active` takes it).
+    #[serde(skip)]
+    pub active_allowed: bool,
+    /// `--model`'s argument as given (the embedded larva without), for the same commands.
+    #[serde(skip)]
+    pub model_argument: Option<String>,
 }
 
 /// The continuum constant of a fit.
@@ -246,8 +256,9 @@ impl Report for FitReport {
         let time = r.units.time.as_deref().unwrap_or("time unit");
         let length = r.units.length.as_deref().unwrap_or("length unit");
         let mut t = format!(
-            "Fit of {} frames of {what} (sampling interval {} {time}) to field {} on N = {}\n\
+            "{}\nFit of {} frames of {what} (sampling interval {} {time}) to field {} on N = {}\n\
              \x20 ω = {} rad/{time} ({}), β = {} {time}² (amplitudes in point spacings h = {} {length}; β/h² = {} {time}²/{length}²)\n",
+            super::gist::text(r),
             r.frames,
             number((r.sample_interval * 1e9).round() / 1e9),
             r.field,
@@ -359,9 +370,8 @@ impl Report for FitReport {
             shares.join(" ")
         );
         t += &format!(
-            "  onward (times in {time}, lengths in point spacings): theory-search simulate --points {} {}\n",
-            r.model_points,
-            r.onward.join(" ")
+            "  onward (times in {time}, lengths in point spacings): {}\n",
+            r.simulate_line()
         );
         crate::report::wrap_long(&t, crate::report::MAX_LINE)
     }
@@ -444,6 +454,16 @@ impl FitReport {
             w.write_record(&r).ok();
         }
         String::from_utf8(w.into_inner().unwrap_or_default()).unwrap_or_default()
+    }
+
+    /// The onward `simulate` line: the fitted body on the model's points.
+    pub fn simulate_line(&self) -> String {
+        let mut line = String::from("theory-search simulate");
+        if let Some(m) = &self.model_argument {
+            line += " --model ";
+            line += &crate::markup::shell_word(m);
+        }
+        line + &format!(" --points {} {}", self.model_points, self.onward.join(" "))
     }
 
     /// The arguments that make `simulate` (and, without `--temperature`, `behave` and `modes`)

@@ -135,7 +135,7 @@ fn text_field(f: &FieldModes, out: &mut Chunked) -> io::Result<()> {
     let sp = &f.spectrum;
     let scale = f.field.scale();
     out.say(format_args!(
-        "\n{} ({}) · {} boundary · Δ{} operator, {} modes ({}) · ω_{scale} = {}, ζ_{scale} = {} · Σλ⁻¹ = {}",
+        "\n{} ({}) · {} boundary\n  Δ{} operator, {} modes ({}) · ω_{scale} = {}, ζ_{scale} = {} · Σλ⁻¹ = {}",
         f.field.id,
         f.field.meaning,
         f.field.boundary.name(),
@@ -146,6 +146,13 @@ fn text_field(f: &FieldModes, out: &mut Chunked) -> io::Result<()> {
         num_string(f.zeta),
         num_string(sp.inverse_trace),
     ));
+    if let Some(other) = &f.same_frequencies_as {
+        // A twin's table would repeat the other's row for row (z is y's twin): say so instead.
+        out.say(format_args!(
+            "  same operator, ends and scales as {other}: the same modes (the table above; JSON and CSV list them)"
+        ));
+        return Ok(());
+    }
     let with_beam = !f.beam.is_empty();
     let eq17 = f.beam.iter().any(|b| b.seed_eq17.is_some());
     let mut header = vec![
@@ -205,11 +212,6 @@ fn text_notes(f: &FieldModes, eq17: bool, with_beam: bool, out: &mut Chunked) ->
             out.spill()?;
         }
         out.buf().push('\n');
-    }
-    if let Some(other) = &f.same_frequencies_as {
-        out.say(format_args!(
-            "  same operator and scales as {other}: identical frequencies"
-        ));
     }
     if eq17 {
         // Eq. 17's limit (iπ)⁴ against the beam's (β₁L)⁴, for the first mode.
