@@ -299,6 +299,7 @@ fn bad_wcon_is_one_clear_line() {
 }
 
 #[test]
+#[ignore = "a coverage study, run by .ci/run: cargo test --release -- --ignored --skip by_hand_"]
 fn bootstrap_intervals_cover_the_truth_and_shrink_with_animals() {
     let mut s = settings();
     s.bootstrap = 200;

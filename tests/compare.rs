@@ -92,6 +92,7 @@ fn a_stiffer_group_is_found_with_an_interval_excluding_zero() {
 }
 
 #[test]
+#[ignore = "a coverage study, run by .ci/run: cargo test --release -- --ignored --skip by_hand_"]
 fn two_groups_of_one_population_cover_zero() {
     let covered: Vec<bool> = on_two_cores(20, |s| {
         let (report, _) = compared(0.01, 0.01, 100 + s);

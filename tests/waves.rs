@@ -65,16 +65,19 @@ fn caught(name: &str, fits: &[FitReport]) {
 }
 
 #[test]
+#[ignore = "a coverage study, run by .ci/run: cargo test --release -- --ignored --skip by_hand_"]
 fn a_pure_travelling_wave_is_rejected_on_the_dispersion() {
     caught("pure wave", &study(STILL, Some(WAVE), 5600));
 }
 
 #[test]
+#[ignore = "a coverage study, run by .ci/run: cargo test --release -- --ignored --skip by_hand_"]
 fn a_weak_wave_over_thermal_modes_is_rejected_on_the_dispersion() {
     caught("weak wave", &study(THERMAL, Some(WEAK), 5700));
 }
 
 #[test]
+#[ignore = "a coverage study, run by .ci/run: cargo test --release -- --ignored --skip by_hand_"]
 fn a_thermal_beam_draws_no_driven_wave_warning() {
     // At the coverage studies' 20 000 frames, and at the waves' 6000.
     for (body, seed0) in [(FREE_BEAM, 5800), (THERMAL, 5900)] {
