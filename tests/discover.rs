@@ -387,3 +387,43 @@ fn a_selection_without_a_restoring_force_gets_no_onward_line() {
         "{doc}"
     );
 }
+
+/// The next layer's sign claims hold whatever the other fields' terms: at order 6 the worm's
+/// axial equation turns nonlinear, which once left the lateral one without its claims, and
+/// c2_y of +c2_y ∂s⁶y came out negative (energy unbounded below at short wavelengths) under a
+/// verdict that the theory holds. The verdict's `Next:` line is a command that runs.
+#[test]
+fn the_next_layer_keeps_its_sign_claims_and_the_next_line_runs() {
+    let wormpose = "../shared/data/celegans_wormpose_15fps_52pts.csv";
+    let worm = "tables/models/worm.toml";
+    let text = common::cli(&["discover", wormpose, "--model", worm]).expect("discover runs");
+    let next = text
+        .lines()
+        .find_map(|l| l.strip_prefix("Next: theory-search "))
+        .expect("a Next: line");
+    assert!(
+        next.starts_with(&format!(
+            "discover {wormpose} --model {worm} --order 6 --beyond-leading 1 ("
+        )),
+        "{text}"
+    );
+    let args: Vec<&str> = next
+        .split(" (")
+        .next()
+        .unwrap()
+        .split_whitespace()
+        .collect();
+    let layer = common::cli(&args).expect("the Next: line runs");
+    let verdict = layer
+        .lines()
+        .find(|l| l.starts_with("Verdict: "))
+        .expect("a verdict");
+    assert!(
+        verdict.starts_with("Verdict: the theory does not hold here: c2_y = -"),
+        "{layer}"
+    );
+    assert!(
+        verdict.contains("c2_y > 0: the energy must be bounded below"),
+        "{layer}"
+    );
+}

@@ -14,7 +14,7 @@ use serde::Serialize;
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 
 use super::report::{DiscoverReport, Selection, MEDIAN_DRAWS};
-use crate::equations::{derive_each, derive_nonlinear_each, SignClaim};
+use crate::equations::{derive_field, derive_nonlinear_each, ForceKind, SignClaim};
 use crate::model::Model;
 
 /// The p-value under which the modes' misfit rejects the selected theory.
@@ -98,7 +98,7 @@ impl Finding {
     }
 
     fn text(&self) -> String {
-        let n = crate::report::number;
+        let n = crate::report::short;
         match self {
             Finding::WrongSign {
                 coefficient,
@@ -117,7 +117,7 @@ impl Finding {
                 },
             ),
             Finding::NoRestoringForce { selected } => format!(
-                "no selected force holds the postures in place ({}: none is a force of the positions alone), so they would wander off",
+                "no selected force holds the postures in place ({}: none is a force of the positions that an energy gives; an odd-order active force drives, it does not restore), so they would wander off",
                 if selected.is_empty() { "nothing selected".to_string() } else { selected.join(", ") }
             ),
             Finding::NoModel { draws, best } => format!(
@@ -250,14 +250,9 @@ impl Verdict {
 
 /// Selected coefficients on the side their sign claim forbids.
 fn wrong_signs(report: &DiscoverReport, model: &Model, order: u32) -> Vec<Finding> {
-    // Sign claims exist for linear equations only (a nonlinear one is bounded jointly).
-    let Ok(derived) = derive_each(model, order, crate::enumerate::Basis::Powers) else {
-        return Vec::new();
-    };
-    let Some(eq) = derived
-        .equations
-        .iter()
-        .find(|e| e.field.id == report.field)
+    // Sign claims exist for linear equations only (a nonlinear one is bounded jointly); the
+    // field's own, whatever the other fields' terms.
+    let Ok(Some(eq)) = derive_field(model, order, crate::enumerate::Basis::Powers, &report.field)
     else {
         return Vec::new();
     };
@@ -306,8 +301,13 @@ fn restoring(report: &DiscoverReport, model: &Model, order: u32) -> bool {
         return true;
     };
     eq.rhs.iter().any(|r| {
+        // A force of the positions that is odd in s (the active a∂s³y) drives, it does not
+        // restore: on a free body its modal matrix has no diagonal. Only an energy's variation
+        // does: a term of the Lagrangian, or a linear force of even order.
+        let even_linear = matches!(r.monomial.as_slice(), [(d, 1)] if d.s % 2 == 0);
         !r.monomial.is_empty()
             && r.monomial.iter().all(|(d, _)| d.t == 0)
+            && (r.kind != ForceKind::Active || even_linear)
             && report.selected.iter().any(|t| t.name == r.coefficient)
     })
 }

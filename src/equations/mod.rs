@@ -429,6 +429,23 @@ pub fn derive_each(
     Ok(d)
 }
 
+/// One field's linear equation, with its sign claims, when that field's terms are quadratic
+/// (another field's nonlinear terms do not stop it, as they stop [`derive_each`]); `None` for a
+/// field the model lacks.
+pub fn derive_field(
+    model: &Model,
+    order: u32,
+    basis: Basis,
+    id: &str,
+) -> Result<Option<Equation>, EquationError> {
+    let Some(index) = model.fields.iter().position(|f| f.id == id) else {
+        return Ok(None);
+    };
+    let (l, r, active, mut notes) = analyses(model, order, basis)?;
+    let forces = active.get(index).map_or(&[][..], |f| &f[..]);
+    field_equation((&l, &r, forces), index, order, &mut notes).map(Some)
+}
+
 /// Both densities' analyses, each field's lowest-order active and gyroscopic forces (none
 /// without an `[active]` section) and what the analyses say is missing.
 type Analyses = (Analysis, Analysis, Vec<Vec<Force>>, Vec<String>);
