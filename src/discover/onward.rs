@@ -181,10 +181,16 @@ impl DiscoverReport {
             Next::Layer {
                 order,
                 beyond_leading,
+                linear,
             } => format!(
-                "Next: {}{} --beyond-leading {beyond_leading} (the next layer of the expansion)\n",
+                "Next: {}{} --beyond-leading {beyond_leading} (the next layer of the expansion{})\n",
                 discover(order),
-                if self.active { " --active" } else { "" }
+                if self.active { " --active" } else { "" },
+                if linear {
+                    ""
+                } else {
+                    "; nonlinear there, so the weak form estimates it, which needs ≥ 19 frames a period of the slowest mode and many windows"
+                }
             ),
             Next::MoreData => {
                 "Next: more frames or animals (no term is kept in more than half of the draws).\n"

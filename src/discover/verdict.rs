@@ -14,6 +14,7 @@ use serde::Serialize;
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 
 use super::report::{DiscoverReport, Selection, MEDIAN_DRAWS};
+use crate::enumerate::Basis;
 use crate::equations::{derive_field, derive_nonlinear_each, ForceKind, SignClaim};
 use crate::model::Model;
 
@@ -176,6 +177,9 @@ pub enum Next {
         order: u32,
         /// `--beyond-leading`.
         beyond_leading: u32,
+        /// The field's equation there is linear (the exact estimators take it); a nonlinear
+        /// one goes to the weak form, which needs finely sampled recordings.
+        linear: bool,
     },
     /// No term is kept in more than half of the draws: more frames or animals.
     MoreData,
@@ -218,9 +222,15 @@ impl Verdict {
         } else if !report.active && model.active.is_some() {
             Next::Active
         } else {
+            let mut layer = model.clone();
+            layer.set_beyond_leading(report.beyond_leading + 1);
+            let field = &report.field;
+            let linear =
+                derive_field(&layer, order + 2, Basis::Powers, field).is_ok_and(|e| e.is_some());
             Next::Layer {
                 order: order + 2,
                 beyond_leading: report.beyond_leading + 1,
+                linear,
             }
         };
         Verdict {
@@ -252,8 +262,7 @@ impl Verdict {
 fn wrong_signs(report: &DiscoverReport, model: &Model, order: u32) -> Vec<Finding> {
     // Sign claims exist for linear equations only (a nonlinear one is bounded jointly); the
     // field's own, whatever the other fields' terms.
-    let Ok(Some(eq)) = derive_field(model, order, crate::enumerate::Basis::Powers, &report.field)
-    else {
+    let Ok(Some(eq)) = derive_field(model, order, Basis::Powers, &report.field) else {
         return Vec::new();
     };
     let mut out = Vec::new();
@@ -289,7 +298,7 @@ fn wrong_sign(
 
 /// Some selected coefficient multiplies a force of the positions alone (no time derivative).
 fn restoring(report: &DiscoverReport, model: &Model, order: u32) -> bool {
-    let Ok(derived) = derive_nonlinear_each(model, order, crate::enumerate::Basis::Powers) else {
+    let Ok(derived) = derive_nonlinear_each(model, order, Basis::Powers) else {
         // Without the equation nothing can be said: no finding.
         return true;
     };
