@@ -22,6 +22,9 @@ pub(super) struct Series {
     pub(super) name: String,
     pub(super) points: Vec<(f64, f64)>,
     pub(super) mark: Mark,
+    /// Its colour's place in the palette ([`color`]), when it means something across panels
+    /// (mode 3 is mode 3 in every panel); otherwise its place in the panel.
+    pub(super) hue: Option<usize>,
 }
 
 pub(super) fn series(name: impl Into<String>, points: Vec<(f64, f64)>, mark: Mark) -> Series {
@@ -29,6 +32,20 @@ pub(super) fn series(name: impl Into<String>, points: Vec<(f64, f64)>, mark: Mar
         name: name.into(),
         points,
         mark,
+        hue: None,
+    }
+}
+
+impl Series {
+    /// The series drawn in the palette's colour `i` wherever it appears.
+    pub(super) fn hue(mut self, i: usize) -> Series {
+        self.hue = Some(i);
+        self
+    }
+
+    /// Its colour as the `i`-th series of its panel.
+    pub(super) fn color(&self, i: usize) -> RGBColor {
+        color(self.hue.unwrap_or(i))
     }
 }
 
@@ -68,6 +85,9 @@ pub(super) struct Panel<'a> {
     pub(super) markers: Vec<(f64, String)>,
     /// Force the y range to include 0.
     pub(super) zero: bool,
+    /// Let a point far from the others (farther than they spread) lie off the y axis, marked
+    /// by an arrow at the edge with its value, rather than squash the rest.
+    pub(super) outliers: bool,
 }
 
 pub(super) fn panel<'a>(title: &'a str, x: &'a str, y: &'a str, series: Vec<Series>) -> Panel<'a> {
@@ -78,6 +98,66 @@ pub(super) fn panel<'a>(title: &'a str, x: &'a str, y: &'a str, series: Vec<Seri
         series,
         markers: Vec::new(),
         zero: false,
+        outliers: false,
+    }
+}
+
+/// The padded range of `values` (never empty).
+pub(super) fn range(values: impl Iterator<Item = f64>, zero: bool) -> std::ops::Range<f64> {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in values.filter(|v| v.is_finite()) {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if zero {
+        lo = lo.min(0.0);
+        hi = hi.max(0.0);
+    }
+    if !lo.is_finite() {
+        return 0.0..1.0;
+    }
+    let pad = if hi > lo {
+        0.05 * (hi - lo)
+    } else {
+        0.5 * lo.abs().max(1.0)
+    };
+    (lo - pad)..(hi + pad)
+}
+
+/// A panel's x range: its series (a bar's both edges) and its markers.
+pub(super) fn x_range(p: &Panel) -> std::ops::Range<f64> {
+    let xs = p.series.iter().flat_map(|s| {
+        s.points.iter().flat_map(move |q| match s.mark {
+            Mark::Bars(w) => vec![q.0, q.0 + w],
+            _ => vec![q.0],
+        })
+    });
+    range(xs.chain(p.markers.iter().map(|m| m.0)), false)
+}
+
+/// A panel's marker lines, those that would be drawn within 0.5 % of the x axis of each other
+/// drawn once with their labels joined ("simulated 1 : 2 at G = 0.7071 = App. C: √2/2"), as
+/// [`merge_identical`] joins series: no line is hidden under another without a word.
+pub(super) fn merged_markers(p: &Panel) -> Vec<(f64, String)> {
+    let r = x_range(p);
+    let near = 0.005 * (r.end - r.start);
+    let mut out: Vec<(f64, String)> = Vec::new();
+    for (x, label) in &p.markers {
+        match out.iter_mut().find(|m| (m.0 - x).abs() <= near) {
+            Some(m) => m.1 = format!("{} = {label}", m.1),
+            None => out.push((*x, label.clone())),
+        }
+    }
+    out
+}
+
+/// How the `k`-th marker line of a panel is drawn: black, then grey and dashed, so that no
+/// marker takes a series' colour or the pale tint of one, and two markers differ.
+pub(super) fn marker_style(k: usize) -> (RGBColor, Mark) {
+    if k % 2 == 0 {
+        (RGBColor(0, 0, 0), Mark::Line)
+    } else {
+        (RGBColor(105, 105, 105), Mark::Dashed)
     }
 }
 
