@@ -466,7 +466,7 @@ pub(super) fn mathieu(width: u32) -> Result<String, FigureError> {
             "shaded: unstable (|tr M| > 2); lines: the first tongue's edges ω/λ = 2√(1 ± ε)",
             CAPTION,
         )?;
-        let mut chart = chart_builder(&root, 1)
+        let mut chart = chart_builder(&root, (1, 1))
             .build_cartesian_2d(lo..hi, 0.0..emax)
             .map_err(err)?;
         chart

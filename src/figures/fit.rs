@@ -128,7 +128,8 @@ fn fit_verdict(r: &crate::fit::FitReport, width: u32) -> Result<String, FigureEr
             series("95 % intervals", bars, Mark::Errors).hue(VOTING),
             series("other modes", split(&d.modes, false, &omega), Mark::Dots).hue(OTHER),
             series(
-                format!("theory ω√λ, ω = {:.4} {}", r.omega, per(r, "rad")),
+                // ω in the axis' unit (√λ has none); the figure's title is the summary's.
+                format!("theory ω√λ, ω = {:.4}", r.omega),
                 curve(0.0, top, 40, |x| r.omega * x),
                 Mark::Line,
             )
@@ -243,21 +244,24 @@ pub fn fit_figures(
         ],
     );
     shares.zero = true;
-    let measured = format!("measured: 2π × spectral {}", estimate(r));
+    // The measured ωᵢ are not the verdict's Ωᵢ (each spectrum's fitted line): the title says
+    // which estimate they are.
+    let freq_title = format!("modal frequencies: 2π × each spectrum's {}", estimate(r));
     let mut freq = panel(
-        "modal frequencies (the verdict's Ωᵢ: fitted lines)",
+        &freq_title,
         "mode index i",
         &angular,
         vec![
             series(
-                measured.as_str(),
+                "measured",
                 (0..r.modes.len())
                     .map(|k| (idx(k), r.modes[k].angular_frequency))
                     .collect(),
                 Mark::Dots,
             ),
             series(
-                format!("ω√λᵢ, ω = {:.4} {}", r.omega, per(r, "rad")),
+                // ω's unit is the axis' and the title's.
+                format!("ω√λᵢ, ω = {:.4}", r.omega),
                 (0..r.modes.len())
                     .map(|k| (idx(k), r.modes[k].theory_angular_frequency))
                     .collect(),
@@ -277,11 +281,7 @@ pub fn fit_figures(
         "mode index i",
         "ωᵢ / ω of the first mode",
         vec![
-            series(
-                measured.as_str(),
-                ratio(&|m| m.angular_frequency),
-                Mark::Dots,
-            ),
+            series("measured", ratio(&|m| m.angular_frequency), Mark::Dots),
             series(
                 "theory √(λᵢ/λ₁)",
                 ratio(&|m| m.eigenvalue.sqrt()),

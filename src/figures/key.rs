@@ -120,8 +120,8 @@ pub(super) fn keyed<'a>(
 }
 
 /// A panel's key: its named series that have points (the key says what is drawn), then its
-/// marker lines.
-pub(super) fn keys<'p>(p: &'p Panel) -> Vec<Key<'p>> {
+/// marker lines, styled by their place in the figure's markers `marks`.
+pub(super) fn keys<'p>(p: &'p Panel, marks: &[String]) -> Vec<Key<'p>> {
     let series = p.series.iter().enumerate();
     series
         .filter(|(_, s)| !s.name.is_empty() && !s.points.is_empty())
@@ -130,8 +130,8 @@ pub(super) fn keys<'p>(p: &'p Panel) -> Vec<Key<'p>> {
             color: s.color(i),
             mark: s.mark,
         })
-        .chain(merged_markers(p).into_iter().enumerate().map(|(k, m)| {
-            let (color, mark) = marker_style(k);
+        .chain(merged_markers(p).into_iter().map(|m| {
+            let (color, mark) = marker_style(&m.1, marks);
             Key {
                 label: Cow::Owned(m.1),
                 color,
@@ -143,8 +143,8 @@ pub(super) fn keys<'p>(p: &'p Panel) -> Vec<Key<'p>> {
 
 /// The entries two or more of `panels` have alike (label, colour and mark), in the order they
 /// first appear: the figure shows them once, under its title, and no panel repeats them.
-pub(super) fn common_keys<'p>(panels: &'p [Panel]) -> Vec<Key<'p>> {
-    let each: Vec<Vec<Key>> = panels.iter().map(keys).collect();
+pub(super) fn common_keys<'p>(panels: &'p [Panel], marks: &[String]) -> Vec<Key<'p>> {
+    let each: Vec<Vec<Key>> = panels.iter().map(|p| keys(p, marks)).collect();
     let mut common: Vec<Key> = Vec::new();
     for (i, ks) in each.iter().enumerate() {
         for k in ks {
@@ -162,8 +162,8 @@ pub(super) fn common_keys<'p>(panels: &'p [Panel]) -> Vec<Key<'p>> {
 }
 
 /// Panel `p`'s own key: its entries that the figure's key (`common`) does not show.
-pub(super) fn own_keys<'p>(p: &'p Panel, common: &[Key]) -> Vec<Key<'p>> {
-    keys(p)
+pub(super) fn own_keys<'p>(p: &'p Panel, common: &[Key], marks: &[String]) -> Vec<Key<'p>> {
+    keys(p, marks)
         .into_iter()
         .filter(|k| !common.contains(k))
         .collect()

@@ -150,27 +150,31 @@ fn heading_lines(p: &Panel, own: &[Key], width: u32) -> (usize, usize) {
 
 /// Draw one panel into `area`: its caption (room for `lines.0` lines), its own key `own`
 /// (room for `lines.1` rows; the entries it shares with other panels are the figure's), axes,
-/// series, and marker lines.
+/// series, and marker lines (styled by their place in the figure's `marks`).
 fn draw(
     area: &Area,
     p: &Panel,
     id: usize,
-    (lines, own): ((usize, usize), &[Key]),
+    (lines, own, marks): ((usize, usize), &[Key], &[String]),
 ) -> Result<Curves, FigureError> {
     let mut curves = Curves::new(id);
     let xr = x_range(p);
     let yr = y_range(p);
     let area = &headed_over(area, p.title, CAPTION, lines.0)?;
     let area = &keyed(area, own, lines.1)?;
-    // A name longer than the chart is tall goes on two lines (never over the panel above).
-    let y_lines = y_label_lines(p.y, plot_size(area, 1)?.1);
-    let plot = plot_size(area, y_lines.len())?;
-    let mut chart = chart_builder(area, y_lines.len())
+    // A name longer than the chart is tall (or, below it, wide) goes on two lines: never over
+    // the panel above or beside it.
+    let first = plot_size(area, (1, 1))?;
+    let y_lines = label_lines(p.y, first.1 - 8.0);
+    let x_lines = label_lines(p.x, first.0 + 2.0 * 22.0);
+    let names = (x_lines.len(), y_lines.len());
+    let plot = plot_size(area, names)?;
+    let mut chart = chart_builder(area, names)
         .build_cartesian_2d(xr.clone(), yr.clone())
         .map_err(err)?;
     chart
         .configure_mesh()
-        .x_desc(p.x)
+        .x_desc(if x_lines.len() == 1 { p.x } else { "" })
         .y_desc(if y_lines.len() == 1 { p.y } else { "" })
         .x_label_formatter(&|v| tick(*v))
         .y_label_formatter(&|v| tick(*v))
@@ -185,6 +189,9 @@ fn draw(
     let pixels = chart.plotting_area().get_pixel_range();
     if y_lines.len() > 1 {
         y_label(area, &y_lines, &pixels)?;
+    }
+    if x_lines.len() > 1 {
+        x_label(area, &x_lines, &pixels)?;
     }
     // Bars and error bars end at the axis' edge; dots beyond it are drawn there as arrows.
     let clamp = |y: f64| y.clamp(yr.start, yr.end);
@@ -202,12 +209,18 @@ fn draw(
                     .map_err(err)?;
                 for &&(x, y) in &off {
                     let (edge, base, v) = off_scale(y, &yr);
+                    // The value on the side of the arrow towards the chart's middle.
+                    let (h, dx) = if x > (xr.start + xr.end) / 2.0 {
+                        (HPos::Right, -7)
+                    } else {
+                        (HPos::Left, 7)
+                    };
                     let style = TextStyle::from(("sans-serif", TEXT).into_font())
                         .color(&c)
-                        .pos(Pos::new(HPos::Left, v));
+                        .pos(Pos::new(h, v));
                     let arrow = EmptyElement::at((x, edge))
                         + Polygon::new(vec![(0, 0), (-5, base), (5, base)], c.filled())
-                        + Text::new(tick(y), (7, base), style);
+                        + Text::new(off_value(y), (dx, base), style);
                     chart.draw_series(std::iter::once(arrow)).map_err(err)?;
                 }
             }
@@ -228,9 +241,9 @@ fn draw(
             }
         }
     }
-    for (k, (x, _)) in merged_markers(p).iter().enumerate() {
-        let (c, mark) = marker_style(k);
-        let line = [(*x, yr.start), (*x, yr.end)];
+    for (x, label) in merged_markers(p) {
+        let (c, mark) = marker_style(&label, marks);
+        let line = [(x, yr.start), (x, yr.end)];
         curves.add(&line, &pixels, (&xr, &yr), (c, mark == Mark::Dashed));
     }
     // The curves' place: after the grid, before the legend.
@@ -295,9 +308,15 @@ fn off_scale(y: f64, yr: &std::ops::Range<f64>) -> (f64, i32, VPos) {
     }
 }
 
-/// The lines of y axis name `name` on a chart `height` pixels tall: one when it fits, else two.
-fn y_label_lines(name: &str, height: f64) -> Vec<String> {
-    if super::key::text_width(name) <= height - 8.0 {
+/// An off-scale value as its label says it: three significant digits.
+fn off_value(y: f64) -> String {
+    let digits = (2 - y.abs().log10().floor() as i32).clamp(0, 6) as usize;
+    tick(format!("{y:.digits$}").parse().unwrap_or(y))
+}
+
+/// The lines of axis name `name` along `room` pixels: one when it fits, else two.
+fn label_lines(name: &str, room: f64) -> Vec<String> {
+    if super::key::text_width(name) <= room {
         return vec![name.to_string()];
     }
     // Two lines as even as the words allow.
@@ -337,27 +356,47 @@ fn y_label(
     Ok(())
 }
 
-/// A panel's chart: margins and label areas (room for [`TEXT`]-sized ticks and an axis name of
-/// `y_lines` lines).
+/// Draw the x axis name in `lines`, centred under the chart's columns `pixels.0`, at the
+/// bottom of `area` (where plotters draws a one-line name).
+fn x_label(
+    area: &Area,
+    lines: &[String],
+    pixels: &(std::ops::Range<i32>, std::ops::Range<i32>),
+) -> Result<(), FigureError> {
+    let base = area.get_base_pixel();
+    let middle = (pixels.0.start + pixels.0.end) / 2 - base.0;
+    let bottom = area.dim_in_pixel().1 as i32 - 8;
+    let style =
+        TextStyle::from(("sans-serif", TEXT).into_font()).pos(Pos::new(HPos::Center, VPos::Bottom));
+    for (k, line) in lines.iter().enumerate() {
+        let y = bottom - (lines.len() - 1 - k) as i32 * (TEXT as i32 - 1);
+        area.draw_text(line, &style, (middle, y)).map_err(err)?;
+    }
+    Ok(())
+}
+
+/// A panel's chart: margins and label areas (room for [`TEXT`]-sized ticks and axis names of
+/// `names` = (x, y) lines).
 pub(super) fn chart_builder<'a, 'b>(
     area: &'a Area<'b>,
-    y_lines: usize,
+    names: (usize, usize),
 ) -> ChartBuilder<'a, 'b, SVGBackend<'b>> {
+    let more = |lines: usize| 17 * lines.saturating_sub(1) as u32;
     let mut b = ChartBuilder::on(area);
     // A wider right margin keeps the last x tick label (centred on the edge) on the canvas.
     b.margin(8)
         .margin_right(22)
-        .x_label_area_size(52)
-        .y_label_area_size(86 + 17 * y_lines.saturating_sub(1) as u32);
+        .x_label_area_size(52 + more(names.0))
+        .y_label_area_size(86 + more(names.1));
     b
 }
 
 /// The plotting area's size in pixels that [`chart_builder`] leaves on `area`, measured on a
 /// scratch canvas (the legend is placed before the chart is built).
-fn plot_size(area: &Area, y_lines: usize) -> Result<(f64, f64), FigureError> {
+fn plot_size(area: &Area, names: (usize, usize)) -> Result<(f64, f64), FigureError> {
     let mut scratch = String::new();
     let root = SVGBackend::with_string(&mut scratch, area.dim_in_pixel()).into_drawing_area();
-    let chart = chart_builder(&root, y_lines)
+    let chart = chart_builder(&root, names)
         .build_cartesian_2d(0.0..1.0, 0.0..1.0)
         .map_err(err)?;
     let (w, h) = chart.plotting_area().dim_in_pixel();
@@ -405,7 +444,8 @@ pub(super) fn render(
     panels: &[Panel],
 ) -> Result<String, FigureError> {
     // The title's lines, measured as `headed` will wrap them, and the shared key's rows.
-    let common = common_keys(panels);
+    let marks = figure_markers(panels);
+    let common = common_keys(panels, &marks);
     let key_band = match key_rows(&common, width as f64).1 {
         0 => 0,
         rows => (rows as f64 * KEY_ROW + 8.0).ceil() as u32,
@@ -423,13 +463,13 @@ pub(super) fn render(
         let mut id = 0;
         for (ps, row) in panels.chunks(cols).zip(root.split_evenly((rows, 1))) {
             let areas = row.split_evenly((1, cols));
-            let own: Vec<Vec<Key>> = ps.iter().map(|p| own_keys(p, &common)).collect();
+            let own: Vec<Vec<Key>> = ps.iter().map(|p| own_keys(p, &common, &marks)).collect();
             // The row's panels take its most caption lines and key rows: their charts align.
             let lines = (ps.iter().zip(&areas).zip(&own))
                 .map(|((p, a), k)| heading_lines(p, k, a.dim_in_pixel().0))
                 .fold((0, 0), |m, l| (m.0.max(l.0), m.1.max(l.1)));
             for ((area, p), k) in areas.iter().zip(ps).zip(&own) {
-                curves.push(draw(area, p, id, (lines, k))?);
+                curves.push(draw(area, p, id, (lines, k, &marks))?);
                 id += 1;
             }
         }

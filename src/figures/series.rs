@@ -151,10 +151,23 @@ pub(super) fn merged_markers(p: &Panel) -> Vec<(f64, String)> {
     out
 }
 
-/// How the `k`-th marker line of a panel is drawn: black, then grey and dashed, so that no
-/// marker takes a series' colour or the pale tint of one, and two markers differ.
-pub(super) fn marker_style(k: usize) -> (RGBColor, Mark) {
-    if k % 2 == 0 {
+/// The labels of a figure's marker lines ([`merged_markers`]), each once, in the order they
+/// first appear: a marker's place here is its style ([`marker_style`]) in every panel.
+pub(super) fn figure_markers(panels: &[Panel]) -> Vec<String> {
+    let mut all: Vec<String> = Vec::new();
+    for (_, label) in panels.iter().flat_map(merged_markers) {
+        if !all.contains(&label) {
+            all.push(label);
+        }
+    }
+    all
+}
+
+/// How the marker line `label` is drawn, its place in the figure's markers `all` alternating:
+/// black, then grey and dashed, so that no marker takes a series' colour or the pale tint of
+/// one, and two markers of a figure differ.
+pub(super) fn marker_style(label: &str, all: &[String]) -> (RGBColor, Mark) {
+    if all.iter().position(|l| l == label).unwrap_or(0) % 2 == 0 {
         (RGBColor(0, 0, 0), Mark::Line)
     } else {
         (RGBColor(105, 105, 105), Mark::Dashed)
