@@ -177,7 +177,7 @@ fn fit_verdict(r: &crate::fit::FitReport, width: u32) -> Result<String, FigureEr
     let mut variance = panel(
         &titles[1],
         "log₁₀ λᵢ",
-        "log₁₀ σᵢ², tracking noise removed (point spacings²)",
+        "log₁₀ σᵢ², noise removed (point spacings²)",
         lines,
     );
     variance.outliers = true;

@@ -166,7 +166,8 @@ fn draw(
     // the panel above or beside it.
     let first = plot_size(area, (1, 1))?;
     let y_lines = label_lines(p.y, first.1 - 8.0);
-    let x_lines = label_lines(p.x, first.0 + 2.0 * 22.0);
+    // Centred under the chart, a name may reach into the right margin, not past it.
+    let x_lines = label_lines(p.x, first.0 + 16.0);
     let names = (x_lines.len(), y_lines.len());
     let plot = plot_size(area, names)?;
     let mut chart = chart_builder(area, names)
@@ -334,7 +335,11 @@ fn label_lines(name: &str, room: f64) -> Vec<String> {
         };
         rest = rest[word.len()..].trim_start();
     }
-    vec![first, rest.to_string()]
+    // One long word stays one line: nothing to split.
+    match rest {
+        "" => vec![first],
+        _ => vec![first, rest.to_string()],
+    }
 }
 
 /// Draw the y axis name in `lines`, turned, centred on the chart's rows `pixels.1`, at the
@@ -556,4 +561,44 @@ pub(super) fn histogram(values: &[f64], bins: usize) -> (Vec<(f64, f64)>, f64) {
         .map(|(k, &c)| (r.start + k as f64 * w, c as f64 / total))
         .collect();
     (pts, w)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_point_far_from_the_rest_is_off_scale_and_an_even_spread_is_not() {
+        // The WormPose verdict's variances: one at −10.3 among −3.2 … 1.1.
+        let v = [1.1, 0.6, 0.1, -0.8, -1.9, -2.1, -2.7, -3.2, -3.2, -10.3];
+        assert_eq!(far_out(&v), vec![-10.3]);
+        assert!(far_out(&[0.0, 1.0, 2.0, 3.0, 4.0]).is_empty());
+        assert_eq!(far_out(&[0.0, 0.1, 0.2, 9.0]), vec![9.0]);
+        assert!(far_out(&[0.0, 5.0]).is_empty(), "two points have no rest");
+        assert_eq!(off_value(-10.3118), "−10.3");
+        assert_eq!(off_value(0.012345), "0.0123");
+    }
+
+    #[test]
+    fn a_curve_is_cut_at_the_axis_edges() {
+        let yr = 0.0..1.0;
+        // Inside, out above, back: two runs, each ending or starting on the edge.
+        let runs = clip_runs(&[(0.0, 0.5), (1.0, 1.5), (2.0, 0.5)], &yr);
+        assert_eq!(
+            runs,
+            vec![vec![(0.0, 0.5), (0.5, 1.0)], vec![(1.5, 1.0), (2.0, 0.5)]]
+        );
+        // Below to above between two samples: edge to edge.
+        let runs = clip_runs(&[(0.0, -1.0), (2.0, 2.0)], &yr);
+        assert_eq!(runs.len(), 1);
+        assert!((runs[0][0].0 - 2.0 / 3.0).abs() < 1e-12 && runs[0][1].1 == 1.0);
+        assert!(clip_runs(&[(0.0, 3.0), (1.0, 4.0)], &yr).is_empty());
+    }
+
+    #[test]
+    fn a_long_axis_name_takes_two_even_lines() {
+        assert_eq!(label_lines("log₁₀ λᵢ", 200.0).len(), 1);
+        let two = label_lines("log₁₀ PSD (point spacings²·s)", 100.0);
+        assert_eq!(two, vec!["log₁₀ PSD (point", "spacings²·s)"]);
+    }
 }

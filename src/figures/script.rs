@@ -4,7 +4,8 @@
 //! figure marks a script with private-use characters ([`sub`], [`sup`]) in the text it hands
 //! to plotters, and [`spans`] turns each marked run into an SVG `<tspan>` once plotters has
 //! written (and escaped) the text. Only a run closed on the same `<text>` becomes a span; a stray
-//! mark, whatever text brought it, is dropped, so no text can open an element.
+//! mark, whatever text brought it, is dropped, so no text can open an element. A script is set
+//! at three quarters of its text's size, but never under 7 pt in print.
 
 /// Opens a subscript run.
 const SUB: char = '\u{E000}';
@@ -57,6 +58,20 @@ pub(super) fn symbols(text: &str) -> String {
         .join(" ")
 }
 
+/// 7 pt in pixels of the canvas ([`super::page::PX_PER_MM`] at every printed width).
+const LEAST_PX: f64 = 7.0 / 72.0 * 25.4 * super::page::PX_PER_MM;
+
+/// The size of a script in the text whose opening tag ends at `before`'s end: three quarters of
+/// the text's `font-size`, at least [`LEAST_PX`].
+fn script_size(before: &str) -> f64 {
+    let tag = before.rfind("<text").map_or("", |at| &before[at..]);
+    let size = (tag.split("font-size=\"").nth(1))
+        .and_then(|v| v.split('"').next())
+        .and_then(|v| v.parse::<f64>().ok())
+        .unwrap_or(LEAST_PX);
+    (0.75 * size).max(LEAST_PX)
+}
+
 /// The SVG `svg` with every marked run turned into a `<tspan>` and every stray mark dropped.
 pub(super) fn spans(svg: &str) -> String {
     let mut out = String::with_capacity(svg.len());
@@ -73,8 +88,9 @@ pub(super) fn spans(svg: &str) -> String {
         match close {
             Some(e) if rest[e..].starts_with(END) => {
                 let shift = if mark == SUB { "sub" } else { "super" };
+                let size = script_size(&out);
                 out.push_str(&format!(
-                    "<tspan baseline-shift=\"{shift}\" font-size=\"75%\">{}</tspan>",
+                    "<tspan baseline-shift=\"{shift}\" font-size=\"{size:.2}\">{}</tspan>",
                     &rest[..e]
                 ));
                 rest = &rest[e + END.len_utf8()..];
@@ -108,8 +124,13 @@ mod tests {
         let out = spans(&svg);
         assert_eq!(out.matches("<tspan baseline-shift=\"sub\"").count(), 2);
         assert!(out.contains(">b</tspan>/ω<tspan"), "{out}");
-        let sup = spans(&format!("<text>λ{}</text>", sup("0.079")));
-        assert!(sup.contains("baseline-shift=\"super\" font-size=\"75%\">0.079</tspan>"));
+        let sup = spans(&format!("<text font-size=\"20\">λ{}</text>", sup("0.079")));
+        assert!(sup.contains("baseline-shift=\"super\" font-size=\"15.00\">0.079</tspan>"));
+        // A script of small text keeps 7 pt.
+        assert!(
+            out.contains(&format!("font-size=\"{LEAST_PX:.2}\"")),
+            "{out}"
+        );
         // Unclosed, closed on another element, nested or lone: dropped, never an open tag.
         for bad in [
             format!("<text>a{SUB}b</text><text>c{END}</text>"),
