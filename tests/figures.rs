@@ -448,7 +448,7 @@ fn the_fit_figures_of_a_worm_say_units_estimates_and_off_scale_points() {
     assert!(!verdict.contains("λ^"), "a raw exponent");
     assert!(verdict.contains("<tspan baseline-shift=\"super\""));
     assert!(words.contains("spacings²)"), "{words}");
-    assert!(words.contains("each spectrum's fitted line"), "{words}");
+    assert!(words.contains("fitted Ωᵢ (rad per s)"), "{words}");
     assert_eq!(
         verdict.matches("<polygon").count(),
         1,

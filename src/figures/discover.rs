@@ -52,8 +52,15 @@ pub(super) fn discover_spectra(
             .map(|(m, x)| (*m as f64, x.log10()))
             .collect()
     };
+    let title = format!("{}, simulated, against the recording", symbols(&r.equation));
+    let caption = format!(
+        "modal variances ({} frames simulated at kT = {:.4}, mode {}'s)",
+        p.frames,
+        p.temperature,
+        p.modes.first().copied().unwrap_or(0)
+    );
     panels.push(panel(
-        "modal variances",
+        &caption,
         "mode index i",
         "log₁₀ σᵢ² (point spacings²)",
         vec![
@@ -65,17 +72,7 @@ pub(super) fn discover_spectra(
             ),
         ],
     ));
-    render(
-        width,
-        &format!(
-            "{} simulated ({} frames, kT = {:.4} from mode {}'s variance) against the recording",
-            symbols(&r.equation),
-            p.frames,
-            p.temperature,
-            p.modes.first().copied().unwrap_or(0)
-        ),
-        330,
-        (2, 3),
-        &panels,
-    )
+    // The title holds the equation alone (two lines at 85 mm); the run's numbers are the
+    // variances' caption.
+    render(width, &title, 330, (2, 3), &panels)
 }

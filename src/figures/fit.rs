@@ -90,7 +90,8 @@ fn power(t: &crate::fit::TheoryTest) -> String {
 /// that vote on its test apart from the others, and a point far off the rest marked off scale.
 fn fit_verdict(r: &crate::fit::FitReport, width: u32) -> Result<String, FigureError> {
     use crate::fit::ModeSpectralFit;
-    let rad_per = format!("Ωᵢ, each spectrum's fitted line ({})", per(r, "rad"));
+    // Fitted: each spectrum's line, not the summary's 2π × its peak.
+    let rad_per = format!("fitted Ωᵢ ({})", per(r, "rad"));
     let fitted: Vec<&ModeSpectralFit> = r.modes_fit.iter().filter(|m| m.omega > 0.0).collect();
     let (d, e) = (&r.tests.dispersion, &r.tests.equipartition);
     // The modes voting on a test, or the others, through `f`.

@@ -58,8 +58,9 @@ pub(super) fn symbols(text: &str) -> String {
         .join(" ")
 }
 
-/// 7 pt in pixels of the canvas ([`super::page::PX_PER_MM`] at every printed width).
-const LEAST_PX: f64 = 7.0 / 72.0 * 25.4 * super::page::PX_PER_MM;
+/// 7 pt in pixels of the canvas ([`super::page::PX_PER_MM`] at every printed width), with 1 %
+/// to spare: a canvas is a whole number of pixels wide, a little more than the width asks.
+const LEAST_PX: f64 = 1.01 * 7.0 / 72.0 * 25.4 * super::page::PX_PER_MM;
 
 /// The size of a script in the text whose opening tag ends at `before`'s end: three quarters of
 /// the text's `font-size`, at least [`LEAST_PX`].
@@ -69,7 +70,8 @@ fn script_size(before: &str) -> f64 {
         .and_then(|v| v.split('"').next())
         .and_then(|v| v.parse::<f64>().ok())
         .unwrap_or(LEAST_PX);
-    (0.75 * size).max(LEAST_PX)
+    // Rounded up to the hundredth the tag is written with: never a hair under 7 pt.
+    ((0.75 * size).max(LEAST_PX) * 100.0).ceil() / 100.0
 }
 
 /// The SVG `svg` with every marked run turned into a `<tspan>` and every stray mark dropped.
