@@ -1,5 +1,7 @@
-//! What a figure is made of, before it is drawn: series and how each is marked, panels,
-//! their colours and the text sizes (the kit in `plot` and the keys in `key` draw them).
+//! What a figure is made of, before it is drawn: series and how each is marked, panels and
+//! their marker lines, their ranges (a point far off the rest left off scale, a curve cut at
+//! the axis' edge), their colours and the text sizes (the kit in `plot` and the keys in `key`
+//! draw them).
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -133,6 +135,84 @@ pub(super) fn x_range(p: &Panel) -> std::ops::Range<f64> {
         })
     });
     range(xs.chain(p.markers.iter().map(|m| m.0)), false)
+}
+
+/// A panel's y range: every value (and 0 where asked or under bars), or with `outliers` the
+/// values but those far from the rest ([`far_out`]), with every line and interval kept whole.
+pub(super) fn y_range(p: &Panel) -> std::ops::Range<f64> {
+    let bars = p.series.iter().any(|s| matches!(s.mark, Mark::Bars(_)));
+    let all = p.series.iter().flat_map(|s| s.points.iter().map(|q| q.1));
+    if !p.outliers {
+        return range(all, p.zero || bars);
+    }
+    let dots: Vec<f64> = (p.series.iter())
+        .filter(|s| s.mark == Mark::Dots)
+        .flat_map(|s| s.points.iter().map(|q| q.1))
+        .filter(|v| v.is_finite())
+        .collect();
+    let far = far_out(&dots);
+    let rest = (p.series.iter())
+        .filter(|s| s.mark != Mark::Dots)
+        .flat_map(|s| s.points.iter().map(|q| q.1));
+    let kept = dots.iter().copied().filter(|v| !far.contains(v));
+    range(kept.chain(rest), p.zero || bars)
+}
+
+/// The values of `values` that lie off the others: the lowest (or highest), while its gap to
+/// the next is wider than the rest spread, up to a third of them (one point at −10 among
+/// points from −3 to 1 is one; points spread evenly are none).
+pub(super) fn far_out(values: &[f64]) -> Vec<f64> {
+    let mut v = values.to_vec();
+    v.sort_by(f64::total_cmp);
+    let mut far = Vec::new();
+    while v.len() >= 3 && far.len() < values.len() / 3 {
+        let n = v.len();
+        let (low, high) = (v[1] - v[0], v[n - 1] - v[n - 2]);
+        if low >= high && low > v[n - 1] - v[1] {
+            far.push(v.remove(0));
+        } else if high > low && high > v[n - 2] - v[0] {
+            far.push(v.remove(n - 1));
+        } else {
+            break;
+        }
+    }
+    far
+}
+
+/// The runs of `points` (finite ones) within the y range `yr`: a segment that leaves it ends
+/// on its edge, one that comes back starts there, one that crosses it runs edge to edge.
+pub(super) fn clip_runs(points: &[(f64, f64)], yr: &std::ops::Range<f64>) -> Vec<Vec<(f64, f64)>> {
+    let inside = |y: f64| y >= yr.start && y <= yr.end;
+    // Where the segment from `a` towards `b` (outside) meets the range's edge.
+    let edge = |a: (f64, f64), b: (f64, f64)| {
+        let e = if b.1 > yr.end { yr.end } else { yr.start };
+        let t = (e - a.1) / (b.1 - a.1);
+        (a.0 + t * (b.0 - a.0), e)
+    };
+    let finite: Vec<(f64, f64)> = (points.iter().copied())
+        .filter(|p| p.0.is_finite() && p.1.is_finite())
+        .collect();
+    let (mut runs, mut run) = (Vec::new(), Vec::new());
+    for (k, &p) in finite.iter().enumerate() {
+        let before = k.checked_sub(1).map(|j| finite[j]);
+        match (before, inside(p.1)) {
+            (Some(q), true) if !inside(q.1) => run.extend([edge(p, q), p]),
+            (_, true) => run.push(p),
+            (Some(q), false) if inside(q.1) => {
+                run.push(edge(q, p));
+                runs.push(std::mem::take(&mut run));
+            }
+            // Below to above (or back) between two samples: the segment crosses the chart.
+            (Some(q), false) if (q.1 < yr.start) != (p.1 < yr.start) => {
+                runs.push(vec![edge(p, q), edge(q, p)])
+            }
+            _ => {}
+        }
+    }
+    if !run.is_empty() {
+        runs.push(run);
+    }
+    runs
 }
 
 /// A panel's marker lines, those that would be drawn within 0.5 % of the x axis of each other
