@@ -64,7 +64,57 @@ fn make_svgs(width_mm: f64) -> Svgs {
         }
     }
     out.extend(fit_svgs(width_mm));
+    out.extend(recording_svgs(width_mm));
     out
+}
+
+/// The fit's and `discover`'s figures of a real worm (WormPose), in seconds.
+fn recording_svgs(width_mm: f64) -> Vec<(String, String)> {
+    let data = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../shared/data/celegans_wormpose_15fps_52pts.csv"
+    );
+    let crawler = format!("{MODELS}/crawler.toml");
+    let width = width_mm.to_string();
+    let runs: [(&[&str], &[&str]); 2] = [
+        (
+            &["fit", data, "--time-unit", "s"],
+            &["fit_summary.svg", "fit_verdict.svg"],
+        ),
+        (
+            &[
+                "discover",
+                data,
+                "--model",
+                &crawler,
+                "--active",
+                "--time-unit",
+                "s",
+            ],
+            &["discover_spectra.svg"],
+        ),
+    ];
+    let mut svgs = Vec::new();
+    for (args, names) in runs {
+        let dir_held = common::scratch("print-recording");
+        let dir = dir_held.path();
+        let out = Command::new(env!("CARGO_BIN_EXE_theory-search"))
+            .args(args)
+            .args(["--figure-width", &width, "--figures"])
+            .arg(dir)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        for name in names {
+            let svg = std::fs::read_to_string(dir.join(name)).unwrap();
+            svgs.push((format!("the worm's {name} at {width_mm} mm"), svg));
+        }
+    }
+    svgs
 }
 
 /// The fit's figures of the example recording, written by the command.
@@ -132,9 +182,10 @@ fn text_prints_at_seven_points_or_more_at_every_width() {
                 .unwrap()
                 .parse()
                 .unwrap();
+            // Scripts (`<tspan>`, c_y's y) too: none under 7 pt.
             let smallest = elements(svg)
                 .iter()
-                .filter(|e| e.0 == "text")
+                .filter(|e| e.0 == "text" || e.0 == "tspan")
                 .map(|e| num(e.1, "font-size"))
                 .fold(f64::INFINITY, f64::min);
             let points = smallest * printed / view_w / 25.4 * 72.0;
@@ -162,7 +213,8 @@ fn every_character_has_a_glyph_in_the_embedded_font() {
     let font = ttf_parser::Face::parse(dejavu::sans::regular(), 0).unwrap();
     let mut seen = std::collections::BTreeSet::new();
     for (what, svg) in all_svgs(180.0).iter() {
-        for (_, _, text) in elements(svg).iter().filter(|e| e.0 == "text") {
+        let texts = elements(svg);
+        for (_, _, text) in texts.iter().filter(|e| e.0 == "text" || e.0 == "tspan") {
             for c in text.chars() {
                 if seen.insert(c) {
                     assert!(font.glyph_index(c).is_some(), "{what}: no glyph for {c:?}");
@@ -239,6 +291,85 @@ fn no_legend_covers_data() {
         }
     }
     assert!(legends > 50, "{legends} legends checked");
+}
+
+/// The box (x0, y0, x1, y1) a `<text>` element's text takes, from its anchor, size and turn
+/// (DejaVu Sans' 0.6 em a character; its scripts counted as characters).
+fn text_box(tag: &str, text: &str) -> (f64, f64, f64, f64) {
+    let (x, y, size) = (num(tag, "x"), num(tag, "y"), num(tag, "font-size"));
+    let len = 0.6 * size * text.chars().count() as f64;
+    if attr(tag, "transform").is_some_and(|t| t.starts_with("rotate(270")) {
+        // Turned a quarter left about (x, y), centred there, its top towards x.
+        return (x, y - len / 2.0, x + size, y + len / 2.0);
+    }
+    let x0 = match attr(tag, "text-anchor") {
+        Some("middle") => x - len / 2.0,
+        Some("end") => x - len,
+        _ => x,
+    };
+    let (y0, y1) = match attr(tag, "dy") {
+        Some("0.76em") => (y, y + size),
+        Some("0.5ex") => (y - size / 2.0, y + size / 2.0),
+        _ => (y - size, y),
+    };
+    (x0, y0, x0 + len, y1)
+}
+
+/// Each `<text>` of `svg`: its opening tag and its text, scripts joined in.
+fn texts(svg: &str) -> Vec<(&str, String)> {
+    svg.split("<text")
+        .skip(1)
+        .map(|t| {
+            let (tag, body) = t.split_once('>').unwrap();
+            let body = body.split("</text>").next().unwrap();
+            let mut plain = String::new();
+            let mut in_tag = false;
+            for c in body.chars() {
+                match c {
+                    '<' => in_tag = true,
+                    '>' => in_tag = false,
+                    c if !in_tag => plain.push(c),
+                    _ => {}
+                }
+            }
+            // The entities plotters escapes text with.
+            let plain = (plain.trim())
+                .replace("&apos;", "'")
+                .replace("&quot;", "\"")
+                .replace("&lt;", "<")
+                .replace("&gt;", ">")
+                .replace("&amp;", "&");
+            (tag, plain)
+        })
+        .collect()
+}
+
+/// An axis name runs along its chart, never into a caption, a key or the panel beside it: no
+/// turned text (a y axis' name) overlaps any other text, at 85 and 180 mm.
+#[test]
+fn no_axis_name_runs_into_other_text() {
+    let mut names = 0;
+    for width in [85.0, 180.0] {
+        for (what, svg) in all_svgs(width).iter() {
+            let all = texts(svg);
+            let boxes: Vec<_> = all
+                .iter()
+                .map(|(tag, t)| (tag, t, text_box(tag, t)))
+                .collect();
+            for (tag, text, b) in boxes.iter().filter(|b| b.0.contains("rotate(270")) {
+                names += 1;
+                for (other, o, c) in boxes.iter().filter(|o| !o.0.contains("rotate(")) {
+                    let overlap =
+                        b.0 < c.2 - 1.0 && c.0 < b.2 - 1.0 && b.1 < c.3 - 1.0 && c.1 < b.3 - 1.0;
+                    assert!(
+                        !overlap,
+                        "{what}: the axis name {text:?} ({tag:.60}) runs into {o:?} ({other:.60})"
+                    );
+                }
+            }
+        }
+    }
+    assert!(names > 100, "{names} axis names checked");
 }
 
 mod common;

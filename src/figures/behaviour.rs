@@ -4,6 +4,7 @@
 use plotters::prelude::*;
 
 use super::plot::*;
+use super::script::{sub, symbols};
 use super::{err, FigureError, FigureSettings};
 use crate::behaviour::{self, PairKind, RightingSettings};
 use crate::theory::Theory;
@@ -21,22 +22,23 @@ pub(super) fn self_righting(theory: &Theory, width: u32) -> Result<String, Figur
         r.frames.iter().map(|f| (f.t, g(f))).collect()
     };
     let attach = vec![(r.attachment_time, "mouth hooks attach".to_string())];
+    // Times in units of 1/ωₜ: the torque in rad per that unit squared, angles in rad.
     let t = "time t (1/ωₜ)";
     let mut panels = vec![
         panel(
             "generalised torque on the first torsional mode",
             t,
-            "Q",
+            "Q (rad·ωₜ²)",
             vec![series("", pick(&|f| f.torque), Mark::Line)],
         ),
         panel(
             "first twisting mode",
             t,
-            "Θ₁",
+            "Θ₁ (rad)",
             vec![series("", pick(&|f| f.mode), Mark::Line)],
         ),
         panel(
-            "mean rotation of the segments",
+            "mean rotation along the body",
             t,
             "mean θ (rad)",
             vec![series("", pick(&|f| f.mean_rotation), Mark::Line)],
@@ -50,12 +52,12 @@ pub(super) fn self_righting(theory: &Theory, width: u32) -> Result<String, Figur
             } else if j == 0 {
                 "tail".to_string()
             } else {
-                format!("segment {j}")
+                format!("point {j}")
             };
             series(name, pick(&|f| f.angles[j]), Mark::Line)
         })
         .collect();
-    panels.push(panel("rotation of each segment", t, "θⱼ (rad)", segments));
+    panels.push(panel("rotation at each point", t, "θⱼ (rad)", segments));
     let align = r
         .alignment_times
         .iter()
@@ -65,7 +67,7 @@ pub(super) fn self_righting(theory: &Theory, width: u32) -> Result<String, Figur
     let align_title = format!("time to align within δ = {} rad", settings.tolerance);
     panels.push(panel(
         &align_title,
-        "segment j (0 = tail)",
+        "point j (0 = tail)",
         "alignment time (1/ωₜ)",
         vec![series("", align, Mark::Dots)],
     ));
@@ -170,7 +172,7 @@ pub(super) fn rearing_hunching(theory: &Theory, width: u32) -> Result<String, Fi
             .collect();
         let mut b = panel(
             t2,
-            "segment j (0 = tail)",
+            "point j (0 = tail)",
             axis,
             vec![series("", shape, Mark::Line)],
         );
@@ -349,7 +351,7 @@ pub(super) fn pair(
         ),
     };
     let px = match kind {
-        PairKind::Peristalsis => "segment j (0 = tail)",
+        PairKind::Peristalsis => "point j (0 = tail)",
         PairKind::Rolling => "mediolateral y",
     };
     let mut orbit_panel = panel(
@@ -464,7 +466,7 @@ pub(super) fn mathieu(width: u32) -> Result<String, FigureError> {
             "shaded: unstable (|tr M| > 2); lines: the first tongue's edges ω/λ = 2√(1 ± ε)",
             CAPTION,
         )?;
-        let mut chart = chart_builder(&root)
+        let mut chart = chart_builder(&root, (1, 1))
             .build_cartesian_2d(lo..hi, 0.0..emax)
             .map_err(err)?;
         chart
@@ -520,10 +522,11 @@ pub(super) fn forward_backward(theory: &Theory, width: u32) -> Result<String, Fi
         })
     };
     let x = "coupling G = −g sin k/ω₁ (App. C: −cA²/ω)";
+    let backward_over_forward = format!("ω{}/ω{}", sub("b"), sub("f"));
     let mut ratio = panel(
         "backward : forward",
         x,
-        "ω_b/ω_f",
+        &backward_over_forward,
         vec![
             series("simulated", pick(&|s| s.backward / s.forward), Mark::Dots),
             series("dispersion relation", lines(&|(f, b)| b / f), Mark::Line),
@@ -549,11 +552,13 @@ pub(super) fn forward_backward(theory: &Theory, width: u32) -> Result<String, Fi
             series("(√(G²+4) − G)/2", lines(&|(_, b)| b), Mark::Line),
         ],
     );
+    // Two lines at 85 mm: the force by its coefficient, typeset (g_x as g with a subscript x).
     render(
         width,
         &format!(
-            "Forward and backward peristalsis of {} under its gyroscopic force {} (paper Fig. 11), simulated",
-            r.field, r.coefficient
+            "Forward and backward peristalsis of {} under {}, simulated (paper Fig. 11)",
+            r.field,
+            symbols(&r.coefficient)
         ),
         420,
         (1, 2),

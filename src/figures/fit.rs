@@ -1,6 +1,11 @@
-//! Figures of a fit: principal components against mode shapes, and the summary panels.
+//! Figures of a fit: principal components against mode shapes, the summary panels, and the
+//! verdict. The frequencies are two estimates, each named where drawn: the summary's measured
+//! ωᵢ are 2π × each spectrum's peak (or centroid), the verdict's Ωᵢ each spectrum's fitted line.
+//! Units: times in the recording's unit, ω in rad per it, β in it squared, amplitudes in point
+//! spacings.
 
 use super::plot::*;
+use super::script::sup;
 use super::FigureError;
 
 /// The fit's principal components against the mode shapes (Fig. 2A style).
@@ -53,48 +58,60 @@ fn fit_shapes(r: &crate::fit::FitReport, width: u32) -> Result<String, FigureErr
     )
 }
 
-/// The verdict: each mode's fitted Ωᵢ (95 % error bars) against √λᵢ with the theory's line
-/// ω√λ, and its variance against λᵢ on log–log axes with the white floor and the slope −1
-/// through the voting modes; voting modes and the others apart.
 /// "`what` per `unit`", in the recording's time unit when it was given (`--time-unit`).
 fn per(r: &crate::fit::FitReport, what: &str) -> String {
-    format!(
-        "{what} per {}",
-        r.units.time.as_deref().unwrap_or("time unit")
-    )
+    format!("{what} per {}", time(r))
 }
 
+/// The recording's time unit, or "time unit" when it was not given.
+fn time(r: &crate::fit::FitReport) -> &str {
+    r.units.time.as_deref().unwrap_or("time unit")
+}
+
+/// The palette places of the verdict's marks, the same in both panels (one meaning, one
+/// colour): the modes that vote on the panel's test, their intervals, the others, the theory.
+const VOTING: usize = 0;
+const OTHER: usize = 7;
+const THEORY: usize = 3;
+const FLOOR: usize = 4;
+
+/// A test's fitted exponent typeset as a power of λ (`λ` with `0.079` raised), or `a` when
+/// there is none to show.
+fn power(t: &crate::fit::TheoryTest) -> String {
+    let a = (t.exponent)
+        .map(|a| format!("{a:.3}").replace('-', "\u{2212}"))
+        .unwrap_or_else(|| "a".into());
+    format!("λ{}", sup(&a))
+}
+
+/// The verdict: each mode's Ωᵢ (its spectrum's fitted line, with 95 % error bars) against √λᵢ
+/// with the theory's line ω√λ, and its variance against λᵢ on log–log axes with the white
+/// floor and the slope −1 through the modes voting on equipartition; in each panel the modes
+/// that vote on its test apart from the others, and a point far off the rest marked off scale.
 fn fit_verdict(r: &crate::fit::FitReport, width: u32) -> Result<String, FigureError> {
-    let rad_per = format!("Ωᵢ ({})", per(r, "rad"));
-    let fits = &r.modes_fit;
-    let fitted: Vec<&crate::fit::ModeSpectralFit> = fits.iter().filter(|m| m.omega > 0.0).collect();
-    let split = |votes: bool, f: &dyn Fn(&crate::fit::ModeSpectralFit) -> (f64, f64)| {
-        fitted
-            .iter()
-            .filter(|m| m.votes == votes)
+    use crate::fit::ModeSpectralFit;
+    // Fitted: each spectrum's line, not the summary's 2π × its peak.
+    let rad_per = format!("fitted Ωᵢ ({})", per(r, "rad"));
+    let fitted: Vec<&ModeSpectralFit> = r.modes_fit.iter().filter(|m| m.omega > 0.0).collect();
+    let (d, e) = (&r.tests.dispersion, &r.tests.equipartition);
+    // The modes voting on a test, or the others, through `f`.
+    let split = |voters: &[usize], votes: bool, f: &dyn Fn(&ModeSpectralFit) -> (f64, f64)| {
+        (fitted.iter())
+            .filter(|m| voters.contains(&m.mode) == votes)
             .map(|m| f(m))
             .collect::<Vec<_>>()
     };
-    let d = &r.tests.dispersion;
-    let e = &r.tests.equipartition;
-    // The fitted exponent, or its symbol when there is none to show.
-    let said = |t: &crate::fit::TheoryTest| {
-        t.exponent
-            .map(|a| format!("{a:.3}").replace('-', "\u{2212}"))
-            .unwrap_or_else(|| "a".into())
-    };
     let titles = [
-        format!("dispersion Ω ∝ λ^{} (expected ½): {}", said(d), d.verdict),
+        format!("dispersion Ω ∝ {} (expected ½): {}", power(d), d.verdict),
         format!(
-            "equipartition σ² ∝ λ^{} (expected −1): {}",
-            said(e),
+            "equipartition σ² ∝ {} (expected −1): {}",
+            power(e),
             e.verdict
         ),
     ];
-    let sq = |m: &crate::fit::ModeSpectralFit| m.lambda.sqrt();
-    let bars: Vec<(f64, f64)> = fitted
-        .iter()
-        .filter(|m| m.votes)
+    let sq = |m: &ModeSpectralFit| m.lambda.sqrt();
+    let bars: Vec<(f64, f64)> = (fitted.iter())
+        .filter(|m| d.modes.contains(&m.mode))
         .filter_map(|m| {
             let e = 1.96 * m.omega_error?;
             Some([(sq(m), m.omega - e), (sq(m), m.omega + e)])
@@ -102,35 +119,31 @@ fn fit_verdict(r: &crate::fit::FitReport, width: u32) -> Result<String, FigureEr
         .flatten()
         .collect();
     let top = fitted.iter().map(|m| sq(m)).fold(0.0, f64::max);
+    let omega = |m: &ModeSpectralFit| (sq(m), m.omega);
     let mut dispersion = panel(
         &titles[0],
         "√λᵢ (model's operator)",
         &rad_per,
         vec![
+            series("voting modes", split(&d.modes, true, &omega), Mark::Dots).hue(VOTING),
+            series("95 % intervals", bars, Mark::Errors).hue(VOTING),
+            series("other modes", split(&d.modes, false, &omega), Mark::Dots).hue(OTHER),
             series(
-                "voting modes",
-                split(true, &|m| (sq(m), m.omega)),
-                Mark::Dots,
-            ),
-            series("95 % intervals", bars, Mark::Errors),
-            series(
-                "other modes",
-                split(false, &|m| (sq(m), m.omega)),
-                Mark::Dots,
-            ),
-            series(
+                // ω in the axis' unit (√λ has none); the figure's title is the summary's.
                 format!("theory ω√λ, ω = {:.4}", r.omega),
                 curve(0.0, top, 40, |x| r.omega * x),
                 Mark::Line,
-            ),
+            )
+            .hue(THEORY),
         ],
     );
     dispersion.zero = true;
-    let log = |m: &crate::fit::ModeSpectralFit| (m.lambda.log10(), m.variance.max(1e-300).log10());
-    let voting: Vec<(f64, f64)> = split(true, &log);
+    dispersion.outliers = true;
+    let log = |m: &ModeSpectralFit| (m.lambda.log10(), m.variance.max(1e-300).log10());
+    let voting: Vec<(f64, f64)> = split(&e.modes, true, &log);
     let mut lines = vec![
-        series("voting modes", voting.clone(), Mark::Dots),
-        series("other modes", split(false, &log), Mark::Dots),
+        series("voting modes", voting.clone(), Mark::Dots).hue(VOTING),
+        series("other modes", split(&e.modes, false, &log), Mark::Dots).hue(OTHER),
     ];
     let xs: Vec<f64> = fitted.iter().map(|m| m.lambda.log10()).collect();
     let (lo, hi) = (
@@ -143,25 +156,32 @@ fn fit_verdict(r: &crate::fit::FitReport, width: u32) -> Result<String, FigureEr
             .iter()
             .fold((0.0, 0.0), |(a, b), p| (a + p.0, b + p.1));
         let (mx, my) = (mx / voting.len() as f64, my / voting.len() as f64);
-        lines.push(series(
-            "equipartition, slope −1",
-            curve(lo, hi, 2, |x| my - (x - mx)),
-            Mark::Line,
-        ));
+        lines.push(
+            series(
+                "equipartition, slope −1",
+                curve(lo, hi, 2, |x| my - (x - mx)),
+                Mark::Line,
+            )
+            .hue(THEORY),
+        );
     }
     if let (Some(f), true) = (r.noise_floor.filter(|f| *f > 0.0), lo < hi) {
-        lines.push(series(
-            "white floor ν",
-            vec![(lo, f.log10()), (hi, f.log10())],
-            Mark::Dashed,
-        ));
+        lines.push(
+            series(
+                "white floor ν",
+                vec![(lo, f.log10()), (hi, f.log10())],
+                Mark::Dashed,
+            )
+            .hue(FLOOR),
+        );
     }
-    let variance = panel(
+    let mut variance = panel(
         &titles[1],
         "log₁₀ λᵢ",
-        "log₁₀ σᵢ² (tracking noise removed)",
+        "log₁₀ σᵢ², noise removed (point spacings²)",
         lines,
     );
+    variance.outliers = true;
     render(
         width,
         &format!(
@@ -174,6 +194,20 @@ fn fit_verdict(r: &crate::fit::FitReport, width: u32) -> Result<String, FigureEr
         (1, 2),
         &[dispersion, variance],
     )
+}
+
+/// Which spectral estimate the measured ωᵢ are (2π × each spectrum's peak or its centroid),
+/// read off the modes: `fit --estimator` chose it.
+fn estimate(r: &crate::fit::FitReport) -> &'static str {
+    let peak = (r.modes.iter()).all(|m| {
+        (m.angular_frequency - std::f64::consts::TAU * m.peak_frequency).abs()
+            <= 1e-9 * m.angular_frequency.abs().max(1.0)
+    });
+    if peak {
+        "peak"
+    } else {
+        "centroid"
+    }
 }
 
 /// The fit's figures (Fig. 2 style): principal components against mode shapes, variance shares,
@@ -211,8 +245,11 @@ pub fn fit_figures(
         ],
     );
     shares.zero = true;
+    // The measured ωᵢ are not the verdict's Ωᵢ (each spectrum's fitted line): the title says
+    // which estimate they are.
+    let freq_title = format!("modal frequencies: 2π × each spectrum's {}", estimate(r));
     let mut freq = panel(
-        "modal frequencies",
+        &freq_title,
         "mode index i",
         &angular,
         vec![
@@ -224,6 +261,7 @@ pub fn fit_figures(
                 Mark::Dots,
             ),
             series(
+                // ω's unit is the axis' and the title's.
                 format!("ω√λᵢ, ω = {:.4}", r.omega),
                 (0..r.modes.len())
                     .map(|k| (idx(k), r.modes[k].theory_angular_frequency))
@@ -259,16 +297,17 @@ pub fn fit_figures(
             series(format!("mode {}", r.modes[k].index), pts, Mark::Line)
         })
         .collect();
-    // A density in frequency: Q² (Q is dimensionless) per cycle per time unit.
-    let psd_unit = format!(
-        "log₁₀ PSD (Q²·{})",
-        r.units.time.as_deref().unwrap_or("time unit")
-    );
+    // A density in frequency: the amplitude (in point spacings) squared per cycle per time unit.
+    let psd_unit = format!("log₁₀ PSD (point spacings²·{})", time(r));
     let summary = render(
         width,
         &format!(
-            "Fit of {} frames: ω = {:.4}, β = {:.4} (paper Fig. 2)",
-            r.frames, r.omega, r.beta
+            "Fit of {} frames: ω = {:.4} {}, β = {:.4} {}² (paper Fig. 2)",
+            r.frames,
+            r.omega,
+            per(r, "rad"),
+            r.beta,
+            time(r)
         ),
         390,
         (2, 2),

@@ -17,6 +17,7 @@ mod key;
 mod modes;
 mod page;
 mod plot;
+mod script;
 mod series;
 
 use crate::behaviour::PairKind;

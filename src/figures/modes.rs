@@ -1,8 +1,42 @@
-//! Figures of the modes: their shapes and the spectrum.
+//! Figures of the modes: their shapes and the spectrum. A mode number keeps its colour in
+//! every panel (mode 3 of x and mode 3 of y alike), so one key serves the figure.
 
 use super::plot::*;
 use super::{err, FigureError};
 use crate::theory::Theory;
+
+/// The most characters of a mode-shape panel's title: two lines of a panel at 85 mm.
+const TITLE_CHARS: usize = 36;
+
+/// The leading words of a field's meaning that a panel title holds: brackets left out, none
+/// after a colon, as many as keep `rest` + the words within [`TITLE_CHARS`], never ending on a little
+/// word ("roll about the" is "roll"), at least one.
+fn short_meaning(meaning: &str, rest: usize) -> String {
+    const LITTLE: [&str; 9] = [
+        "about", "the", "of", "in", "from", "to", "and", "a", "along",
+    ];
+    let head = meaning.split(':').next().unwrap_or("");
+    let mut depth = 0usize;
+    let head: String = (head.chars())
+        .filter(|c| {
+            depth = match c {
+                '(' => depth + 1,
+                ')' => depth.saturating_sub(1),
+                _ => depth,
+            };
+            depth == 0 && *c != ')'
+        })
+        .collect();
+    let words: Vec<&str> = head.split_whitespace().collect();
+    let mut take = words.len();
+    while take > 1
+        && (rest + words[..take].join(" ").chars().count() > TITLE_CHARS
+            || LITTLE.contains(&words[take - 1]))
+    {
+        take -= 1;
+    }
+    words[..take.min(words.len())].join(" ")
+}
 
 /// Fig. 2A: the first four non-zero mode shapes of every field.
 pub(super) fn mode_shapes(theory: &Theory, width: u32) -> Result<String, FigureError> {
@@ -17,7 +51,10 @@ pub(super) fn mode_shapes(theory: &Theory, width: u32) -> Result<String, FigureE
                 }
                 b => format!("{b} ends"),
             };
-            format!("{} ({}, {ends})", f.field.symbol, f.field.meaning).to_lowercase()
+            let symbol = &f.field.symbol;
+            let rest = symbol.chars().count() + ends.chars().count() + 5;
+            let meaning = short_meaning(&f.field.meaning, rest);
+            format!("{symbol} ({meaning}, {ends})").to_lowercase()
         })
         .collect();
     let mut panels = Vec::new();
@@ -29,12 +66,12 @@ pub(super) fn mode_shapes(theory: &Theory, width: u32) -> Result<String, FigureE
                 let pts = (0..shapes.nrows())
                     .map(|j| (j as f64, shapes[(j, i)]))
                     .collect();
-                self::series(format!("mode {i}"), pts, Mark::Line)
+                self::series(format!("mode {i}"), pts, Mark::Line).hue(i)
             })
             .collect();
         panels.push(panel(
             title,
-            "segment j (0 = tail)",
+            "point j (0 = tail)",
             "vᵢ(j), unit norm",
             series,
         ));
@@ -108,4 +145,28 @@ pub(super) fn spectrum(theory: &Theory, width: u32) -> Result<String, FigureErro
             right,
         ],
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::short_meaning;
+
+    #[test]
+    fn a_meaning_is_cut_to_whole_words_that_fit() {
+        let rest = "θ (, free ends)".chars().count();
+        assert_eq!(
+            short_meaning("torsional rotation about the midline", rest),
+            "torsional rotation"
+        );
+        assert_eq!(short_meaning("roll about the midline", rest), "roll");
+        assert_eq!(
+            short_meaning("mediolateral (left–right) bending: the tail beat", rest),
+            "mediolateral bending"
+        );
+        assert_eq!(
+            short_meaning("axial displacement", rest),
+            "axial displacement"
+        );
+        assert_eq!(short_meaning("", rest), "");
+    }
 }

@@ -1,34 +1,14 @@
-//! The plotting kit every figure uses: ranges and ticks, panels laid out in a grid under their
-//! title and keys, and the SVG they are drawn into (the series and panels are `series`).
+//! The plotting kit every figure uses: ticks, panels laid out in a grid under their title and
+//! keys, axis names (on two lines where one would run past the chart), points off scale drawn
+//! as arrows, and the SVG they are drawn into (the series, panels and ranges are `series`).
 
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::key::{key_rows, keyed, keys, shared_key, KEY_ROW};
+use super::key::{common_keys, key_rows, keyed, own_keys, Key, KEY_ROW};
+use super::script::{printed_len, spans};
 pub(super) use super::series::*;
 use super::{err, FigureError};
-
-/// The padded range of `values` (never empty).
-pub(super) fn range(values: impl Iterator<Item = f64>, zero: bool) -> std::ops::Range<f64> {
-    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for v in values.filter(|v| v.is_finite()) {
-        lo = lo.min(v);
-        hi = hi.max(v);
-    }
-    if zero {
-        lo = lo.min(0.0);
-        hi = hi.max(0.0);
-    }
-    if !lo.is_finite() {
-        return 0.0..1.0;
-    }
-    let pad = if hi > lo {
-        0.05 * (hi - lo)
-    } else {
-        0.5 * lo.abs().max(1.0)
-    };
-    (lo - pad)..(hi + pad)
-}
 
 /// A tick label: whole numbers without ".0", no "-0", at most four significant decimals.
 pub(super) fn tick(v: f64) -> String {
@@ -71,7 +51,8 @@ impl Curves {
         }
     }
 
-    /// One polyline of data `points` through the chart's linear map to pixels.
+    /// One polyline of data `points` through the chart's linear map to pixels, cut where it
+    /// leaves the y range ([`clip_runs`]: an SVG polyline is not clipped to the chart).
     pub(super) fn add(
         &mut self,
         points: &[(f64, f64)],
@@ -90,18 +71,20 @@ impl Curves {
             ""
         };
         let RGBColor(r, g, b) = color;
-        let _ = write!(
-            self.svg,
-            "<polyline fill=\"none\" stroke=\"#{r:02X}{g:02X}{b:02X}\" stroke-width=\"2\"{dash} points=\""
-        );
-        for &(x, y) in points {
-            let px = x0 + (x1 - x0) * (x - xr.start) / (xr.end - xr.start);
-            let py = y0 + (y1 - y0) * (y - yr.start) / (yr.end - yr.start);
-            if px.is_finite() && py.is_finite() {
-                let _ = write!(self.svg, "{px:.2},{py:.2} ");
+        for run in clip_runs(points, yr) {
+            let _ = write!(
+                self.svg,
+                "<polyline fill=\"none\" stroke=\"#{r:02X}{g:02X}{b:02X}\" stroke-width=\"2\"{dash} points=\""
+            );
+            for (x, y) in run {
+                let px = x0 + (x1 - x0) * (x - xr.start) / (xr.end - xr.start);
+                let py = y0 + (y1 - y0) * (y - yr.start) / (yr.end - yr.start);
+                if px.is_finite() && py.is_finite() {
+                    let _ = write!(self.svg, "{px:.2},{py:.2} ");
+                }
             }
+            self.svg.push_str("\"/>\n");
         }
-        self.svg.push_str("\"/>\n");
     }
 
     /// Put the curves where the marker is in `svg` (the marker goes).
@@ -121,50 +104,44 @@ impl Curves {
     }
 }
 
-/// The caption lines and key rows panel `p` takes in an area `width` pixels wide.
-fn heading_lines(p: &Panel, width: u32) -> (usize, usize) {
+/// The caption lines and key rows panel `p` takes in an area `width` pixels wide, its key
+/// being `own`.
+fn heading_lines(p: &Panel, own: &[Key], width: u32) -> (usize, usize) {
     (
         wrap(p.title, width as f64 - 16.0, CAPTION).len(),
-        key_rows(&keys(p), width as f64).1,
+        key_rows(own, width as f64).1,
     )
 }
 
-/// Draw one panel into `area`: its caption (room for `lines.0` lines), its key (`lines.1`
-/// rows; none when `own_key` is false: the figure shows a shared one), axes, series.
+/// Draw one panel into `area`: its caption (room for `lines.0` lines), its own key `own`
+/// (room for `lines.1` rows; the entries it shares with other panels are the figure's), axes,
+/// series, and marker lines (styled by their place in the figure's `marks`).
 fn draw(
     area: &Area,
     p: &Panel,
     id: usize,
-    (lines, own_key): ((usize, usize), bool),
+    (lines, own, marks): ((usize, usize), &[Key], &[String]),
 ) -> Result<Curves, FigureError> {
     let mut curves = Curves::new(id);
-    let xs = p.series.iter().flat_map(|s| {
-        s.points.iter().flat_map(move |q| match s.mark {
-            Mark::Bars(w) => vec![q.0, q.0 + w],
-            _ => vec![q.0],
-        })
-    });
-    let xr = range(xs.chain(p.markers.iter().map(|m| m.0)), false);
-    let bars = p.series.iter().any(|s| matches!(s.mark, Mark::Bars(_)));
-    let yr = range(
-        p.series.iter().flat_map(|s| s.points.iter().map(|q| q.1)),
-        p.zero || bars,
-    );
+    let xr = x_range(p);
+    let yr = y_range(p);
     let area = &headed_over(area, p.title, CAPTION, lines.0)?;
-    let area = &if own_key {
-        keyed(area, &keys(p), lines.1)?
-    } else {
-        area.clone()
-    };
-    let plot = plot_size(area)?;
-    let data_top = yr.end;
-    let mut chart = chart_builder(area)
+    let area = &keyed(area, own, lines.1)?;
+    // A name longer than the chart is tall (or, below it, wide) goes on two lines: never over
+    // the panel above or beside it.
+    let first = plot_size(area, (1, 1))?;
+    let y_lines = label_lines(p.y, first.1 - 8.0);
+    // Centred under the chart, a name may reach into the right margin, not past it.
+    let x_lines = label_lines(p.x, first.0 + 16.0);
+    let names = (x_lines.len(), y_lines.len());
+    let plot = plot_size(area, names)?;
+    let mut chart = chart_builder(area, names)
         .build_cartesian_2d(xr.clone(), yr.clone())
         .map_err(err)?;
     chart
         .configure_mesh()
-        .x_desc(p.x)
-        .y_desc(p.y)
+        .x_desc(if x_lines.len() == 1 { p.x } else { "" })
+        .y_desc(if y_lines.len() == 1 { p.y } else { "" })
         .x_label_formatter(&|v| tick(*v))
         .y_label_formatter(&|v| tick(*v))
         // As many ticks as fit a label of ~6 characters (x) or a line of text (y) apart.
@@ -175,46 +152,67 @@ fn draw(
         .light_line_style(WHITE)
         .draw()
         .map_err(err)?;
+    let pixels = chart.plotting_area().get_pixel_range();
+    if y_lines.len() > 1 {
+        y_label(area, &y_lines, &pixels)?;
+    }
+    if x_lines.len() > 1 {
+        x_label(area, &x_lines, &pixels)?;
+    }
+    // Bars and error bars end at the axis' edge; dots beyond it are drawn there as arrows.
+    let clamp = |y: f64| y.clamp(yr.start, yr.end);
     for (i, s) in p.series.iter().enumerate() {
-        let c = color(i);
-        let pixels = chart.plotting_area().get_pixel_range();
+        let c = s.color(i);
         match s.mark {
             Mark::Line | Mark::Dashed => {
                 let dashed = matches!(s.mark, Mark::Dashed);
                 curves.add(&s.points, &pixels, (&xr, &yr), (c, dashed));
             }
             Mark::Dots => {
+                let (on, off): (Vec<_>, Vec<_>) = s.points.iter().partition(|q| yr.contains(&q.1));
                 chart
-                    .draw_series(s.points.iter().map(|&q| Circle::new(q, 3, c.filled())))
+                    .draw_series(on.iter().map(|&&q| Circle::new(q, 3, c.filled())))
                     .map_err(err)?;
+                for &&(x, y) in &off {
+                    let (edge, base, v) = off_scale(y, &yr);
+                    // The value on the side of the arrow towards the chart's middle.
+                    let (h, dx) = if x > (xr.start + xr.end) / 2.0 {
+                        (HPos::Right, -7)
+                    } else {
+                        (HPos::Left, 7)
+                    };
+                    let style = TextStyle::from(("sans-serif", TEXT).into_font())
+                        .color(&c)
+                        .pos(Pos::new(h, v));
+                    let arrow = EmptyElement::at((x, edge))
+                        + Polygon::new(vec![(0, 0), (-5, base), (5, base)], c.filled())
+                        + Text::new(off_value(y), (dx, base), style);
+                    chart.draw_series(std::iter::once(arrow)).map_err(err)?;
+                }
             }
             Mark::Bars(w) => {
                 chart
                     .draw_series(s.points.iter().map(|&(x, h)| {
-                        Rectangle::new([(x, 0.0), (x + w, h)], c.mix(0.45).filled())
+                        Rectangle::new([(x, clamp(0.0)), (x + w, clamp(h))], c.mix(0.45).filled())
                     }))
                     .map_err(err)?;
             }
             Mark::Errors => {
                 chart
-                    .draw_series(
-                        s.points
-                            .chunks_exact(2)
-                            .map(|p| PathElement::new(vec![p[0], p[1]], c.stroke_width(2))),
-                    )
+                    .draw_series(s.points.chunks_exact(2).map(|p| {
+                        let ends = vec![(p[0].0, clamp(p[0].1)), (p[1].0, clamp(p[1].1))];
+                        PathElement::new(ends, c.stroke_width(2))
+                    }))
                     .map_err(err)?;
             }
         }
     }
-    for (x, _) in &p.markers {
-        chart
-            .draw_series(LineSeries::new(
-                vec![(*x, yr.start), (*x, data_top)],
-                BLUE.mix(0.6),
-            ))
-            .map_err(err)?;
+    for (x, label) in merged_markers(p) {
+        let (c, mark) = marker_style(&label, marks);
+        let line = [(x, yr.start), (x, yr.end)];
+        curves.add(&line, &pixels, (&xr, &yr), (c, mark == Mark::Dashed));
     }
-    // The curves' place: after the grid and markers, before the legend.
+    // The curves' place: after the grid, before the legend.
     chart
         .draw_series(std::iter::once(Rectangle::new(
             [(xr.start, yr.start), (xr.start, yr.start)],
@@ -224,23 +222,109 @@ fn draw(
     Ok(curves)
 }
 
-/// A panel's chart: margins and label areas (room for [`TEXT`]-sized ticks and axis names).
-pub(super) fn chart_builder<'a, 'b>(area: &'a Area<'b>) -> ChartBuilder<'a, 'b, SVGBackend<'b>> {
+/// Where a dot off the y axis is drawn: the edge it lies beyond, and the arrow's base and its
+/// value's anchor there (the arrow points out of the chart).
+fn off_scale(y: f64, yr: &std::ops::Range<f64>) -> (f64, i32, VPos) {
+    if y < yr.start {
+        (yr.start, -9, VPos::Bottom)
+    } else {
+        (yr.end, 9, VPos::Top)
+    }
+}
+
+/// An off-scale value as its label says it: three significant digits.
+fn off_value(y: f64) -> String {
+    let digits = (2 - y.abs().log10().floor() as i32).clamp(0, 6) as usize;
+    tick(format!("{y:.digits$}").parse().unwrap_or(y))
+}
+
+/// The lines of axis name `name` along `room` pixels: one when it fits, else two.
+fn label_lines(name: &str, room: f64) -> Vec<String> {
+    if super::key::text_width(name) <= room {
+        return vec![name.to_string()];
+    }
+    // Two lines as even as the words allow.
+    let half = printed_len(name) / 2;
+    let mut first = String::new();
+    let mut rest = name;
+    for word in name.split(' ') {
+        if printed_len(&first) >= half {
+            break;
+        }
+        first = if first.is_empty() {
+            word.into()
+        } else {
+            format!("{first} {word}")
+        };
+        rest = rest[word.len()..].trim_start();
+    }
+    // One long word stays one line: nothing to split.
+    match rest {
+        "" => vec![first],
+        _ => vec![first, rest.to_string()],
+    }
+}
+
+/// Draw the y axis name in `lines`, turned, centred on the chart's rows `pixels.1`, at the
+/// left of `area` (where plotters draws a one-line name).
+fn y_label(
+    area: &Area,
+    lines: &[String],
+    pixels: &(std::ops::Range<i32>, std::ops::Range<i32>),
+) -> Result<(), FigureError> {
+    let base = area.get_base_pixel();
+    let middle = (pixels.1.start + pixels.1.end) / 2 - base.1;
+    let style = TextStyle::from(("sans-serif", TEXT).into_font())
+        .transform(FontTransform::Rotate270)
+        .pos(Pos::new(HPos::Center, VPos::Top));
+    for (k, line) in lines.iter().enumerate() {
+        let x = 8 + k as i32 * (TEXT as i32 - 1);
+        area.draw_text(line, &style, (x, middle)).map_err(err)?;
+    }
+    Ok(())
+}
+
+/// Draw the x axis name in `lines`, centred under the chart's columns `pixels.0`, at the
+/// bottom of `area` (where plotters draws a one-line name).
+fn x_label(
+    area: &Area,
+    lines: &[String],
+    pixels: &(std::ops::Range<i32>, std::ops::Range<i32>),
+) -> Result<(), FigureError> {
+    let base = area.get_base_pixel();
+    let middle = (pixels.0.start + pixels.0.end) / 2 - base.0;
+    let bottom = area.dim_in_pixel().1 as i32 - 8;
+    let style =
+        TextStyle::from(("sans-serif", TEXT).into_font()).pos(Pos::new(HPos::Center, VPos::Bottom));
+    for (k, line) in lines.iter().enumerate() {
+        let y = bottom - (lines.len() - 1 - k) as i32 * (TEXT as i32 - 1);
+        area.draw_text(line, &style, (middle, y)).map_err(err)?;
+    }
+    Ok(())
+}
+
+/// A panel's chart: margins and label areas (room for [`TEXT`]-sized ticks and axis names of
+/// `names` = (x, y) lines).
+pub(super) fn chart_builder<'a, 'b>(
+    area: &'a Area<'b>,
+    names: (usize, usize),
+) -> ChartBuilder<'a, 'b, SVGBackend<'b>> {
+    let more = |lines: usize| 17 * lines.saturating_sub(1) as u32;
     let mut b = ChartBuilder::on(area);
     // A wider right margin keeps the last x tick label (centred on the edge) on the canvas.
     b.margin(8)
         .margin_right(22)
-        .x_label_area_size(52)
-        .y_label_area_size(86);
+        .x_label_area_size(52 + more(names.0))
+        .y_label_area_size(86 + more(names.1));
     b
 }
 
 /// The plotting area's size in pixels that [`chart_builder`] leaves on `area`, measured on a
 /// scratch canvas (the legend is placed before the chart is built).
-fn plot_size(area: &Area) -> Result<(f64, f64), FigureError> {
+fn plot_size(area: &Area, names: (usize, usize)) -> Result<(f64, f64), FigureError> {
     let mut scratch = String::new();
     let root = SVGBackend::with_string(&mut scratch, area.dim_in_pixel()).into_drawing_area();
-    let chart = chart_builder(&root)
+    let chart = chart_builder(&root, names)
         .build_cartesian_2d(0.0..1.0, 0.0..1.0)
         .map_err(err)?;
     let (w, h) = chart.plotting_area().dim_in_pixel();
@@ -277,7 +361,9 @@ fn headed_over<'a>(
 
 /// Render panels under a title, `grid` = (rows, columns) of `row_height` pixels each on a
 /// canvas `width` pixels wide ([`super::page::Page::canvas_width`]); a canvas too narrow for
-/// the columns takes fewer (panels in reading order). Returns the SVG text.
+/// the columns takes fewer (panels in reading order). The key entries several panels share are
+/// drawn once, under the title ([`common_keys`]). Returns the SVG text, its scripts set
+/// ([`spans`]).
 pub(super) fn render(
     width: u32,
     title: &str,
@@ -286,10 +372,12 @@ pub(super) fn render(
     panels: &[Panel],
 ) -> Result<String, FigureError> {
     // The title's lines, measured as `headed` will wrap them, and the shared key's rows.
-    let shared = shared_key(panels);
-    let key_band = shared.as_ref().map_or(0, |k| {
-        (key_rows(k, width as f64).1 as f64 * KEY_ROW + 8.0).ceil() as u32
-    });
+    let marks = figure_markers(panels);
+    let common = common_keys(panels, &marks);
+    let key_band = match key_rows(&common, width as f64).1 {
+        0 => 0,
+        rows => (rows as f64 * KEY_ROW + 8.0).ceil() as u32,
+    };
     let band = 10 + wrap(title, width as f64 - 16.0, TITLE).len() as u32 * (TITLE + 4) + key_band;
     let (rows, cols, row_height) = layout(width, band, row_height, grid, panels.len());
     let size = (width, row_height * rows as u32 + band);
@@ -299,31 +387,17 @@ pub(super) fn render(
         let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
         root.fill(&WHITE).map_err(err)?;
         let root = headed(&root, title, TITLE)?;
-        let root = match &shared {
-            Some(k) => keyed(&root, k, 0)?,
-            None => root,
-        };
-        // A row whose panels share every key entry shows it once, across the row.
+        let root = keyed(&root, &common, 0)?;
         let mut id = 0;
         for (ps, row) in panels.chunks(cols).zip(root.split_evenly((rows, 1))) {
-            let row_key = shared.is_none().then(|| shared_key(ps)).flatten();
-            let row = match &row_key {
-                Some(k) => keyed(&row, k, 0)?,
-                None => row,
-            };
-            let own = shared.is_none() && row_key.is_none();
             let areas = row.split_evenly((1, cols));
+            let own: Vec<Vec<Key>> = ps.iter().map(|p| own_keys(p, &common, &marks)).collect();
             // The row's panels take its most caption lines and key rows: their charts align.
-            let lines = ps
-                .iter()
-                .zip(&areas)
-                .map(|(p, a)| {
-                    let (caption, key) = heading_lines(p, a.dim_in_pixel().0);
-                    (caption, if own { key } else { 0 })
-                })
+            let lines = (ps.iter().zip(&areas).zip(&own))
+                .map(|((p, a), k)| heading_lines(p, k, a.dim_in_pixel().0))
                 .fold((0, 0), |m, l| (m.0.max(l.0), m.1.max(l.1)));
-            for (area, p) in areas.iter().zip(ps) {
-                curves.push(draw(area, p, id, (lines, own))?);
+            for ((area, p), k) in areas.iter().zip(ps).zip(&own) {
+                curves.push(draw(area, p, id, (lines, k, &marks))?);
                 id += 1;
             }
         }
@@ -332,7 +406,7 @@ pub(super) fn render(
     for c in &curves {
         c.splice(&mut svg);
     }
-    Ok(svg)
+    Ok(spans(&svg))
 }
 
 /// Rows, columns and row height of `count` panels asked as `grid` on a canvas `width` pixels
@@ -374,7 +448,7 @@ pub(super) fn wrap(text: &str, width: f64, size: u32) -> Vec<String> {
     let mut lines: Vec<String> = Vec::new();
     for word in text.split(' ') {
         match lines.last_mut() {
-            Some(line) if line.chars().count() + 1 + word.chars().count() <= most => {
+            Some(line) if printed_len(line) + 1 + printed_len(word) <= most => {
                 line.push(' ');
                 line.push_str(word);
             }
@@ -410,4 +484,44 @@ pub(super) fn histogram(values: &[f64], bins: usize) -> (Vec<(f64, f64)>, f64) {
         .map(|(k, &c)| (r.start + k as f64 * w, c as f64 / total))
         .collect();
     (pts, w)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_point_far_from_the_rest_is_off_scale_and_an_even_spread_is_not() {
+        // The WormPose verdict's variances: one at −10.3 among −3.2 … 1.1.
+        let v = [1.1, 0.6, 0.1, -0.8, -1.9, -2.1, -2.7, -3.2, -3.2, -10.3];
+        assert_eq!(far_out(&v), vec![-10.3]);
+        assert!(far_out(&[0.0, 1.0, 2.0, 3.0, 4.0]).is_empty());
+        assert_eq!(far_out(&[0.0, 0.1, 0.2, 9.0]), vec![9.0]);
+        assert!(far_out(&[0.0, 5.0]).is_empty(), "two points have no rest");
+        assert_eq!(off_value(-10.3118), "−10.3");
+        assert_eq!(off_value(0.012345), "0.0123");
+    }
+
+    #[test]
+    fn a_curve_is_cut_at_the_axis_edges() {
+        let yr = 0.0..1.0;
+        // Inside, out above, back: two runs, each ending or starting on the edge.
+        let runs = clip_runs(&[(0.0, 0.5), (1.0, 1.5), (2.0, 0.5)], &yr);
+        assert_eq!(
+            runs,
+            vec![vec![(0.0, 0.5), (0.5, 1.0)], vec![(1.5, 1.0), (2.0, 0.5)]]
+        );
+        // Below to above between two samples: edge to edge.
+        let runs = clip_runs(&[(0.0, -1.0), (2.0, 2.0)], &yr);
+        assert_eq!(runs.len(), 1);
+        assert!((runs[0][0].0 - 2.0 / 3.0).abs() < 1e-12 && runs[0][1].1 == 1.0);
+        assert!(clip_runs(&[(0.0, 3.0), (1.0, 4.0)], &yr).is_empty());
+    }
+
+    #[test]
+    fn a_long_axis_name_takes_two_even_lines() {
+        assert_eq!(label_lines("log₁₀ λᵢ", 200.0).len(), 1);
+        let two = label_lines("log₁₀ PSD (point spacings²·s)", 100.0);
+        assert_eq!(two, vec!["log₁₀ PSD (point", "spacings²·s)"]);
+    }
 }
