@@ -480,6 +480,20 @@ fn the_fit_figures_of_a_worm_say_units_estimates_and_off_scale_points() {
     );
     let words = said.join(" ");
     assert!(words.contains("2π × each spectrum's peak"), "{words}");
+    // The estimate `--estimator` chose, as the report holds it.
+    let centroid = written(
+        &[
+            "fit",
+            WORMPOSE,
+            "--time-unit",
+            "s",
+            "--estimator",
+            "centroid",
+        ],
+        "fit_summary.svg",
+    );
+    let words = texts(&centroid).join(" ");
+    assert!(words.contains("2π × each spectrum's centroid"), "{words}");
 }
 
 /// `discover`'s figure of a real worm in seconds: its axes in seconds (no "time unit"), the

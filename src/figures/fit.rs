@@ -196,18 +196,10 @@ fn fit_verdict(r: &crate::fit::FitReport, width: u32) -> Result<String, FigureEr
     )
 }
 
-/// Which spectral estimate the measured ωᵢ are (2π × each spectrum's peak or its centroid),
-/// read off the modes: `fit --estimator` chose it.
+/// Which spectral estimate the measured ωᵢ are (2π × each spectrum's peak or its centroid):
+/// `fit --estimator` chose it.
 fn estimate(r: &crate::fit::FitReport) -> &'static str {
-    let peak = (r.modes.iter()).all(|m| {
-        (m.angular_frequency - std::f64::consts::TAU * m.peak_frequency).abs()
-            <= 1e-9 * m.angular_frequency.abs().max(1.0)
-    });
-    if peak {
-        "peak"
-    } else {
-        "centroid"
-    }
+    r.estimator.name()
 }
 
 /// The fit's figures (Fig. 2 style): principal components against mode shapes, variance shares,

@@ -152,6 +152,9 @@ pub struct FitReport {
     /// 15`…): the commands the report prints start from them.
     #[serde(skip)]
     pub inputs: Vec<String>,
+    /// Which spectral estimate the measured frequencies are (`--estimator`).
+    #[serde(skip)]
+    pub estimator: super::settings::Estimator,
     /// The model has an `[active]` section (`discover --active` takes it).
     #[serde(skip)]
     pub active_allowed: bool,

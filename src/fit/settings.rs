@@ -18,6 +18,16 @@ pub enum Estimator {
     Centroid,
 }
 
+impl Estimator {
+    /// Its name, as `--estimator` takes it and the report says it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Estimator::Peak => "peak",
+            Estimator::Centroid => "centroid",
+        }
+    }
+}
+
 /// Settings of a fit.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FitSettings {

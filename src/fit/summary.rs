@@ -268,6 +268,7 @@ pub(super) fn summarise(
     }
     let continuum = continuum.map(|c| origin.in_units(c, proj.points));
     Ok(FitReport {
+        estimator: settings.estimator,
         continuum,
         modes_fit,
         tests,
@@ -430,10 +431,7 @@ fn scales(
             "no mode among {}–{} is resolved and above the white floor: ω, β and κ come from the spectral {}s, which move with --window (use a longer --window or recording)",
             first_mode,
             first_mode + used - 1,
-            match settings.estimator {
-                Estimator::Peak => "peak",
-                Estimator::Centroid => "centroid",
-            }
+            settings.estimator.name()
         ));
         from_peaks(proj, settings, &modes[..used])
     } else {
