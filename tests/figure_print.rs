@@ -2,7 +2,6 @@
 //! embedded font, no legend over data, and PNG/PDF files of the width asked for. Each check reads
 //! the written SVG, PNG or PDF back (geometry from the output, not from the layout code).
 
-use std::process::Command;
 use std::sync::{Arc, Mutex};
 
 use theory_search::figures::{figure, FigureError, FigureSettings, Format, Page, FIGURES};
@@ -96,21 +95,8 @@ fn recording_svgs(width_mm: f64) -> Vec<(String, String)> {
     ];
     let mut svgs = Vec::new();
     for (args, names) in runs {
-        let dir_held = common::scratch("print-recording");
-        let dir = dir_held.path();
-        let out = Command::new(env!("CARGO_BIN_EXE_theory-search"))
-            .args(args)
-            .args(["--figure-width", &width, "--figures"])
-            .arg(dir)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        for name in names {
-            let svg = std::fs::read_to_string(dir.join(name)).unwrap();
+        let args = [args, &["--figure-width", &width]].concat();
+        for (name, svg) in names.iter().zip(common::figures_written(&args, names)) {
             svgs.push((format!("the worm's {name} at {width_mm} mm"), svg));
         }
     }
@@ -119,23 +105,12 @@ fn recording_svgs(width_mm: f64) -> Vec<(String, String)> {
 
 /// The fit's figures of the example recording, written by the command.
 fn fit_svgs(width_mm: f64) -> Vec<(String, String)> {
-    let dir_held = common::scratch("print");
-    let dir = dir_held.path();
     let example = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/examples/midlines.csv");
-    let out = Command::new(env!("CARGO_BIN_EXE_theory-search"))
-        .args(["fit", example, "--figure-width", &width_mm.to_string()])
-        .arg("--figures")
-        .arg(dir)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let width = width_mm.to_string();
+    let names = ["fit_shapes.svg", "fit_summary.svg", "fit_verdict.svg"];
+    let args = ["fit", example, "--figure-width", &width];
     let mut svgs = Vec::new();
-    for name in ["fit_shapes.svg", "fit_summary.svg", "fit_verdict.svg"] {
-        let svg = std::fs::read_to_string(dir.join(name)).unwrap();
+    for (name, svg) in names.iter().zip(common::figures_written(&args, &names)) {
         svgs.push((format!("{name} at {width_mm} mm"), svg));
     }
     svgs
@@ -315,35 +290,6 @@ fn text_box(tag: &str, text: &str) -> (f64, f64, f64, f64) {
     (x0, y0, x0 + len, y1)
 }
 
-/// Each `<text>` of `svg`: its opening tag and its text, scripts joined in.
-fn texts(svg: &str) -> Vec<(&str, String)> {
-    svg.split("<text")
-        .skip(1)
-        .map(|t| {
-            let (tag, body) = t.split_once('>').unwrap();
-            let body = body.split("</text>").next().unwrap();
-            let mut plain = String::new();
-            let mut in_tag = false;
-            for c in body.chars() {
-                match c {
-                    '<' => in_tag = true,
-                    '>' => in_tag = false,
-                    c if !in_tag => plain.push(c),
-                    _ => {}
-                }
-            }
-            // The entities plotters escapes text with.
-            let plain = (plain.trim())
-                .replace("&apos;", "'")
-                .replace("&quot;", "\"")
-                .replace("&lt;", "<")
-                .replace("&gt;", ">")
-                .replace("&amp;", "&");
-            (tag, plain)
-        })
-        .collect()
-}
-
 /// An axis name runs along its chart, never into a caption, a key or the panel beside it: no
 /// turned text (a y axis' name) overlaps any other text, at 85 and 180 mm.
 #[test]
@@ -351,7 +297,7 @@ fn no_axis_name_runs_into_other_text() {
     let mut names = 0;
     for width in [85.0, 180.0] {
         for (what, svg) in all_svgs(width).iter() {
-            let all = texts(svg);
+            let all = common::svg_texts(svg);
             let boxes: Vec<_> = all
                 .iter()
                 .map(|(tag, t)| (tag, t, text_box(tag, t)))

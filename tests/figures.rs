@@ -222,31 +222,7 @@ fn fit_figures_carry_the_time_unit() {
 
 /// The text of each `<text>` element of `svg`, its scripts (`<tspan>`) joined in.
 fn texts(svg: &str) -> Vec<String> {
-    svg.split("<text")
-        .skip(1)
-        .map(|t| {
-            let body = t.split_once('>').map_or("", |b| b.1);
-            let body = body.split("</text>").next().unwrap_or("");
-            let mut plain = String::new();
-            let mut in_tag = false;
-            for c in body.chars() {
-                match c {
-                    '<' => in_tag = true,
-                    '>' => in_tag = false,
-                    c if !in_tag => plain.push(c),
-                    _ => {}
-                }
-            }
-            // The entities plotters escapes text with.
-            let plain = (plain.trim())
-                .replace("&apos;", "'")
-                .replace("&quot;", "\"")
-                .replace("&lt;", "<")
-                .replace("&gt;", ">")
-                .replace("&amp;", "&");
-            plain
-        })
-        .collect()
+    common::svg_texts(svg).into_iter().map(|t| t.1).collect()
 }
 
 /// How many `<text>` elements of `svg` read exactly `label`.
@@ -428,20 +404,7 @@ const WORMPOSE: &str = concat!(
 
 /// Run the binary with `args` and `--figures` a scratch directory; the SVG `name` it wrote.
 fn written(args: &[&str], name: &str) -> String {
-    let dir_held = common::scratch("recording-figures");
-    let dir = dir_held.path();
-    let out = Command::new(env!("CARGO_BIN_EXE_theory-search"))
-        .args(args)
-        .arg("--figures")
-        .arg(dir)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    std::fs::read_to_string(dir.join(name)).unwrap()
+    common::figures_written(args, &[name]).remove(0)
 }
 
 /// The fit of a real worm (WormPose, in seconds): the verdict's marks keep one colour across

@@ -63,7 +63,7 @@ pub(super) fn text(r: &FitReport) -> String {
     };
     let mut out = format!("In short: {headline}.\n");
     if let Some(c) = &r.continuum {
-        let symbol = if c.name == "kappa" { "κ" } else { "c" };
+        let symbol = c.symbol();
         let interval = c
             .interval
             .map(|[lo, hi]| format!(" [{}, {}]", short(lo), short(hi)))

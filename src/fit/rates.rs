@@ -136,10 +136,7 @@ pub(super) fn text(r: &FitReport) -> String {
     if r.rate_groups.is_empty() {
         return String::new();
     }
-    let symbol = match &r.continuum {
-        Some(c) if c.name != "kappa" => "c",
-        _ => "κ",
-    };
+    let symbol = r.continuum.as_ref().map_or("κ", |c| c.symbol());
     let time = r.units.time.as_deref().unwrap_or("time unit");
     let mut t = format!(
         "  rate groups: the animals were sampled at {} rates, each fitted as its own pool (the fit above is the first); {symbol} in body lengths and {time}s, one unit for all:\n",

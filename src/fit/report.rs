@@ -185,6 +185,17 @@ pub struct Continuum {
     pub in_data_units: f64,
 }
 
+impl Continuum {
+    /// Its symbol: κ for a beam's flexural constant, c for a string's or ring's wave speed.
+    pub fn symbol(&self) -> &'static str {
+        if self.name == "kappa" {
+            "κ"
+        } else {
+            "c"
+        }
+    }
+}
+
 /// The first k principal components against the first k theory modes.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Subspace {
@@ -281,10 +292,11 @@ impl Report for FitReport {
             },
         );
         if let Some(c) = &r.continuum {
-            let (symbol, law) = if c.name == "kappa" {
-                ("κ", "ωᵢ = κ(βᵢL)²")
+            let symbol = c.symbol();
+            let law = if c.name == "kappa" {
+                "ωᵢ = κ(βᵢL)²"
             } else {
-                ("c", "ωᵢ = c·βᵢL")
+                "ωᵢ = c·βᵢL"
             };
             let power = if c.name == "kappa" { "²" } else { "" };
             let interval = c

@@ -210,7 +210,7 @@ pub(super) fn text(r: &FitReport) -> String {
     let (Some(s), Some(c)) = (&r.spread, &r.continuum) else {
         return String::new();
     };
-    let symbol = if c.name == "kappa" { "κ" } else { "c" };
+    let symbol = c.symbol();
     let q = format!(
         "Q = {} on {} dof, p {}; I² = {} %, τ = {} % of {symbol}",
         fixed(s.q, 1),

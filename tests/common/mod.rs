@@ -67,3 +67,53 @@ pub fn scratch_file(tag: &str, suffix: &str) -> tempfile::NamedTempFile {
         .tempfile()
         .expect("a scratch file")
 }
+
+/// The binary run with `args` and `--figures` a scratch directory (it must succeed): the SVG
+/// files `names` it wrote, in order.
+pub fn figures_written(args: &[&str], names: &[&str]) -> Vec<String> {
+    let dir_held = scratch("figures-written");
+    let dir = dir_held.path();
+    let out = Command::new(env!("CARGO_BIN_EXE_theory-search"))
+        .args(args)
+        .arg("--figures")
+        .arg(dir)
+        .output()
+        .expect("the binary runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    (names.iter())
+        .map(|n| std::fs::read_to_string(dir.join(n)).expect("the figure was written"))
+        .collect()
+}
+
+/// Each `<text>` element of `svg`: its opening tag, and its text with the scripts (`<tspan>`)
+/// joined in and plotters' entities read back.
+pub fn svg_texts(svg: &str) -> Vec<(&str, String)> {
+    svg.split("<text")
+        .skip(1)
+        .map(|t| {
+            let (tag, body) = t.split_once('>').unwrap_or((t, ""));
+            let body = body.split("</text>").next().unwrap_or("");
+            let mut plain = String::new();
+            let mut in_tag = false;
+            for c in body.chars() {
+                match c {
+                    '<' => in_tag = true,
+                    '>' => in_tag = false,
+                    c if !in_tag => plain.push(c),
+                    _ => {}
+                }
+            }
+            let plain = (plain.trim())
+                .replace("&apos;", "'")
+                .replace("&quot;", "\"")
+                .replace("&lt;", "<")
+                .replace("&gt;", ">")
+                .replace("&amp;", "&");
+            (tag, plain)
+        })
+        .collect()
+}
