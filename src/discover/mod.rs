@@ -201,8 +201,8 @@ pub enum DiscoverError {
         /// The limit.
         max: usize,
     },
-    /// No mode has a resolved spectral peak.
-    #[error("no mode of {recording} has a resolved spectral peak: both estimators start from each mode's time scale as fit resolves it (fit says why for each mode)")]
+    /// No mode's time scales are determined.
+    #[error("no mode of {recording} has its time scales resolved: the lowest mode's Ω and ζ are determined neither by fit's spectrum nor by the mode's own exact likelihood (Ω to 10 %, ζ to 20 %, not on an over-damped ridge; fit says why for each mode)")]
     NoResolvedMode {
         /// The recording.
         recording: String,

@@ -75,7 +75,8 @@ pub use report::{Continuum, FitReport, ModeFit, Recording, Subspace};
 pub use settings::*;
 pub use spread::Spread;
 pub use verdict::{
-    ModeSpectralFit, TheoryTest, TheoryTests, Verdict, WindowChoice, RESOLVED_BINS, WIDTH_BINS,
+    ModeSpectralFit, TheoryTest, TheoryTests, Verdict, WindowChoice, EXACT_NYQUIST, RESOLVED_BINS,
+    WIDTH_BINS,
 };
 pub use window::spectral_peak_and_centroid;
 
