@@ -182,8 +182,14 @@ pub(super) fn estimate(
             fit_mode(d, from_fit(m, gain, first.dt))
         } else if peakless(m) {
             let below = fits.last().map(|f: &ModeFit| f.fit.estimate.omega);
+            // Above a mode fit resolved, only an over-damped line: an under-damped one there is
+            // a line fit's spectrum did not see (on both worms, the undulation leaked).
+            let after_resolved = own.len() < fits.len();
             own.push(m.mode);
-            own_fit(d).filter(|f| below.is_none_or(|w| f.fit.estimate.omega > ABOVE * w))
+            own_fit(d).filter(|f| {
+                below.is_none_or(|w| f.fit.estimate.omega > ABOVE * w)
+                    && (!after_resolved || f.fit.estimate.zeta >= 1.0)
+            })
         } else {
             None
         };
