@@ -334,3 +334,74 @@ fn by_hand_over_damped_study() {
         eprintln!("  {fpp} fpp: {both} of 20 with the exact set and both covered");
     }
 }
+
+#[test]
+fn several_animals_are_answered_one_by_one_and_pooled_with_their_spread() {
+    // Three beams of one stiffness and one 40 % stiffer at one frame rate, and a file that
+    // cannot be read: each answered alone, the unreadable one refused with its reason, and
+    // the stiffness's spread between the animals tested (Cochran's Q over their own intervals).
+    let same = beam(false, 14.0, 0.01);
+    // The same frame interval: Δt = 2π/(ω₁·fpp), ω₁ ∝ √c.
+    let stiff = Beam {
+        c: same.c * 1.4,
+        fpp: same.fpp / 1.4f64.sqrt(),
+        ..same
+    };
+    let bodies = [&same, &same, &same, &stiff];
+    let mut sources: Vec<Source> = (bodies.iter().enumerate())
+        .map(|(k, b)| {
+            let text = record(b, 500 + k as u64);
+            Source::Reader(format!("animal {k}"), Box::new(std::io::Cursor::new(text)))
+        })
+        .collect();
+    sources.push(Source::Reader(
+        "broken".into(),
+        Box::new(std::io::Cursor::new("t,x1,y1\n0,zero,1\n")),
+    ));
+    let mut settings = DiscoverSettings::new(InputKind::Midline);
+    settings.bootstrap = 40;
+    settings
+        .recording
+        .set("fill_gaps", &Setting::Int(0))
+        .expect("a setting");
+    let r = discover(sources, &model(false), &settings).expect("the pool is answered");
+    assert_eq!(r.animals.len(), 5);
+    let broken = r.animals.iter().find(|a| a.recording == "broken").unwrap();
+    assert!(
+        broken
+            .refused
+            .as_ref()
+            .is_some_and(|w| w.contains("line 2")),
+        "{broken:?}"
+    );
+    let answered: Vec<_> = r.animals.iter().filter(|a| a.refused.is_none()).collect();
+    assert_eq!(answered.len(), 4);
+    let c_of = |a: &theory_search::discover::AnimalAnswer| {
+        a.selected
+            .iter()
+            .find(|t| t.name == "c_y")
+            .map(|t| t.coefficient)
+    };
+    for (a, b) in answered.iter().zip(bodies) {
+        let c = c_of(a).expect("c_y selected");
+        assert!(
+            (c / b.c - 1.0).abs() < 0.05,
+            "{}: c_y {c} for {}",
+            a.recording,
+            b.c
+        );
+    }
+    let spread = r
+        .between
+        .iter()
+        .find(|s| s.name == "c_y")
+        .expect("c_y's spread");
+    assert_eq!(spread.spread.animals, 4);
+    assert!(spread.spread.differ, "p = {}", spread.spread.p);
+    let text = theory_search::report::Report::text(&r);
+    assert!(text.contains("Each animal alone (5 recordings"), "{text}");
+    assert!(
+        text.contains("Between animals, c_y (the 4 animals"),
+        "{text}"
+    );
+}

@@ -121,7 +121,7 @@ fn a_clamped_beam_with_tracking_noise_keeps_its_kappa() {
 /// `discover` answers a clamped–free thermal beam with tracking noise (the projection no longer
 /// drowns its low modes): its stiffness selected, positive, at 12 and 19 points, 1 % and 5 %.
 #[test]
-fn discover_answers_a_clamped_beam_with_tracking_noise() {
+fn discover_answers_a_clamped_beam_with_tracking_noise_or_says_why_not() {
     use theory_search::discover::{discover, DiscoverSettings, Source};
     // At 41 points discover answers "∂t² y = 0" in 1 of 4 seeds at 1 % noise: its selection,
     // not the projection (fit covers κ there in 20 of 20); issue 50's.
@@ -145,9 +145,15 @@ fn discover_answers_a_clamped_beam_with_tracking_noise() {
                 .map_err(|e| e.to_string())
         });
         println!("clamped–free N = {points}, noise {share}: {answers:?}");
+        // The clamped head's coordinate (gain 33 at 12 points): its exact likelihood puts the
+        // first mode on an over-damped ridge (Ω 0.7–2.4 per frame, ζ 11–38, se of ln Ω ≈ 10)
+        // where fit's spectrum has a sharp line at 0.035; such a fit is not used, so discover
+        // refuses in words rather than answer from it (it used to: c_y from that Ω).
         for a in &answers {
-            let equation = a.as_ref().expect("discover answers");
-            assert!(equation.contains("c_y"), "no stiffness: {equation}");
+            match a {
+                Ok(equation) => assert!(equation.contains("c_y"), "no stiffness: {equation}"),
+                Err(why) => assert!(why.contains("time scales resolved"), "{why}"),
+            }
         }
     }
 }

@@ -7,10 +7,9 @@ use super::data::{Basis, Recording};
 use nalgebra::DVector;
 
 use super::coupled::{Joint, Wald, COUPLED};
-use super::exact::{
-    columns, drawn, fit_mode, mode_data, moments, Distance, ModeData, ModeFit, Quadratic, MAX_MODES,
-};
+use super::exact::{columns, drawn, moments, Distance, ModeData, ModeFit, Quadratic};
 use super::galerkin::ModalForce;
+use super::modes::{used, Used};
 use super::report::{
     choose, percentiles, Comparison, DiscoverReport, DiscoveredTerm, Method, Selection,
 };
@@ -18,7 +17,6 @@ use super::verdict::Goodness;
 use super::weak::in_data_unit;
 use super::{galerkin, DiscoverError, DiscoverSettings, Notation};
 use crate::dynamics::Candidate;
-use crate::fit::{ModeNote, ModeSpectralFit};
 use crate::model::Model;
 use crate::statespace::Oscillator;
 
@@ -37,109 +35,6 @@ pub(super) enum NotExact {
     /// A mode's information is singular.
     #[error("a mode's information is singular")]
     Singular,
-}
-
-/// Mode `m`'s start from `fit`'s estimate (its coordinate divided by `gain`; time in frames of
-/// `dt`).
-fn from_fit(m: &ModeSpectralFit, gain: f64, dt: f64) -> Oscillator {
-    let variance = (m.variance / (gain * gain)).max(f64::MIN_POSITIVE);
-    Oscillator {
-        omega: (m.omega * dt).clamp(1e-6, std::f64::consts::PI * 1.9),
-        zeta: m.zeta.clamp(1e-3, 10.0),
-        variance,
-        noise: (m.noise / (gain * gain)).max(variance * 1e-4),
-    }
-}
-
-/// Whether `fit` left mode `m` unresolved only for want of a spectral peak (over-damped, flat
-/// under its white level, too near zero or too uncertain in Ω for the Welch spectrum, or not
-/// converged there): the Kalman likelihood needs no peak. A mode near or past Nyquist is not
-/// one: its likelihood has an alias's optimum too.
-fn peakless(m: &ModeSpectralFit) -> bool {
-    matches!(
-        m.note,
-        Some(
-            ModeNote::NotConverged
-                | ModeNote::OverDamped { .. }
-                | ModeNote::MostlyFlat
-                | ModeNote::OmegaUncertain
-                | ModeNote::TooFewBins { .. }
-        )
-    )
-}
-
-/// How much faster than the mode below it a peak-less mode's own fit must be: a beam's modes
-/// are ordered (Ωₙ ∝ rₙ², 2.8× from a free beam's first to its second), and a coordinate at a
-/// lower mode's frequency is that mode showing through (WormPose's modes 6–9 at Ω ≈ 2.4 with
-/// its mode 4 at 2.37: the undulation, leaked).
-const ABOVE: f64 = 1.25;
-
-/// Starts of a peak-less mode's own fit: Ω per frame and ζ, from a slow to a fast line and
-/// from a sharp to an over-damped one.
-const OWN_STARTS: [(f64, f64); 6] = [
-    (0.05, 0.3),
-    (0.05, 2.0),
-    (0.25, 0.3),
-    (0.25, 2.0),
-    (1.0, 0.3),
-    (1.0, 2.0),
-];
-
-/// The standard errors of ln Ω and ln ζ under which a peak-less mode's own fit is used: its
-/// time scales determined, not a line lost in the noise.
-const OWN_ERRORS: [f64; 2] = [0.1, 0.2];
-
-/// The correlation of ln Ω and ln ζ above which a mode's fit is not used: an over-damped mode
-/// whose fast rate the frames do not resolve shows only its slow rate, Ω and ζ lie on a ridge
-/// and the information understates its length. On a Kelvin beam (ζ₁ = 0.6, 8–30 frames a
-/// period) the fits off the truth had 0.93–0.9996, those on it −0.49 to 0.81; with the
-/// ridge's modes in, c_y came out −90 % (one such mode `fit` had called resolved).
-const RIDGE: f64 = 0.9;
-
-/// The fastest rate per frame, Ω(ζ + √(ζ² − 1)), of an over-damped mode that is used: beyond
-/// it the mode's Ω spread twice its standard error over seeds (the same beam's second mode,
-/// 3.7 per frame at 14 frames a period) and c_y's interval missed in 2 of 6; at 1.7 (30 frames
-/// a period) it held.
-const FASTEST: f64 = 2.0;
-
-/// Whether a mode's exact fit is used: its Ω and ζ not on a ridge ([`RIDGE`]) and an
-/// over-damped mode's fast rate resolved ([`FASTEST`]).
-fn determined(f: &ModeFit) -> bool {
-    let c = &f.covariance;
-    let ridge = c[(0, 1)] / (c[(0, 0)] * c[(1, 1)]).sqrt() > RIDGE;
-    let p = f.fit.estimate;
-    let fast = p.omega * (p.zeta + (p.zeta * p.zeta - 1.0).max(0.0).sqrt());
-    !ridge && (p.zeta < 1.0 || fast <= FASTEST)
-}
-
-/// A peak-less mode's fit from [`OWN_STARTS`] (the highest likelihood), when its Ω and ζ are
-/// determined ([`OWN_ERRORS`]), its line holds more variance than the white noise over it
-/// (WormPose's modes 6–9, mostly white, gave lines at the lower modes' frequencies), and an
-/// under-damped line lies below
-/// [`EXACT_NYQUIST`](crate::fit::EXACT_NYQUIST) × Nyquist.
-fn own_fit(d: &ModeData) -> Option<ModeFit> {
-    let observed: Vec<f64> = (d.blocks.iter().flatten().copied())
-        .filter(|v| v.is_finite())
-        .collect();
-    let total = observed.iter().map(|v| v * v).sum::<f64>() / observed.len().max(1) as f64;
-    let best = (OWN_STARTS.iter())
-        .filter_map(|&(omega, zeta)| {
-            fit_mode(
-                d,
-                Oscillator {
-                    omega,
-                    zeta,
-                    variance: 0.9 * total,
-                    noise: 0.1 * total,
-                },
-            )
-        })
-        .max_by(|a, b| a.fit.log_likelihood.total_cmp(&b.fit.log_likelihood))?;
-    let se = |k: usize| best.covariance[(k, k)].max(0.0).sqrt();
-    let p = best.fit.estimate;
-    let alias = p.zeta < 1.0 && p.omega > crate::fit::EXACT_NYQUIST * std::f64::consts::PI;
-    let known = se(0) <= OWN_ERRORS[0] && se(1) <= OWN_ERRORS[1];
-    (total > 0.0 && known && !alias && p.variance >= p.noise).then_some(best)
 }
 
 /// The theories to score: label and candidate names.
@@ -165,48 +60,13 @@ pub(super) fn estimate(
         Basis::Continuum { gains, .. } => gains.len(),
         Basis::Grid => first.shapes.len(),
     };
-    let candidates: Vec<usize> = (0..available.min(first.fit.modes_fit.len()))
-        .take(MAX_MODES)
-        .collect();
-    let mut data = mode_data(recordings, &candidates);
-    let mut fits: Vec<ModeFit> = Vec::new();
-    // The modes fitted from their own starts, as reported.
-    let mut own: Vec<usize> = Vec::new();
-    for (d, &j) in data.iter().zip(&candidates) {
-        let m = &first.fit.modes_fit[j];
-        let gain = match &first.basis {
-            Basis::Continuum { gains, .. } => gains[j],
-            Basis::Grid => 1.0,
-        };
-        let found = if m.resolved || m.exact.is_some() {
-            fit_mode(d, from_fit(m, gain, first.dt))
-        } else if peakless(m) {
-            let below = fits.last().map(|f: &ModeFit| f.fit.estimate.omega);
-            // Above a mode fit resolved, only an over-damped line: an under-damped one there is
-            // a line fit's spectrum did not see (on both worms, the undulation leaked).
-            let after_resolved = own.len() < fits.len();
-            own.push(m.mode);
-            own_fit(d).filter(|f| {
-                below.is_none_or(|w| f.fit.estimate.omega > ABOVE * w)
-                    && (!after_resolved || f.fit.estimate.zeta >= 1.0)
-            })
-        } else {
-            None
-        };
-        let found = found.filter(determined);
-        match found {
-            Some(f) => fits.push(f),
-            None => break,
-        }
-    }
-    if fits.is_empty() {
-        return Err(DiscoverError::NoResolvedMode {
-            recording: crate::markup::clip(&first.name),
-        });
-    }
-    let modes = &candidates[..fits.len()];
-    data.truncate(fits.len());
-    own.retain(|&k| modes.iter().any(|&j| first.fit.modes_fit[j].mode == k));
+    let Used {
+        modes,
+        fits,
+        data,
+        own,
+    } = used(recordings, available)?;
+    let modes = &modes[..];
     let names: Vec<String> = library.iter().map(|c| c.name.clone()).collect();
     let points = first.fit.model_points;
     // The modes in the likelihood: the resolved ones. (Tried for the coupled likelihood: every
@@ -420,6 +280,8 @@ pub(super) fn estimate(
         replay: None,
         onward: None,
         onward_refused: None,
+        animals: Vec::new(),
+        between: Vec::new(),
     }))
 }
 

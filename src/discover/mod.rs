@@ -35,11 +35,13 @@
 //! frames (`weak`), so no decision depends on the unit the time column is written in; each
 //! coefficient is taken back to that unit at the end.
 
+mod animals;
 mod coupled;
 mod data;
 mod exact;
 mod galerkin;
 mod linear;
+mod modes;
 mod onward;
 mod regress;
 mod replay;
@@ -50,6 +52,7 @@ mod weak;
 use std::io::BufRead;
 use std::path::PathBuf;
 
+pub use animals::{AnimalAnswer, AnimalTerm, CoefficientSpread};
 pub use onward::{Onward, OnwardRefusal, MAX_PHASE_STEP};
 pub use replay::{Replay, STEPS_PER_FRAME};
 pub use report::{Comparison, DiscoverReport, DiscoveredTerm, Method, Selection};
@@ -66,8 +69,9 @@ use crate::recording::{InputKind, RecordingSettings, Setting};
 pub const MAX_DRAWS: usize = 10_000;
 
 /// At most this many recordings: each is fitted on its own (its modes' spectra, 0.05–0.3 s
-/// for a few thousand frames, about a second for 10⁶), before the weak form pools them.
-pub const MAX_RECORDINGS: usize = 32;
+/// for a few thousand frames, about a second for 10⁶) and estimated alone (the 38 larvae of
+/// docs/discover.md: 0.1–0.5 s each with 200 draws), before they are pooled.
+pub const MAX_RECORDINGS: usize = 100;
 
 /// Settings of `discover`.
 #[derive(Debug, Clone)]
@@ -239,7 +243,7 @@ pub enum DiscoverError {
     #[error("the weak form's sums of the recording are not finite (the postures' values overflow them): rescale the recording")]
     NonFinite,
     /// More recordings than [`MAX_RECORDINGS`].
-    #[error("{count} recordings: discover fits each one's spectra on its own (up to a second each), so it takes at most {MAX_RECORDINGS}; pool them in fewer files, or use fit for many animals")]
+    #[error("{count} recordings: discover fits and estimates each one on its own (up to a few seconds each), so it takes at most {MAX_RECORDINGS}; pool them in fewer files, or use fit for many animals")]
     TooManyRecordings {
         /// How many were given.
         count: usize,
@@ -340,6 +344,8 @@ pub fn discover(
             count: sources.len(),
         });
     }
+    let several = sources.len() > 1;
+    let mut unread: Vec<animals::AnimalAnswer> = Vec::new();
     let mut recordings: Vec<data::Recording> = Vec::new();
     for source in sources {
         let (input, name) = match source {
@@ -360,7 +366,19 @@ pub fn discover(
             }
         };
         let held = recordings.iter().map(data::Recording::values).sum();
-        recordings.push(data::read(input, name, &leading, &fit, held)?);
+        match data::read(input, name.clone(), &leading, &fit, held) {
+            Ok(r) => recordings.push(r),
+            // One unreadable animal among several is skipped with its reason.
+            Err(e) if several && !matches!(e, DiscoverError::TooLarge { .. }) => {
+                unread.push(animals::AnimalAnswer::refused(&name, e.to_string()));
+            }
+            Err(e) => return Err(e),
+        }
+    }
+    if recordings.is_empty() {
+        if let Some(why) = unread.first().and_then(|a| a.refused.clone()) {
+            return Err(DiscoverError::Fit(FitError::Invalid(why)));
+        }
     }
     let Some(first) = recordings.first() else {
         return Err(DiscoverError::Fit(FitError::Invalid(
@@ -406,15 +424,24 @@ pub fn discover(
     if whole.is_empty() {
         return Err(DiscoverError::EmptyLibrary { field });
     }
+    let each;
     let why = match settings.estimator {
-        Estimator::Weak => "--estimator weak".to_string(),
+        Estimator::Weak => {
+            each = unread;
+            "--estimator weak".to_string()
+        }
         _ => {
             let names: linear::Nested = libraries
                 .iter()
                 .map(|(l, c)| (l.clone(), c.iter().map(|c| c.name.clone()).collect()))
                 .collect();
-            match linear::estimate(&recordings, model, settings, whole, &names, &field)? {
-                Ok(report) => return finish(report, &recordings, model, settings, not_estimated),
+            let whole = (whole.as_slice(), &names);
+            each = animals::alone(&mut recordings, model, settings, whole, &field, unread);
+            match linear::estimate(&recordings, model, settings, whole.0, &names, &field)? {
+                Ok(report) => {
+                    let report = animals::attach(report, each);
+                    return finish(report, &recordings, model, settings, not_estimated);
+                }
                 Err(why) if settings.estimator == Estimator::Exact => {
                     return Err(DiscoverError::ExactUnavailable {
                         why: why.to_string(),
@@ -424,13 +451,16 @@ pub fn discover(
             }
         }
     };
-    for r in &recordings {
-        if weak::used(r).next().is_none() {
+    // The weak form pools the animals with a mode it can use; the others are refused alone.
+    let usable = |r: &data::Recording| weak::used(r).next().is_some();
+    if !recordings.iter().any(usable) || recordings.len() == 1 {
+        if let Some(r) = recordings.iter().find(|r| !usable(r)) {
             return Err(DiscoverError::NoResolvedMode {
                 recording: crate::markup::clip(&r.name),
             });
         }
     }
+    recordings.retain(usable);
     let mut theories = Vec::new();
     for (label, candidates) in libraries {
         weak::check_work(&recordings, candidates.len())?;
@@ -457,6 +487,7 @@ pub fn discover(
     }
     let mut report = report::assemble(&recordings, model, settings, &theories, &field)?;
     report.method = Method::WeakForm { why };
+    let report = animals::attach(report, each);
     finish(report, &recordings, model, settings, not_estimated)
 }
 

@@ -127,6 +127,12 @@ pub struct DiscoverReport {
     /// Why `simulate` would refuse the discovered equation (no onward line is printed then).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub onward_refused: Option<String>,
+    /// Several recordings: each animal's answer alone (`animals`).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub animals: Vec<super::animals::AnimalAnswer>,
+    /// Several recordings: how each pooled coefficient differs between them.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub between: Vec<super::animals::CoefficientSpread>,
 }
 
 /// Which estimator ran.
@@ -357,6 +363,8 @@ pub(super) fn assemble(
         replay: None,
         onward: None,
         onward_refused: None,
+        animals: Vec::new(),
+        between: Vec::new(),
     })
 }
 
@@ -393,7 +401,7 @@ fn noise(rows: &super::weak::Rows, set: &[usize], beta: &[f64]) -> f64 {
     e2 / rows.norm.iter().sum::<f64>().max(f64::MIN_POSITIVE)
 }
 
-fn interval_text(i: Option<[f64; 2]>) -> String {
+pub(super) fn interval_text(i: Option<[f64; 2]>) -> String {
     i.map_or("—".into(), |[a, b]| {
         format!("[{}, {}]", short(a), short(b))
     })
@@ -529,6 +537,7 @@ impl Report for DiscoverReport {
                 .as_ref()
                 .map_or("time".to_string(), |u| u.clone())
         );
+        out += &super::animals::text(self);
         out += &match &self.onward_refused {
             None => format!(
                 "Onward: {}\n{}",

@@ -98,7 +98,7 @@ impl Finding {
         !matches!(self, Finding::WrongSign { decided: false, .. })
     }
 
-    fn text(&self) -> String {
+    pub(super) fn text(&self) -> String {
         let n = crate::report::short;
         match self {
             Finding::WrongSign {
@@ -146,6 +146,17 @@ pub enum Conclusion {
     DoesNotHold,
     /// Only wrong signs whose intervals reach the allowed side.
     Undecided,
+}
+
+impl Conclusion {
+    /// The conclusion in a few words.
+    pub fn words(self) -> &'static str {
+        match self {
+            Conclusion::Holds => "holds",
+            Conclusion::DoesNotHold => "does not hold",
+            Conclusion::Undecided => "undecided",
+        }
+    }
 }
 
 /// The conclusion and the findings behind it.

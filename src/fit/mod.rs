@@ -73,6 +73,7 @@ pub use pool::{fit_inputs, Input};
 pub use rates::{AcrossRates, RateGroup};
 pub use report::{Continuum, FitReport, ModeFit, Recording, Subspace};
 pub use settings::*;
+pub(crate) use spread::spread_of;
 pub use spread::Spread;
 pub use verdict::{
     ModeSpectralFit, TheoryTest, TheoryTests, Verdict, WindowChoice, EXACT_NYQUIST, RESOLVED_BINS,

@@ -74,15 +74,34 @@ pub struct Spread {
     pub pooled_tests: Option<TheoryTests>,
 }
 
+impl Spread {
+    /// Q's p-value as `= 0.23` or `< 1e-16` (it underflows past 1e-300 for animals far apart).
+    pub fn p_words(&self) -> String {
+        if self.p < 1e-16 {
+            "< 1e-16".into()
+        } else {
+            format!("= {}", super::note::p_value(self.p))
+        }
+    }
+}
+
 /// The heterogeneity of the animals' constants: `None` with fewer than two that have one.
 pub(super) fn between(animals: &[AnimalFit]) -> Option<Spread> {
-    let each: Vec<(f64, f64)> = animals
-        .iter()
+    let each: Vec<(f64, [f64; 2])> = (animals.iter())
         .filter(|a| a.note.is_none())
-        .filter_map(|a| {
-            let [lo, hi] = a.continuum_interval?;
+        .filter_map(|a| Some((a.continuum?, a.continuum_interval?)))
+        .collect();
+    spread_of(&each)
+}
+
+/// The heterogeneity of estimates, each with its 95 % interval (its standard error the
+/// half-width over 1.96): `None` with fewer than two usable ones. `discover` uses it for each
+/// pooled coefficient over the animals.
+pub(crate) fn spread_of(estimates: &[(f64, [f64; 2])]) -> Option<Spread> {
+    let each: Vec<(f64, f64)> = (estimates.iter())
+        .filter_map(|&(x, [lo, hi])| {
             let s = (hi - lo) / (2.0 * NORMAL_975);
-            (s > 0.0 && s.is_finite()).then_some((a.continuum?, s * s))
+            (s > 0.0 && s.is_finite() && x.is_finite()).then_some((x, s * s))
         })
         .collect();
     let k = each.len();
@@ -215,12 +234,7 @@ pub(super) fn text(r: &FitReport) -> String {
         "Q = {} on {} dof, p {}; I² = {} %, τ = {} % of {symbol}",
         fixed(s.q, 1),
         s.dof,
-        // Q's p underflows past 1e-300 for animals far apart.
-        if s.p < 1e-16 {
-            "< 1e-16".into()
-        } else {
-            format!("= {}", super::note::p_value(s.p))
-        },
+        s.p_words(),
         fixed(100.0 * s.i2, 0),
         fixed(100.0 * s.tau_share, 1),
     );
