@@ -405,3 +405,98 @@ fn several_animals_are_answered_one_by_one_and_pooled_with_their_spread() {
         "{text}"
     );
 }
+
+/// The onward line's run as a tracker's midlines, head first, in body lengths: each row's
+/// `y_0 … y_{N−1}` (grid spacing units) at s = i/(N − 1).
+fn onward_midlines(csv: &str, points: usize) -> String {
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().expect("a header").split(',').collect();
+    let at = |name: String| header.iter().position(|h| *h == name).expect("a column");
+    let columns: Vec<usize> = (0..points).rev().map(|i| at(format!("y_{i}"))).collect();
+    let h = 1.0 / (points as f64 - 1.0);
+    let mut out = String::from("t");
+    for k in 1..=points {
+        out += &format!(",x{k},y{k}");
+    }
+    for row in lines {
+        let v: Vec<f64> = row
+            .split(',')
+            .map(|x| x.parse().expect("a number"))
+            .collect();
+        out += &format!("\n{}", v[0]);
+        for (k, &c) in columns.iter().enumerate() {
+            out += &format!(",{},{}", 1.0 - k as f64 * h, v[c] * h);
+        }
+    }
+    out
+}
+
+/// Each used mode's (Ω, its se, σ², its se) in `fit`'s reading of `text`.
+fn modes_read(text: String, points: usize, clamped: bool) -> Vec<(usize, [f64; 4])> {
+    let mut settings = theory_search::fit::FitSettings::new(InputKind::Midline);
+    settings.recording.points = points;
+    let params = theory_search::modal::Params::default();
+    let r = theory_search::fit::fit(
+        std::io::Cursor::new(text),
+        &model(clamped),
+        &params,
+        &settings,
+    )
+    .expect("fit reads it");
+    (r.modes_fit.iter())
+        .map(|m| {
+            let se = |e: Option<f64>| e.unwrap_or(f64::INFINITY);
+            let read = [m.omega, se(m.omega_error), m.variance, se(m.variance_error)];
+            (m.mode, read)
+        })
+        .collect()
+}
+
+/// The onward line replays the recording: run as printed and read back by `fit` as the
+/// recording was, each mode `discover` used keeps its frequency within 6 % (the 12-point
+/// lattice's dispersion differs from the continuum's by that across the modes used; the
+/// continuum coefficients, passed on as a change of unit, replayed the modes 16–19 % slow) and
+/// its variance within 1.96 of the two readings' joint standard error, except a free body's
+/// lowest mode, within 30 %: over seeds 21–25 the 12-point lattice's lowest shape read through
+/// the continuum projector keeps 7 % less than kT/Ω², and the recording reads 10–15 % above
+/// equipartition there (docs/discover.md, "Not done yet").
+#[test]
+fn the_onward_line_replays_the_recordings_modes() {
+    let path = |clamped| match clamped {
+        true => concat!(env!("CARGO_MANIFEST_DIR"), "/tables/models/zebrafish.toml"),
+        false => concat!(env!("CARGO_MANIFEST_DIR"), "/tables/models/crawler.toml"),
+    };
+    let mut wrong = Vec::new();
+    for (clamped, fpp) in [(false, 14.0), (false, 30.0), (true, 14.0)] {
+        let b = beam(clamped, fpp, 0.01);
+        let mut r = discovered(&b, 21, 12, 0);
+        r.model_argument = Some(path(clamped).into());
+        let line = r.simulate_line();
+        let words: Vec<&str> = line.split_whitespace().skip(1).collect();
+        let csv = common::cli(&words).unwrap_or_else(|e| panic!("{line}: {e}"));
+        let recorded = modes_read(record(&b, 21), 12, clamped);
+        let replayed = modes_read(onward_midlines(&csv, 12), 12, clamped);
+        for &(m, _) in &r.modes {
+            let pick = |read: &[(usize, [f64; 4])]| {
+                read.iter()
+                    .find(|x| x.0 == m)
+                    .map(|x| x.1)
+                    .expect("the mode read")
+            };
+            let ([w0, _, v0, e0], [w1, _, v1, e1]) = (pick(&recorded), pick(&replayed));
+            let joint = 1.96 * e0.hypot(e1);
+            let said = format!("clamped {clamped}, {fpp} fpp, mode {m}: Ω {w1:.4} replayed, {w0:.4} recorded; σ² {v1:.4} replayed, {v0:.4} ± {joint:.4}");
+            eprintln!("{said}");
+            let lowest_free = !clamped && m == r.modes[0].0;
+            let variance_off = match lowest_free {
+                true => (v1 / v0 - 1.0).abs() > 0.3,
+                false => (v1 - v0).abs() > joint,
+            };
+            if (w1 / w0 - 1.0).abs() >= 0.06 || variance_off {
+                wrong.push(said);
+            }
+        }
+        eprintln!("{line}");
+    }
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}

@@ -512,3 +512,31 @@ fn huge_coefficients_give_roots_that_match_the_trace_or_exit_3() {
         }
     }
 }
+
+/// A time column that leaps to 1e300 and back (found by tests/fuzz.rs): the leap counted its
+/// lost frames as usize::MAX, and adding them overflowed into a capacity panic. Now the leap is
+/// one long gap and the step back a one-line input error, for `fit` and `discover` alike.
+#[test]
+fn a_time_column_leaping_to_1e300_is_refused_in_one_line() {
+    let text = std::fs::read_to_string(MIDLINES).unwrap();
+    let mut data = 0;
+    let leaped: Vec<String> = (text.lines())
+        .map(|l| {
+            let numeric = l
+                .split(',')
+                .next()
+                .is_some_and(|t| t.parse::<f64>().is_ok());
+            data += usize::from(numeric);
+            match (numeric && data == 5, l.split_once(',')) {
+                (true, Some((_, rest))) => format!("1e300,{rest}"),
+                _ => l.to_string(),
+            }
+        })
+        .collect();
+    let file = tempfile::NamedTempFile::new().unwrap();
+    std::fs::write(file.path(), leaped.join("\n")).unwrap();
+    let path = file.path().to_str().unwrap();
+    for command in ["fit", "discover"] {
+        fails(&[command, path], 1, "does not increase");
+    }
+}

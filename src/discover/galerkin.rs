@@ -179,6 +179,81 @@ pub(super) fn grid(
         .collect()
 }
 
+/// The grid's unit-norm `shapes` signed as the field's first continuum shapes (stencil `k`,
+/// `boundary`) sampled at the nearest of their 2000 intervals: the grid's matrices then pair
+/// with the continuum's entry by entry (an odd force's off-diagonal entries follow the signs).
+pub(super) fn signed(
+    shapes: &[Vec<f64>],
+    k: u32,
+    boundary: crate::boundary::Boundary,
+) -> Vec<Vec<f64>> {
+    (shapes.iter().enumerate())
+        .map(|(i, v)| {
+            let Some(shape) = crate::modal::continuum_shape(k, boundary, i + 1) else {
+                return v.clone();
+            };
+            let last = (shape.len() - 1) as f64;
+            let along = (v.len().max(2) - 1) as f64;
+            let dot: f64 = (v.iter().enumerate())
+                .map(|(p, x)| x * shape[(p as f64 * last / along).round() as usize])
+                .sum();
+            let sign = if dot < 0.0 { -1.0 } else { 1.0 };
+            v.iter().map(|x| sign * x).collect()
+        })
+        .collect()
+}
+
+/// The grid's coefficients for the `selected` candidates whose matrices `grid` (on the grid's
+/// own first modes, [`signed`]) come nearest the continuum estimate Σₖ βₖ Cₖ (`continuum`):
+/// least squares over every position and velocity entry, each mode's row relative to the
+/// estimate's largest entry in it. This is the body `simulate --points N` runs so that the
+/// modes used keep their frequencies and dampings: the N-point lattice's free ends put its
+/// eigenvalues 1.41× low at 12 points, 1.18× at 25, and the continuum coefficient there would
+/// replay the modes 16 % and 8 % slow. `None` where an entry is missing or the system is singular.
+pub(super) fn nearest_on_grid(
+    continuum: &[Option<ModalForce>],
+    grid: &[Option<ModalForce>],
+    selected: &[usize],
+    beta: &[f64],
+) -> Option<Vec<f64>> {
+    let pick = |forces: &[Option<ModalForce>], k: usize| forces.get(k)?.clone();
+    let cont: Vec<ModalForce> = (selected.iter())
+        .map(|&k| pick(continuum, k))
+        .collect::<Option<_>>()?;
+    let on_grid: Vec<ModalForce> = (selected.iter())
+        .map(|&k| pick(grid, k))
+        .collect::<Option<_>>()?;
+    let m = (cont.iter().chain(&on_grid))
+        .map(|f| f.position.nrows().min(f.velocity.nrows()))
+        .min()?;
+    let mut rows: Vec<(Vec<f64>, f64)> = Vec::new();
+    for part in [
+        |f: &ModalForce| f.position.clone(),
+        |f: &ModalForce| f.velocity.clone(),
+    ] {
+        let target = (cont.iter().zip(beta)).fold(DMatrix::zeros(m, m), |t, (f, b)| {
+            t + part(f).view((0, 0), (m, m)) * *b
+        });
+        for i in 0..m {
+            let scale = (0..m).fold(0.0f64, |a, j| a.max(target[(i, j)].abs()));
+            if scale <= 0.0 {
+                continue;
+            }
+            for j in 0..m {
+                let row = on_grid.iter().map(|f| part(f)[(i, j)] / scale).collect();
+                rows.push((row, target[(i, j)] / scale));
+            }
+        }
+    }
+    let a = DMatrix::from_fn(rows.len(), selected.len(), |r, c| rows[r].0[c]);
+    let b = nalgebra::DVector::from_iterator(rows.len(), rows.iter().map(|r| r.1));
+    let solved = a.svd(true, true).solve(&b, 1e-12).ok()?;
+    solved
+        .iter()
+        .all(|x| x.is_finite())
+        .then(|| solved.iter().copied().collect())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -143,6 +143,17 @@ pub(super) fn estimate(
     let (selected, selection) = (chosen.selected, chosen.selection);
     let (included, draws_made) = (chosen.included, chosen.draws_made);
     let unit = first.dt;
+    // The grid body `simulate --points N` runs: nearest the continuum estimate on the modes used.
+    let on_grid = match &first.basis {
+        Basis::Continuum {
+            stencil, boundary, ..
+        } if continuum => {
+            let shapes = galerkin::signed(&first.shapes[..modes.len()], *stencil, *boundary);
+            let grid = galerkin::grid(library, &shapes, points);
+            galerkin::nearest_on_grid(&forces, &grid, &selected, &beta)
+        }
+        _ => None,
+    };
     let notation = Notation::new(model, settings.recording.order, field)?;
     let terms: Vec<DiscoveredTerm> = library
         .iter()
@@ -153,6 +164,8 @@ pub(super) fn estimate(
                 .map(|k| beta[k])
                 .or_else(|| all.iter().position(|&a| a == i).map(|k| whole[k]));
             let body = in_data_unit(fitted.unwrap_or(0.0), unit, c.time_power);
+            let grid = (on_grid.as_ref().zip(at))
+                .map_or(body, |(g, k)| in_data_unit(g[k], unit, c.time_power));
             // The wider of the one-step draws' percentiles and the information's ±1.96 se:
             // at 8 frames per period the draws alone covered c′_y in 2 of 4 recordings.
             let interval = at.and_then(|k| {
@@ -171,7 +184,7 @@ pub(super) fn estimate(
                 name: c.name.clone(),
                 kind: c.kind,
                 coefficient: body,
-                on_points: body / c.to_body_lengths(points),
+                on_points: grid / c.to_body_lengths(points),
                 interval,
                 inclusion: (draws_made > 0).then(|| included[i] as f64 / draws_made as f64),
                 selected: at.is_some(),

@@ -4,8 +4,10 @@
 //! `cp_y` for `c'_y`, where there is one) and replays the recording: its frames (within
 //! `simulate`'s work budget) at its frame interval (`--every K` steps of `--dt` each, K the
 //! fewest that keep ωh ≤ [`MAX_PHASE_STEP`] for the fastest mode the regression used), at the
-//! equipartition temperature of the modes used (kT = mean of ωᵢ²σᵢ², the discovered body's ωᵢ
-//! and the recording's modal variances σᵢ², as `fit`'s β), and with the lowest mode used
+//! equipartition temperature of the modes used (kT = the mean of ωᵢ²σᵢ² weighted by each σᵢ²'s
+//! precision, the discovered body's ωᵢ and the recording's modal variances σᵢ², as `fit`'s β;
+//! the grid body's coefficients are those nearest the continuum estimate, so its ωᵢ are the
+//! recording's, `galerkin::nearest_on_grid`), and with the lowest mode used
 //! started at its thermal rms amplitude √kT/ωᵢ, so the first rows are not a body at rest. What
 //! `simulate` would refuse is never printed: the report says why instead.
 
@@ -110,18 +112,29 @@ pub(super) fn onward(
             .map(|f| f.frequencies),
     }
     .unwrap_or_default();
-    // (ωᵢ, σᵢ²) of each mode used with a real frequency and a measured variance.
-    let pairs: Vec<(usize, f64, f64)> = used
+    // (ωᵢ, σᵢ², weight) of each mode used with a real frequency and a measured variance: the
+    // spectral fit's σ² (tracking noise removed) weighted by its precision (σ²/se)², else the
+    // projected variance with equal weights.
+    let spectral = |m: usize| {
+        let f = rec.fit.modes_fit.iter().find(|x| x.mode == m)?;
+        let se = f.variance_error.filter(|e| *e > 0.0 && e.is_finite())?;
+        (f.variance > 0.0).then_some((f.variance, (f.variance / se).powi(2)))
+    };
+    let weighted = used.iter().all(|&m| spectral(m).is_some());
+    let pairs: Vec<(usize, f64, f64, f64)> = used
         .iter()
         .filter_map(|&m| {
             let omega = frequencies.get(m).copied().flatten()?;
-            let fitted = rec.fit.modes.iter().find(|x| x.index == m)?;
-            let variance = fitted.variance * rec.scale * rec.scale;
+            let (variance, weight) = match spectral(m) {
+                Some(read) if weighted => read,
+                _ => (rec.fit.modes.iter().find(|x| x.index == m)?.variance, 1.0),
+            };
+            let variance = variance * rec.scale * rec.scale;
             (omega > 0.0 && omega.is_finite() && variance > 0.0 && variance.is_finite())
-                .then_some((m, omega, variance))
+                .then_some((m, omega, variance, weight))
         })
         .collect();
-    let Some(&(lowest, omega_low, _)) = pairs.first() else {
+    let Some(&(lowest, omega_low, _, _)) = pairs.first() else {
         return Err(OnwardRefusal::NoRestoringForce {
             used: used
                 .iter()
@@ -130,7 +143,8 @@ pub(super) fn onward(
                 .join(", "),
         });
     };
-    let temperature = pairs.iter().map(|&(_, w, v)| w * w * v).sum::<f64>() / pairs.len() as f64;
+    let temperature = pairs.iter().map(|&(_, w, v, p)| p * w * w * v).sum::<f64>()
+        / pairs.iter().map(|p| p.3).sum::<f64>();
     let fastest = pairs.iter().map(|p| p.1).fold(0.0, f64::max);
     let every = (fastest * rec.dt / MAX_PHASE_STEP).ceil().max(1.0);
     if !(temperature.is_finite() && every.is_finite() && every < 1e6) {

@@ -26,7 +26,9 @@ pub struct DiscoveredTerm {
     /// The coefficient in body lengths and the data's time unit: the selected model's value
     /// for a selected term, the whole library's fit otherwise.
     pub coefficient: f64,
-    /// The same on the grid of N points (what `simulate --points N --param` takes).
+    /// The same on the grid of N points (what `simulate --points N --param` takes): for the
+    /// exact estimator on continuum modes, the grid's coefficient whose N-point body comes
+    /// nearest the continuum estimate's modes (`galerkin::nearest_on_grid`), not a change of unit.
     pub on_points: f64,
     /// 95 % bootstrap interval (body lengths), for a selected term with draws.
     pub interval: Option<[f64; 2]>,

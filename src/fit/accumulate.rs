@@ -163,7 +163,7 @@ pub(super) fn accumulate(
     let mut work = Work::default();
     while let Some(row) = source.next_row()? {
         counts.frames_read += 1;
-        pending += row.missing_before;
+        pending = pending.saturating_add(row.missing_before);
         let Some(values) = row.values else {
             pending += 1;
             continue;
@@ -190,7 +190,7 @@ pub(super) fn accumulate(
             }
         }
         if pending > 0 {
-            counts.frames_lost += pending;
+            counts.frames_lost = counts.frames_lost.saturating_add(pending);
             match previous {
                 Some(t0) if pending <= settings.recording.fill_gaps => {
                     for k in 1..=pending {
@@ -230,7 +230,7 @@ pub(super) fn accumulate(
             previous_values.extend_from_slice(values);
         }
     }
-    counts.frames_lost += pending;
+    counts.frames_lost = counts.frames_lost.saturating_add(pending);
     close(&mut run, &mut animal, &mut counts, ctx);
     animal.counts = counts;
     animal.interval = source.interval();

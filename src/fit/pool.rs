@@ -368,7 +368,7 @@ impl Pool {
         let total = &mut self.counts;
         total.recordings += 1;
         total.frames_read += c.frames_read;
-        total.frames_lost += c.frames_lost;
+        total.frames_lost = total.frames_lost.saturating_add(c.frames_lost);
         total.frames_filled += c.frames_filled;
         total.gaps += c.gaps;
         total.runs += c.runs;

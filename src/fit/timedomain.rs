@@ -103,7 +103,8 @@ impl Series {
         if self.dropped || self.modes.is_empty() {
             return;
         }
-        if self.modes[0].len() + n >= MAX_FRAMES {
+        // Saturating: a clock step of absurd length is a gap of usize::MAX frames.
+        if self.modes[0].len().saturating_add(n) >= MAX_FRAMES {
             self.dropped = true;
             self.modes = Vec::new();
             return;
