@@ -314,8 +314,16 @@ fn the_json_contract_the_onward_simulate_line_and_the_figure() {
         let set = words.iter().any(|w| w.starts_with(&format!("{name}=")));
         assert!(set, "{name} not in {line}");
     }
+    // On a finer replay grid (continuum coefficients: `replay_points`) kT is in its units: a
+    // unit-norm mode coordinate of P points over one of N scales as ((P − 1)/(N − 1))·√(Σφ²
+    // ratio), Σφ² ≈ n + 1 on n points for a free beam's unit-mean-square shapes.
     let kt = doc["onward"]["temperature"].as_f64().unwrap();
-    assert!((kt - 1.0).abs() < 0.25, "kT = {kt}, simulated at 1: {line}");
+    let (p, n) = (doc["replay_points"].as_f64().unwrap(), 25.0);
+    let units = ((p - 1.0) / (n - 1.0)).powi(2) * (p + 1.0) / (n + 1.0);
+    assert!(
+        (kt / units - 1.0).abs() < 0.25,
+        "kT = {kt}, simulated at 1 on {n} points: {line}"
+    );
     assert!(doc["onward"]["every"].as_u64().unwrap() >= 1);
     // The figure: the discovered equation simulated and read back beside the recording.
     let figures = dir.join("figures");

@@ -38,7 +38,16 @@ fn attempt(
     points: usize,
     bootstrap: usize,
 ) -> Result<DiscoverReport, theory_search::discover::DiscoverError> {
-    let text = record(beam, seed);
+    pooled(beam, &[seed], points, bootstrap)
+}
+
+/// `discover` on one animal's recording per seed, pooled, lost frames not bridged.
+fn pooled(
+    beam: &Beam,
+    seeds: &[u64],
+    points: usize,
+    bootstrap: usize,
+) -> Result<DiscoverReport, theory_search::discover::DiscoverError> {
     let mut settings = DiscoverSettings::new(InputKind::Midline);
     settings.active = beam.a != 0.0;
     settings.recording.points = points;
@@ -47,8 +56,13 @@ fn attempt(
         .recording
         .set("fill_gaps", &Setting::Int(0))
         .expect("a setting");
-    let source = Source::Reader("continuum".into(), Box::new(std::io::Cursor::new(text)));
-    discover(vec![source], &model(beam.clamped), &settings)
+    let sources = (seeds.iter())
+        .map(|&seed| {
+            let text = std::io::Cursor::new(record(beam, seed));
+            Source::Reader(format!("continuum {seed}"), Box::new(text))
+        })
+        .collect();
+    discover(sources, &model(beam.clamped), &settings)
 }
 
 /// What one recording gave: the exact term set, and each true coefficient inside its interval
@@ -96,8 +110,20 @@ fn against<const K: usize>(r: &DiscoverReport, truth: [(&str, f64); K]) -> ([boo
 
 /// The setting's outcomes over `seeds` seeds, printed.
 fn study(label: &str, beam: &Beam, points: usize, seeds: u64) -> Vec<Outcome> {
+    study_of(label, beam, (points, 1), seeds)
+}
+
+/// [`study`] with `animals` recordings pooled in each run (seeds 100 + s for one animal,
+/// 1000 + 10s + k for animal k of several).
+fn study_of(label: &str, beam: &Beam, (points, animals): (usize, u64), seeds: u64) -> Vec<Outcome> {
+    let seeds_of = |s: u64| -> Vec<u64> {
+        match animals {
+            1 => vec![100 + s],
+            _ => (0..animals).map(|k| 1000 + 10 * s + k).collect(),
+        }
+    };
     // A refusal is an outcome with no coefficient (NaN).
-    let out = on_two_cores(seeds, |s| match attempt(beam, 100 + s, points, 200) {
+    let out = on_two_cores(seeds, |s| match pooled(beam, &seeds_of(s), points, 200) {
         Ok(r) => outcome(beam, &r),
         Err(_) => Outcome {
             exact_set: false,
@@ -453,13 +479,10 @@ fn modes_read(text: String, points: usize, clamped: bool) -> Vec<(usize, [f64; 4
 }
 
 /// The onward line replays the recording: run as printed and read back by `fit` as the
-/// recording was, each mode `discover` used keeps its frequency within 6 % (the 12-point
-/// lattice's dispersion differs from the continuum's by that across the modes used; the
-/// continuum coefficients, passed on as a change of unit, replayed the modes 16–19 % slow) and
-/// its variance within 1.96 of the two readings' joint standard error, except a free body's
-/// lowest mode, within 30 %: over seeds 21–25 the 12-point lattice's lowest shape read through
-/// the continuum projector keeps 7 % less than kT/Ω², and the recording reads 10–15 % above
-/// equipartition there (docs/discover.md, "Not done yet").
+/// recording was, each mode `discover` used keeps its frequency within 6 % (the continuum
+/// coefficients, passed on as a change of unit, replayed the modes 16–19 % slow) and its
+/// variance within 1.96 of the two readings' joint standard error (on the recording's 12-point
+/// lattice the lowest free mode read 15–25 % low: the line runs on 41 points).
 #[test]
 fn the_onward_line_replays_the_recordings_modes() {
     let path = |clamped| match clamped {
@@ -475,7 +498,7 @@ fn the_onward_line_replays_the_recordings_modes() {
         let words: Vec<&str> = line.split_whitespace().skip(1).collect();
         let csv = common::cli(&words).unwrap_or_else(|e| panic!("{line}: {e}"));
         let recorded = modes_read(record(&b, 21), 12, clamped);
-        let replayed = modes_read(onward_midlines(&csv, 12), 12, clamped);
+        let replayed = modes_read(onward_midlines(&csv, r.replay_points), 12, clamped);
         for &(m, _) in &r.modes {
             let pick = |read: &[(usize, [f64; 4])]| {
                 read.iter()
@@ -487,16 +510,38 @@ fn the_onward_line_replays_the_recordings_modes() {
             let joint = 1.96 * e0.hypot(e1);
             let said = format!("clamped {clamped}, {fpp} fpp, mode {m}: Ω {w1:.4} replayed, {w0:.4} recorded; σ² {v1:.4} replayed, {v0:.4} ± {joint:.4}");
             eprintln!("{said}");
-            let lowest_free = !clamped && m == r.modes[0].0;
-            let variance_off = match lowest_free {
-                true => (v1 / v0 - 1.0).abs() > 0.3,
-                false => (v1 - v0).abs() > joint,
-            };
-            if (w1 / w0 - 1.0).abs() >= 0.06 || variance_off {
+            if (w1 / w0 - 1.0).abs() >= 0.06 || (v1 - v0).abs() > joint {
                 wrong.push(said);
             }
         }
         eprintln!("{line}");
     }
     assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}
+
+/// 10⁴-frame recordings (25 points, 1 % and 5 % tracking noise) and five animals pooled (10⁴
+/// frames each, 12 points), free–free at 14 frames a period, 5 % lost: issue 50 asks ≥ 17 of 20.
+#[test]
+#[ignore = "a coverage study: 20 seeds a setting (docs/discover.md)"]
+fn by_hand_short_and_pooled_study() {
+    let short = |noise: f64| Beam {
+        frames: 10_000,
+        ..beam(false, 14.0, noise)
+    };
+    for (label, b, points, animals) in [
+        ("10⁴ frames, 25 points, 1 %", short(0.01), 25, 1),
+        ("10⁴ frames, 25 points, 5 %", short(0.05), 25, 1),
+        (
+            "five animals of 10⁴ frames, 12 points, 1 %",
+            short(0.01),
+            12,
+            5,
+        ),
+    ] {
+        let out = study_of(label, &b, (points, animals), 20);
+        let both = (out.iter())
+            .filter(|o| o.exact_set && o.covered.iter().all(|&c| c))
+            .count();
+        eprintln!("  {label}: exact set with both covered {both} of 20");
+    }
 }

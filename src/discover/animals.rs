@@ -131,10 +131,22 @@ pub(super) fn alone(
     unread.into_iter().chain(each).collect()
 }
 
-/// `report` with the animals' answers alone and the spread of its selected coefficients.
+/// `report` with the animals' answers alone and the spread of its selected coefficients; each
+/// pooled interval widened to hold its random-effects interval over the animals (Hartung–Knapp:
+/// t on k − 1 degrees of freedom). Five pooled animals' draws alone covered c′_y in 16 of 20:
+/// five units are too few for percentiles, and animals may differ.
 pub(super) fn attach(mut report: DiscoverReport, each: Vec<AnimalAnswer>) -> DiscoverReport {
     let selected: Vec<String> = report.selected.iter().map(|t| t.name.clone()).collect();
     report.between = spreads(&selected, &each);
+    for b in &report.between {
+        let Some([lo, hi]) = b.spread.interval else {
+            continue;
+        };
+        let terms = report.selected.iter_mut().chain(report.library.iter_mut());
+        for t in terms.filter(|t| t.name == b.name) {
+            t.interval = t.interval.map(|[a, z]| [a.min(lo), z.max(hi)]);
+        }
+    }
     report.animals = each;
     report
 }

@@ -179,6 +179,90 @@ pub(super) fn grid(
         .collect()
 }
 
+/// The least grid the onward line replays continuum coefficients on: the lattice's lowest
+/// shapes at 12 points, read through the continuum projector, kept 7 % less variance than the
+/// continuum body's (a free beam's lowest mode; tests/discover_rates.rs).
+pub const REPLAY_POINTS: usize = 41;
+
+/// The field's own unit-norm shapes of its first `modes` non-zero modes at `points` points,
+/// [`signed`], with its stencil and boundary.
+fn own_shapes(
+    model: &Model,
+    (order, field): (u32, &str),
+    points: usize,
+    modes: usize,
+) -> Option<(Vec<Vec<f64>>, u32, crate::boundary::Boundary)> {
+    let index = model.fields.iter().position(|f| f.id == field)?;
+    let params = crate::modal::Params::default();
+    let all = crate::modal::field_modes(&model.only(index), order, points, &params, None, true);
+    let fm = all.ok()?.into_iter().next()?;
+    let s = fm.spectrum.shapes.as_ref()?;
+    let first = fm.spectrum.nullity;
+    if first + modes > s.ncols() {
+        return None;
+    }
+    let shapes: Vec<Vec<f64>> = (0..modes)
+        .map(|j| (0..s.nrows()).map(|p| s[(p, first + j)]).collect())
+        .collect();
+    let shapes = signed(&shapes, fm.k, fm.field.boundary);
+    Some((shapes, fm.k, fm.field.boundary))
+}
+
+/// The grid's matrices of the candidates `names` of `model`'s field `field` on its own first
+/// `modes` non-zero modes at `points` points, [`signed`] as the continuum shapes; `None` where
+/// the field, its shapes or a candidate is missing at that size.
+pub(super) fn grid_at(
+    model: &Model,
+    (order, field): (u32, &str),
+    points: usize,
+    modes: usize,
+    names: &[String],
+) -> Option<Vec<Option<ModalForce>>> {
+    let (shapes, _, _) = own_shapes(model, (order, field), points, modes)?;
+    let lib = library(model, order, points, field).ok()?;
+    let picked: Vec<Candidate> = (names.iter())
+        .map(|n| lib.iter().find(|c| &c.name == n).cloned())
+        .collect::<Option<_>>()?;
+    Some(grid(&picked, &shapes, points))
+}
+
+/// What a unit continuum amplitude of each continuum shape reads as on the unit-norm grid
+/// modes at `points` points (φⱼ·vⱼ/h), over what the recording's projector read it as
+/// (`coarse`, its continuum gains at N points): the onward line's variances at `points` are
+/// the recording's times the square. `None` where the field has no shapes there.
+pub(super) fn replay_gains(
+    model: &Model,
+    (order, field): (u32, &str),
+    coarse: &[f64],
+    points: usize,
+) -> Option<Vec<f64>> {
+    let (fine, k, boundary) = own_shapes(model, (order, field), points, coarse.len())?;
+    let gain = |i: usize, v: &[f64]| -> Option<f64> {
+        let phi = crate::modal::continuum_shape(k, boundary, i + 1)?;
+        let h = 1.0 / (v.len().max(2) - 1) as f64;
+        Some(
+            nearest(&phi, v.len())
+                .iter()
+                .zip(v)
+                .map(|(a, b)| a * b)
+                .sum::<f64>()
+                / h,
+        )
+    };
+    (0..coarse.len())
+        .map(|i| Some(gain(i, &fine[i])? / coarse[i].abs()))
+        .collect()
+}
+
+/// `shape` (samples over the body) at `points` equally spaced points, each its nearest sample.
+fn nearest(shape: &[f64], points: usize) -> Vec<f64> {
+    let last = (shape.len() - 1) as f64;
+    let along = (points.max(2) - 1) as f64;
+    (0..points)
+        .map(|p| shape[(p as f64 * last / along).round() as usize])
+        .collect()
+}
+
 /// The grid's unit-norm `shapes` signed as the field's first continuum shapes (stencil `k`,
 /// `boundary`) sampled at the nearest of their 2000 intervals: the grid's matrices then pair
 /// with the continuum's entry by entry (an odd force's off-diagonal entries follow the signs).
@@ -192,10 +276,10 @@ pub(super) fn signed(
             let Some(shape) = crate::modal::continuum_shape(k, boundary, i + 1) else {
                 return v.clone();
             };
-            let last = (shape.len() - 1) as f64;
-            let along = (v.len().max(2) - 1) as f64;
-            let dot: f64 = (v.iter().enumerate())
-                .map(|(p, x)| x * shape[(p as f64 * last / along).round() as usize])
+            let dot: f64 = nearest(&shape, v.len())
+                .iter()
+                .zip(v)
+                .map(|(a, b)| a * b)
                 .sum();
             let sign = if dot < 0.0 { -1.0 } else { 1.0 };
             v.iter().map(|x| sign * x).collect()

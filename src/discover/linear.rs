@@ -10,9 +10,8 @@ use super::coupled::{Joint, Wald, COUPLED};
 use super::exact::{columns, drawn, moments, Distance, ModeData, ModeFit, Quadratic};
 use super::galerkin::ModalForce;
 use super::modes::{used, Used};
-use super::report::{
-    choose, percentiles, Comparison, DiscoverReport, DiscoveredTerm, Method, Selection,
-};
+use super::regress::percentiles;
+use super::report::{choose, Comparison, DiscoverReport, DiscoveredTerm, Method, Selection};
 use super::verdict::Goodness;
 use super::weak::in_data_unit;
 use super::{galerkin, DiscoverError, DiscoverSettings, Notation};
@@ -143,17 +142,14 @@ pub(super) fn estimate(
     let (selected, selection) = (chosen.selected, chosen.selection);
     let (included, draws_made) = (chosen.included, chosen.draws_made);
     let unit = first.dt;
-    // The grid body `simulate --points N` runs: nearest the continuum estimate on the modes used.
-    let on_grid = match &first.basis {
-        Basis::Continuum {
-            stencil, boundary, ..
-        } if continuum => {
-            let shapes = galerkin::signed(&first.shapes[..modes.len()], *stencil, *boundary);
-            let grid = galerkin::grid(library, &shapes, points);
-            galerkin::nearest_on_grid(&forces, &grid, &selected, &beta)
-        }
-        _ => None,
-    };
+    // The grid body the onward line runs: nearest the continuum estimate on the modes used, on
+    // a grid fine enough that its shapes are the continuum's (else the recording's N, in its units).
+    let fine = points.max(galerkin::REPLAY_POINTS);
+    let order = (settings.recording.order, field);
+    let grid = continuum.then(|| galerkin::grid_at(model, order, fine, modes.len(), &names));
+    let on_grid =
+        (grid.flatten()).and_then(|g| galerkin::nearest_on_grid(&forces, &g, &selected, &beta));
+    let replay_points = if on_grid.is_some() { fine } else { points };
     let notation = Notation::new(model, settings.recording.order, field)?;
     let terms: Vec<DiscoveredTerm> = library
         .iter()
@@ -171,7 +167,8 @@ pub(super) fn estimate(
             let interval = at.and_then(|k| {
                 let se = 1.96 * covariance[(k, k)].max(0.0).sqrt();
                 let wald = [beta[k] - se, beta[k] + se];
-                let drawn = percentiles(&mut draws[k].clone(), |x| x).unwrap_or(wald);
+                let drawn =
+                    percentiles(&mut draws[k].clone(), recordings.len(), |x| x).unwrap_or(wald);
                 let (a, b) = (drawn[0].min(wald[0]), drawn[1].max(wald[1]));
                 let (a, b) = (
                     in_data_unit(a, unit, c.time_power),
@@ -184,7 +181,7 @@ pub(super) fn estimate(
                 name: c.name.clone(),
                 kind: c.kind,
                 coefficient: body,
-                on_points: grid / c.to_body_lengths(points),
+                on_points: grid / c.to_body_lengths(replay_points),
                 interval,
                 inclusion: (draws_made > 0).then(|| included[i] as f64 / draws_made as f64),
                 selected: at.is_some(),
@@ -259,6 +256,7 @@ pub(super) fn estimate(
         recordings: recordings.iter().map(|r| r.name.clone()).collect(),
         field: field.to_string(),
         points,
+        replay_points,
         frames: recordings.iter().map(|r| r.modal.len()).sum(),
         order: settings.recording.order,
         beyond_leading: model

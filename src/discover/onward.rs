@@ -43,6 +43,8 @@ pub struct Onward {
     pub steps: u64,
     /// The recording's frames.
     pub frames: usize,
+    /// The grid it runs on (`--points`): the report's `replay_points`.
+    pub points: usize,
     /// kT, the equipartition temperature of the modes used.
     pub temperature: f64,
     /// The lowest mode used, started at √kT/ωᵢ: (field, mode, displacement).
@@ -99,7 +101,7 @@ pub(super) fn onward(
     };
     let field = &report.field;
     let modes = body
-        .modes(report.points, Some(highest + 1), false)
+        .modes(report.replay_points, Some(highest + 1), false)
         .map_err(|e| OnwardRefusal::Modes(crate::markup::one_line(&e.to_string())))?;
     let frequencies: Vec<Option<f64>> = match modes {
         BodyModes::Exact(fields) => fields
@@ -121,6 +123,22 @@ pub(super) fn onward(
         (f.variance > 0.0).then_some((f.variance, (f.variance / se).powi(2)))
     };
     let weighted = used.iter().all(|&m| spectral(m).is_some());
+    // On a finer grid than the recording's, each variance in its units (the used modes are the
+    // first non-zero ones, in order).
+    let gains = match report.replay_points == report.points {
+        true => None,
+        false => match &rec.basis {
+            super::data::Basis::Continuum { gains, .. } => gains.get(..used.len()).and_then(|g| {
+                let at = (report.order, field.as_str());
+                super::galerkin::replay_gains(model, at, g, report.replay_points)
+            }),
+            super::data::Basis::Grid => None,
+        },
+    };
+    let gain = |m: usize| {
+        let at = used.iter().position(|&u| u == m);
+        at.and_then(|j| gains.as_ref().map(|g| g[j])).unwrap_or(1.0)
+    };
     let pairs: Vec<(usize, f64, f64, f64)> = used
         .iter()
         .filter_map(|&m| {
@@ -129,7 +147,7 @@ pub(super) fn onward(
                 Some(read) if weighted => read,
                 _ => (rec.fit.modes.iter().find(|x| x.index == m)?.variance, 1.0),
             };
-            let variance = variance * rec.scale * rec.scale;
+            let variance = variance * (rec.scale * gain(m)).powi(2);
             (omega > 0.0 && omega.is_finite() && variance > 0.0 && variance.is_finite())
                 .then_some((m, omega, variance, weight))
         })
@@ -154,7 +172,8 @@ pub(super) fn onward(
     // As many frames as the recording had, within half of simulate's budget (its work is
     // steps × modes + rows × values, about (every + 3) × fields × points a frame).
     let recorded: usize = rec.runs.iter().map(Vec::len).sum();
-    let per_frame = ((every + 3) as usize * model.fields.len() * report.points).max(1) as f64;
+    let per_frame =
+        ((every + 3) as usize * model.fields.len() * report.replay_points).max(1) as f64;
     let frames = recorded
         .min(MAX_ROWS)
         .min((MAX_WORK / 2.0 / per_frame) as usize)
@@ -169,6 +188,7 @@ pub(super) fn onward(
         every,
         steps: (frames as u64 - 1) * every,
         frames: recorded,
+        points: report.replay_points,
         temperature,
         initial: (field.clone(), lowest, temperature.sqrt() / omega_low),
     })
@@ -224,7 +244,7 @@ impl DiscoverReport {
         if self.beyond_leading > 0 {
             line += &format!(" --beyond-leading {}", self.beyond_leading);
         }
-        line += &format!(" --points {}", self.points);
+        line += &format!(" --points {}", self.replay_points);
         match &self.onward {
             Some(o) => {
                 let (field, mode, q) = &o.initial;
@@ -261,8 +281,15 @@ impl DiscoverReport {
         } else {
             format!("the first {rows} of the recording's {} frames", o.frames)
         };
+        let grid = match self.replay_points == self.points {
+            true => String::new(),
+            false => format!(
+                " on {} points (the continuum coefficients' nearest grid: the recording's {} are too coarse a lattice for the body's modes)",
+                self.replay_points, self.points
+            ),
+        };
         Some(format!(
-            "(replays {which}: rows Δt = {}{} apart, kT = {} from equipartition over modes {}, mode {mode} started at its rms amplitude; ωh ≤ {MAX_PHASE_STEP} for the fastest mode)",
+            "(replays {which}{grid}: rows Δt = {}{} apart, kT = {} from equipartition over modes {}, mode {mode} started at its rms amplitude; ωh ≤ {MAX_PHASE_STEP} for the fastest mode)",
             number(self.dt),
             self.time_unit
                 .as_ref()

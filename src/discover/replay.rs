@@ -99,7 +99,7 @@ pub(super) fn replay(
     onward: Option<&super::Onward>,
 ) -> Result<Replay, DiscoverError> {
     let body = discovered_body(model, settings.recording.order, library)?;
-    let points = rec.fit.model_points;
+    let points = onward.map_or(rec.fit.model_points, |o| o.points);
     let observed_frames: usize = rec.runs.iter().map(Vec::len).sum();
     // As many frames as the recording had, within the simulation's work budget.
     let per_frame = (points * STEPS_PER_FRAME as usize).max(1) as f64;

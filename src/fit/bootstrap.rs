@@ -73,7 +73,7 @@ pub(super) fn student_975(nu: f64) -> f64 {
 }
 
 /// The lower tail probability α′/2 of the expanded percentile interval for `n` units.
-pub(super) fn expanded_tail(n: usize) -> f64 {
+pub(crate) fn expanded_tail(n: usize) -> f64 {
     let n = n as f64;
     let x = (n / (n - 1.0)).sqrt() * student_975(n - 1.0);
     0.5 * libm::erfc(x / std::f64::consts::SQRT_2)

@@ -65,6 +65,7 @@ mod window;
 pub use accumulate::{Each, SinkError};
 pub use advice::{Advice, Step};
 pub use animal::AnimalFit;
+pub(crate) use bootstrap::expanded_tail;
 pub use bootstrap::{Intervals, MAX_REPLICATES};
 pub use error::FitError;
 pub use note::{ModeNote, TestNote};
