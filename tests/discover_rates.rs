@@ -520,14 +520,16 @@ fn the_onward_line_replays_the_recordings_modes() {
 }
 
 /// 10⁴-frame recordings (25 points, 1 % and 5 % tracking noise) and five animals pooled (10⁴
-/// frames each, 12 points), free–free at 14 frames a period, 5 % lost: issue 50 asks ≥ 17 of 20.
+/// frames each, 12 points), free–free at 14 frames a period, 5 % lost: issue 50 asks ≥ 17 of 20
+/// for each coefficient (seen: 19 and 17, 20 and 18, 20 and 20; docs/discover.md).
 #[test]
-#[ignore = "a coverage study: 20 seeds a setting (docs/discover.md)"]
-fn by_hand_short_and_pooled_study() {
+#[ignore = "a coverage study, run by .ci/run: cargo test --release -- --ignored --skip by_hand_"]
+fn short_and_pooled_recordings_keep_their_coverage() {
     let short = |noise: f64| Beam {
         frames: 10_000,
         ..beam(false, 14.0, noise)
     };
+    let mut short_of = Vec::new();
     for (label, b, points, animals) in [
         ("10⁴ frames, 25 points, 1 %", short(0.01), 25, 1),
         ("10⁴ frames, 25 points, 5 %", short(0.05), 25, 1),
@@ -539,9 +541,13 @@ fn by_hand_short_and_pooled_study() {
         ),
     ] {
         let out = study_of(label, &b, (points, animals), 20);
-        let both = (out.iter())
-            .filter(|o| o.exact_set && o.covered.iter().all(|&c| c))
-            .count();
-        eprintln!("  {label}: exact set with both covered {both} of 20");
+        let exact = out.iter().filter(|o| o.exact_set).count();
+        let covered = [0, 1].map(|i| out.iter().filter(|o| o.covered[i]).count());
+        if exact < 18 || covered.iter().any(|&c| c < 17) {
+            short_of.push(format!(
+                "{label}: exact set {exact}, c_y and c′_y covered {covered:?} of 20"
+            ));
+        }
     }
+    assert!(short_of.is_empty(), "{short_of:#?}");
 }

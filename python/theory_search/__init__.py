@@ -844,14 +844,16 @@ def discover(
     -------
     Result
         ``equation``, ``selected`` and ``library`` (each term's ``term``, ``name``, ``kind``,
-        ``coefficient`` in body lengths, ``on_points``, ``interval``, ``inclusion``,
-        ``selected``), ``comparison`` (each theory's ``model``, ``terms``, ``cv_residual``,
+        ``coefficient`` in body lengths, ``on_points`` on the ``replay_points`` grid the
+        onward line runs, ``interval``, ``inclusion``, ``selected``), ``comparison`` (each theory's ``model``, ``terms``, ``cv_residual``,
         ``criterion``), ``r2``, ``noise``, ``selection`` (the rule that chose the terms:
         ``median_probability``, ``elimination`` or ``no_model``), ``goodness`` (exact estimator:
         the modes' misfit ``j``, ``dof``, ``scale``, ``p``), ``verdict`` (``conclusion``:
         ``holds``, ``does_not_hold`` or ``undecided``, and its ``findings``), ``simulate`` (the
         onward command line, or ``None`` with ``onward_refused``),
-        ``not_estimated`` (kinetic coefficients named but not regressed); with ``figures`` (a
+        ``not_estimated`` (kinetic coefficients named but not regressed); for several
+        recordings ``animals`` (each animal answered alone) and ``between`` (each pooled
+        coefficient's spread between animals); with ``figures`` (a
         folder) also ``figures`` (the paths written) and ``replay`` (observed and simulated
         spectra and variances).
     """
