@@ -551,3 +551,45 @@ fn short_and_pooled_recordings_keep_their_coverage() {
     }
     assert!(short_of.is_empty(), "{short_of:#?}");
 }
+
+/// The peer's recording (below): with no frame lost, `fit` refits modes 5 and 6 (truly at 1.3
+/// and 1.9 × Nyquist) by the time-domain likelihood at 0.9 × Nyquist and says they cannot be
+/// told from an alias; `discover` used them anyway, and c_y came out 29 % low with J = 11 641 on
+/// 8 degrees of freedom. Now it stops below them.
+#[test]
+fn a_mode_fit_cannot_tell_from_an_alias_is_not_used() {
+    let b = Beam {
+        frames: 10_000,
+        lost: 0.0,
+        ..beam(false, 14.0, 0.01)
+    };
+    for points in [12, 25] {
+        let r = discovered(&b, 1, points, 100);
+        assert!(used(&r).iter().all(|&m| m <= 4), "modes {:?}", used(&r));
+        let o = outcome(&b, &r);
+        assert!(o.exact_set && o.holds, "{}", r.equation);
+        assert!(
+            o.relative[0].abs() < 0.02,
+            "c_y off by {:+.3}",
+            o.relative[0]
+        );
+        assert!(o.covered[0], "c_y {:+.3} not covered", o.relative[0]);
+    }
+}
+
+/// One continuum recording for the peer (benches/peer_discover.py, docs/discover.md): 10⁴
+/// frames, 25 tracked points, 1 % tracking noise, no lost frames (PySINDy needs an even clock),
+/// written where `PEER_RECORDING` says.
+#[test]
+#[ignore = "by hand: PEER_RECORDING=FILE writes the peer's continuum recording"]
+fn by_hand_peer_recording() {
+    let Ok(path) = std::env::var("PEER_RECORDING") else {
+        return;
+    };
+    let b = Beam {
+        frames: 10_000,
+        lost: 0.0,
+        ..beam(false, 14.0, 0.01)
+    };
+    std::fs::write(path, record(&b, 1)).expect("the recording is written");
+}
