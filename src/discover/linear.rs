@@ -61,9 +61,9 @@ pub(super) fn estimate(
     };
     let Used {
         modes,
-        fits,
-        data,
-        own,
+        mut fits,
+        mut data,
+        mut own,
     } = used(recordings, available)?;
     let modes = &modes[..];
     let names: Vec<String> = library.iter().map(|c| c.name.clone()).collect();
@@ -101,7 +101,19 @@ pub(super) fn estimate(
     if cols.iter().any(Option::is_none) {
         return Ok(Err(NotExact::Nonlinear));
     }
-    let cols: Vec<Vec<[f64; 2]>> = cols.into_iter().flatten().collect();
+    let mut cols: Vec<Vec<[f64; 2]>> = cols.into_iter().flatten().collect();
+    // Each mode's own (Ω, ζ) is the diagonal estimator's datum: none that fit cannot tell from
+    // an alias out of the beam's order (the joint likelihood places such a mode itself).
+    if diagonal {
+        let keep = super::modes::unaliased(first, modes, &fits);
+        fits.truncate(keep);
+        data.truncate(keep);
+        cols.iter_mut().for_each(|c| c.truncate(keep));
+        let kept: Vec<usize> = (modes[..keep].iter())
+            .map(|&j| first.fit.modes_fit[j].mode)
+            .collect();
+        own.retain(|k| kept.contains(k));
+    }
     let frames: f64 = data[0]
         .blocks
         .iter()
@@ -146,7 +158,7 @@ pub(super) fn estimate(
     // a grid fine enough that its shapes are the continuum's (else the recording's N, in its units).
     let fine = points.max(galerkin::REPLAY_POINTS);
     let order = (settings.recording.order, field);
-    let grid = continuum.then(|| galerkin::grid_at(model, order, fine, modes.len(), &names));
+    let grid = continuum.then(|| galerkin::grid_at(model, order, fine, fits.len(), &names));
     let on_grid =
         (grid.flatten()).and_then(|g| galerkin::nearest_on_grid(&forces, &g, &selected, &beta));
     let replay_points = if on_grid.is_some() { fine } else { points };

@@ -43,7 +43,7 @@ pub(super) fn used(recordings: &[Recording], available: usize) -> Result<Used, D
             Basis::Continuum { gains, .. } => gains[j],
             Basis::Grid => 1.0,
         };
-        let found = if m.resolved || (m.exact.is_some() && !near_alias(m)) {
+        let found = if m.resolved || m.exact.is_some() {
             fit_mode(d, from_fit(m, gain, first.dt))
         } else if peakless(m) {
             let below = fits.last().map(|f: &ModeFit| f.fit.estimate.omega);
@@ -92,20 +92,31 @@ fn from_fit(m: &ModeSpectralFit, gain: f64, dt: f64) -> Oscillator {
     }
 }
 
-/// Whether `fit` says mode `m`'s line cannot be told from an alias (near or past Nyquist, not
-/// unfolded): its exact fit is no measurement. (A free beam at 14 frames a period, no frames
-/// lost: modes 5 and 6, truly at 1.3 and 1.9 × Nyquist, fitted at 0.9 × Nyquist and used, put
-/// c_y −29 % and c′_y −61 % off with J = 11 641 on 8 degrees of freedom.)
-fn near_alias(m: &ModeSpectralFit) -> bool {
-    matches!(
-        m.note,
-        Some(
-            ModeNote::NearAlias
-                | ModeNote::AboveNyquist
-                | ModeNote::LinePastNyquist
-                | ModeNote::BroadAlias { .. }
+/// How many of the `modes` used (`fits` their exact fits) the diagonal estimator keeps: those
+/// below the first that `fit` cannot tell from an alias (near or past Nyquist, not unfolded)
+/// and whose fit is not faster than the mode below by [`ABOVE`]. (A free beam at 14 frames a
+/// period, no frames lost: modes 5 and 6, truly at 1.3 and 1.9 × Nyquist, fitted at 0.9 ×
+/// Nyquist, 1.19 × mode 4, put c_y −29 % and c′_y −61 % off with J = 11 641 on 8 degrees of
+/// freedom. The joint likelihood keeps them: its sampled system places each mode's alias
+/// itself, and the active beam's c′_y lost 5 % without its mode 5.)
+pub(super) fn unaliased(first: &Recording, modes: &[usize], fits: &[ModeFit]) -> usize {
+    let ambiguous = |j: usize| {
+        matches!(
+            first.fit.modes_fit[j].note,
+            Some(
+                ModeNote::NearAlias
+                    | ModeNote::AboveNyquist
+                    | ModeNote::LinePastNyquist
+                    | ModeNote::BroadAlias { .. }
+            )
         )
-    )
+    };
+    (1..fits.len())
+        .find(|&k| {
+            let (w, below) = (fits[k].fit.estimate.omega, fits[k - 1].fit.estimate.omega);
+            ambiguous(modes[k]) && w <= ABOVE * below
+        })
+        .unwrap_or(fits.len())
 }
 
 /// Whether `fit` left mode `m` unresolved only for want of a spectral peak (over-damped, flat
