@@ -237,51 +237,33 @@ pub(super) fn replay_gains(
     points: usize,
 ) -> Option<Vec<f64>> {
     let (fine, k, boundary) = own_shapes(model, (order, field), points, coarse.len())?;
-    let gain = |i: usize, v: &[f64]| -> Option<f64> {
-        let phi = crate::modal::continuum_shape(k, boundary, i + 1)?;
-        let h = 1.0 / (v.len().max(2) - 1) as f64;
-        Some(
-            nearest(&phi, v.len())
-                .iter()
-                .zip(v)
-                .map(|(a, b)| a * b)
-                .sum::<f64>()
-                / h,
-        )
-    };
-    (0..coarse.len())
-        .map(|i| Some(gain(i, &fine[i])? / coarse[i].abs()))
+    let h = 1.0 / (points.max(2) - 1) as f64;
+    (fine.iter().zip(coarse).enumerate())
+        .map(|(i, (v, c))| Some(overlap(k, boundary, i, v)?.abs() / h / c.abs()))
         .collect()
 }
 
-/// `shape` (samples over the body) at `points` equally spaced points, each its nearest sample.
-fn nearest(shape: &[f64], points: usize) -> Vec<f64> {
+/// vᵢ·φᵢ: the grid vector `v` (on equally spaced points) against the field's continuum shape
+/// i + 1 (stencil `k`, `boundary`), each point at its nearest of the shape's samples; `None`
+/// where the field has no continuum shapes.
+fn overlap(k: u32, boundary: crate::boundary::Boundary, i: usize, v: &[f64]) -> Option<f64> {
+    let shape = crate::modal::continuum_shape(k, boundary, i + 1)?;
     let last = (shape.len() - 1) as f64;
-    let along = (points.max(2) - 1) as f64;
-    (0..points)
-        .map(|p| shape[(p as f64 * last / along).round() as usize])
-        .collect()
+    let along = (v.len().max(2) - 1) as f64;
+    let at = |p: usize| shape[(p as f64 * last / along).round() as usize];
+    Some(v.iter().enumerate().map(|(p, x)| x * at(p)).sum())
 }
 
 /// The grid's unit-norm `shapes` signed as the field's first continuum shapes (stencil `k`,
 /// `boundary`) sampled at the nearest of their 2000 intervals: the grid's matrices then pair
 /// with the continuum's entry by entry (an odd force's off-diagonal entries follow the signs).
-pub(super) fn signed(
-    shapes: &[Vec<f64>],
-    k: u32,
-    boundary: crate::boundary::Boundary,
-) -> Vec<Vec<f64>> {
+fn signed(shapes: &[Vec<f64>], k: u32, boundary: crate::boundary::Boundary) -> Vec<Vec<f64>> {
     (shapes.iter().enumerate())
         .map(|(i, v)| {
-            let Some(shape) = crate::modal::continuum_shape(k, boundary, i + 1) else {
-                return v.clone();
+            let sign = match overlap(k, boundary, i, v) {
+                Some(dot) if dot < 0.0 => -1.0,
+                _ => 1.0,
             };
-            let dot: f64 = nearest(&shape, v.len())
-                .iter()
-                .zip(v)
-                .map(|(a, b)| a * b)
-                .sum();
-            let sign = if dot < 0.0 { -1.0 } else { 1.0 };
             v.iter().map(|x| sign * x).collect()
         })
         .collect()

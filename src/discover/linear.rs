@@ -109,10 +109,7 @@ pub(super) fn estimate(
         fits.truncate(keep);
         data.truncate(keep);
         cols.iter_mut().for_each(|c| c.truncate(keep));
-        let kept: Vec<usize> = (modes[..keep].iter())
-            .map(|&j| first.fit.modes_fit[j].mode)
-            .collect();
-        own.retain(|k| kept.contains(k));
+        super::modes::keep_own(first, &modes[..keep], &mut own);
     }
     let frames: f64 = data[0]
         .blocks

@@ -71,7 +71,7 @@ pub(super) fn used(recordings: &[Recording], available: usize) -> Result<Used, D
     }
     let modes = candidates[..fits.len()].to_vec();
     data.truncate(fits.len());
-    own.retain(|&k| modes.iter().any(|&j| first.fit.modes_fit[j].mode == k));
+    keep_own(first, &modes, &mut own);
     Ok(Used {
         modes,
         fits,
@@ -90,6 +90,11 @@ fn from_fit(m: &ModeSpectralFit, gain: f64, dt: f64) -> Oscillator {
         variance,
         noise: (m.noise / (gain * gain)).max(variance * 1e-4),
     }
+}
+
+/// `own` (modes as reported) kept to those among `modes` (the fit's mode positions).
+pub(super) fn keep_own(first: &Recording, modes: &[usize], own: &mut Vec<usize>) {
+    own.retain(|&k| modes.iter().any(|&j| first.fit.modes_fit[j].mode == k));
 }
 
 /// How many of the `modes` used (`fits` their exact fits) the diagonal estimator keeps: those
