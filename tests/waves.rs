@@ -1,17 +1,17 @@
 //! A driven travelling wave is not a passive body (issue 56, item 2): recordings of
 //! y = A sin(k s − Ω t), alone or over a thermal beam, simulated here independently of the fit
-//! (tests/common/beam.rs), 20 seeds a setting. A pure wave puts every mode at one frequency,
+//! (tests/common/beam.rs), 40 seeds a setting. A pure wave puts every mode at one frequency,
 //! phase-locked and partly in quadrature (r² ≈ 0, so "modes move together" cannot see it): the
-//! dispersion must be `rejected` with the driven-wave warning in at least 19 of 20, a weak wave
+//! dispersion must be `rejected` with the driven-wave warning in at least 38 of 40, a weak wave
 //! over thermal modes likewise, and a thermal beam with no wave must draw the warning in at
-//! most 1 of 20 and keep its verdicts.
+//! most 2 of 40 and keep its verdicts.
 
 mod common;
 
 use common::beam::{fitted, on_two_cores, record, record_with, Body, Wave, FREE_BEAM};
 use theory_search::fit::{FitReport, Verdict};
 
-const RUNS: u64 = 20;
+const RUNS: u64 = 40;
 
 /// The free–free thermal beam at a few thousand frames.
 const THERMAL: Body = Body {
@@ -61,7 +61,7 @@ fn caught(name: &str, fits: &[FitReport]) {
         .filter(|r| !(rejected(r) && warned(r)))
         .map(|r| format!("{:?} {:?}", r.tests.dispersion, r.warnings))
         .collect();
-    assert!(n as u64 >= RUNS - 1, "{name}: {n} of {RUNS}: {missed:#?}");
+    assert!(n as u64 >= RUNS - 2, "{name}: {n} of {RUNS}: {missed:#?}");
 }
 
 #[test]
@@ -88,9 +88,9 @@ fn a_thermal_beam_draws_no_driven_wave_warning() {
             "thermal beam, {} frames: warning in {alarms} of {RUNS}, dispersion rejected in {rejected}",
             body.frames
         );
-        assert!(alarms <= 1, "{alarms} of {RUNS}");
+        assert!(alarms <= 2, "{alarms} of {RUNS}");
         if body.frames == FREE_BEAM.frames {
-            assert!(rejected <= 2, "{rejected} of {RUNS}");
+            assert!(rejected <= 4, "{rejected} of {RUNS}");
         }
     }
 }
