@@ -159,6 +159,7 @@ pub(super) fn accumulate(
     let mut previous: Option<f64> = None;
     let mut previous_values: Vec<f64> = Vec::new();
     let mut reference: Option<f64> = None;
+    let mut holding = false;
     let mut pending = 0usize;
     let mut work = Work::default();
     while let Some(row) = source.next_row()? {
@@ -181,6 +182,11 @@ pub(super) fn accumulate(
             reference = Some(values.iter().sum::<f64>() / values.len() as f64);
         }
         proj.reference_length = reference;
+        if proj.holds() && !holding {
+            // The animal's held points, from its first usable frame (the lab holds them).
+            proj.hold(values, settings.recording.head_first);
+            holding = proj.holding();
+        }
         if settings.recording.kind == InputKind::Midline && ctx.noise {
             if animal.jitter.is_none() {
                 animal.jitter = Jitter::new(values.len() / 2);

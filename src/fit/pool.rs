@@ -255,7 +255,9 @@ fn read_input(
     let source = FrameReader::new(reader, &settings.recording);
     let animal = if chunked {
         std::thread::scope(|scope| {
-            let make = Box::new(|width| ctx.projector(width).ok());
+            // A body held in place is observed with each animal's reference frame, which
+            // the caller's projector keeps: the workers leave its rows unprojected.
+            let make = Box::new(|width| ctx.projector(width).ok().filter(|p| !p.holds()));
             let mut source = Chunked::new(source, scope, &settings.recording, make);
             accumulate(&mut source, name, ctx, projs, each)
         })?

@@ -9,7 +9,7 @@
 //! each other's coordinates), and that leakage biased variances and damping ratios; what is
 //! left is the aliasing of modes beyond the N − 2 fitted.
 
-use super::observe::observe;
+use super::observe::{observe, HeldPoints};
 use super::InputKind;
 
 /// The amplitude (body lengths) of the continuum shapes put through the observation map: small
@@ -23,6 +23,8 @@ pub(crate) struct Grid {
     pub(crate) points: usize,
     pub(crate) stencil: u32,
     pub(crate) boundary: crate::boundary::Boundary,
+    /// Points held at (tail, head) on the model's N points.
+    pub(crate) held: (usize, usize),
 }
 
 impl Grid {
@@ -48,24 +50,39 @@ impl Grid {
         )
     }
 
-    /// The covariance (up to the noise's variance) that white, independent noise on every
-    /// tracked coordinate gives the observations, J Jᵀ with J the observation map's Jacobian at
-    /// a straight midline (central differences: the map is smooth there). `None` for lengths.
-    pub(crate) fn noise_covariance(&self) -> Option<nalgebra::DMatrix<f64>> {
+    /// The held points of the straight body at rest: where the shapes put through the
+    /// observation map are held (a recording's are its reference frame's).
+    pub(crate) fn rest(&self) -> Option<HeldPoints> {
+        HeldPoints::of(&self.straight()?, self.points, self.held)
+    }
+
+    /// The straight midline of the input's points, tail first; `None` for lengths.
+    fn straight(&self) -> Option<Vec<f64>> {
         if self.kind != InputKind::Midline || self.input_points < 3 {
             return None;
         }
         let k = self.input_points;
-        let straight: Vec<f64> = (0..k)
-            .flat_map(|p| [p as f64 / (k - 1) as f64, 0.0])
-            .collect();
+        Some(
+            (0..k)
+                .flat_map(|p| [p as f64 / (k - 1) as f64, 0.0])
+                .collect(),
+        )
+    }
+
+    /// The covariance (up to the noise's variance) that white, independent noise on every
+    /// tracked coordinate gives the observations, J Jᵀ with J the observation map's Jacobian at
+    /// a straight midline (central differences: the map is smooth there). `None` for lengths.
+    pub(crate) fn noise_covariance(&self) -> Option<nalgebra::DMatrix<f64>> {
+        let straight = self.straight()?;
+        let k = self.input_points;
+        let rest = self.rest();
         let h = 1e-5;
         let columns: Vec<Vec<f64>> = (0..2 * k)
             .map(|c| {
                 let at = |d: f64| {
                     let mut v = straight.clone();
                     v[c] += d;
-                    observe(self.kind, &v, self.points, None).ok()
+                    observe(self.kind, &v, self.points, None, rest.as_ref()).ok()
                 };
                 let (up, down) = (at(h)?, at(-h)?);
                 Some(
@@ -99,10 +116,11 @@ impl Grid {
         rows: &[Vec<f64>],
         lattice: &[Vec<f64>],
     ) -> Option<(Vec<Vec<f64>>, Vec<Vec<f64>>, usize)> {
+        let rest = self.rest();
         let columns: Vec<Vec<f64>> = (0..rows.len())
             .map(|j| {
                 let values = self.continuum_midline(j)?;
-                let o = observe(self.kind, &values, self.points, None).ok()?;
+                let o = observe(self.kind, &values, self.points, None, rest.as_ref()).ok()?;
                 Some(o.iter().map(|v| v / CONTINUUM_AMPLITUDE).collect())
             })
             .collect::<Option<_>>()?;

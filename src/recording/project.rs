@@ -3,7 +3,7 @@
 //! with continuum modes, the projector on those (`continuum`).
 
 use super::continuum::{Grid, CONTINUUM_AMPLITUDE};
-use super::observe::{observe, segment_angles, size, sizes};
+use super::observe::{observe, segment_angles, size, sizes, HeldPoints};
 pub use super::observe::{turning_angles, FrameError};
 use super::{InputKind, LineWhy, RecordingError, RecordingSettings, MAX_POINTS};
 use crate::modal::{field_modes, Params};
@@ -79,6 +79,10 @@ pub struct Projector {
     pub continuum_modes: usize,
     /// [`Projector::mixed_shares`], derived once: a fit's every bootstrap draw asks for them.
     mixed: Vec<Option<f64>>,
+    /// Points held at (tail, head) on the model's N points (none for lengths).
+    held_counts: (usize, usize),
+    /// The held points every frame is observed with (the animal's reference frame's).
+    held: Option<HeldPoints>,
 }
 
 impl Projector {
@@ -171,12 +175,17 @@ impl Projector {
         };
         // The grid's own observation pattern S vⱼ, kept for postures on the model's points.
         let lattice = (!partial).then(|| design.clone());
+        let held_counts = match settings.kind {
+            InputKind::Midline => fm.spectrum.held,
+            InputKind::Lengths => (0, 0),
+        };
         let grid = Grid {
             kind: settings.kind,
             input_points: k_in,
             points: n,
             stencil: fm.k,
             boundary: fm.field.boundary,
+            held: held_counts,
         };
         let (projector, design, continuum_modes) =
             match (partial, grid.continuum(&projector, &design)) {
@@ -202,6 +211,8 @@ impl Projector {
             lattice,
             continuum_modes,
             mixed: Vec::new(),
+            held_counts,
+            held: None,
         };
         projector.mixed = projector.mixing();
         Ok(projector)
@@ -225,7 +236,35 @@ impl Projector {
             points: self.points,
             stencil: self.stencil,
             boundary: self.boundary,
+            held: self.held_counts,
         }
+    }
+
+    /// Whether the observed field holds points at an end (midlines): then every frame is
+    /// observed with the held points of its animal's reference frame ([`Projector::hold`]).
+    pub fn holds(&self) -> bool {
+        self.held_counts != (0, 0)
+    }
+
+    /// Whether the held points of a reference frame are set.
+    pub fn holding(&self) -> bool {
+        self.held.is_some()
+    }
+
+    /// Take the held points of every following frame from this frame of `values` (a new
+    /// animal's first usable frame); nothing when no point is held or the frame is unusable.
+    pub fn hold(&mut self, values: &[f64], head_first: bool) {
+        if !self.holds() || values.len() != 2 * self.input_points {
+            return;
+        }
+        let oriented;
+        let values = if head_first {
+            oriented = reversed(self.kind, values);
+            &oriented
+        } else {
+            values
+        };
+        self.held = HeldPoints::of(values, self.points, self.held_counts);
     }
 
     /// The posture on the model's points (zero modes removed, in units of the point spacing)
@@ -253,7 +292,20 @@ impl Projector {
 
     /// The modal coordinates of one frame's values.
     pub fn modal(&self, values: &[f64]) -> Result<Vec<f64>, FrameError> {
-        let o = observe(self.kind, values, self.points, self.reference_length)?;
+        self.modal_held(values, self.held.as_ref())
+    }
+
+    /// [`Projector::modal`] of a shape drawn on the straight body at rest (its held points).
+    fn modal_at_rest(&self, values: &[f64]) -> Result<Vec<f64>, FrameError> {
+        self.modal_held(values, self.grid().rest().as_ref())
+    }
+
+    fn modal_held(
+        &self,
+        values: &[f64],
+        held: Option<&HeldPoints>,
+    ) -> Result<Vec<f64>, FrameError> {
+        let o = observe(self.kind, values, self.points, self.reference_length, held)?;
         let q: Vec<f64> = self
             .rows
             .iter()
@@ -291,7 +343,11 @@ impl Projector {
             return Ok(self.spacing(values));
         }
         let k = self.points;
+        let held = self.held.as_ref();
         let point = |i: usize| {
+            if let Some(p) = held.and_then(|h| h.at(i, k)) {
+                return p;
+            }
             let i = if head_first { k - 1 - i } else { i };
             (values[2 * i], values[2 * i + 1])
         };
@@ -339,7 +395,7 @@ impl Projector {
         (0..m)
             .map(|j| {
                 let values = grid.continuum_midline(j)?;
-                let g = self.modal(&values).ok()?.get(j)? / CONTINUUM_AMPLITUDE;
+                let g = self.modal_at_rest(&values).ok()?.get(j)? / CONTINUUM_AMPLITUDE;
                 (g != 0.0 && g.is_finite()).then_some(g)
             })
             .collect()
@@ -363,7 +419,7 @@ impl Projector {
         let modes: Vec<Option<(f64, Vec<f64>)>> = (0..4 * self.points)
             .map(|n| {
                 let beta = crate::modal::continuum_beta(self.stencil, self.boundary, n + 1)?;
-                let q = self.modal(&grid.continuum_midline(n)?).ok()?;
+                let q = self.modal_at_rest(&grid.continuum_midline(n)?).ok()?;
                 Some((beta.powi(2 * k), q))
             })
             .collect();
