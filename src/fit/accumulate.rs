@@ -152,6 +152,7 @@ pub(super) fn accumulate(
         interval: None,
         own: None,
         jitter: None,
+        movement: None,
         series: Default::default(),
     };
     let mut run: Option<Run> = None;
@@ -186,6 +187,10 @@ pub(super) fn accumulate(
             // The animal's held points, from its first usable frame (the lab holds them).
             proj.hold(values, settings.recording.head_first);
             holding = proj.holding();
+            animal.movement = proj.movement(values, settings.recording.head_first);
+        }
+        if let Some(m) = animal.movement.as_mut() {
+            m.frame(values);
         }
         if settings.recording.kind == InputKind::Midline && ctx.noise {
             if animal.jitter.is_none() {

@@ -17,6 +17,8 @@ pub(super) struct Animal {
     pub(super) own: Option<super::AnimalFit>,
     /// Its tracked points' turning angles, for the tracking noise (midlines only).
     pub(super) jitter: Option<crate::recording::Jitter>,
+    /// How far its held ends move (a body held in place).
+    pub(super) movement: Option<crate::recording::Movement>,
     /// Its modal coordinates in time order (`timedomain`).
     pub(super) series: super::timedomain::Series,
 }

@@ -8,7 +8,7 @@
 //! in (a bounded channel), so reading overlaps fitting and memory holds a few animals, where a
 //! rayon `collect` would hold them all first. The per-mode fits are rayon's (`window`).
 
-use crate::recording::Jitter;
+use crate::recording::{Jitter, Movement};
 use std::collections::BTreeMap;
 use std::io::BufRead;
 use std::path::PathBuf;
@@ -305,6 +305,7 @@ struct Pool {
     stats: Option<Stats>,
     /// The tracked points' angles of the animals with the first animal's K.
     jitter: Option<Jitter>,
+    movement: Option<Movement>,
     counts: Recording,
     interval: Option<f64>,
     units: Option<Units>,
@@ -425,6 +426,12 @@ impl Pool {
                 None => self.jitter = Some(j),
             }
         }
+        if let Some(m) = animal.movement.take() {
+            match &mut self.movement {
+                Some(pooled) => pooled.absorb(&m),
+                None => self.movement = Some(m),
+            }
+        }
         if ctx.settings.bootstrap > 0 {
             // Two animals are resampled whole: nobody's blocks are needed any more.
             if !self.kept.is_empty() {
@@ -494,6 +501,9 @@ impl Pool {
         let scope = (Scope::Full(&spans), described);
         let mut report = fit_stats(proj, ctx, stats, interval, scope)?;
         report.tracking_noise = self.jitter.as_ref().and_then(Jitter::estimate);
+        report
+            .warnings
+            .extend(self.movement.as_ref().and_then(Movement::warning));
         report
             .warnings
             .extend(super::report::recording_notes(&report));

@@ -9,7 +9,8 @@
 //! each other's coordinates), and that leakage biased variances and damping ratios; what is
 //! left is the aliasing of modes beyond the N − 2 fitted.
 
-use super::observe::{observe, HeldPoints};
+use super::held::HeldPoints;
+use super::observe::observe;
 use super::InputKind;
 
 /// The amplitude (body lengths) of the continuum shapes put through the observation map: small

@@ -215,60 +215,8 @@ pub(crate) fn segment_angles(seg: &mut [(f64, f64)], out: &mut Vec<f64>) {
     );
 }
 
-/// The points a body's held ends keep in place (a clamped end two, a pinned end one), on the
-/// model's N points in its order (tail first), taken from one reference frame and put into
-/// every frame before its turning angles: a body held in the lab (a head in agarose, a worm in
-/// a trap) has them fixed there, so their tracking noise is left out rather than turning
-/// every frame's body frame (a clamped head's first segment set the lowest mode's frame: its
-/// tracking noise reached that coordinate ten times the variance it has with the lab's).
-#[derive(Debug, Clone, PartialEq)]
-pub struct HeldPoints {
-    /// The held points at the tail (s = 0), then those at the head.
-    tail: Vec<(f64, f64)>,
-    head: Vec<(f64, f64)>,
-}
-
-impl HeldPoints {
-    /// The held points (`counts` at tail and head) of a frame of midline `values` (tail first)
-    /// resampled to `n` points; `None` when nothing is held or the frame is unusable.
-    pub(crate) fn of(values: &[f64], n: usize, counts: (usize, usize)) -> Option<HeldPoints> {
-        if counts == (0, 0) || counts.0 + counts.1 > n {
-            return None;
-        }
-        let pts = on_points(values, n).ok()?;
-        if pts.iter().any(|p| !(p.0.is_finite() && p.1.is_finite())) {
-            return None;
-        }
-        Some(HeldPoints {
-            tail: pts[..counts.0].to_vec(),
-            head: pts[n - counts.1..].to_vec(),
-        })
-    }
-
-    /// The held point at index `i` of `n` (tail first), if `i` is held.
-    pub(crate) fn at(&self, i: usize, n: usize) -> Option<(f64, f64)> {
-        if i < self.tail.len() {
-            return self.tail.get(i).copied();
-        }
-        let from = n.checked_sub(self.head.len())?;
-        (i >= from)
-            .then(|| self.head.get(i - from).copied())
-            .flatten()
-    }
-
-    /// Put the held points into `pts` (N points, tail first).
-    pub(crate) fn hold(&self, pts: &mut [(f64, f64)]) {
-        let n = pts.len();
-        if self.tail.len() + self.head.len() > n {
-            return;
-        }
-        pts[..self.tail.len()].copy_from_slice(&self.tail);
-        pts[n - self.head.len()..].copy_from_slice(&self.head);
-    }
-}
-
 /// A midline's points (tail first) on `n` points: as given when it has `n`, else resampled.
-fn on_points(values: &[f64], n: usize) -> Result<Vec<(f64, f64)>, FrameError> {
+pub(crate) fn on_points(values: &[f64], n: usize) -> Result<Vec<(f64, f64)>, FrameError> {
     let pts: Vec<(f64, f64)> = values.chunks(2).map(|c| (c[0], c[1])).collect();
     if pts.len() == n {
         Ok(pts)
@@ -284,7 +232,7 @@ pub(crate) fn observe(
     values: &[f64],
     n: usize,
     reference: Option<f64>,
-    held: Option<&HeldPoints>,
+    held: Option<&super::held::HeldPoints>,
 ) -> Result<Vec<f64>, FrameError> {
     match kind {
         InputKind::Midline => {

@@ -3,7 +3,8 @@
 //! with continuum modes, the projector on those (`continuum`).
 
 use super::continuum::{Grid, CONTINUUM_AMPLITUDE};
-use super::observe::{observe, segment_angles, size, sizes, HeldPoints};
+use super::held::HeldPoints;
+use super::observe::{observe, segment_angles, size, sizes};
 pub use super::observe::{turning_angles, FrameError};
 use super::{InputKind, LineWhy, RecordingError, RecordingSettings, MAX_POINTS};
 use crate::modal::{field_modes, Params};
@@ -244,6 +245,14 @@ impl Projector {
     /// observed with the held points of its animal's reference frame ([`Projector::hold`]).
     pub fn holds(&self) -> bool {
         self.held_counts != (0, 0)
+    }
+
+    /// The movement check of an animal whose first usable frame is `values` (`None` when no
+    /// point is held).
+    pub(crate) fn movement(&self, values: &[f64], head_first: bool) -> Option<super::Movement> {
+        let ends = (self.held_counts.0 > 0, self.held_counts.1 > 0);
+        (self.holds() && self.kind == InputKind::Midline)
+            .then(|| super::Movement::new(values, ends, head_first))
     }
 
     /// Whether the held points of a reference frame are set.
