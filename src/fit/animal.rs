@@ -1,9 +1,14 @@
 //! One animal: its pooled moments, its blocks of frames, the units a bootstrap resamples, and
 //! its own fit as a pooled report lists it.
 
+use super::accumulate::Context;
 use super::stats::Stats;
+use super::summary::{summarise, Origin, Scope};
+use super::timedomain::Exact;
 use super::timedomain::{Series, Span};
 use super::Recording;
+use super::{FitError, FitReport};
+use crate::recording::{Projector, Units};
 
 /// One animal's accumulated frames.
 pub(super) struct Animal {
@@ -148,4 +153,59 @@ impl AnimalFit {
             note: Some(why.to_string()),
         }
     }
+}
+
+/// An animal's own fit (only the constants) from its name, counts and statistics, or why it
+/// has none.
+pub(super) fn own_fit(
+    proj: &Projector,
+    ctx: &Context<'_>,
+    (name, counts, stats, series): (&str, &Recording, &Stats, &Series),
+    interval: f64,
+) -> AnimalFit {
+    let spans = [series.whole()];
+    let scope = Scope::Constants(None, Exact::Spans(&spans));
+    match fit_stats(proj, ctx, stats, interval, (scope, None)) {
+        Ok(r) => AnimalFit::of(name, counts, &r),
+        Err(e) => AnimalFit::failed(name, stats, counts, &e.to_string()),
+    }
+}
+
+/// The fit of some accumulated frames sampled every `interval`; `described` is the
+/// recording's counts and units when the report is the one shown (not a resample's).
+pub(super) fn fit_stats(
+    proj: &Projector,
+    ctx: &Context<'_>,
+    stats: &Stats,
+    interval: f64,
+    (scope, described): (Scope<'_>, Option<(Recording, Units)>),
+) -> Result<FitReport, FitError> {
+    if stats.count < 8.0 {
+        return Err(FitError::TooShort(format!(
+            "{} usable frames; at least 8 are needed for variances and spectra",
+            stats.count
+        )));
+    }
+    let spectra = stats.spectra(ctx.ladder(), 1.0 / interval);
+    if spectra.is_empty() {
+        return Err(FitError::TooShort(format!(
+            "no run of 8 frames between gaps for the spectra (longest {}); bridge short gaps with --fill-gaps K",
+            stats.short.len()
+        )));
+    }
+    let (recording, units) = described.unwrap_or_default();
+    let origin = Origin {
+        frames: stats.count as usize,
+        spacing: stats.spacing / stats.count,
+        recording,
+        units,
+    };
+    summarise(
+        proj,
+        ctx.settings,
+        stats.covariance(),
+        interval,
+        spectra,
+        (scope, origin),
+    )
 }

@@ -16,14 +16,14 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{mpsc, Mutex};
 
 use super::accumulate::{accumulate, Context, Each, PassLadder, ProjectorCache, Projectors};
-use super::animal::UnitFrames;
+use super::animal::{fit_stats, own_fit, UnitFrames};
 use super::stats::Stats;
 use super::timedomain::{Exact, OneStep, Series, Span, MAX_POOLED};
 use super::welch::Ladder;
 use super::{
     animal::{units, Animal},
     bootstrap,
-    summary::{summarise, Origin, Scope},
+    summary::Scope,
     AnimalFit, FitError, FitReport, FitSettings, Recording,
 };
 use crate::modal::Params;
@@ -551,59 +551,4 @@ impl Pool {
         report.active_allowed = ctx.model.active.is_some();
         Ok(report)
     }
-}
-
-/// An animal's own fit (only the constants) from its name, counts and statistics, or why it
-/// has none.
-fn own_fit(
-    proj: &Projector,
-    ctx: &Context<'_>,
-    (name, counts, stats, series): (&str, &Recording, &Stats, &Series),
-    interval: f64,
-) -> AnimalFit {
-    let spans = [series.whole()];
-    let scope = Scope::Constants(None, Exact::Spans(&spans));
-    match fit_stats(proj, ctx, stats, interval, (scope, None)) {
-        Ok(r) => AnimalFit::of(name, counts, &r),
-        Err(e) => AnimalFit::failed(name, stats, counts, &e.to_string()),
-    }
-}
-
-/// The fit of some accumulated frames sampled every `interval`; `described` is the
-/// recording's counts and units when the report is the one shown (not a resample's).
-fn fit_stats(
-    proj: &Projector,
-    ctx: &Context<'_>,
-    stats: &Stats,
-    interval: f64,
-    (scope, described): (Scope<'_>, Option<(Recording, Units)>),
-) -> Result<FitReport, FitError> {
-    if stats.count < 8.0 {
-        return Err(FitError::TooShort(format!(
-            "{} usable frames; at least 8 are needed for variances and spectra",
-            stats.count
-        )));
-    }
-    let spectra = stats.spectra(ctx.ladder(), 1.0 / interval);
-    if spectra.is_empty() {
-        return Err(FitError::TooShort(format!(
-            "no run of 8 frames between gaps for the spectra (longest {}); bridge short gaps with --fill-gaps K",
-            stats.short.len()
-        )));
-    }
-    let (recording, units) = described.unwrap_or_default();
-    let origin = Origin {
-        frames: stats.count as usize,
-        spacing: stats.spacing / stats.count,
-        recording,
-        units,
-    };
-    summarise(
-        proj,
-        ctx.settings,
-        stats.covariance(),
-        interval,
-        spectra,
-        (scope, origin),
-    )
 }

@@ -9,6 +9,8 @@
 //! rms displacement from the reference frame over the whole midline's.
 
 use super::observe::on_points;
+use super::project::{reversed, FrameError, Projector};
+use super::InputKind;
 
 /// The points a body's held ends keep in place (a clamped end two, a pinned end one), on the
 /// model's N points in its order (tail first), taken from one reference frame and put into
@@ -137,5 +139,47 @@ impl Movement {
             100.0 * s,
             100.0 * MOVING_SHARE
         ))
+    }
+}
+
+impl Projector {
+    /// Whether the observed field holds points at an end (midlines): then every frame is
+    /// observed with the held points of its animal's reference frame ([`Projector::hold`]).
+    pub fn holds(&self) -> bool {
+        self.held_counts != (0, 0)
+    }
+
+    /// The movement check of an animal whose first usable frame is `values` (`None` when no
+    /// point is held).
+    pub(crate) fn movement(&self, values: &[f64], head_first: bool) -> Option<Movement> {
+        let ends = (self.held_counts.0 > 0, self.held_counts.1 > 0);
+        (self.holds() && self.kind == InputKind::Midline)
+            .then(|| Movement::new(values, ends, head_first))
+    }
+
+    /// Whether the held points of a reference frame are set.
+    pub fn holding(&self) -> bool {
+        self.held.is_some()
+    }
+
+    /// Take the held points of every following frame from this frame of `values` (a new
+    /// animal's first usable frame); nothing when no point is held or the frame is unusable.
+    pub fn hold(&mut self, values: &[f64], head_first: bool) {
+        if !self.holds() || values.len() != 2 * self.input_points {
+            return;
+        }
+        let oriented;
+        let values = if head_first {
+            oriented = reversed(self.kind, values);
+            &oriented
+        } else {
+            values
+        };
+        self.held = HeldPoints::of(values, self.points, self.held_counts);
+    }
+
+    /// [`Projector::modal`] of a shape drawn on the straight body at rest (its held points).
+    pub(super) fn modal_at_rest(&self, values: &[f64]) -> Result<Vec<f64>, FrameError> {
+        self.modal_held(values, self.grid().rest().as_ref())
     }
 }

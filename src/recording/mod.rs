@@ -29,7 +29,9 @@
 //!   S·x: periodic for D2,c (N = K + 1 points, head and tail one point), or of a free chain of
 //!   K + 1 points for a model whose axial field has free ends.
 //!
-//! Angles and strains drop translation and rotation (the zero modes), as the paper does. The modal
+//! Angles and strains drop translation and rotation (the zero modes), as the paper does; a field
+//! whose ends hold points is held in the lab, so each frame is observed with the held points
+//! of its animal's first usable frame (`held`). The modal
 //! coordinates are the least-squares solution of S·q = o: Qᵢ = (S vᵢ)·o / λᵢ for each non-zero
 //! mode when the observations cover the body, because the S vᵢ are orthogonal with
 //! |S vᵢ|² = λᵢ.

@@ -81,9 +81,9 @@ pub struct Projector {
     /// [`Projector::mixed_shares`], derived once: a fit's every bootstrap draw asks for them.
     mixed: Vec<Option<f64>>,
     /// Points held at (tail, head) on the model's N points (none for lengths).
-    held_counts: (usize, usize),
+    pub(super) held_counts: (usize, usize),
     /// The held points every frame is observed with (the animal's reference frame's).
-    held: Option<HeldPoints>,
+    pub(super) held: Option<HeldPoints>,
 }
 
 impl Projector {
@@ -230,7 +230,7 @@ impl Projector {
         Some(super::continuum::noise_gains(&noise, &self.rows, &rows))
     }
 
-    fn grid(&self) -> Grid {
+    pub(super) fn grid(&self) -> Grid {
         Grid {
             kind: self.kind,
             input_points: self.input_points,
@@ -239,41 +239,6 @@ impl Projector {
             boundary: self.boundary,
             held: self.held_counts,
         }
-    }
-
-    /// Whether the observed field holds points at an end (midlines): then every frame is
-    /// observed with the held points of its animal's reference frame ([`Projector::hold`]).
-    pub fn holds(&self) -> bool {
-        self.held_counts != (0, 0)
-    }
-
-    /// The movement check of an animal whose first usable frame is `values` (`None` when no
-    /// point is held).
-    pub(crate) fn movement(&self, values: &[f64], head_first: bool) -> Option<super::Movement> {
-        let ends = (self.held_counts.0 > 0, self.held_counts.1 > 0);
-        (self.holds() && self.kind == InputKind::Midline)
-            .then(|| super::Movement::new(values, ends, head_first))
-    }
-
-    /// Whether the held points of a reference frame are set.
-    pub fn holding(&self) -> bool {
-        self.held.is_some()
-    }
-
-    /// Take the held points of every following frame from this frame of `values` (a new
-    /// animal's first usable frame); nothing when no point is held or the frame is unusable.
-    pub fn hold(&mut self, values: &[f64], head_first: bool) {
-        if !self.holds() || values.len() != 2 * self.input_points {
-            return;
-        }
-        let oriented;
-        let values = if head_first {
-            oriented = reversed(self.kind, values);
-            &oriented
-        } else {
-            values
-        };
-        self.held = HeldPoints::of(values, self.points, self.held_counts);
     }
 
     /// The posture on the model's points (zero modes removed, in units of the point spacing)
@@ -304,12 +269,7 @@ impl Projector {
         self.modal_held(values, self.held.as_ref())
     }
 
-    /// [`Projector::modal`] of a shape drawn on the straight body at rest (its held points).
-    fn modal_at_rest(&self, values: &[f64]) -> Result<Vec<f64>, FrameError> {
-        self.modal_held(values, self.grid().rest().as_ref())
-    }
-
-    fn modal_held(
+    pub(super) fn modal_held(
         &self,
         values: &[f64],
         held: Option<&HeldPoints>,
