@@ -217,21 +217,32 @@ fn a_free_beam_at_trackers_rates_gets_its_terms_and_covering_intervals() {
 #[test]
 #[ignore = "a coverage study: 20 seeds a setting (docs/discover.md)"]
 fn by_hand_coverage_study() {
-    // STUDY_ENDS=clamped (or free) runs one end only.
+    // STUDY_ENDS=clamped (or free) runs one end only, STUDY_POINTS=8,41 those model points.
     let ends = std::env::var("STUDY_ENDS").unwrap_or_default();
+    let only: Vec<usize> = (std::env::var("STUDY_POINTS").unwrap_or_default().split(','))
+        .filter_map(|p| p.trim().parse().ok())
+        .collect();
     for clamped in [false, true] {
         if (ends == "clamped" && !clamped) || (ends == "free" && clamped) {
             continue;
         }
         for fpp in [8.0, 14.0, 30.0] {
-            for (points, noise) in [(12, 0.01), (25, 0.05)] {
+            for (points, noise) in [(12, 0.01), (25, 0.05), (8, 0.05), (41, 0.01)] {
                 let ends = if clamped {
                     "clamped–free"
                 } else {
                     "free–free"
                 };
+                if !only.is_empty() && !only.contains(&points) {
+                    continue;
+                }
                 let label = format!("{ends}, {fpp} fpp, {points} points, noise {noise}");
-                let out = study(&label, &beam(clamped, fpp, noise), points, 20);
+                // Tracked at 25 points, or at the model's where it has more.
+                let beam = Beam {
+                    points: points.max(25),
+                    ..beam(clamped, fpp, noise)
+                };
+                let out = study(&label, &beam, points, 20);
                 let bad = out
                     .iter()
                     .filter(|o| !(o.exact_set && o.covered.iter().all(|&c| c)))

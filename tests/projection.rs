@@ -199,16 +199,18 @@ fn fewer_tracked_points_are_fitted_at_their_own_count() {
 /// undetermined in 20 of 20. A coordinate votes unless neighbouring continuum modes the tracked
 /// points cannot separate put over 2 % of its variance in it. Thermal beams with three modes
 /// under Nyquist, `--points` the tracked count, 40 seeds each: the free beam at 9 points and
-/// the clamped one at 19 decide every law in ≥ 36 of 40; the clamped beam at 12 points, whose
-/// third coordinate takes 10 % from the fifth mode (which rejected the three laws in 9, 11 and
-/// 6 of 40 without this rule; at 9 points it takes 33 %, a +9 % bias of its Ω), keeps two
-/// voting modes and decides nothing. No true law is rejected in more than 4 of 40 and κ is
-/// covered in ≥ 36 of 40 at every setting.
+/// the clamped one at 19 and 12 decide every law in ≥ 36 of 40. The clamped beam at 12 points
+/// once kept two voting modes and decided nothing: its third coordinate took 10 % from the
+/// fifth mode (which rejected the three laws in 9, 11 and 6 of 40 without this rule) while the
+/// noise of each frame's own head frame kept its projector to three continuum columns; in the
+/// lab's frame it keeps all ten, the fifth mode is projected out, no mode is mixed and the
+/// laws are decided in 40 of 40 (rejected 2, 1, 1). No true law is rejected in more than 4 of
+/// 40 and κ is covered in ≥ 36 of 40 at every setting.
 #[test]
 #[ignore = "a coverage study, run by .ci/run: cargo test --release -- --ignored --skip by_hand_"]
 fn continuum_coordinates_vote_unless_their_neighbours_mix_in() {
     use theory_search::fit::{ModeNote, Verdict};
-    for (clamped, points, decides) in [(false, 9, true), (true, 19, true), (true, 12, false)] {
+    for (clamped, points) in [(false, 9), (true, 19), (true, 12)] {
         // The clamped beam slower than the shared one, whose third mode reaches past Nyquist.
         let beam = if clamped {
             Body {
@@ -257,9 +259,8 @@ fn continuum_coordinates_vote_unless_their_neighbours_mix_in() {
         assert!(covered >= 36, "{what}");
         for &(decided, rejected) in &table {
             assert!(rejected <= 4, "{what}");
-            assert!(if decides { decided >= 36 } else { decided == 0 }, "{what}");
+            assert!(decided >= 36, "{what}");
         }
-        assert!(decides || mixed == 40, "{what}");
     }
 }
 

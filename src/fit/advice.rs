@@ -155,13 +155,14 @@ pub(super) fn of(report: &FitReport, series: &[Series]) -> Option<Advice> {
                     now: fs,
                 })
             }
-            ModeNote::AboveNyquist | ModeNote::NearAlias | ModeNote::LinePastNyquist => {
-                Some(Step::Rate {
-                    mode,
-                    rate: f * (1.0 + 3.0 * m.zeta.min(1.0)) / 0.4,
-                    now: fs,
-                })
-            }
+            ModeNote::AboveNyquist
+            | ModeNote::NearAlias
+            | ModeNote::LinePastNyquist
+            | ModeNote::BroadNearNyquist { .. } => Some(Step::Rate {
+                mode,
+                rate: f * (1.0 + 3.0 * m.zeta.min(1.0)) / 0.4,
+                now: fs,
+            }),
             ModeNote::GridOff { .. } | ModeNote::Mixed { .. } => Some(Step::Points {
                 mode,
                 // None (0) when the model already uses every tracked point.

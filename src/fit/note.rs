@@ -5,6 +5,8 @@ use std::fmt;
 
 use crate::report::fixed;
 
+use super::verdict::{FittedBy, ModeSpectralFit, EXACT_NYQUIST};
+
 // The thresholds the notes name (the verdict module applies them and re-exports them).
 
 /// Half-widths ζΩ of a line that must stay under Nyquist for the mode to be resolved.
@@ -93,6 +95,14 @@ pub enum ModeNote {
         /// Its damping ratio.
         zeta: f64,
     },
+    /// A time-domain fit of a line near Nyquist that may be broad (ζ + 2 se ≥ 0.4): its
+    /// likelihood is flat toward the alias, and the fits that come out narrow come out low.
+    BroadNearNyquist {
+        /// Its damping ratio.
+        zeta: f64,
+        /// ζ + 2 se.
+        upper: f64,
+    },
     /// Too few frequency bins or no variance to fit.
     Unfittable,
     /// Only the constants were asked for.
@@ -146,6 +156,12 @@ impl fmt::Display for ModeNote {
                 f,
                 "unfolded above Nyquist by the λ law, its line is broad (ζ = {}), where the leakage of the modes above it is not white: it does not vote",
                 crate::report::fixed(*zeta, 2)
+            ),
+            ModeNote::BroadNearNyquist { zeta, upper } => write!(
+                f,
+                "its line near Nyquist may be broad (ζ = {}, up to {} within two errors), where its likelihood is flat toward the alias and the fits that come out narrow come out low: it does not vote",
+                crate::report::fixed(*zeta, 2),
+                crate::report::fixed(*upper, 2)
             ),
             ModeNote::NearAlias => f.write_str(
                 "its frequency is above 0.8 × Nyquist, where its time-domain fit cannot be told from the alias of a mode above Nyquist",
@@ -272,5 +288,90 @@ impl fmt::Display for TestNote {
 impl serde::Serialize for TestNote {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         s.collect_str(self)
+    }
+}
+
+impl ModeSpectralFit {
+    /// Whether it votes on dispersion only: a Whittle fit under [`WIDTH_BINS`] bins (the exact
+    /// likelihood's errors hold at any frequency).
+    pub fn dispersion_only(&self) -> bool {
+        self.bins < WIDTH_BINS && self.exact.is_none()
+    }
+
+    /// Classify the fit `s` of mode `mode` (eigenvalue `lambda`) at frequency bin `df` and
+    /// sampling rate `fs`, made `by` one likelihood: the time-domain one has aliasing in it and
+    /// errors that hold for a line of any width, so only a line near or above Nyquist (an
+    /// alias, identifiable only up to it) is then taken from the vote for its frequency — unless
+    /// the λ law chose its branch (`alias`).
+    pub(super) fn of(
+        mode: usize,
+        lambda: f64,
+        s: &super::spectrum::ModeSpectrum,
+        (df, fs): (f64, f64),
+        by: FittedBy,
+    ) -> ModeSpectralFit {
+        let exact = by != FittedBy::Whittle;
+        let known = |e: f64| e.is_finite().then_some(e);
+        let f = s.omega / (2.0 * std::f64::consts::PI);
+        let why = if !s.converged {
+            Some(ModeNote::NotConverged)
+        } else if s.zeta >= 1.0 {
+            Some(ModeNote::OverDamped { zeta: s.zeta })
+        } else if !exact && f < RESOLVED_BINS * df {
+            Some(ModeNote::TooFewBins { bins: f / df })
+        } else if by == FittedBy::Unfolded && s.zeta >= super::timedomain::BROAD {
+            // As a broad line near Nyquist keeps its Whittle fit (`timedomain`): a clamped–free
+            // beam's third mode (ζ = 0.53) voting unfolded rejected a true equipartition in 6
+            // of 20.
+            Some(ModeNote::BroadAlias { zeta: s.zeta })
+        } else if by == FittedBy::Exact
+            && f * (1.0 + NYQUIST_HALF_WIDTHS * s.zeta) > super::timedomain::NEAR_NYQUIST * 0.5 * fs
+            // An unknown width (NaN) counts as broad.
+            && (s.zeta + 2.0 * s.zeta_error >= super::timedomain::BROAD || s.zeta_error.is_nan())
+        {
+            // A clamped–free beam's third mode (Ω = 0.79 × Nyquist, ζ = 0.53) fitted this way
+            // came out within its error in most recordings, but the 7 of 40 that voted were
+            // 1.7–6 errors low: narrow, low fits look resolved.
+            Some(ModeNote::BroadNearNyquist {
+                zeta: s.zeta,
+                upper: s.zeta + 2.0 * s.zeta_error,
+            })
+        } else if by == FittedBy::Exact && f > 0.5 * EXACT_NYQUIST * fs {
+            Some(ModeNote::NearAlias)
+        } else if by != FittedBy::Unfolded && f > 0.45 * fs {
+            Some(ModeNote::AboveNyquist)
+        } else if !exact && f + NYQUIST_HALF_WIDTHS * s.zeta * f > 0.5 * fs {
+            // Its line folds back on itself: the fitted Ω and ζ of such lines run low by
+            // several of their standard errors in simulations (tests/coverage.rs).
+            Some(ModeNote::LinePastNyquist)
+        } else if s.noise > 3.0 * s.variance
+            && super::note::line_over_floor(s, df, fs) < LINE_OVER_FLOOR
+        {
+            Some(ModeNote::MostlyFlat)
+        } else if s.omega_error > 0.25 * s.omega {
+            Some(ModeNote::OmegaUncertain)
+        } else {
+            None
+        };
+        ModeSpectralFit {
+            mode,
+            lambda,
+            omega: s.omega,
+            omega_error: known(s.omega_error),
+            zeta: s.zeta,
+            // A line narrower than half a bin: its width is the window's, not the mode's.
+            zeta_error: known(s.zeta_error)
+                .filter(|_| exact || s.zeta * s.omega / (2.0 * std::f64::consts::PI) >= 0.5 * df),
+            variance: s.variance,
+            variance_error: known(s.variance_error),
+            noise: s.noise,
+            relaxation_rate: (s.converged && s.zeta >= 1.0)
+                .then(|| s.omega * (s.zeta - (s.zeta * s.zeta - 1.0).sqrt())),
+            resolved: why.is_none(),
+            votes: why.is_none(),
+            bins: f / df,
+            note: why,
+            exact: None,
+        }
     }
 }

@@ -3,9 +3,9 @@
 //!
 //! **Resolved.** A mode is resolved when its fit converged under-damped (ζ < 1), its natural
 //! frequency lies at least [`RESOLVED_BINS`] frequency bin above zero and below 0.9 × Nyquist
-//! with [`NYQUIST_HALF_WIDTHS`] half-widths of its line below Nyquist too,
+//! with [`NYQUIST_HALF_WIDTHS`](super::note::NYQUIST_HALF_WIDTHS) half-widths of its line below Nyquist too,
 //! its spectrum is not mostly flat (white level ν at most 3σ², or its line's peak at least
-//! [`LINE_OVER_FLOOR`] times the white density 2ν/f_s under it) and Ω is known to 25 %. An
+//! [`LINE_OVER_FLOOR`](super::note::LINE_OVER_FLOOR) times the white density 2ν/f_s under it) and Ω is known to 25 %. An
 //! over-damped mode reports its relaxation rate Ω(ζ − √(ζ² − 1)) instead. A line narrower than
 //! half a frequency bin (ζΩ/2π < df/2) has no ζ error: its width is the window's, and it does
 //! not vote on damping. Below [`WIDTH_BINS`] bins a mode votes on dispersion only: its Ω keeps
@@ -39,7 +39,7 @@
 //! expectation and `rejected` when it does not.
 
 use super::note::{ModeNote, TestNote};
-pub use super::note::{LINE_OVER_FLOOR, NYQUIST_HALF_WIDTHS, RESOLVED_BINS, WIDTH_BINS};
+pub use super::note::{RESOLVED_BINS, WIDTH_BINS};
 use crate::report::fixed;
 
 /// The share of Nyquist above which a time-domain fit does not vote: a free beam's third mode
@@ -172,79 +172,6 @@ pub struct WindowChoice {
     pub how: &'static str,
     /// Why this window.
     pub why: String,
-}
-
-impl ModeSpectralFit {
-    /// Whether it votes on dispersion only: a Whittle fit under [`WIDTH_BINS`] bins (the exact
-    /// likelihood's errors hold at any frequency).
-    pub fn dispersion_only(&self) -> bool {
-        self.bins < WIDTH_BINS && self.exact.is_none()
-    }
-
-    /// Classify the fit `s` of mode `mode` (eigenvalue `lambda`) at frequency bin `df` and
-    /// sampling rate `fs`, made `by` one likelihood: the time-domain one has aliasing in it and
-    /// errors that hold for a line of any width, so only a line near or above Nyquist (an
-    /// alias, identifiable only up to it) is then taken from the vote for its frequency — unless
-    /// the λ law chose its branch (`alias`).
-    pub(super) fn of(
-        mode: usize,
-        lambda: f64,
-        s: &super::spectrum::ModeSpectrum,
-        (df, fs): (f64, f64),
-        by: FittedBy,
-    ) -> ModeSpectralFit {
-        let exact = by != FittedBy::Whittle;
-        let known = |e: f64| e.is_finite().then_some(e);
-        let f = s.omega / (2.0 * std::f64::consts::PI);
-        let why = if !s.converged {
-            Some(ModeNote::NotConverged)
-        } else if s.zeta >= 1.0 {
-            Some(ModeNote::OverDamped { zeta: s.zeta })
-        } else if !exact && f < RESOLVED_BINS * df {
-            Some(ModeNote::TooFewBins { bins: f / df })
-        } else if by == FittedBy::Unfolded && s.zeta >= super::timedomain::BROAD {
-            // As a broad line near Nyquist keeps its Whittle fit (`timedomain`): a clamped–free
-            // beam's third mode (ζ = 0.53) voting unfolded rejected a true equipartition in 6
-            // of 20.
-            Some(ModeNote::BroadAlias { zeta: s.zeta })
-        } else if by == FittedBy::Exact && f > 0.5 * EXACT_NYQUIST * fs {
-            Some(ModeNote::NearAlias)
-        } else if by != FittedBy::Unfolded && f > 0.45 * fs {
-            Some(ModeNote::AboveNyquist)
-        } else if !exact && f + NYQUIST_HALF_WIDTHS * s.zeta * f > 0.5 * fs {
-            // Its line folds back on itself: the fitted Ω and ζ of such lines run low by
-            // several of their standard errors in simulations (tests/coverage.rs).
-            Some(ModeNote::LinePastNyquist)
-        } else if s.noise > 3.0 * s.variance
-            && super::note::line_over_floor(s, df, fs) < LINE_OVER_FLOOR
-        {
-            Some(ModeNote::MostlyFlat)
-        } else if s.omega_error > 0.25 * s.omega {
-            Some(ModeNote::OmegaUncertain)
-        } else {
-            None
-        };
-        ModeSpectralFit {
-            mode,
-            lambda,
-            omega: s.omega,
-            omega_error: known(s.omega_error),
-            zeta: s.zeta,
-            // A line narrower than half a bin: its width is the window's, not the mode's.
-            zeta_error: known(s.zeta_error)
-                .filter(|_| exact || s.zeta * s.omega / (2.0 * std::f64::consts::PI) >= 0.5 * df),
-            variance: s.variance,
-            variance_error: known(s.variance_error),
-            noise: s.noise,
-            relaxation_rate: (s.converged && s.zeta >= 1.0)
-                .then(|| s.omega * (s.zeta - (s.zeta * s.zeta - 1.0).sqrt())),
-            resolved: why.is_none(),
-            votes: why.is_none(),
-            bins: f / df,
-            note: why,
-            exact: None,
-        }
-    }
 }
 
 /// The white floor: the median ν of the highest third of the modes (at least two).
