@@ -160,8 +160,9 @@ fn discover_answers_a_clamped_beam_with_tracking_noise() {
 
 /// Fewer tracked points than the default N (issue 56, item 4): 9 and 11 tracked points of the
 /// free and the clamped thermal beam, with six or twelve modes and tracking noise 2e-5 or 1e-3,
-/// fitted with `--points` the tracked count (the default 12 is refused, tests/recordings.rs): κ
-/// lies within its interval of the truth and within 1 % of it.
+/// fitted with `--points` the tracked count (the default 12 is refused, tests/recordings.rs), at
+/// four seeds each: κ within 1 % of the truth in every fit and its interval covering it in at
+/// least 3 of 4 (one seed alone misses a 95 % interval one time in twenty).
 #[test]
 fn fewer_tracked_points_are_fitted_at_their_own_count() {
     for (clamped, modes, noise, tracked) in [
@@ -181,16 +182,30 @@ fn fewer_tracked_points_are_fitted_at_their_own_count() {
             noise,
             ..base
         };
-        let r = fitted(&record(&beam, 56 + tracked as u64), clamped, tracked, None);
-        let c = r.continuum.as_ref().expect("a continuum constant");
-        let what = format!(
-            "clamped {clamped}, {modes} modes, noise {noise}, {tracked} points: κ = {} {:?}, floor {:?}, tests {:?}, warnings {:?}",
-            c.constant, c.interval, r.noise_floor, r.tests, r.warnings
+        let fits = common::beam::on_two_cores(4, |s| {
+            fitted(
+                &record(&beam, 56 + tracked as u64 + 100 * s),
+                clamped,
+                tracked,
+                None,
+            )
+        });
+        let mut covered = 0;
+        for r in &fits {
+            let c = r.continuum.as_ref().expect("a continuum constant");
+            let what = format!(
+                "clamped {clamped}, {modes} modes, noise {noise}, {tracked} points: κ = {} {:?}, floor {:?}, tests {:?}, warnings {:?}",
+                c.constant, c.interval, r.noise_floor, r.tests, r.warnings
+            );
+            let [lo, hi] = c.interval.expect("an interval");
+            covered += usize::from(lo <= beam.kappa && beam.kappa <= hi);
+            assert!((c.constant / beam.kappa - 1.0).abs() < 0.01, "{what}");
+            assert!(!r.tests.dispersion.modes.is_empty(), "{what}");
+        }
+        assert!(
+            covered >= 3,
+            "clamped {clamped}, {tracked} points: κ covered in {covered} of 4"
         );
-        let [lo, hi] = c.interval.expect("an interval");
-        assert!(lo <= beam.kappa && beam.kappa <= hi, "{what}");
-        assert!((c.constant / beam.kappa - 1.0).abs() < 0.01, "{what}");
-        assert!(!r.tests.dispersion.modes.is_empty(), "{what}");
     }
 }
 

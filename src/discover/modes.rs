@@ -113,6 +113,7 @@ pub(super) fn unaliased(first: &Recording, modes: &[usize], fits: &[ModeFit]) ->
                     | ModeNote::AboveNyquist
                     | ModeNote::LinePastNyquist
                     | ModeNote::BroadAlias { .. }
+                    | ModeNote::BroadNearNyquist { .. }
             )
         )
     };

@@ -324,6 +324,8 @@ impl ModeSpectralFit {
             // beam's third mode (ζ = 0.53) voting unfolded rejected a true equipartition in 6
             // of 20.
             Some(ModeNote::BroadAlias { zeta: s.zeta })
+        } else if by == FittedBy::Exact && f > 0.5 * EXACT_NYQUIST * fs {
+            Some(ModeNote::NearAlias)
         } else if by == FittedBy::Exact
             && f * (1.0 + NYQUIST_HALF_WIDTHS * s.zeta) > super::timedomain::NEAR_NYQUIST * 0.5 * fs
             // An unknown width (NaN) counts as broad.
@@ -336,8 +338,6 @@ impl ModeSpectralFit {
                 zeta: s.zeta,
                 upper: s.zeta + 2.0 * s.zeta_error,
             })
-        } else if by == FittedBy::Exact && f > 0.5 * EXACT_NYQUIST * fs {
-            Some(ModeNote::NearAlias)
         } else if by != FittedBy::Unfolded && f > 0.45 * fs {
             Some(ModeNote::AboveNyquist)
         } else if !exact && f + NYQUIST_HALF_WIDTHS * s.zeta * f > 0.5 * fs {
