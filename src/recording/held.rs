@@ -9,7 +9,7 @@
 //! rms displacement from the reference frame over the whole midline's.
 
 use super::observe::on_points;
-use super::project::{reversed, FrameError, Projector};
+use super::project::{tail_first, FrameError, Projector};
 use super::InputKind;
 
 /// The points a body's held ends keep in place (a clamped end two, a pinned end one), on the
@@ -168,14 +168,8 @@ impl Projector {
         if !self.holds() || values.len() != 2 * self.input_points {
             return;
         }
-        let oriented;
-        let values = if head_first {
-            oriented = reversed(self.kind, values);
-            &oriented
-        } else {
-            values
-        };
-        self.held = HeldPoints::of(values, self.points, self.held_counts);
+        let values = tail_first(self.kind, values, head_first);
+        self.held = HeldPoints::of(&values, self.points, self.held_counts);
     }
 
     /// [`Projector::modal`] of a shape drawn on the straight body at rest (its held points).

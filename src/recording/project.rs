@@ -3,6 +3,8 @@
 //! with continuum modes, the projector on those (`continuum`).
 
 use super::continuum::{Grid, CONTINUUM_AMPLITUDE};
+use std::borrow::Cow;
+
 use super::held::HeldPoints;
 use super::observe::{observe, segment_angles, size, sizes};
 pub use super::observe::{turning_angles, FrameError};
@@ -29,6 +31,15 @@ fn lattice_rows(design: &[Vec<f64>], lambdas: &[f64]) -> Vec<Vec<f64>> {
         .zip(lambdas)
         .map(|(d, l)| d.iter().map(|x| x / l).collect())
         .collect()
+}
+
+/// A frame in the model's order (tail first): as read, or [`reversed`] when read head first.
+pub(crate) fn tail_first(kind: InputKind, values: &[f64], head_first: bool) -> Cow<'_, [f64]> {
+    if head_first {
+        Cow::Owned(reversed(kind, values))
+    } else {
+        Cow::Borrowed(values)
+    }
 }
 
 /// A frame listed head first, reordered head last (the model's orientation): points (x, y)
@@ -301,15 +312,9 @@ impl Projector {
     ) -> Result<f64, FrameError> {
         q.clear();
         if self.kind != InputKind::Midline || values.len() != 2 * self.points {
-            let oriented;
-            let values = if head_first {
-                oriented = reversed(self.kind, values);
-                &oriented
-            } else {
-                values
-            };
-            q.extend(self.modal(values)?);
-            return Ok(self.spacing(values));
+            let values = tail_first(self.kind, values, head_first);
+            q.extend(self.modal(&values)?);
+            return Ok(self.spacing(&values));
         }
         let k = self.points;
         let held = self.held.as_ref();
