@@ -17,7 +17,7 @@ use super::InputKind;
 /// every frame before its turning angles: a body held in the lab (a head in agarose, a worm in
 /// a trap) has them fixed there, so their tracking noise is left out rather than turning
 /// every frame's body frame (a clamped head's first segment set the lowest mode's frame: its
-/// tracking noise reached that coordinate ten times the variance it has with the lab's).
+/// tracking noise reached that coordinate with 10⁴ times the variance it has in the lab's).
 #[derive(Debug, Clone, PartialEq)]
 pub struct HeldPoints {
     /// The held points at the tail (s = 0), then those at the head.
