@@ -352,29 +352,22 @@ fn a_held_body_keeps_tracking_noise_off_its_lowest_coordinates() {
 fn a_held_end_that_moves_is_named() {
     let body = clamped(19, 0.01);
     let text = record(&body, 77);
-    let swayed: String = text
-        .lines()
-        .enumerate()
-        .map(|(i, line)| {
-            if i == 0 {
-                return format!("{line}\n");
-            }
-            let cells: Vec<f64> = line
-                .split(',')
-                .map(|c| c.parse().expect("a number"))
-                .collect();
-            let t = cells[0];
-            let (dx, dy) = (
-                300.0 * body.amplitude * (0.013 * t).sin(),
-                300.0 * body.amplitude * (0.007 * t).cos(),
-            );
-            let moved: Vec<String> = std::iter::once(t)
-                .chain(cells[1..].chunks(2).flat_map(|p| [p[0] + dx, p[1] + dy]))
-                .map(|v| v.to_string())
-                .collect();
-            moved.join(",") + "\n"
-        })
-        .collect();
+    let swayed = each_row(&text, |line| {
+        let cells: Vec<f64> = line
+            .split(',')
+            .map(|c| c.parse().expect("a number"))
+            .collect();
+        let t = cells[0];
+        let (dx, dy) = (
+            300.0 * body.amplitude * (0.013 * t).sin(),
+            300.0 * body.amplitude * (0.007 * t).cos(),
+        );
+        let moved: Vec<String> = std::iter::once(t)
+            .chain(cells[1..].chunks(2).flat_map(|p| [p[0] + dx, p[1] + dy]))
+            .map(|v| v.to_string())
+            .collect();
+        moved.join(",")
+    });
     let moves =
         |r: &theory_search::fit::FitReport| r.warnings.iter().any(|w| w.contains("held end moves"));
     let held = fitted(&text, true, 19, None);
@@ -391,21 +384,14 @@ fn a_held_end_that_moves_is_named() {
 fn a_held_body_read_tail_first_is_the_same_body() {
     let body = clamped(19, 0.05);
     let text = record(&body, 78);
-    let reversed: String = text
-        .lines()
-        .enumerate()
-        .map(|(i, line)| {
-            let cells: Vec<&str> = line.split(',').collect();
-            if i == 0 {
-                return format!("{line}\n");
-            }
-            let points: Vec<&[&str]> = cells[1..].chunks(2).rev().collect();
-            let row: Vec<&str> = std::iter::once(cells[0])
-                .chain(points.into_iter().flatten().copied())
-                .collect();
-            row.join(",") + "\n"
-        })
-        .collect();
+    let reversed = each_row(&text, |line| {
+        let cells: Vec<&str> = line.split(',').collect();
+        let points: Vec<&[&str]> = cells[1..].chunks(2).rev().collect();
+        let row: Vec<&str> = std::iter::once(cells[0])
+            .chain(points.into_iter().flatten().copied())
+            .collect();
+        row.join(",")
+    });
     let head_first = fitted(&text, true, 19, None);
     let mut s = FitSettings::new(InputKind::Midline);
     s.recording.points = 19;
@@ -418,4 +404,15 @@ fn a_held_body_read_tail_first_is_the_same_body() {
         .warnings
         .iter()
         .all(|w| !w.contains("held end moves")));
+}
+
+/// A recording's CSV with each row after the header rewritten by `row`.
+fn each_row(text: &str, row: impl Fn(&str) -> String) -> String {
+    let mut lines = text.lines();
+    let mut out = lines.next().map_or(String::new(), |h| format!("{h}\n"));
+    for line in lines {
+        out += &row(line);
+        out.push('\n');
+    }
+    out
 }
