@@ -4,13 +4,14 @@
 //! passive beam's stationary variances T/(cλₙ) and lag-1 autocorrelations of damped
 //! oscillators, the active beam's stationary covariance solving the continuous Lyapunov
 //! equation and its probability current (none without the active force), an unstable beam
-//! refused, the CSV's lost frames, and `fit` reading κ = √c off a passive free–free recording.
+//! refused, the CSV's lost frames, the tracked points at equal arc length on the bent body,
+//! and `fit` reading κ = √c off a passive free–free recording.
 
 mod common;
 
 use common::beam::{fitted, root, shape};
 use common::continuum::{
-    derivative, discretise, kept, midline, overlap, record, shapes, states, Beam, C,
+    derivative, discretise, kept, midline, overlap, positions, record, shapes, states, Beam, C,
 };
 use nalgebra::DVector;
 
@@ -105,6 +106,57 @@ fn modal_quadrature() {
             }
         }
     }
+}
+
+#[test]
+fn tracked_points_lie_at_equal_arc_length_on_the_bent_body() {
+    // Bent sixteen times the studies' passive temperature (tangent angles of a few tenths of
+    // a radian), so the body's own geometry shows: each segment's chord is the integral of
+    // (cos ψ, sin ψ) over one 24th of arc length (a fine midpoint sum here), and the lateral
+    // positions differ from y(s) at second order.
+    let beam = Beam {
+        temperature: Beam::passive(false).temperature * 16.0,
+        frames: 50,
+        ..Beam::passive(false)
+    };
+    let states = states(&beam, 4);
+    let (points, ys) = (positions(&beam, &states), midline(&beam, &states));
+    let h = 1.0 / (beam.points - 1) as f64;
+    let roots = beam.roots();
+    let (mut worst, mut bent, mut turned) = (0.0f64, 0.0f64, 0.0f64);
+    for ((p, y), x) in points.iter().zip(&ys).zip(&states) {
+        for k in 0..beam.points - 1 {
+            let (dx, dy) = (p[2 * k + 2] - p[2 * k], p[2 * k + 3] - p[2 * k + 1]);
+            let (mut c, mut s) = (0.0, 0.0);
+            for q in 0..400 {
+                let at = h * (k as f64 + (q as f64 + 0.5) / 400.0);
+                let psi: f64 = (0..beam.modes)
+                    .map(|j| x[j] * derivative(false, roots[j], at, 1))
+                    .sum();
+                turned = turned.max(psi.abs());
+                (c, s) = (c + psi.cos() / 400.0, s + psi.sin() / 400.0);
+            }
+            worst = worst.max((dx - h * c).hypot(dy - h * s) / h);
+        }
+        bent = bent.max(
+            (0..beam.points)
+                .map(|k| (p[2 * k + 1] - y[k]).abs())
+                .fold(0.0, f64::max),
+        );
+    }
+    assert!(
+        turned > 0.2,
+        "tangent angles up to {turned} rad only: no geometry tested"
+    );
+    // Simpson's error; the studies' tracking noise is 2·10⁻³ of a segment.
+    assert!(
+        worst < 1e-5,
+        "a chord off the arc's by {worst:e} of a segment"
+    );
+    assert!(
+        bent > 1e-4,
+        "y(s) moved only {bent:e} off the midline: no geometry tested"
+    );
 }
 
 /// The modal coordinates fitted back by least squares of the noiseless midline on φⱼ(sₖ).

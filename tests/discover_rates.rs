@@ -254,10 +254,9 @@ fn by_hand_coverage_study() {
 }
 
 /// The active beam of the studies: a = 5c on a free body, at a tenth of the passive beam's
-/// temperature. (At the passive temperature the active beam bends 1.8 % of its length rms; the
-/// generator draws its points at x = s, not at equal arc length as a body is tracked, and at
-/// that amplitude the difference biased c_y +4 % and a_y +4 % through the coupling; at a tenth
-/// the bias is under 1 %.)
+/// temperature, the tracking noise kept (so it is √10 times the passive beam's share). (It was
+/// chosen when the generator drew its points at x = s, which at the passive temperature biased
+/// c_y and a_y +4 %; the points are at equal arc length now.)
 fn active_beam(fpp: f64) -> Beam {
     let b = Beam::active(false);
     Beam {

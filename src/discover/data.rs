@@ -34,6 +34,10 @@ pub(super) struct Recording {
     pub modal: Vec<(f64, Vec<f64>)>,
     /// How the coordinates read the body's modes ([`Basis`]).
     pub basis: Basis,
+    /// The covariance between the coordinates (as `mode_data` reads them: divided by their
+    /// gains) of white noise of unit variance on every tracked coordinate of a body of unit
+    /// length; `None` for lengths.
+    pub noise: Option<nalgebra::DMatrix<f64>>,
 }
 
 /// What the modal coordinates measure.
@@ -67,12 +71,14 @@ pub(super) fn read(
     let mut restrain = Restrain::default();
     let mut modal: Vec<(f64, Vec<f64>)> = Vec::new();
     let mut basis = Basis::Grid;
+    let mut noise = None;
     let mut each = |p: &Projector, t: f64, q: &[f64]| -> Result<(), SinkError> {
         if shapes.is_none() {
             shapes = Some(p.shapes.clone());
             first_mode = p.first_mode;
             restrain = Restrain::of(p);
             basis = basis_of(p);
+            noise = tracking_shape(p, &basis);
         }
         modal.push((t, q.to_vec()));
         restrain.add(q);
@@ -123,7 +129,21 @@ pub(super) fn read(
         scale,
         modal,
         basis,
+        noise,
     })
+}
+
+/// White tracking noise's covariance between `p`'s coordinates, each divided by its gain in
+/// `basis`.
+fn tracking_shape(p: &Projector, basis: &Basis) -> Option<nalgebra::DMatrix<f64>> {
+    let c = p.noise_covariance()?;
+    let gain = |j: usize| match basis {
+        Basis::Continuum { gains, .. } => gains.get(j).copied().unwrap_or(1.0),
+        Basis::Grid => 1.0,
+    };
+    let r =
+        nalgebra::DMatrix::from_fn(c.nrows(), c.ncols(), |i, j| c[(i, j)] / (gain(i) * gain(j)));
+    r.iter().all(|v| v.is_finite()).then_some(r)
 }
 
 /// The basis of `p`'s coordinates: its leading continuum ones with their gains, or the grid's.

@@ -35,6 +35,16 @@ pub(super) struct ModalForce {
     pub velocity: DMatrix<f64>,
 }
 
+impl ModalForce {
+    /// The matrices on the first `n` modes.
+    pub fn block(&self, n: usize) -> ModalForce {
+        ModalForce {
+            position: self.position.view((0, 0), (n, n)).into_owned(),
+            velocity: self.velocity.view((0, 0), (n, n)).into_owned(),
+        }
+    }
+}
+
 /// Whether `c`'s force is linear in (u, u̇) on `unknowns` values: f(0) = 0 and
 /// f(a + 2b) = f(a) + 2 f(b) for two fixed pseudo-random pairs, to 10⁻⁹ of their size.
 pub(super) fn is_linear(c: &Candidate) -> bool {

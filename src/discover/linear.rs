@@ -6,13 +6,14 @@
 use super::data::{Basis, Recording};
 use nalgebra::DVector;
 
-use super::coupled::{Joint, Wald, COUPLED};
+use super::coupled::{Joint, Layout, CONDENSED, COUPLED};
 use super::exact::{columns, drawn, moments, Distance, ModeData, ModeFit, Quadratic};
 use super::galerkin::ModalForce;
 use super::modes::{used, Used};
 use super::regress::percentiles;
 use super::report::{choose, Comparison, DiscoverReport, DiscoveredTerm, Method, Selection};
 use super::verdict::Goodness;
+use super::wald::Wald;
 use super::weak::in_data_unit;
 use super::{galerkin, DiscoverError, DiscoverSettings, Notation};
 use crate::dynamics::Candidate;
@@ -70,9 +71,10 @@ pub(super) fn estimate(
     let points = first.fit.model_points;
     // The modes in the likelihood: the resolved ones. (Tried for the coupled likelihood: every
     // continuum coordinate up to MAX_MODES, the unresolved ones as mostly tracking noise, led it
-    // to a wrong optimum at 14 frames a period, a_y ≈ 0; two more modes as latent states, their
-    // noise by fluctuation–dissipation, moved c_y by 0.5 % and a_y not at all.)
-    let (forces, continuum) = match &first.basis {
+    // to a wrong optimum at 14 frames a period, a_y ≈ 0. The modes above are condensed into
+    // the used ones instead (`coupled`); one more as a latent state, its noise by
+    // fluctuation–dissipation, moved c_y and a_y by 0.1–0.2 % and covered no more often.)
+    let (whole_forces, continuum) = match &first.basis {
         Basis::Continuum {
             stencil, boundary, ..
         } => {
@@ -81,7 +83,7 @@ pub(super) fn estimate(
                 settings.recording.order,
                 field,
                 (*stencil, *boundary),
-                modes.len(),
+                modes.len() + CONDENSED,
                 &names,
             )?;
             match found {
@@ -97,6 +99,10 @@ pub(super) fn estimate(
             false,
         ),
     };
+    // The used modes' matrices; the coupled likelihood condenses the modes above them.
+    let forces: Vec<Option<ModalForce>> = (whole_forces.iter())
+        .map(|f| f.as_ref().map(|f| f.block(modes.len())))
+        .collect();
     let (cols, diagonal) = columns(&forces);
     if cols.iter().any(Option::is_none) {
         return Ok(Err(NotExact::Nonlinear));
@@ -123,17 +129,15 @@ pub(super) fn estimate(
         frames,
         settings,
         names: &names,
+        noise: first.noise.as_ref(),
+        sigma: (first.fit.tracking_noise.as_ref())
+            .filter(|t| !t.bound)
+            .map(|t| t.sigma),
     };
     let found = if diagonal {
         problem.diagonal(&cols)
     } else {
-        let used = fits.len();
-        let forces: Vec<ModalForce> = (forces.iter().flatten())
-            .map(|f| ModalForce {
-                position: f.position.view((0, 0), (used, used)).into_owned(),
-                velocity: f.velocity.view((0, 0), (used, used)).into_owned(),
-            })
-            .collect();
+        let forces: Vec<ModalForce> = whole_forces.into_iter().flatten().collect();
         problem.coupled(&forces, &cols)
     };
     let Estimate {
@@ -338,6 +342,11 @@ struct Problem<'a> {
     frames: f64,
     settings: &'a DiscoverSettings,
     names: &'a [String],
+    /// The tracking noise's covariance between the coordinates up to its σ² (the first
+    /// recording's), and σ as the measurement layer measured it (body lengths; `None` where
+    /// it is only a bound).
+    noise: Option<&'a nalgebra::DMatrix<f64>>,
+    sigma: Option<f64>,
 }
 
 impl Problem<'_> {
@@ -498,7 +507,14 @@ impl Problem<'_> {
                 diagonal > 1e-3 * largest(&f.position, &f.velocity)
             })
             .collect();
-        let mut start = DVector::zeros(k + 2 * m);
+        // The tracking noise's covariance between the used coordinates up to its scale, from
+        // the projection (white noise of one size on every tracked coordinate).
+        let shape = (self.noise)
+            .filter(|c| c.nrows() >= m)
+            .map(|c| c.view((0, 0), (m, m)).into_owned())
+            .filter(|c| c.diagonal().iter().all(|v| *v > 0.0));
+        let layout = Layout::new(k, m, shape.is_some());
+        let mut start = DVector::zeros(layout.len());
         if let Ok(d) = self.distance(cols) {
             if let Some((b, _, _)) = d.fit(&on_diagonal) {
                 for (&i, v) in on_diagonal.iter().zip(b) {
@@ -506,18 +522,51 @@ impl Problem<'_> {
                 }
             }
         }
+        // A resolved mode whose own fit found no tracking noise does not say its size.
+        let seen = |j: usize| self.fits[j].free.contains(&3);
         for (j, p) in estimates.iter().enumerate() {
             start[k + j] = (4.0 * p.zeta * p.omega.powi(3) * p.variance)
                 .max(f64::MIN_POSITIVE)
                 .ln();
-            start[k + m + j] = p.noise.max(1e-12 * p.variance).ln();
         }
-        // A resolved mode whose own fit found no tracking noise keeps it (the likelihood is
-        // flat there).
-        let nuisance: Vec<usize> = (k..k + 2 * m)
-            .filter(|&i| i < k + m || self.fits[i - k - m].free.contains(&3))
+        let own = |j: usize| estimates[j].noise.max(1e-12 * estimates[j].variance);
+        let tracking: Vec<usize> = match &shape {
+            // σ² as the recording's tracked points measure it, held there (the modes see it
+            // only near Nyquist, where their own force noise looks the same: left free, it went
+            // to zero on 2 of 3 active beams at 14 frames a period and took a_y −21 % with
+            // it); else estimated from the modes that saw their noise (their median), else
+            // from the largest.
+            Some(shape) => {
+                let mut sizes: Vec<f64> = (0..m)
+                    .filter(|&j| seen(j))
+                    .map(|j| own(j) / shape[(j, j)])
+                    .collect();
+                sizes.sort_by(f64::total_cmp);
+                let measured = self.sigma.map(|s| s * s).filter(|v| *v > 0.0);
+                let size = match (measured, sizes.get(sizes.len() / 2)) {
+                    (Some(v), _) | (None, Some(&v)) => v,
+                    (None, None) => (0..m).map(|j| own(j) / shape[(j, j)]).fold(0.0, f64::max),
+                };
+                start[layout.tracking().start] = size.max(f64::MIN_POSITIVE).ln();
+                match measured {
+                    Some(_) => Vec::new(),
+                    None => layout.tracking().collect(),
+                }
+            }
+            // Each mode's own; one that did not see it keeps it (the likelihood is flat there).
+            None => {
+                for j in 0..m {
+                    start[layout.tracking().start + j] = own(j).ln();
+                }
+                layout.tracking().filter(|&i| seen(i - k - m)).collect()
+            }
+        };
+        let nuisance: Vec<usize> = (layout.forces())
+            .chain(tracking)
+            .chain(layout.correlations())
             .collect();
-        let Some(joint) = Joint::new(&self.data[..m], &chosen, rates, &start) else {
+        let Some(joint) = Joint::new(&self.data[..m], &chosen, rates, &start, shape.as_ref())
+        else {
             return Ok(Err(NotExact::Mixed));
         };
         let every: Vec<usize> = (0..k).chain(nuisance.iter().copied()).collect();

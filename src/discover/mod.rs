@@ -47,6 +47,7 @@ mod regress;
 mod replay;
 mod report;
 mod verdict;
+mod wald;
 mod weak;
 
 use std::io::BufRead;

@@ -241,6 +241,14 @@ impl Projector {
         Some(super::continuum::noise_gains(&noise, &self.rows, &rows))
     }
 
+    /// The covariance of the coordinates' tracking noise, P Σ Pᵀ, for independent noise of unit
+    /// variance on every tracked coordinate (midlines; `None` for lengths and part of a ring).
+    pub fn noise_covariance(&self) -> Option<nalgebra::DMatrix<f64>> {
+        let noise = self.grid().noise_covariance()?;
+        let p = nalgebra::DMatrix::from_fn(self.rows.len(), noise.nrows(), |i, j| self.rows[i][j]);
+        Some(&p * noise * p.transpose())
+    }
+
     pub(super) fn grid(&self) -> Grid {
         Grid {
             kind: self.kind,

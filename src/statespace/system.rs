@@ -3,7 +3,8 @@
 //! as an active ∂s³ force on a free body, are not a sum of independent oscillators).
 //!
 //! **Model.** State x = (q, q̇) of M modal coordinates, dx = F x dt + G dW with
-//! F = [[0, I], [−K, −D]] and GGᵀ = [[0, 0], [0, N]]; observed yₙ = qₙ + eₙ, eₙ ~ N(0, diag ν).
+//! F = [[0, I], [−K, −D]] and GGᵀ = [[0, 0], [0, N]]; observed yₙ = qₙ + eₙ, eₙ ~ N(0, R) (R
+//! the tracking noise's covariance: a projection correlates it between modes).
 //! Sampled every Δt it is xₙ₊₁ = Φ xₙ + wₙ, wₙ ~ N(0, Q), Φ and Q by Van Loan
 //! ([`super::discretise`]). Each series starts from the stationary covariance P∞ = Φ P∞ Φᵀ + Q
 //! (by doubling: P ← P + A P Aᵀ, A ← A², from P = Q, A = Φ), so a system that is not stable
@@ -18,7 +19,7 @@ use nalgebra::{DMatrix, DVector};
 
 use super::{discretise, StateSpaceError};
 
-/// A sampled linear system of M coupled modes, the first `noise.len()` of them seen through
+/// A sampled linear system of M coupled modes, the first `noise.nrows()` of them seen through
 /// white noise (the rest latent).
 #[derive(Debug, Clone)]
 pub struct System {
@@ -26,8 +27,8 @@ pub struct System {
     pub phi: DMatrix<f64>,
     /// Q (2M × 2M).
     pub q: DMatrix<f64>,
-    /// Observation noise variance of each mode.
-    pub noise: Vec<f64>,
+    /// The observation noise's covariance R over the observed modes.
+    pub noise: DMatrix<f64>,
 }
 
 /// Most gains kept before the filter is taken as settled anyway.
@@ -35,12 +36,12 @@ const MAX_TRANSIENT: usize = 4096;
 
 impl System {
     /// The system q̈ = −K q − D q̇ + noise of covariance `force_noise` (M × M), sampled every
-    /// `dt`, observed with `noise` (variances, one per mode).
+    /// `dt`, the first `noise.nrows()` modes observed with noise of covariance `noise`.
     pub fn new(
         k: &DMatrix<f64>,
         d: &DMatrix<f64>,
         force_noise: &DMatrix<f64>,
-        noise: Vec<f64>,
+        noise: DMatrix<f64>,
         dt: f64,
     ) -> Result<System, StateSpaceError> {
         let m = k.nrows();
@@ -97,8 +98,8 @@ impl System {
 
     fn run(&self, frames: &[Vec<f64>], gains: &Gains) -> Option<Vec<f64>> {
         let n = self.phi.nrows();
-        // The first `noise.len()` modes are observed (the rest are latent).
-        let m = self.noise.len();
+        // The first `noise.nrows()` modes are observed (the rest are latent).
+        let m = self.noise.nrows();
         let mut x = DVector::zeros(n);
         let mut scratch = DVector::zeros(n);
         let mut v = DVector::zeros(m);
@@ -172,12 +173,9 @@ struct Step {
 }
 
 impl Step {
-    fn of(p: &DMatrix<f64>, noise: &[f64]) -> Option<Step> {
-        let m = noise.len();
-        let mut s = p.view((0, 0), (m, m)).into_owned();
-        for (i, nu) in noise.iter().enumerate() {
-            s[(i, i)] += nu;
-        }
+    fn of(p: &DMatrix<f64>, noise: &DMatrix<f64>) -> Option<Step> {
+        let m = noise.nrows();
+        let s = p.view((0, 0), (m, m)) + noise;
         let chol = s.cholesky()?;
         let log_det = 2.0 * chol.l().diagonal().iter().map(|d| d.ln()).sum::<f64>()
             + m as f64 * (2.0 * std::f64::consts::PI).ln();
@@ -201,7 +199,7 @@ struct Gains {
 
 impl Gains {
     fn new(system: &System, p0: &DMatrix<f64>) -> Option<Gains> {
-        let m = system.noise.len();
+        let m = system.noise.nrows();
         let mut steps = Vec::new();
         let mut predictions = Vec::new();
         let mut p = p0.clone();

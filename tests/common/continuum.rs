@@ -7,8 +7,8 @@
 //! end at s = 0) in the beam's own flexible modes φⱼ (unit mean square, λⱼ = rⱼ⁴; the rigid-body
 //! modes of a free–free beam, with no restoring force, are left out), with thermal noise of
 //! covariance 2T·D (fluctuation–dissipation), sampled exactly every Δt from its stationary
-//! state, tracked at K points with position noise, frames lost in bursts, and written as the
-//! CSV the tool reads (body length 100 units, the time column in the beam's time unit).
+//! state, tracked at K points of equal arc length with position noise, frames lost in bursts,
+//! and written as the CSV the tool reads (body length 100 units, the time column in the beam's time unit).
 //!
 //! The modal equations are q̈ = −K q − D q̇ + A q + η with K = c·diag(λ), D = c′·diag(λ) + γ·I
 //! and the active matrix Aᵢⱼ = a ∫₀¹ φᵢ φⱼ‴ ds (by Gauss–Legendre quadrature), not symmetric:
@@ -370,6 +370,43 @@ pub fn midline(beam: &Beam, states: &[DVector<f64>]) -> Vec<DVector<f64>> {
         .collect()
 }
 
+/// Each state's tracked points (x₁, y₁, …), noiseless, as a tracker places them: at equal arc
+/// length sₖ on the inextensible body whose tangent angle is ψ = ∂ₛy, x(s) = ∫₀ˢ cos ψ and
+/// y(s) = y(0) + ∫₀ˢ sin ψ (Simpson, eight panels a segment). (At x = s and y(s) instead, the
+/// points drift apart along a bent body: at the passive beam's amplitude that alone put an
+/// active beam's c_y and a_y 4 % high.)
+pub fn positions(beam: &Beam, states: &[DVector<f64>]) -> Vec<Vec<f64>> {
+    let k = beam.points;
+    let at0 = midline(beam, states);
+    const SUB: usize = 8;
+    let fine = (k - 1) * SUB;
+    let r = beam.roots();
+    let slope = DMatrix::from_fn(fine + 1, beam.modes, |i, j| {
+        derivative(beam.clamped, r[j], i as f64 / fine as f64, 1)
+    });
+    let h = 1.0 / fine as f64;
+    (states.iter().zip(&at0))
+        .map(|(x, y)| {
+            let psi = &slope * x.rows(0, beam.modes);
+            let mut out = vec![0.0, y[0]];
+            let (mut px, mut py) = (0.0, y[0]);
+            for seg in 0..k - 1 {
+                for p in (0..SUB).step_by(2) {
+                    let i = seg * SUB + p;
+                    let w = [1.0, 4.0, 1.0];
+                    for (o, wt) in w.iter().enumerate() {
+                        px += h / 3.0 * wt * psi[i + o].cos();
+                        py += h / 3.0 * wt * psi[i + o].sin();
+                    }
+                }
+                out.push(px);
+                out.push(py);
+            }
+            out
+        })
+        .collect()
+}
+
 /// Which frames the recording keeps: `lost` of them (rounded) removed in bursts of 1–10 at
 /// random positions, the first frame always kept. Its own stream of `seed`, so the loss
 /// changes no state or tracking noise.
@@ -398,15 +435,14 @@ pub fn kept(beam: &Beam, seed: u64) -> Vec<bool> {
 pub fn record(beam: &Beam, seed: u64) -> String {
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
     let d = discretise(beam);
-    let y = midline(beam, &states_with(beam, &d, &mut rng));
+    let p = positions(beam, &states_with(beam, &d, &mut rng));
     let keep = kept(beam, seed);
-    let s = stations(beam);
     let mut out = String::from("t");
     for k in 1..=beam.points {
         out += &format!(",x{k},y{k}");
     }
     out.push('\n');
-    for (frame, row) in y.iter().enumerate() {
+    for (frame, row) in p.iter().enumerate() {
         // Noise is drawn for every frame, kept or not, so the loss shifts nothing.
         let e: Vec<f64> = (0..2 * beam.points)
             .map(|_| {
@@ -418,9 +454,8 @@ pub fn record(beam: &Beam, seed: u64) -> String {
             continue;
         }
         out += &format!("{}", frame as f64 * d.dt);
-        for k in 0..beam.points {
-            let (x, y) = (s[k] + e[2 * k], row[k] + e[2 * k + 1]);
-            out += &format!(",{},{}", 100.0 * x, 100.0 * y);
+        for (v, e) in row.iter().zip(&e) {
+            out += &format!(",{}", 100.0 * (v + e));
         }
         out.push('\n');
     }
