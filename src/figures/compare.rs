@@ -6,7 +6,9 @@ use super::plot::*;
 use super::FigureError;
 use crate::compare::CompareReport;
 
-/// The most quantities drawn (κ first, then the modes' in order).
+/// The most quantities drawn: κ (or c) and the discovered coefficients first, then the modes'
+/// Ω and ζ in order (three modes compared with two discovered coefficients left the
+/// coefficients out).
 const PANELS: usize = 6;
 
 /// The figure, laid out at `width` pixels.
@@ -14,7 +16,11 @@ pub(super) fn compare_groups(r: &CompareReport, width: u32) -> Result<String, Fi
     let names: Vec<&str> = r.groups.iter().map(|g| g.name.as_str()).collect();
     let time = r.unit.rsplit('/').next().unwrap_or("time unit");
     // (title, the value axis) per quantity.
-    let labels: Vec<(String, String)> = (r.differences.iter().take(PANELS))
+    let modal = |q: &str| q.starts_with("Omega_") || q.starts_with("zeta_");
+    let mut drawn: Vec<_> = r.differences.iter().collect();
+    drawn.sort_by_key(|d| modal(&d.quantity));
+    drawn.truncate(PANELS);
+    let labels: Vec<(String, String)> = (drawn.iter())
         .map(|d| match d.quantity.as_str() {
             "kappa" => ("κ".into(), r.unit.clone()),
             "c" => ("c".into(), r.unit.clone()),
@@ -29,7 +35,7 @@ pub(super) fn compare_groups(r: &CompareReport, width: u32) -> Result<String, Fi
         })
         .collect();
     let axis = format!("group: 1 = {}, 2 = {}", names[0], names[1]);
-    let panels: Vec<Panel> = (r.differences.iter().take(PANELS))
+    let panels: Vec<Panel> = (drawn.iter())
         .zip(&labels)
         .map(|(d, (title, unit))| {
             let mut marks: Vec<Series> = (0..2)
