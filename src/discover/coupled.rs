@@ -30,8 +30,8 @@
 //!
 //! **Evidence.** On the independent continuum beam (tests/discover_rates.rs, a = 5c, 12
 //! points, 8, 14 and 30 frames a period, 5 % of the frames lost) the exact set in 60 of 60
-//! recordings, each coefficient within 0.4 % of the body's (medians) and covered in 15–20 of
-//! 20 (docs/discover.md). There is no misfit test yet.
+//! recordings, each coefficient's median within 1.1 % of the body's, covered in 15–20 of 20
+//! (docs/discover.md; c_y at 30 frames a period the least). There is no misfit test yet.
 //!
 //! **Selection** by the Wald distance from the whole library ([`super::wald`]).
 
@@ -45,8 +45,8 @@ use crate::statespace::System;
 pub(super) const COUPLED: &str = "the modes' joint exact likelihood (one linear system coupled by the library's forces, the modes above the used ones condensed into them, a Kalman filter over the frames, lost frames skipped, the tracking noise the recording's points measure as observation noise), maximised over the coefficients and the modes' correlated force noise; terms by the Wald distance from the whole library";
 
 /// The continuum modes above the used ones condensed into them (quasi-static, to first order
-/// in their frequency ratio): with eight, a free beam at a = 5c has its four used modes' rates
-/// within 10⁻⁴ of the whole beam's (truncated: 1.3 %).
+/// in their frequency ratio): with eight, a free beam at a = 5c has its lowest three used
+/// modes' rates within 4·10⁻⁴ of the whole beam's (truncated: 1.3 %), the fourth's 0.7 %.
 pub(super) const CONDENSED: usize = 8;
 
 /// Relative step of the numeric scores.
