@@ -7,6 +7,7 @@
 mod common;
 
 use common::beam::{fitted, record, Body};
+use theory_search::discover::{discover, Conclusion, DiscoverSettings, Finding, Source, Verdict};
 use theory_search::fit::FitSettings;
 use theory_search::modal::Params;
 use theory_search::model::Model;
@@ -375,6 +376,27 @@ fn a_held_end_that_moves_is_named() {
     let swaying = fitted(&swayed, true, 19, None);
     assert!(moves(&swaying), "{:?}", swaying.warnings);
     println!("{:?}", swaying.warnings);
+    // discover reads the same claim into its verdict: the theory does not hold here.
+    let zebrafish = self::body("clamped", "free");
+    let verdict = |text: &str| {
+        let mut s = DiscoverSettings::new(InputKind::Midline);
+        s.recording.points = 19;
+        s.bootstrap = 0;
+        let source = Source::Reader(
+            "beam".into(),
+            Box::new(std::io::Cursor::new(text.to_owned())),
+        );
+        let r = discover(vec![source], &zebrafish, &s).expect("discovers");
+        r.verdict.expect("a verdict")
+    };
+    let held_end = |v: &Verdict| {
+        (v.findings.iter()).any(|f| matches!(f, Finding::HeldEndMoves { share } if *share > 0.25))
+    };
+    let still = verdict(&text);
+    assert!(!held_end(&still), "{still:?}");
+    let moving = verdict(&swayed);
+    assert!(held_end(&moving), "{moving:?}");
+    assert_eq!(moving.conclusion, Conclusion::DoesNotHold);
 }
 
 /// The held points are the model's, whichever end a recording lists first: a clamped–free

@@ -117,7 +117,8 @@ pub(super) fn alone(
             match super::linear::estimate(one, model, settings, whole, names, field) {
                 Ok(Ok(mut report)) => {
                     let order = settings.recording.order;
-                    report.verdict = Some(super::verdict::Verdict::of(&report, model, order));
+                    let held = r.fit.held_movement;
+                    report.verdict = Some(super::verdict::Verdict::of(&report, model, order, held));
                     AnimalAnswer::answered(&report)
                 }
                 Ok(Err(why)) => AnimalAnswer::refused(&r.name, why.to_string()),

@@ -504,10 +504,14 @@ fn finish(
     leading.set_beyond_leading(0);
     let fit = settings.fit();
     report.not_estimated = not_estimated;
+    let held = (recordings.iter())
+        .filter_map(|r| r.fit.held_movement)
+        .max_by(f64::total_cmp);
     report.verdict = Some(verdict::Verdict::of(
         &report,
         model,
         settings.recording.order,
+        held,
     ));
     if let Selection::NoModel { .. } = report.selection {
         report.equation = "none: no term was kept in more than half of the draws".into();

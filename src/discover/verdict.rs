@@ -91,6 +91,11 @@ pub enum Finding {
     },
     /// The modes ask for more than the selected theory gives.
     Misfit(Goodness),
+    /// The model holds an end in place that the recording shows moving.
+    HeldEndMoves {
+        /// The held ends' rms displacement over the whole midline's (the worst animal's).
+        share: f64,
+    },
 }
 
 impl Finding {
@@ -127,6 +132,11 @@ impl Finding {
                     " (the most often: {t}, {:.0} %)",
                     100.0 * s
                 ))
+            ),
+            Finding::HeldEndMoves { share } => format!(
+                "the model holds an end of this body in place, but the recording's held end moves ({:.0} % of the whole midline's rms displacement; at most {:.0} % for a held end): a model with that end free fits such a recording",
+                100.0 * share,
+                100.0 * crate::recording::MOVING_SHARE
             ),
             Finding::Misfit(g) => format!(
                 "the modes' frequencies and dampings are beyond the selected theory (a force the library lacks: --active, or the next order): J = {:.1} on {} degrees of freedom, the draws' scale {:.2} (p = {:.1e} < {ALPHA})",
@@ -198,8 +208,12 @@ pub enum Next {
 
 impl Verdict {
     /// The laws of `model` at `order` read against `report`.
-    pub fn of(report: &DiscoverReport, model: &Model, order: u32) -> Verdict {
+    /// `held` is the held ends' movement share (the worst animal's) where the model holds one.
+    pub fn of(report: &DiscoverReport, model: &Model, order: u32, held: Option<f64>) -> Verdict {
         let mut findings = Vec::new();
+        if let Some(share) = held.filter(|&s| s > crate::recording::MOVING_SHARE) {
+            findings.push(Finding::HeldEndMoves { share });
+        }
         if let Selection::NoModel { best, .. } = &report.selection {
             findings.push(Finding::NoModel {
                 draws: report.bootstrap,

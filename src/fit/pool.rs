@@ -504,6 +504,7 @@ impl Pool {
         report
             .warnings
             .extend(self.movement.as_ref().and_then(Movement::warning));
+        report.held_movement = self.movement.as_ref().and_then(Movement::share);
         report
             .warnings
             .extend(super::report::recording_notes(&report));

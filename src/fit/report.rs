@@ -120,6 +120,10 @@ pub struct FitReport {
     /// Cautions about what the numbers can mean for this input.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,
+    /// Where the model holds an end: its rms displacement from the first frame over the whole
+    /// midline's ([`crate::recording::Movement`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub held_movement: Option<f64>,
     /// With several animals: each one's own fit, beside the pooled one above.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub animals: Vec<AnimalFit>,

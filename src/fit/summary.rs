@@ -274,6 +274,7 @@ pub(super) fn summarise(
         tests,
         noise_floor,
         tracking_noise: None,
+        held_movement: None,
         window,
         frames: origin.frames,
         recording: origin.recording,
