@@ -238,6 +238,7 @@ class FitResult:
     spread: Optional[Dict[str, Any]]
     animals: List[Dict[str, Any]]
     warnings: List[str]
+    held_movement: Optional[float]
     onward: List[str]
     frequencies: npt.NDArray[np.float64]
     psd: npt.NDArray[np.float64]

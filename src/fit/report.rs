@@ -121,8 +121,7 @@ pub struct FitReport {
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,
     /// Where the model holds an end: its rms displacement from the first frame over the whole
-    /// midline's ([`crate::recording::Movement`]).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    /// midline's ([`crate::recording::Movement`]); `null` where no end is held.
     pub held_movement: Option<f64>,
     /// With several animals: each one's own fit, beside the pooled one above.
     #[serde(skip_serializing_if = "Vec::is_empty")]
