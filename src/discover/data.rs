@@ -55,6 +55,16 @@ pub(super) enum Basis {
     Grid,
 }
 
+impl Basis {
+    /// Coordinate j's gain on its continuum mode (1 past them and on the grid).
+    pub fn gain(&self, j: usize) -> f64 {
+        match self {
+            Basis::Continuum { gains, .. } => gains.get(j).copied().unwrap_or(1.0),
+            Basis::Grid => 1.0,
+        }
+    }
+}
+
 /// Read one input, `held` values already held by the recordings before it.
 pub(super) fn read(
     input: Input<'_>,
@@ -137,12 +147,9 @@ pub(super) fn read(
 /// `basis`.
 fn tracking_shape(p: &Projector, basis: &Basis) -> Option<nalgebra::DMatrix<f64>> {
     let c = p.noise_covariance()?;
-    let gain = |j: usize| match basis {
-        Basis::Continuum { gains, .. } => gains.get(j).copied().unwrap_or(1.0),
-        Basis::Grid => 1.0,
-    };
-    let r =
-        nalgebra::DMatrix::from_fn(c.nrows(), c.ncols(), |i, j| c[(i, j)] / (gain(i) * gain(j)));
+    let r = nalgebra::DMatrix::from_fn(c.nrows(), c.ncols(), |i, j| {
+        c[(i, j)] / (basis.gain(i) * basis.gain(j))
+    });
     r.iter().all(|v| v.is_finite()).then_some(r)
 }
 

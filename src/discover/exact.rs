@@ -23,7 +23,7 @@
 
 use nalgebra::{DMatrix, DVector, Matrix2};
 
-use super::data::{Basis, Recording};
+use super::data::Recording;
 use super::galerkin::ModalForce;
 use crate::statespace::{
     fit_oscillator_with, newton_step, score_and_information_with, Oscillator, OscillatorFit,
@@ -55,10 +55,7 @@ pub(super) fn mode_data(recordings: &[Recording], modes: &[usize]) -> Vec<ModeDa
             let mut blocks = Vec::new();
             let mut unit = Vec::new();
             for (a, rec) in recordings.iter().enumerate() {
-                let gain = match &rec.basis {
-                    Basis::Continuum { gains, .. } => gains.get(j).copied().unwrap_or(1.0),
-                    Basis::Grid => 1.0,
-                };
+                let gain = rec.basis.gain(j);
                 let t0 = rec.modal.first().map_or(0.0, |f| f.0);
                 let last = rec.modal.last().map_or(0.0, |f| f.0);
                 let frames = ((last - t0) / rec.dt).round() as usize + 1;

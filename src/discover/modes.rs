@@ -8,7 +8,7 @@
 //! counts, and only faster than the mode below it. Every fit used is an under-damped line or an
 //! over-damped one whose two time scales the frames resolve.
 
-use super::data::{Basis, Recording};
+use super::data::Recording;
 use super::exact::{fit_mode, mode_data, ModeData, ModeFit, MAX_MODES};
 use super::DiscoverError;
 use crate::fit::{ModeNote, ModeSpectralFit};
@@ -39,10 +39,7 @@ pub(super) fn used(recordings: &[Recording], available: usize) -> Result<Used, D
     let mut own: Vec<usize> = Vec::new();
     for (d, &j) in data.iter().zip(&candidates) {
         let m = &first.fit.modes_fit[j];
-        let gain = match &first.basis {
-            Basis::Continuum { gains, .. } => gains[j],
-            Basis::Grid => 1.0,
-        };
+        let gain = first.basis.gain(j);
         let found = if m.resolved || m.exact.is_some() {
             fit_mode(d, from_fit(m, gain, first.dt))
         } else if peakless(m) {
